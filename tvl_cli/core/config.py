@@ -1,0 +1,258 @@
+"""Frozen configuration values for the robot, its sonar ring and its FAMs, with JSON round trips.
+
+Every configuration is stored as JSON inside each log and FAM file, so a file describes
+the robot that made it. Units are in the field names.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import asdict, dataclass, field
+from typing import Any
+
+SONAR_COUNT = 16
+
+
+@dataclass(frozen=True, slots=True)
+class Trajectory:
+    """One predefined path: a straight line or an arc, with its maximum speed."""
+
+    name: str
+    curvature_per_m: float  # 1 / radius; positive turns left (CCW), 0 is straight
+    v_max_mps: float
+
+    @property
+    def radius_m(self) -> float:
+        return float("inf") if self.curvature_per_m == 0 else 1.0 / abs(self.curvature_per_m)
+
+
+def _arc(name: str, radius_m: float, left: bool, v_max_mps: float) -> Trajectory:
+    return Trajectory(name, (1.0 if left else -1.0) / radius_m, v_max_mps)
+
+
+# Left to right, as in the paper's Figure 8(b); index 3 is straight ahead and index j
+# mirrors index 6 - j.
+DEFAULT_TRAJECTORIES: tuple[Trajectory, ...] = (
+    _arc("T3L", 0.5, True, 0.35),
+    _arc("T2L", 1.0, True, 0.45),
+    _arc("T1L", 2.0, True, 0.55),
+    Trajectory("T0", 0.0, 0.60),
+    _arc("T1R", 2.0, False, 0.55),
+    _arc("T2R", 1.0, False, 0.45),
+    _arc("T3R", 0.5, False, 0.35),
+)
+
+
+@dataclass(frozen=True, slots=True)
+class SonarConfig:
+    """The ring of transducers on the body edge, S0 forward, numbered counter-clockwise."""
+
+    count: int = SONAR_COUNT
+    min_range_m: float = 0.15
+    max_range_m: float = 4.0
+    cone_deg: float = 25.0
+    rays_per_beam: int = 5
+    specular_max_deg: float = 20.0  # beyond this incidence a flat surface returns no echo
+    noise_sigma_m: float = 0.01
+    noise_fraction: float = 0.01  # sigma grows by this fraction of the range
+    ideal: bool = False  # nearest hit at any angle, no noise (ablations)
+
+
+@dataclass(frozen=True, slots=True)
+class RobotConfig:
+    """The simulated robot: body, control timing, commands and sensors."""
+
+    radius_m: float = 0.20
+    control_period_s: float = 0.1
+    physics_substeps: int = 4
+    spin_rate_radps: float = 1.0
+    odometry_noise_fraction: float = 0.01  # sigma of wheel travel, as a fraction of it
+    trajectories: tuple[Trajectory, ...] = DEFAULT_TRAJECTORIES
+    sonar: SonarConfig = field(default_factory=SonarConfig)
+
+    def trajectory_index(self, name: str) -> int:
+        """Index of a trajectory by name; ValueError naming the choices if unknown."""
+        names = [t.name for t in self.trajectories]
+        if name not in names:
+            raise ValueError(f"unknown trajectory {name!r} (choose from {', '.join(names)})")
+        return names.index(name)
+
+    @property
+    def v_max_mps(self) -> tuple[float, ...]:
+        return tuple(t.v_max_mps for t in self.trajectories)
+
+    def to_dict(self) -> dict[str, Any]:
+        return asdict(self)
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> RobotConfig:
+        fields = dict(data)
+        fields["trajectories"] = tuple(Trajectory(**t) for t in data["trajectories"])
+        fields["sonar"] = SonarConfig(**data["sonar"])
+        return cls(**fields)
+
+
+# Fuzzy-set names by partition size: very near .. very far.
+SET_NAMES: dict[int, tuple[str, ...]] = {
+    2: ("N", "F"),
+    3: ("N", "M", "F"),
+    4: ("VN", "N", "M", "F"),
+    5: ("VN", "N", "M", "F", "VF"),
+}
+
+
+@dataclass(frozen=True, slots=True)
+class Partition:
+    """A Ruspini partition of range by triangles with shoulder ends, one centre per set."""
+
+    names: tuple[str, ...]
+    centres_m: tuple[float, ...]
+
+    def __post_init__(self) -> None:
+        if len(self.names) != len(self.centres_m) or len(self.names) < 2:
+            raise ValueError("a partition needs at least two sets, one name per centre")
+        if any(b <= a for a, b in zip(self.centres_m, self.centres_m[1:])):
+            raise ValueError(f"partition centres must increase: {self.centres_m}")
+
+
+# Denser near the robot, where a few centimetres change the safe speed.
+PARTITIONS: dict[int, Partition] = {
+    5: Partition(SET_NAMES[5], (0.20, 0.45, 0.80, 1.30, 2.00)),
+    4: Partition(SET_NAMES[4], (0.20, 0.50, 1.00, 1.80)),
+    3: Partition(SET_NAMES[3], (0.25, 0.70, 1.40)),
+    2: Partition(SET_NAMES[2], (0.30, 1.00)),
+}
+
+
+@dataclass(frozen=True, slots=True)
+class FamInput:
+    """One FAM input: the minimum reading of a group of sonars, fuzzified by a partition."""
+
+    name: str
+    sonars: tuple[int, ...]
+    partition: Partition
+
+
+@dataclass(frozen=True, slots=True)
+class FamTable:
+    """One FAM matrix: its inputs, and the trajectories whose velocities it stores."""
+
+    name: str
+    inputs: tuple[FamInput, ...]
+    trajectories: tuple[str, ...]
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        return tuple(len(i.partition.names) for i in self.inputs)
+
+    @property
+    def rule_count(self) -> int:
+        count = 1
+        for n in self.shape:
+            count *= n
+        return count
+
+
+@dataclass(frozen=True, slots=True)
+class FamConfig:
+    """A set of FAM tables that together store a velocity for every trajectory."""
+
+    name: str
+    tables: tuple[FamTable, ...]
+
+    @property
+    def rule_count(self) -> int:
+        return sum(t.rule_count for t in self.tables)
+
+    def to_dict(self) -> dict[str, Any]:
+        return asdict(self)
+
+    def to_json(self) -> str:
+        return json.dumps(self.to_dict(), sort_keys=True)
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> FamConfig:
+        """Build from parsed JSON; KeyError/TypeError/ValueError on a malformed document."""
+        tables = []
+        for t in data["tables"]:
+            inputs = tuple(
+                FamInput(
+                    name=str(i["name"]),
+                    sonars=tuple(int(s) for s in i["sonars"]),
+                    partition=Partition(
+                        tuple(str(n) for n in i["partition"]["names"]),
+                        tuple(float(c) for c in i["partition"]["centres_m"]),
+                    ),
+                )
+                for i in t["inputs"]
+            )
+            tables.append(FamTable(str(t["name"]), inputs, tuple(str(n) for n in t["trajectories"])))
+        return cls(str(data["name"]), tuple(tables))
+
+
+def _input(name: str, sonars: tuple[int, ...], sets: int) -> FamInput:
+    return FamInput(name, sonars, PARTITIONS[sets])
+
+
+ALL_TRAJECTORY_NAMES = tuple(t.name for t in DEFAULT_TRAJECTORIES)
+
+# Paper §3.1: five groups of three sonars, the group minimum as input; 5*4*3*3*4 = 720 rules.
+SINGLE = FamConfig(
+    "single",
+    (
+        FamTable(
+            "all",
+            (
+                _input("front", (15, 0, 1), 5),
+                _input("front-left", (2, 3, 4), 4),
+                _input("rear-left", (5, 6, 7), 3),
+                _input("rear-right", (9, 10, 11), 3),
+                _input("front-right", (12, 13, 14), 4),
+            ),
+            ALL_TRAJECTORY_NAMES,
+        ),
+    ),
+)
+
+
+def mirror_sonar(index: int, count: int = SONAR_COUNT) -> int:
+    """The sonar in the mirror image of the ring across the forward axis: Si <-> S(16-i)."""
+    return (-index) % count
+
+
+def _mirror_table(table: FamTable, name: str) -> FamTable:
+    inputs = tuple(
+        FamInput(i.name, tuple(mirror_sonar(s) for s in i.sonars), i.partition)
+        for i in table.inputs
+    )
+    return FamTable(name, inputs, (name,))
+
+
+def _single_sonar_table(name: str, sets_by_sonar: tuple[tuple[int, int], ...]) -> FamTable:
+    inputs = tuple(_input(f"S{s}", (s,), sets) for s, sets in sets_by_sonar)
+    return FamTable(name, inputs, (name,))
+
+
+# Paper §3.2-3.3: one FAM per trajectory fed by individual sonars. Each left arc takes the
+# sonars beside its path and the left-side sonars that meet a wall across that path near
+# the normal (Figure 12: S3-S5 see the wall T1L would hit while S1-S2 graze it); the outer
+# sonar of each gets only near/far. The right FAMs mirror the left ones.
+_T0 = _single_sonar_table("T0", ((14, 3), (15, 5), (0, 5), (1, 5), (2, 3)))
+_T1L = _single_sonar_table("T1L", ((15, 5), (0, 5), (1, 5), (2, 5), (3, 5), (4, 5), (5, 2)))
+_T2L = _single_sonar_table("T2L", ((0, 5), (1, 5), (2, 5), (3, 5), (4, 5), (5, 5)))
+_T3L = _single_sonar_table("T3L", ((1, 3), (2, 5), (3, 5), (4, 5), (5, 5), (6, 4), (7, 2)))
+
+MULTI = FamConfig(
+    "multi",
+    (
+        _T3L,
+        _T2L,
+        _T1L,
+        _T0,
+        _mirror_table(_T1L, "T1R"),
+        _mirror_table(_T2L, "T2R"),
+        _mirror_table(_T3L, "T3R"),
+    ),
+)
+
+BUILTIN_FAM_CONFIGS: dict[str, FamConfig] = {"single": SINGLE, "multi": MULTI}
