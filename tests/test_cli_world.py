@@ -1,0 +1,139 @@
+"""`tvl world` through the real command: generated files, JSON, PNG, and every bad world file."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+from collections.abc import Callable
+from pathlib import Path
+
+import pytest
+
+from tvl_cli.sim.worldgen import generate_world
+from tvl_cli.sim.worldmap import MAX_FILE_BYTES
+
+ROOT = Path(__file__).resolve().parents[1]
+ROOM = "#######\n#.....#\n#..>..#\n#.....#\n#######\n"
+RunTvl = Callable[..., subprocess.CompletedProcess[str]]  # the run_tvl fixture
+BODY = "(the robot is a disc of radius 0.2 m)"
+
+BAD_WORLDS = {  # name -> (file bytes, the error after the file name)
+    "unknown character": (
+        ROOM.replace("#.....#\n####", "#...x.#\n####").encode(),
+        ":4:5: unknown character 'x' (expected one of # . > < ^ v G o)",
+    ),
+    "unknown header key": (
+        ("colour: red\n" + ROOM).encode(),
+        ":1:1: unknown header key 'colour' (expected one of version name cell disc ring goal)",
+    ),
+    "bad header value": (
+        ("cell: big\n" + ROOM).encode(),
+        ":1:7: bad value for 'cell': 'big' (expected a size in metres, > 0)",
+    ),
+    "unsupported version": (
+        ("version: 2\n" + ROOM).encode(),
+        ":1:10: unsupported version '2' (this tvl reads version 1)",
+    ),
+    "no start": (ROOM.replace(">", ".").encode(), ": no start (put one of > < ^ v in the map)"),
+    "two starts": (
+        ROOM.replace("#.....#\n####", "#.<...#\n####").encode(),
+        ":4:3: two starts, at 3:4 and 4:3 (a world has exactly one)",
+    ),
+    "start inside a wall": (
+        ROOM.replace(">", ".").replace("#######\n#..", "###>###\n#..", 1).encode(),
+        f":1:4: the start touches the wall at 1:3 {BODY}",
+    ),
+    "start inside a disc": (
+        ("disc: 0.875 0.625 0.3\n" + ROOM).encode(),
+        f":4:4: the start overlaps the disc at x 0.875 y 0.625 r 0.3 {BODY}",
+    ),
+    "start touching a wall": (
+        ROOM.replace("#..>..#", "#>....#").encode(),
+        f":3:2: the start touches the wall at 3:1 {BODY}",
+    ),
+    "open boundary": (
+        (ROOM[:-8] + "###.###\n").encode(),
+        ":5:4: open boundary: the robot can leave the world here (walls must enclose the start)",
+    ),
+    "empty file": (b"", ": file is empty (a world needs a map of # walls and a start)"),
+    "non-UTF-8 file": (
+        ROOM.encode().replace(b"#..>", b"#.\xff>"),
+        ":3:3: not UTF-8 text (byte 0xff)",
+    ),
+    "file over 1 MB": (
+        (ROOM + ";" * MAX_FILE_BYTES).encode(),
+        ": file is over 1 MB (a world map is a small text file)",
+    ),
+}
+
+
+@pytest.mark.parametrize("case", BAD_WORLDS)
+def test_bad_world_file_is_one_error_line_and_exit_2(
+    case: str, run_tvl: RunTvl, tmp_path: Path
+) -> None:
+    data, error = BAD_WORLDS[case]
+    path = tmp_path / "bad.txt"
+    path.write_bytes(data)
+    done = run_tvl("world", "check", path)
+    assert (done.returncode, done.stdout) == (2, "")
+    assert done.stderr == f"tvl: error: {path}{error}\n"
+
+
+def test_missing_world_file_is_one_error_line_and_exit_2(run_tvl: RunTvl, tmp_path: Path) -> None:
+    done = run_tvl("world", "show", tmp_path / "none.txt")
+    assert done.returncode == 2
+    assert (
+        done.stderr
+        == f"tvl: error: {tmp_path / 'none.txt'}: cannot read (No such file or directory)\n"
+    )
+
+
+def test_new_writes_the_generated_text_and_nothing_else(run_tvl: RunTvl, tmp_path: Path) -> None:
+    done = run_tvl("world", "new", "corridor", "-o", tmp_path / "c.txt", "--size", "4", "4")
+    assert done.returncode == 0, done.stderr
+    assert (tmp_path / "c.txt").read_text(encoding="utf-8") == generate_world("corridor", 4, 4, 1)
+    assert [p.name for p in tmp_path.iterdir()] == ["c.txt"]
+
+
+def test_new_refuses_an_existing_file_unless_forced(run_tvl: RunTvl, tmp_path: Path) -> None:
+    path = tmp_path / "lab.txt"
+    path.write_text("keep me")
+    refused = run_tvl("world", "new", "lab", "-o", path, "--seed", "3")
+    assert (refused.returncode, path.read_text()) == (2, "keep me")
+    assert run_tvl("world", "new", "lab", "-o", path, "--seed", "3", "--force").returncode == 0
+    assert path.read_text(encoding="utf-8") == generate_world("lab", None, None, 3)
+
+
+def test_check_reports_ok_with_the_counts(run_tvl: RunTvl) -> None:
+    path = ROOT / "worlds" / "obstacles.txt"
+    done = run_tvl("world", "check", path)
+    assert (done.returncode, done.stdout) == (
+        0,
+        f"{path}: ok (4 segments, 7 discs, 0 rings, 4 goals)\n",
+    )
+
+
+def test_show_json_has_the_geometry_keys(run_tvl: RunTvl) -> None:
+    done = run_tvl("world", "show", ROOT / "worlds" / "circle.txt", "--json")
+    geometry = json.loads(done.stdout)
+    assert list(geometry) == ["name", "cell_m", "segments", "discs", "start", "goals", "rings"]
+    assert geometry["segments"] == [
+        [4.75, 0.25, 0.25, 0.25],
+        [0.25, 4.75, 4.75, 4.75],
+        [0.25, 0.25, 0.25, 4.75],
+        [4.75, 4.75, 4.75, 0.25],
+    ]
+    assert geometry["rings"] == [[2.5, 2.5, 2.0]]
+
+
+def test_show_prints_a_readable_summary(run_tvl: RunTvl) -> None:
+    done = run_tvl("world", "show", ROOT / "worlds" / "narrow.txt")
+    assert "size      6 x 4 m (cell 0.25 m)" in done.stdout.splitlines()
+
+
+def test_render_writes_a_png(run_tvl: RunTvl, tmp_path: Path) -> None:
+    png = tmp_path / "lab.png"
+    done = run_tvl("world", "render", ROOT / "worlds" / "lab.txt", "-o", png)
+    assert done.returncode == 0, done.stderr
+    assert png.read_bytes().startswith(b"\x89PNG\r\n\x1a\n")
+    assert run_tvl("world", "render", ROOT / "worlds" / "lab.txt", "-o", png).returncode == 2

@@ -1,0 +1,107 @@
+"""matplotlib pictures of worlds, drawn on a Figure of our own (never pyplot's global state)."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+from matplotlib.axes import Axes
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.collections import LineCollection
+from matplotlib.figure import Figure
+from matplotlib.patches import Circle, PathPatch, Rectangle
+from matplotlib.path import Path as DrawPath
+
+from tvl_cli.core.config import RobotConfig
+from tvl_cli.sim.worldmap import WorldMap
+
+WALL_COLOUR = "#2b2b2b"
+SOLID_COLOUR = "#c8c8c8"  # wall and furniture material behind the outlines
+PILLAR_COLOUR = "#8c8c8c"
+ROBOT_COLOUR = "#1f77b4"
+GOAL_COLOUR = "#f2b701"
+WALL_WIDTH_PT = 3.0
+FIGURE_WIDTH_IN = 7.0
+MARGIN_M = 0.25  # room around the world for the scale bar and the wall line width
+
+
+def draw_world(ax: Axes, world: WorldMap) -> None:
+    """Walls, pillars, ring walls, the start pose and the goals, in metres on equal axes."""
+    ax.add_patch(Rectangle((0, 0), world.width_m, world.height_m, color=SOLID_COLOUR, lw=0))
+    ax.add_patch(PathPatch(_floor(world), facecolor="white", lw=0))
+    walls = [((x1, y1), (x2, y2)) for x1, y1, x2, y2 in world.segments]
+    ax.add_collection(
+        LineCollection(walls, colors=WALL_COLOUR, linewidths=WALL_WIDTH_PT, capstyle="projecting")
+    )
+    for x, y, r in world.discs:
+        ax.add_patch(Circle((x, y), r, facecolor=PILLAR_COLOUR, edgecolor=WALL_COLOUR, lw=1))
+    for x, y, r in world.rings:
+        ax.add_patch(Circle((x, y), r, fill=False, edgecolor=WALL_COLOUR, lw=WALL_WIDTH_PT))
+
+    x, y, heading = world.start
+    radius = RobotConfig().radius_m
+    ax.add_patch(Circle((x, y), radius, facecolor=ROBOT_COLOUR, alpha=0.25, lw=0))
+    ax.add_patch(Circle((x, y), radius, fill=False, edgecolor=ROBOT_COLOUR, lw=1.5))
+    ax.annotate(
+        "",
+        xy=(x + 2 * radius * math.cos(heading), y + 2 * radius * math.sin(heading)),
+        xytext=(x, y),
+        arrowprops={"arrowstyle": "-|>", "color": ROBOT_COLOUR, "lw": 2, "mutation_scale": 15},
+    )
+    if world.goals:
+        gx, gy = zip(*world.goals, strict=True)
+        ax.plot(
+            gx,
+            gy,
+            linestyle="none",
+            marker="*",
+            markersize=14,
+            color=GOAL_COLOUR,
+            markeredgecolor="black",
+            markeredgewidth=0.6,
+        )
+
+    # A 1 m scale bar under the bottom-left corner.
+    bar_y = -0.6 * MARGIN_M
+    ax.plot([0, 1], [bar_y, bar_y], color="black", lw=2, solid_capstyle="butt")
+    ax.text(0.5, bar_y - 0.05, "1 m", ha="center", va="top", fontsize=8)
+
+    ax.set_xlim(-MARGIN_M, world.width_m + MARGIN_M)
+    ax.set_ylim(-2.5 * MARGIN_M, world.height_m + MARGIN_M)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.set_title(world.name)
+
+
+def _floor(world: WorldMap) -> DrawPath:
+    """The wall outline chained into loops; filled even-odd, it is the open floor."""
+    outgoing: dict[tuple[float, float], list[tuple[float, float]]] = {}
+    for x1, y1, x2, y2 in world.segments:
+        outgoing.setdefault((x1, y1), []).append((x2, y2))
+    vertices: list[tuple[float, float]] = []
+    codes: list[int] = []  # DrawPath.MOVETO / LINETO, one per vertex
+    while outgoing:
+        point = next(iter(outgoing))
+        vertices.append(point)
+        codes.append(int(DrawPath.MOVETO))
+        while point in outgoing:  # an outline vertex has as many ways out as in
+            ends = outgoing[point]
+            following = ends.pop()
+            if not ends:
+                del outgoing[point]
+            point = following
+            vertices.append(point)
+            codes.append(int(DrawPath.LINETO))
+    if not vertices:
+        return DrawPath([(0.0, 0.0)])
+    return DrawPath(vertices, codes)
+
+
+def render_world(world: WorldMap, png_path: str | Path) -> None:
+    """Write a PNG picture of the world."""
+    aspect = (world.height_m + 3.5 * MARGIN_M) / (world.width_m + 2 * MARGIN_M)
+    figure = Figure(figsize=(FIGURE_WIDTH_IN, FIGURE_WIDTH_IN * aspect + 0.8))
+    FigureCanvasAgg(figure)
+    draw_world(figure.add_subplot(), world)
+    figure.savefig(png_path, format="png", dpi=120, bbox_inches="tight")

@@ -1,0 +1,258 @@
+"""World generators: the text of a world file for each kind (`tvl world new KIND`)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from tvl_cli.core.errors import BadInput
+from tvl_cli.sim.worldmap import DEFAULT_CELL_M, FORMAT_VERSION, WorldMapError, parse_world
+
+CELL_M = DEFAULT_CELL_M
+MAX_SIZE_M = 100.0  # 400 x 400 cells: a big hall, still a small file
+ATTEMPTS = 20  # random layouts drawn before giving up on a size
+BUNDLED_DIR = Path(__file__).resolve().parent.parent / "data"
+
+
+class _Canvas:
+    """A grid of map characters, top row first, with a `#` border; plus extra header lines."""
+
+    def __init__(self, cols: int, rows: int) -> None:
+        self.grid = np.full(
+            (rows, cols), ".", dtype="<U1"
+        )  # (rows, cols) characters, top row first
+        self.grid[[0, -1], :] = "#"
+        self.grid[:, [0, -1]] = "#"
+        self.header: list[str] = []
+
+    @property
+    def rows(self) -> int:
+        return int(self.grid.shape[0])
+
+    @property
+    def cols(self) -> int:
+        return int(self.grid.shape[1])
+
+    def cell(self, x_frac: float, y_frac: float) -> tuple[int, int]:
+        """(row, column) of the cell at a fraction of the width and height from bottom-left."""
+        return self.rows - 1 - int(y_frac * self.rows), int(x_frac * self.cols)
+
+    def centre_m(self, r: int, c: int) -> tuple[float, float]:
+        return (c + 0.5) * CELL_M, (self.rows - r - 0.5) * CELL_M
+
+    def disc(self, x_m: float, y_m: float, r_m: float) -> None:
+        self.header.append(f"disc: {x_m:g} {y_m:g} {r_m:g}")
+
+
+def _square(canvas: _Canvas, rng: np.random.Generator) -> None:
+    canvas.grid[canvas.cell(0.5, 0.5)] = ">"
+
+
+def _circle(canvas: _Canvas, rng: np.random.Generator) -> None:
+    width_m, height_m = canvas.cols * CELL_M, canvas.rows * CELL_M
+    radius_m = min(width_m, height_m) / 2 - 2 * CELL_M  # a cell of floor between ring and border
+    canvas.header.append(f"ring: {width_m / 2:g} {height_m / 2:g} {radius_m:g}")
+    canvas.grid[canvas.cell(0.5, 0.5)] = ">"
+
+
+CORRIDOR_CELLS = round(1.2 / CELL_M)  # a corridor about 1.2 m wide
+
+
+def _corridor(canvas: _Canvas, rng: np.random.Generator) -> None:
+    k = 1 + CORRIDOR_CELLS
+    canvas.grid[k:-k, k:-k] = "#"  # the block the corridor loops around
+    canvas.grid[canvas.rows - 2 - CORRIDOR_CELLS // 2, canvas.cols // 2] = ">"
+
+
+# Pillars (radius 0.2 m) and goals as fractions of the width and height, after Figure 22:
+# staggered pillars between the start (left) and four goals (right), one goal behind a pair
+# of pillars with a gap barely wider than the robot.
+OBSTACLE_RADIUS_M = 0.2
+OBSTACLE_PILLARS = (
+    (0.35, 0.30),
+    (0.35, 0.70),
+    (0.55, 0.15),
+    (0.55, 0.50),
+    (0.55, 0.85),
+    (0.78, 0.37),
+    (0.78, 0.63),
+)
+OBSTACLE_GOALS = ((0.88, 0.15), (0.88, 0.85), (0.92, 0.50), (0.70, 0.30))
+
+
+def _obstacles(canvas: _Canvas, rng: np.random.Generator) -> None:
+    width_m, height_m = canvas.cols * CELL_M, canvas.rows * CELL_M
+    for fx, fy in OBSTACLE_PILLARS:
+        canvas.disc(round(fx * width_m, 2), round(fy * height_m, 2), OBSTACLE_RADIUS_M)
+    for fx, fy in OBSTACLE_GOALS:
+        canvas.grid[canvas.cell(fx, fy)] = "G"
+    canvas.grid[canvas.cell(0.15, 0.5)] = ">"
+
+
+PASSAGE_CELLS = 3  # 0.75 m: the 0.4 m robot fits with under 0.2 m each side, as in Figure 26b
+
+
+def _narrow(canvas: _Canvas, rng: np.random.Generator) -> None:
+    """Two rooms joined by a narrow passage through a thick wall, with a goal inside it."""
+    left, right = round(0.45 * canvas.cols), round(0.7 * canvas.cols)
+    top = canvas.rows // 2 - PASSAGE_CELLS // 2
+    canvas.grid[:, left:right] = "#"
+    canvas.grid[top : top + PASSAGE_CELLS, left:right] = "."
+    canvas.grid[canvas.rows // 2, (left + right) // 2] = "G"
+    canvas.grid[canvas.rows // 2, round(0.15 * canvas.cols)] = ">"
+
+
+LAB_GAP = 3  # cells (0.75 m) kept free between pieces of furniture: the robot can always pass
+LAB_TRIES = 50  # positions tried for one piece before leaving it out
+LAB_AREA_M2 = 48.0  # furniture counts below are for 8 m x 6 m and scale with the floor area
+STAND_RADIUS_M = 0.05  # lamp and tripod stands: thin poles
+
+
+def _lab(canvas: _Canvas, rng: np.random.Generator) -> None:
+    """A cluttered lab: benches along the walls, desks with thin overhanging table tops,
+    pillars and thin stands, with room for the robot to pass between any two of them."""
+    taken = np.zeros(canvas.grid.shape, dtype=bool)  # (rows, cols) cells claimed by furniture
+    scale = canvas.rows * canvas.cols * CELL_M**2 / LAB_AREA_M2
+
+    def count(n: int) -> int:
+        return max(1, round(n * scale))
+
+    def place(
+        footprint: np.ndarray, wall_side: int | None, gap: int = LAB_GAP
+    ) -> tuple[int, int] | None:
+        """Top-left cell for a footprint, against a wall (0 top, 1 bottom, 2 left, 3 right)
+        or free-standing, `gap` cells from everything else; None if no spot was found."""
+        h, w = footprint.shape
+        rows, cols = canvas.rows, canvas.cols
+        margin = 1 if wall_side is not None else 1 + gap
+        if rows - margin - h < margin or cols - margin - w < margin:
+            return None
+        for _ in range(LAB_TRIES):
+            r = int(rng.integers(margin, rows - margin - h + 1))
+            c = int(rng.integers(margin, cols - margin - w + 1))
+            if wall_side == 0:
+                r = 1
+            elif wall_side == 1:
+                r = rows - 1 - h
+            elif wall_side == 2:
+                c = 1
+            elif wall_side == 3:
+                c = cols - 1 - w
+            near = taken[max(r - gap, 0) : r + h + gap, max(c - gap, 0) : c + w + gap]
+            if not near.any():
+                taken[r : r + h, c : c + w] = True
+                return r, c
+        return None
+
+    def build(footprint: np.ndarray, wall_side: int | None) -> None:
+        spot = place(footprint, wall_side)
+        if spot is not None:
+            r, c = spot
+            h, w = footprint.shape
+            canvas.grid[r : r + h, c : c + w][footprint] = "#"
+
+    for _ in range(count(3)):  # benches, 0.5-0.75 m deep, 1.5-2.25 m long, along a wall
+        side = int(rng.integers(4))
+        bench = np.ones((int(rng.integers(2, 4)), int(rng.integers(6, 10))), dtype=bool)
+        build(bench if side < 2 else bench.T, side)
+    for _ in range(count(2)):  # desks 0.75 m deep with a one-cell table top sticking out
+        length, overhang = int(rng.integers(5, 8)), int(rng.integers(2, 5))
+        desk = np.zeros((3, length + overhang), dtype=bool)
+        desk[:, :length] = True
+        desk[0, length:] = True
+        desk = np.rot90(desk, int(rng.integers(4)))
+        build(np.fliplr(desk) if rng.integers(2) else desk, None)
+    # Pillars (a disc of radius <= 1 cell on the middle cell of its footprint, so 2 cells of
+    # gap still leave over 0.6 m of floor), then thin stands that sonar barely sees.
+    for radius_m in rng.uniform(0.15, 0.25, count(3)).round(2):
+        spot = place(np.ones((3, 3), dtype=bool), None, gap=2)
+        if spot is not None:
+            canvas.disc(*canvas.centre_m(spot[0] + 1, spot[1] + 1), float(radius_m))
+    for _ in range(count(2)):
+        spot = place(np.ones((1, 1), dtype=bool), None)
+        if spot is not None:
+            canvas.disc(*canvas.centre_m(*spot), STAND_RADIUS_M)
+
+    blocked = np.pad(taken | (canvas.grid == "#"), 2, constant_values=True)
+    windows = np.lib.stride_tricks.sliding_window_view(blocked, (5, 5))  # (rows, cols, 5, 5)
+    clear = np.argwhere(~windows.any(axis=(2, 3)))  # cells with 0.5 m of floor all round
+    if len(clear):
+        r, c = clear[rng.integers(len(clear))]
+        canvas.grid[r, c] = ">^<v"[int(rng.integers(4))]
+
+
+@dataclass(frozen=True, slots=True)
+class Kind:
+    """A generator of worlds: what it makes, its sizes, and the function that lays it out."""
+
+    about: str
+    default_size_m: tuple[float, float]
+    min_size_m: tuple[float, float]
+    layout: Callable[[_Canvas, np.random.Generator], None]
+    seeded: bool = False  # only seeded kinds draw from the generator
+
+
+KINDS: dict[str, Kind] = {
+    "square": Kind("an empty square arena", (4.0, 4.0), (1.25, 1.25), _square),
+    "circle": Kind("a circular wall in a square room", (5.0, 5.0), (2.0, 2.0), _circle),
+    "corridor": Kind("a closed-loop corridor 1.25 m wide", (6.0, 4.5), (3.5, 3.5), _corridor),
+    "obstacles": Kind("pillars between the start and 4 goals", (5.0, 4.0), (3.5, 3.0), _obstacles),
+    "narrow": Kind("a goal inside a 0.75 m passage", (6.0, 4.0), (4.0, 3.0), _narrow),
+    "lab": Kind(
+        "benches, desks with thin table tops, pillars, stands", (8.0, 6.0), (5.0, 4.0), _lab, True
+    ),
+}
+
+
+def generate_world(kind: str, width_m: float | None, height_m: float | None, seed: int) -> str:
+    """The text of a world file of KIND (sizes in metres, rounded to whole cells)."""
+    if kind not in KINDS:
+        raise BadInput(f"unknown world kind {kind!r} (choose from {', '.join(KINDS)})")
+    spec = KINDS[kind]
+    width_m = spec.default_size_m[0] if width_m is None else width_m
+    height_m = spec.default_size_m[1] if height_m is None else height_m
+    min_w, min_h = spec.min_size_m
+    if not (min_w <= width_m <= MAX_SIZE_M and min_h <= height_m <= MAX_SIZE_M):
+        raise BadInput(
+            f"size {width_m:g} x {height_m:g} m: a {kind} world is from "
+            f"{min_w:g} x {min_h:g} m to {MAX_SIZE_M:g} x {MAX_SIZE_M:g} m"
+        )
+    cols, rows = round(width_m / CELL_M), round(height_m / CELL_M)
+    command = f"tvl world new {kind} --size {cols * CELL_M:g} {rows * CELL_M:g}"
+    command += f" --seed {seed}" if spec.seeded else ""
+    rng = np.random.default_rng(seed)
+    error = ""
+    for _ in range(ATTEMPTS if spec.seeded else 1):
+        canvas = _Canvas(cols, rows)
+        spec.layout(canvas, rng)
+        text = "\n".join(
+            [
+                f"; {kind}: {spec.about}",
+                f"; made by: {command}",
+                f"version: {FORMAT_VERSION}",
+                f"name: {kind}",
+                f"cell: {CELL_M:g}",
+                *canvas.header,
+                "",
+                *("".join(row) for row in canvas.grid),
+                "",
+            ]
+        )
+        try:
+            parse_world(text, f"<{kind}>")
+        except WorldMapError as problem:  # a random layout may box the start in: draw again
+            error = str(problem)
+            continue
+        return text
+    raise BadInput(f"cannot make a {kind} world of {width_m:g} x {height_m:g} m ({error})")
+
+
+def bundled_world_path(name: str) -> Path:
+    """The world file `name` shipped inside the package (works after a non-editable install)."""
+    path = BUNDLED_DIR / f"{name}.txt"
+    if not path.is_file():
+        raise BadInput(f"no bundled world {name!r} (bundled: {', '.join(KINDS)})")
+    return path
