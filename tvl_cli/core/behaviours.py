@@ -1,0 +1,150 @@
+"""Behaviours as choices among fast trajectories (paper §2.1–2.2, §4.5).
+
+A trajectory is *fast* when its perceived velocity reaches threshold × its maximum. Each
+behaviour is a rule for which fast trajectory to take; when none is fast straight ahead,
+the robot rotates its perception around the ring (±1, ±2, … ±8 sonar positions) and takes
+the best fitting fast trajectory it finds there, to be faced by spinning on the spot.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+# How far along an arc its heading is judged: far enough that arcs of different radius
+# point in clearly different directions, near enough to stay inside a few-metre arena.
+LOOKAHEAD_M = 0.5
+# A reading this short on one side means a wall to follow on that side.
+WALL_SEEN_M = 1.0
+LEFT_SONARS = (2, 3, 4, 5, 6)
+RIGHT_SONARS = (10, 11, 12, 13, 14)
+
+
+@dataclass(frozen=True, slots=True)
+class Context:
+    """What a behaviour knows besides the perceived velocities."""
+
+    ring_m: np.ndarray  # (16,) metres, S0 forward, CCW
+    last_turn: int = 1  # +1 left, -1 right: the side an avoid tie keeps
+    goal_bearing_rad: float = 0.0  # goal direction relative to the heading (goal only)
+    wall_side: int = 0  # +1 left, -1 right, 0 none seen yet (wall following only)
+
+
+@dataclass(frozen=True, slots=True)
+class Choice:
+    """Face sonar `rotation` (0: as now), then follow `trajectory` at `speed_mps`."""
+
+    rotation: int  # -8..8 sonar positions, positive counter-clockwise
+    trajectory: int
+    speed_mps: float
+
+
+def trajectory_headings(curvatures_per_m: np.ndarray, sonar_count: int) -> np.ndarray:
+    """(sonar_count, 7) heading of each rotated trajectory after LOOKAHEAD_M, radians."""
+    sonar_angles = np.arange(sonar_count) * (2 * math.pi / sonar_count)
+    headings = sonar_angles[:, None] + curvatures_per_m[None, :] * LOOKAHEAD_M
+    return np.angle(np.exp(1j * headings))  # wrapped to (-pi, pi]
+
+
+def seen_wall_side(ring_m: np.ndarray) -> int:
+    """+1 if the nearest object within WALL_SEEN_M is on the left, -1 right, 0 none."""
+    left = float(ring_m[list(LEFT_SONARS)].min())
+    right = float(ring_m[list(RIGHT_SONARS)].min())
+    if min(left, right) > WALL_SEEN_M:
+        return 0
+    return 1 if left <= right else -1
+
+
+def _wall_bearing(ring_m: np.ndarray, side: int) -> float:
+    sonars = LEFT_SONARS if side > 0 else RIGHT_SONARS
+    nearest = sonars[int(np.argmin(ring_m[list(sonars)]))]
+    return float(np.angle(np.exp(1j * nearest * 2 * math.pi / len(ring_m))))
+
+
+# A score per candidate (lower is better) for one rotation's fast trajectories.
+Scorer = Callable[[np.ndarray, np.ndarray, Context], np.ndarray]
+
+
+def _avoid_score(headings: np.ndarray, lateral: np.ndarray, ctx: Context) -> np.ndarray:
+    # Nearest the forward direction; a tie goes to the side of the last turn.
+    return np.abs(headings) - 1e-6 * np.sign(lateral) * ctx.last_turn
+
+
+def _wall_score(side: int) -> Scorer:
+    def score(headings: np.ndarray, lateral: np.ndarray, ctx: Context) -> np.ndarray:
+        if ctx.wall_side != side:
+            return _avoid_score(headings, lateral, ctx)
+        # The trajectory nearest the wall, measured from the wall's bearing away from it.
+        away = (_wall_bearing(ctx.ring_m, side) - headings) * side
+        return np.mod(away, 2 * math.pi)
+
+    return score
+
+
+def _goal_score(headings: np.ndarray, lateral: np.ndarray, ctx: Context) -> np.ndarray:
+    return np.abs(np.angle(np.exp(1j * (headings - ctx.goal_bearing_rad))))
+
+
+BEHAVIOURS: dict[str, Scorer] = {
+    "avoid": _avoid_score,
+    "wall-left": _wall_score(1),
+    "wall-right": _wall_score(-1),
+    "goal": _goal_score,
+}
+# `wall` follows the side of the nearest object, so it scores like wall-left or wall-right.
+BEHAVIOUR_NAMES = ("avoid", "wall-left", "wall-right", "wall", "goal")
+
+
+def _straight_ahead_pick(behaviour: str, fast: np.ndarray, ctx: Context) -> int | None:
+    """Wall following takes the outermost fast trajectory on the wall's side (paper §2.1)."""
+    side = ctx.wall_side
+    if behaviour not in ("wall-left", "wall-right", "wall") or side == 0:
+        return None
+    if behaviour != "wall" and side != (1 if behaviour == "wall-left" else -1):
+        return None
+    indices = np.flatnonzero(fast)
+    # Index 0 is the leftmost trajectory (T3L), the last the rightmost.
+    return int(indices[0] if side > 0 else indices[-1])
+
+
+def choose(
+    velocities: np.ndarray,
+    v_max: np.ndarray,
+    headings: np.ndarray,
+    behaviour: str,
+    threshold: float,
+    ctx: Context,
+) -> Choice | None:
+    """Pick a fast trajectory for `behaviour`, or None when no direction has one (trapped).
+
+    velocities: (16, 7) perceived m/s, row k as if facing sonar k; v_max: (7,);
+    headings: (16, 7) from trajectory_headings.
+    """
+    fast = velocities >= threshold * v_max[None, :]
+    n_sonars, n_traj = velocities.shape
+    lateral = (n_traj - 1) / 2 - np.arange(n_traj)  # +3 for T3L .. -3 for T3R
+    scorer = _wall_score(ctx.wall_side or 1) if behaviour == "wall" else BEHAVIOURS[behaviour]
+    if fast[0].any():
+        pick = _straight_ahead_pick(behaviour, fast[0], ctx)
+        if pick is None:
+            scores = np.where(fast[0], scorer(headings[0], lateral, ctx), np.inf)
+            pick = int(np.argmin(scores))
+        return Choice(0, pick, float(min(velocities[0, pick], v_max[pick])))
+    for step in range(1, n_sonars // 2 + 1):
+        rotations = [step, -step] if step < n_sonars // 2 else [step]
+        best: tuple[float, int, int] | None = None
+        for k in rotations:
+            row = k % n_sonars
+            if not fast[row].any():
+                continue
+            scores = np.where(fast[row], scorer(headings[row], lateral, ctx), np.inf)
+            j = int(np.argmin(scores))
+            if best is None or scores[j] < best[0]:
+                best = (float(scores[j]), k, j)
+        if best is not None:
+            _, k, j = best
+            return Choice(k, j, float(min(velocities[k % n_sonars, j], v_max[j])))
+    return None

@@ -1,0 +1,168 @@
+"""The behaviour loop: perceive with the FAM, choose a fast trajectory, drive it, measure."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from tvl_cli.core.behaviours import (
+    Choice,
+    Context,
+    choose,
+    seen_wall_side,
+    trajectory_headings,
+)
+from tvl_cli.core.command import Command
+from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.fam import Fam
+from tvl_cli.core.metrics import MetricsRecorder, RunMetrics
+from tvl_cli.learn import spin_commands
+from tvl_cli.sim.robot import Simulator
+from tvl_cli.sim.worldmap import WorldMap
+
+GOAL_RADIUS_M = 0.3
+# Trapped: turn slowly on the spot so the ring sees new directions.
+TRAPPED_SPIN_RADPS = 0.3
+# After a bump, back off along the path as learning does, so the ring sees the obstacle.
+REVERSE_M = 0.15
+
+
+@dataclass(frozen=True, slots=True)
+class RunParams:
+    behaviour: str
+    threshold: float = 0.85
+    minutes: float = 5.0
+    goal_xy: tuple[float, float] | None = None
+
+
+@dataclass(slots=True)
+class StepRecord:
+    """One control step of a run trace."""
+
+    pose: tuple[float, float, float]
+    odometry: tuple[float, float, float]
+    ring_m: np.ndarray  # (16,) metres
+    velocities: np.ndarray  # (7,) perceived m/s facing forward
+    trajectory: int  # -1 while spinning, reversing or trapped
+    speed_mps: float
+    bumped: bool
+
+
+@dataclass(slots=True)
+class RunResult:
+    metrics: RunMetrics
+    path: list[tuple[float, float, float]] = field(default_factory=list)
+
+
+TraceFn = Callable[[StepRecord], None]
+
+
+def goal_bearing(odometry: tuple[float, float, float], goal_xy: tuple[float, float]) -> float:
+    """Goal direction relative to the heading, (-pi, pi], from odometry alone."""
+    x, y, theta = odometry
+    bearing = math.atan2(goal_xy[1] - y, goal_xy[0] - x) - theta
+    return math.atan2(math.sin(bearing), math.cos(bearing))
+
+
+class Runner:
+    def __init__(
+        self,
+        world: WorldMap,
+        robot: RobotConfig,
+        fam: Fam,
+        params: RunParams,
+        seed: int,
+    ) -> None:
+        self.robot = robot
+        self.fam = fam
+        self.params = params
+        self.sim = Simulator(world, robot, np.random.default_rng(seed))
+        self._v_max = np.array(robot.v_max_mps)
+        curvatures = np.array([t.curvature_per_m for t in robot.trajectories])
+        self._headings = trajectory_headings(curvatures, robot.sonar.count)
+        self._queue: list[tuple[Command, int]] = []  # commands already decided
+        self._last_turn = 1
+        self._wall_side = 0
+        self._trapped = False
+
+    def _context(self, ring_m: np.ndarray) -> Context:
+        behaviour = self.params.behaviour
+        if behaviour.startswith("wall") and self._wall_side == 0:
+            side = seen_wall_side(ring_m)
+            wanted = {"wall-left": 1, "wall-right": -1}.get(behaviour, side)
+            if side == wanted:
+                self._wall_side = side
+        bearing = (
+            goal_bearing(self.sim.odometry, self.params.goal_xy) if self.params.goal_xy else 0.0
+        )
+        return Context(ring_m, self._last_turn, bearing, self._wall_side)
+
+    def _plan(self, choice: Choice) -> None:
+        self._queue = [(c, -1) for c in spin_commands(choice.rotation, self.robot)]
+        traj = self.robot.trajectories[choice.trajectory]
+        self._queue.append((Command.follow(traj, choice.speed_mps), choice.trajectory))
+        lateral = 3 - choice.trajectory
+        if lateral:
+            self._last_turn = 1 if lateral > 0 else -1
+
+    def _reverse_plan(self, last: Command) -> None:
+        speed = abs(last.linear_mps) or 0.1
+        steps = math.ceil(REVERSE_M / (speed * self.robot.control_period_s))
+        self._queue = [(Command(-last.linear_mps, -last.angular_radps), -1)] * steps
+
+    def run(self, trace: TraceFn | None = None) -> RunResult:
+        metrics = MetricsRecorder(self.sim.pose[:2])
+        result = RunResult(metrics.result())
+        dt = self.robot.control_period_s
+        steps = round(self.params.minutes * 60 / dt)
+        for _ in range(steps):
+            ring_m = self.sim.read_sonar()
+            velocities, _ = self.fam.perceive(ring_m)
+            ctx = self._context(ring_m)
+            if not self._queue:
+                choice = choose(
+                    velocities,
+                    self._v_max,
+                    self._headings,
+                    "wall" if self.params.behaviour == "wall" else self.params.behaviour,
+                    self.params.threshold,
+                    ctx,
+                )
+                if choice is None:
+                    if not self._trapped:
+                        metrics.trapped()
+                    self._trapped = True
+                    self._queue = [(Command.spin(TRAPPED_SPIN_RADPS * self._last_turn), -1)]
+                else:
+                    self._trapped = False
+                    self._plan(choice)
+            command, trajectory = self._queue.pop(0)
+            self.sim.step(command)
+            if self.sim.bumped:
+                self._reverse_plan(command)
+            pose = self.sim.pose
+            metrics.record(
+                pose[:2], dt, self.sim.bumped, self.sim.clearance_m(), self._wall_side != 0
+            )
+            result.path.append(pose)
+            if trace is not None:
+                trace(
+                    StepRecord(
+                        pose,
+                        self.sim.odometry,
+                        ring_m,
+                        velocities[0],
+                        trajectory,
+                        command.linear_mps,
+                        self.sim.bumped,
+                    )
+                )
+            goal = self.params.goal_xy
+            if goal is not None and math.dist(self.sim.odometry[:2], goal) <= GOAL_RADIUS_M:
+                metrics.goal_reached()
+                break
+        result.metrics = metrics.result()
+        return result

@@ -1,0 +1,39 @@
+"""Training a FAM from recorded episodes: the one path shared by `tvl learn` (online) and
+`tvl train` (log replay), so that replaying a log rebuilds the online FAM bit for bit."""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS, Fam
+from tvl_cli.core.labels import DEFAULT_DECEL_MPS2, DEFAULT_MARGIN_M, velocity_labels
+from tvl_cli.io.logfile import Episode, mm_to_ring
+
+
+@dataclass(frozen=True, slots=True)
+class TrainParams:
+    """How exemplars become FAM entries; recorded in every FAM file's provenance."""
+
+    decel_mps2: float = DEFAULT_DECEL_MPS2
+    margin_m: float = DEFAULT_MARGIN_M
+    symmetric: bool = True
+    init_velocity_mps: float = DEFAULT_INIT_VELOCITY_MPS
+
+    def to_dict(self) -> dict[str, float | bool]:
+        return asdict(self)
+
+
+def episode_labels(episode: Episode, robot: RobotConfig, params: TrainParams) -> np.ndarray:
+    """(n,) m/s: at each point, the speed that stops just short of the collision point."""
+    v_max = robot.trajectories[episode.trajectory].v_max_mps
+    return velocity_labels(episode.distances_m(), v_max, params.decel_mps2, params.margin_m)
+
+
+def train_episode(fam: Fam, episode: Episode, robot: RobotConfig, params: TrainParams) -> None:
+    """Train on one whole episode, on exactly the ring values the log keeps."""
+    labels = episode_labels(episode, robot, params)
+    trajectories = np.full(len(labels), episode.trajectory)
+    fam.train(mm_to_ring(episode.ring_mm), trajectories, labels, symmetric=params.symmetric)
