@@ -4,15 +4,29 @@ from __future__ import annotations
 
 import json
 import sys
+from dataclasses import asdict
 from pathlib import Path
 
 import click
 
-from tvl_cli import __version__
+from tvl_cli import __version__, views
+from tvl_cli.core.behaviours import BEHAVIOUR_NAMES
+from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.errors import BadInput
+from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS
+from tvl_cli.core.labels import DEFAULT_DECEL_MPS2, DEFAULT_MARGIN_M
+from tvl_cli.demo import run_demo
 from tvl_cli.io.atomic import atomic_output
+from tvl_cli.io.famfile import read_fam, write_fam
+from tvl_cli.learn import LearnParams
+from tvl_cli.replay import replay as replay_file
+from tvl_cli.rules import SORT_KEYS, parse_ring, select_rules
+from tvl_cli.run_session import RunRequest, check_minutes, parse_goal, run_fam
+from tvl_cli.session import LearnRequest, learn_to_log, resolve_fam_config
 from tvl_cli.sim.worldgen import KINDS, generate_world
 from tvl_cli.sim.worldmap import describe, load_world, world_to_dict
+from tvl_cli.train import train_from_logs
+from tvl_cli.training import TrainParams
 
 
 class TvlGroup(click.Group):
@@ -104,4 +118,262 @@ def world_render(file: Path, output: Path, force: bool) -> None:
 
 # --- FAM commands: train, inspect -------------------------------------------------
 
+
+DEFAULT_LEARN = LearnParams()
+
+
+def _print_json(value: object) -> None:
+    click.echo(json.dumps(value, indent=1, allow_nan=False))
+
+
+@main.command()
+@click.argument("logs", nargs=-1, required=True, type=click.Path(path_type=Path))
+@click.option("-o", "--output", type=click.Path(path_type=Path), required=True, help="FAM file.")
+@click.option("--config", default="single", show_default=True, help="single, multi or FILE.json.")
+@click.option("--decel", type=float, default=DEFAULT_DECEL_MPS2, show_default=True, help="m/s².")
+@click.option("--margin", type=float, default=DEFAULT_MARGIN_M, show_default=True, help="m.")
+@click.option("--no-symmetric", is_flag=True, help="Train each trajectory only on itself.")
+@click.option("--init-velocity", type=float, default=DEFAULT_INIT_VELOCITY_MPS, show_default=True)
+@click.option("--force", is_flag=True, help="Overwrite OUTPUT.")
+def train(
+    logs: tuple[Path, ...],
+    output: Path,
+    config: str,
+    decel: float,
+    margin: float,
+    no_symmetric: bool,
+    init_velocity: float,
+    force: bool,
+) -> None:
+    """Train a FAM file from learning logs (log replay)."""
+    refuse_existing(output, force)
+    params = TrainParams(decel, margin, not no_symmetric, init_velocity)
+    fam_config = resolve_fam_config(config, RobotConfig())
+    with views.progress("training") as bar:
+        summary = train_from_logs(list(logs), fam_config, params, bar)
+    write_fam(output, summary.fam, robot_config=summary.robot, provenance=summary.provenance)
+    views.train_summary(summary, output)
+
+
+@main.command()
+@click.argument("fam", type=click.Path(path_type=Path))
+@click.option("--trajectory", default=None, help="Only this trajectory's rules, e.g. T1L.")
+@click.option(
+    "--top",
+    type=click.IntRange(min=0),
+    default=20,
+    show_default=True,
+    help="How many rules (0: all).",
+)
+@click.option("--sort", type=click.Choice(SORT_KEYS), default="experience", show_default=True)
+@click.option("--untrained", is_flag=True, help="List the rules no exemplar has reached.")
+@click.option(
+    "--explain",
+    metavar="R0,...,R15",
+    default=None,
+    help="Explain how one ring of 16 ranges (m) is perceived.",
+)
+@click.option("--json", "as_json", is_flag=True, help="Print JSON.")
+def inspect(
+    fam: Path,
+    trajectory: str | None,
+    top: int,
+    sort: str,
+    untrained: bool,
+    explain: str | None,
+    as_json: bool,
+) -> None:
+    """Print a FAM file's rules as a person reads them."""
+    loaded = read_fam(fam)
+    if explain is not None:
+        explanation = loaded.fam.explain(parse_ring(explain, loaded.robot_config.sonar.count))
+        if as_json:
+            _print_json(explanation.to_dict())
+        else:
+            views.explanation(explanation)
+        return
+    rules = select_rules(loaded.fam, trajectory, top, sort, untrained)
+    if as_json:
+        _print_json(
+            {
+                "config": loaded.fam.config.to_dict(),
+                "provenance": loaded.provenance,
+                "rules": [r.to_dict() for r in rules],
+            }
+        )
+    else:
+        for rule in rules:
+            click.echo(rule.sentence())
+
+
 # --- learn, run, replay, demo -----------------------------------------------------
+
+
+@main.command()
+@click.argument("world_file", metavar="WORLD", type=click.Path(path_type=Path))
+@click.option(
+    "--log",
+    type=click.Path(path_type=Path),
+    required=True,
+    help="Learning log to create or add a session to.",
+)
+@click.option(
+    "--minutes",
+    type=float,
+    default=DEFAULT_LEARN.minutes,
+    show_default=True,
+    help="Simulated minutes.",
+)
+@click.option("--seed", type=int, default=1, show_default=True)
+@click.option("--config", default="single", show_default=True, help="single, multi or FILE.json.")
+@click.option(
+    "--fam",
+    "fam_out",
+    type=click.Path(path_type=Path),
+    default=None,
+    help="Also write the online FAM here.",
+)
+@click.option("--decel", type=float, default=DEFAULT_DECEL_MPS2, show_default=True, help="m/s².")
+@click.option("--margin", type=float, default=DEFAULT_MARGIN_M, show_default=True, help="m.")
+@click.option(
+    "--learn-speed",
+    type=float,
+    default=DEFAULT_LEARN.learn_speed_mps,
+    show_default=True,
+    help="m/s.",
+)
+@click.option("--no-symmetric", is_flag=True, help="Train each trajectory only on itself.")
+@click.option(
+    "--sonar",
+    type=click.Choice(["real", "ideal"]),
+    default="real",
+    show_default=True,
+    help="ideal: nearest hit at any angle, no noise.",
+)
+@click.option("--force", is_flag=True, help="Overwrite the --fam file.")
+@click.option("--json", "as_json", is_flag=True, help="Print a JSON summary.")
+def learn(
+    world_file: Path,
+    log: Path,
+    minutes: float,
+    seed: int,
+    config: str,
+    fam_out: Path | None,
+    decel: float,
+    margin: float,
+    learn_speed: float,
+    no_symmetric: bool,
+    sonar: str,
+    force: bool,
+    as_json: bool,
+) -> None:
+    """Explore WORLD and learn trajectory velocities, recording every episode in a log."""
+    check_minutes(minutes)
+    if not learn_speed > 0:
+        raise BadInput(f"--learn-speed {learn_speed:g} must be > 0 m/s")
+    if fam_out is not None:
+        refuse_existing(fam_out, force)
+    request = LearnRequest(
+        world_file,
+        log,
+        seed,
+        config,
+        LearnParams(minutes=minutes, learn_speed_mps=learn_speed),
+        TrainParams(decel, margin, not no_symmetric),
+        fam_out,
+        ideal_sonar=sonar == "ideal",
+    )
+    with views.learning_progress(minutes, quiet=as_json) as (on_minute, on_progress):
+        result = learn_to_log(request, on_minute, on_progress)
+    if as_json:
+        _print_json(views.learn_json(result))
+    else:
+        views.learn_summary(result, log)
+    if result.summary.stopped_by:
+        sys.exit(130 if result.summary.stopped_by == "SIGINT" else 143)
+
+
+@main.command()
+@click.argument("fam", type=click.Path(path_type=Path))
+@click.argument("world_file", metavar="WORLD", type=click.Path(path_type=Path))
+@click.option("--behaviour", type=click.Choice(BEHAVIOUR_NAMES), required=True)
+@click.option(
+    "--threshold",
+    type=float,
+    default=0.85,
+    show_default=True,
+    help="A trajectory is fast at this fraction of its maximum, in (0, 1].",
+)
+@click.option("--goal", default=None, metavar="X,Y", help="Goal in metres (default: the world's).")
+@click.option("--minutes", type=float, default=5.0, show_default=True, help="Simulated minutes.")
+@click.option("--seed", type=int, default=1, show_default=True)
+@click.option("--png", type=click.Path(path_type=Path), default=None, help="Draw the path.")
+@click.option(
+    "--log", "trace", type=click.Path(path_type=Path), default=None, help="Write a run trace."
+)
+@click.option("--force", is_flag=True, help="Overwrite the --png and --log files.")
+@click.option("--json", "as_json", is_flag=True, help="Print the metrics as JSON.")
+def run(
+    fam: Path,
+    world_file: Path,
+    behaviour: str,
+    threshold: float,
+    goal: str | None,
+    minutes: float,
+    seed: int,
+    png: Path | None,
+    trace: Path | None,
+    force: bool,
+    as_json: bool,
+) -> None:
+    """Perform a behaviour in WORLD with a learnt FAM."""
+    for output in (png, trace):
+        if output is not None:
+            refuse_existing(output, force)
+    request = RunRequest(
+        fam,
+        world_file,
+        behaviour,
+        threshold,
+        minutes,
+        seed,
+        parse_goal(goal) if goal else None,
+        png,
+        trace,
+    )
+    metrics = run_fam(request)
+    if as_json:
+        _print_json(asdict(metrics))
+    else:
+        views.run_metrics(metrics)
+
+
+@main.command()
+@click.argument("file", type=click.Path(path_type=Path))
+@click.option("--png", type=click.Path(path_type=Path), default=None, help="Draw the paths.")
+@click.option(
+    "--curves",
+    type=click.Path(path_type=Path),
+    default=None,
+    help="Draw the learning curves (learning logs).",
+)
+@click.option("--force", is_flag=True, help="Overwrite the PNG files.")
+@click.option("--json", "as_json", is_flag=True, help="Print JSON.")
+def replay(file: Path, png: Path | None, curves: Path | None, force: bool, as_json: bool) -> None:
+    """Summarise a learning log or a run trace, and draw it."""
+    for output in (png, curves):
+        if output is not None:
+            refuse_existing(output, force)
+    summary = replay_file(file, png, curves)
+    if as_json:
+        _print_json(summary.to_dict())
+    else:
+        views.replay(summary)
+
+
+@main.command()
+@click.argument("directory", default="tvl-demo", type=click.Path(path_type=Path))
+@click.option("--force", is_flag=True, help="Write into a DIRECTORY that is not empty.")
+def demo(directory: Path, force: bool) -> None:
+    """Learn, train, run and draw on a bundled world, in about a minute."""
+    views.demo(run_demo(directory, force, views.say))

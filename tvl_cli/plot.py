@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from pathlib import Path
 
+import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.collections import LineCollection
@@ -98,10 +100,89 @@ def _floor(world: WorldMap) -> DrawPath:
     return DrawPath(vertices, codes)
 
 
+def _world_figure(world: WorldMap, extra_width_in: float = 0.0) -> tuple[Figure, Axes]:
+    aspect = (world.height_m + 3.5 * MARGIN_M) / (world.width_m + 2 * MARGIN_M)
+    figure = Figure(figsize=(FIGURE_WIDTH_IN + extra_width_in, FIGURE_WIDTH_IN * aspect + 0.8))
+    FigureCanvasAgg(figure)
+    ax = figure.add_subplot()
+    draw_world(ax, world)
+    return figure, ax
+
+
+def _save(figure: Figure, png_path: str | Path) -> None:
+    figure.savefig(png_path, format="png", dpi=120, bbox_inches="tight")
+
+
 def render_world(world: WorldMap, png_path: str | Path) -> None:
     """Write a PNG picture of the world."""
-    aspect = (world.height_m + 3.5 * MARGIN_M) / (world.width_m + 2 * MARGIN_M)
-    figure = Figure(figsize=(FIGURE_WIDTH_IN, FIGURE_WIDTH_IN * aspect + 0.8))
+    figure, _ = _world_figure(world)
+    _save(figure, png_path)
+
+
+def render_path(
+    world: WorldMap,
+    poses: Sequence[Sequence[float]] | np.ndarray,
+    speeds_mps: Sequence[float] | np.ndarray,
+    bumped: Sequence[bool] | np.ndarray,
+    png_path: str | Path,
+    title: str,
+    goal: tuple[float, float] | None = None,
+) -> None:
+    """The world with a path coloured by speed and its collisions marked with crosses."""
+    figure, ax = _world_figure(world, extra_width_in=1.2)
+    xy = np.asarray(poses, dtype=np.float64).reshape(-1, 3)[:, :2]  # (N, 2) metres
+    speed = np.abs(np.asarray(speeds_mps, dtype=np.float64))
+    if len(xy) > 1:
+        segments = np.stack([xy[:-1], xy[1:]], axis=1)  # (N-1, 2, 2)
+        lines = LineCollection(list(segments), cmap="viridis", linewidths=1.6, zorder=4)
+        lines.set_array(speed[1:])
+        lines.set_clim(0.0, max(RobotConfig().v_max_mps))
+        ax.add_collection(lines)
+        figure.colorbar(lines, ax=ax, label="speed (m/s)", shrink=0.8)
+    hits = np.flatnonzero(np.diff(np.asarray(bumped, dtype=np.int8), prepend=0) > 0)
+    if len(hits):
+        ax.plot(
+            xy[hits, 0],
+            xy[hits, 1],
+            "x",
+            color="red",
+            markersize=8,
+            zorder=5,
+            label=f"{len(hits)} collisions",
+        )
+        ax.legend(loc="upper right", fontsize=8)
+    if goal is not None:
+        ax.plot(*goal, marker="*", color="crimson", markersize=16, zorder=6)
+    ax.set_title(title)
+    _save(figure, png_path)
+
+
+def render_paths(
+    world: WorldMap, paths: Sequence[np.ndarray], png_path: str | Path, title: str
+) -> None:
+    """The world with several paths (N, 2+) drawn one colour each, e.g. learning episodes."""
+    figure, ax = _world_figure(world)
+    for path in paths:
+        ax.plot(path[:, 0], path[:, 1], linewidth=0.6, alpha=0.7, zorder=4)
+    ax.set_title(title)
+    _save(figure, png_path)
+
+
+def render_learning_curves(
+    minutes: np.ndarray, columns: Sequence[str], png_path: str | Path, title: str
+) -> None:
+    """ΔV, collisions and episodes per learning minute, one panel each, from (M, k) rows."""
+    figure = Figure(figsize=(6.4, 6.0))
     FigureCanvasAgg(figure)
-    draw_world(figure.add_subplot(), world)
-    figure.savefig(png_path, format="png", dpi=120, bbox_inches="tight")
+    minute = minutes[:, columns.index("minute")] + 1
+    for panel, (name, label) in enumerate(
+        (("delta_v", "ΔV (m/s per step)"), ("collisions", "collisions"), ("episodes", "episodes")),
+        start=1,
+    ):
+        ax = figure.add_subplot(3, 1, panel)
+        ax.plot(minute, minutes[:, columns.index(name)], marker="o", markersize=3)
+        ax.set_ylabel(label)
+        ax.grid(alpha=0.3)
+    ax.set_xlabel("learning minute")
+    figure.suptitle(title)
+    _save(figure, png_path)

@@ -75,11 +75,13 @@ def select_rules(
         t, column, _ = where[source[i]]
         table = fam.config.tables[t]
         row = int(rows[i])
-        sets = rule_set_indices(table, row)
+        sets = rule_set_indices(table, np.array(row))
         found.append(
             Rule(
                 table.trajectories[column],
-                tuple((f.name, f.partition.names[s]) for f, s in zip(table.inputs, sets)),
+                tuple(
+                    (f.name, f.partition.names[s]) for f, s in zip(table.inputs, sets, strict=True)
+                ),
                 float(fam.velocity_table(t)[row, column]),
                 float(fam.experience_table(t)[row, column]),
             )

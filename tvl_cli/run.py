@@ -87,6 +87,7 @@ class Runner:
         self._last_turn = 1
         self._wall_side = 0
         self._trapped = False
+        self._ahead_blocked = False  # set by a bump, spent on the next choice
 
     def _context(self, ring_m: np.ndarray) -> Context:
         behaviour = self.params.behaviour
@@ -98,7 +99,7 @@ class Runner:
         bearing = (
             goal_bearing(self.sim.odometry, self.params.goal_xy) if self.params.goal_xy else 0.0
         )
-        return Context(ring_m, self._last_turn, bearing, self._wall_side)
+        return Context(ring_m, self._last_turn, bearing, self._wall_side, self._ahead_blocked)
 
     def _plan(self, choice: Choice) -> None:
         self._queue = [(c, -1) for c in spin_commands(choice.rotation, self.robot)]
@@ -131,6 +132,7 @@ class Runner:
                     self.params.threshold,
                     ctx,
                 )
+                self._ahead_blocked = False
                 if choice is None:
                     if not self._trapped:
                         metrics.trapped()
@@ -143,6 +145,7 @@ class Runner:
             self.sim.step(command)
             if self.sim.bumped:
                 self._reverse_plan(command)
+                self._ahead_blocked = True
             pose = self.sim.pose
             metrics.record(
                 pose[:2], dt, self.sim.bumped, self.sim.clearance_m(), self._wall_side != 0

@@ -31,6 +31,10 @@ class Context:
     last_turn: int = 1  # +1 left, -1 right: the side an avoid tie keeps
     goal_bearing_rad: float = 0.0  # goal direction relative to the heading (goal only)
     wall_side: int = 0  # +1 left, -1 right, 0 none seen yet (wall following only)
+    # A bump is evidence the FAM over-rated the way ahead: the ring reads much the same after
+    # backing off, so trusting it again would repeat the bump. Rotation 0 is then not fast,
+    # and rotating foveal perception finds another direction.
+    ahead_blocked: bool = False
 
 
 @dataclass(frozen=True, slots=True)
@@ -124,6 +128,8 @@ def choose(
     headings: (16, 7) from trajectory_headings.
     """
     fast = velocities >= threshold * v_max[None, :]
+    if ctx.ahead_blocked:
+        fast[0] = False
     n_sonars, n_traj = velocities.shape
     lateral = (n_traj - 1) / 2 - np.arange(n_traj)  # +3 for T3L .. -3 for T3R
     scorer = _wall_score(ctx.wall_side or 1) if behaviour == "wall" else BEHAVIOURS[behaviour]

@@ -111,7 +111,7 @@ class Partition:
     def __post_init__(self) -> None:
         if len(self.names) != len(self.centres_m) or len(self.names) < 2:
             raise ValueError("a partition needs at least two sets, one name per centre")
-        if any(b <= a for a, b in zip(self.centres_m, self.centres_m[1:])):
+        if any(b <= a for a, b in zip(self.centres_m[:-1], self.centres_m[1:], strict=True)):
             raise ValueError(f"partition centres must increase: {self.centres_m}")
 
 
@@ -186,7 +186,9 @@ class FamConfig:
                 )
                 for i in t["inputs"]
             )
-            tables.append(FamTable(str(t["name"]), inputs, tuple(str(n) for n in t["trajectories"])))
+            tables.append(
+                FamTable(str(t["name"]), inputs, tuple(str(n) for n in t["trajectories"]))
+            )
         return cls(str(data["name"]), tuple(tables))
 
 

@@ -117,6 +117,24 @@ class _Grid:
 
 def parse_world(text: str, source: str) -> WorldMap:
     """Parse the text of a world file (SPEC §3); `source` names the file in error messages."""
+    grid, header = _split(text, source)
+    return _build(grid, header, text, source)
+
+
+def check_goal(world: WorldMap, x: float, y: float, where: str) -> None:
+    """WorldMapError unless a goal at (x, y) lies in the robot's part of the world."""
+    grid, _ = _split(world.text, world.name)
+    _check_goal(grid, x, y, world.discs, world.width_m, world.height_m, where)
+    sx, sy, _ = world.start
+    for cx, cy, r in world.rings:
+        if (math.hypot(sx - cx, sy - cy) < r) != (math.hypot(x - cx, y - cy) < r):
+            raise WorldMapError(
+                f"{where}: goal x {x:g} y {y:g} is on the other side of a ring wall"
+            )
+
+
+def _split(text: str, source: str) -> tuple[_Grid, _Header]:
+    """The header and the grid of a world text, checked for form only."""
     lines = [line.rstrip("\r") for line in text.split("\n")]
     if not any(line.strip() and not line.startswith(";") for line in lines):
         raise WorldMapError(f"{source}: file is empty (a world needs a map of # walls and a start)")
@@ -144,8 +162,7 @@ def parse_world(text: str, source: str) -> WorldMap:
     if "" in rows:
         blank = row_lines[rows.index("")]
         raise WorldMapError(f"{source}:{blank}:1: blank line inside the map")
-    grid = _Grid(tuple(rows), tuple(row_lines), header.cell_m)
-    return _build(grid, header, text, source)
+    return _Grid(tuple(rows), tuple(row_lines), header.cell_m), header
 
 
 def _read_header(header: _Header, match: re.Match[str], where: str, number: int) -> None:

@@ -1,0 +1,52 @@
+"""Training labels: the speed at each recorded point that stops just short of the collision.
+
+Braking at a constant deceleration a from speed v takes v^2 / (2 a) metres, so a point
+d metres along the arc from the collision point may be passed at sqrt(2 a (d - margin)),
+never more than the trajectory's maximum; after a full circle every point gets v_max
+(paper §4.1).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from tvl_cli.core.errors import BadInput
+
+DEFAULT_DECEL_MPS2 = 0.5
+DEFAULT_MARGIN_M = 0.05  # stop this far short of the collision point
+
+
+def velocity_labels(
+    distance_to_collision_m: np.ndarray,
+    v_max_mps: np.ndarray | float,
+    decel_mps2: float = DEFAULT_DECEL_MPS2,
+    margin_m: float = DEFAULT_MARGIN_M,
+) -> np.ndarray:
+    """Labels (N,) m/s for distances (N,) metres along the arc (inf: no collision ahead)."""
+    if not (math.isfinite(decel_mps2) and decel_mps2 > 0):
+        raise BadInput(f"deceleration must be > 0 m/s² (got {decel_mps2})")
+    if not (math.isfinite(margin_m) and margin_m >= 0):
+        raise BadInput(f"margin must be >= 0 m (got {margin_m})")
+    distance = np.asarray(distance_to_collision_m, dtype=np.float64)
+    braking_m = np.maximum(distance - margin_m, 0.0)
+    return np.minimum(
+        np.asarray(v_max_mps, dtype=np.float64), np.sqrt(2.0 * decel_mps2 * braking_m)
+    )
+
+
+def distances_to_collision(
+    arc_m: np.ndarray, collided: bool, end_arc_m: float | None = None
+) -> np.ndarray:
+    """Distance (N,) metres from each recorded point to the episode's end, inf without a bump.
+
+    `arc_m` (N,) is the arc length travelled at each point; the collision point is at
+    `end_arc_m`, by default the last recorded point.
+    """
+    arc = np.asarray(arc_m, dtype=np.float64)
+    if not collided:
+        return np.full(arc.shape, np.inf)
+    if end_arc_m is None:
+        end_arc_m = float(arc[-1]) if len(arc) else 0.0
+    return end_arc_m - arc

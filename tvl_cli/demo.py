@@ -1,0 +1,71 @@
+"""`tvl demo`: the whole pipeline on the bundled square arena, in about a minute."""
+
+from __future__ import annotations
+
+import shutil
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+from tvl_cli.core.config import MULTI, SINGLE
+from tvl_cli.core.errors import BadInput
+from tvl_cli.core.metrics import RunMetrics
+from tvl_cli.io.famfile import write_fam
+from tvl_cli.learn import LearnParams
+from tvl_cli.run_session import RunRequest, run_fam
+from tvl_cli.session import LearnRequest, LearnResult, learn_to_log
+from tvl_cli.sim.worldgen import bundled_world_path
+from tvl_cli.train import train_from_logs
+from tvl_cli.training import TrainParams
+
+DEMO_WORLD = "square"
+DEMO_SEED = 1
+LEARN_MINUTES = 15.0
+RUN_MINUTES = 3.0
+BEHAVIOURS = ("avoid", "wall-left")
+
+
+@dataclass(frozen=True, slots=True)
+class DemoRow:
+    config: str
+    behaviour: str
+    metrics: RunMetrics
+    png: Path
+
+
+@dataclass(frozen=True, slots=True)
+class DemoResult:
+    directory: Path
+    learning: LearnResult
+    rows: list[DemoRow]
+
+
+def run_demo(directory: Path, force: bool, say: Callable[[str], None]) -> DemoResult:
+    """Learn in the square, train single and multi FAMs from the log, run two behaviours."""
+    if directory.exists() and any(directory.iterdir()) and not force:
+        raise BadInput(f"{directory}: exists and is not empty (use --force to write into it)")
+    directory.mkdir(parents=True, exist_ok=True)
+    world = directory / f"{DEMO_WORLD}.txt"
+    shutil.copyfile(bundled_world_path(DEMO_WORLD), world)
+    log = directory / "learn.h5"
+    log.unlink(missing_ok=True)  # a demo always starts a fresh log
+    say(f"learning for {LEARN_MINUTES:g} simulated minutes in {world} ...")
+    learning = learn_to_log(
+        LearnRequest(
+            world, log, DEMO_SEED, "single", LearnParams(minutes=LEARN_MINUTES), TrainParams()
+        )
+    )
+    rows = []
+    for config in (SINGLE, MULTI):
+        say(f"training the {config.name} FAM from {log} ...")
+        trained = train_from_logs([log], config, TrainParams())
+        fam_path = directory / f"{config.name}.h5"
+        write_fam(fam_path, trained.fam, robot_config=trained.robot, provenance=trained.provenance)
+        for behaviour in BEHAVIOURS:
+            say(f"running {behaviour} with the {config.name} FAM ...")
+            png = directory / f"{config.name}-{behaviour}.png"
+            metrics = run_fam(
+                RunRequest(fam_path, world, behaviour, 0.85, RUN_MINUTES, DEMO_SEED, png=png)
+            )
+            rows.append(DemoRow(config.name, behaviour, metrics, png))
+    return DemoResult(directory, learning, rows)

@@ -1,0 +1,39 @@
+"""Write an output file whole or not at all: a temporary file beside it, renamed into place."""
+
+from __future__ import annotations
+
+import os
+import secrets
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+
+from tvl_cli.core.errors import BadInput
+
+
+@contextmanager
+def atomic_output(path: Path | str) -> Iterator[Path]:
+    """Yield a temporary path to write; on success it replaces `path`, on any failure
+    (including Ctrl-C) it is removed and an existing `path` is left untouched.
+
+    The temporary file sits in the same directory so the rename never crosses file systems.
+    """
+    path = Path(path)
+    if not path.parent.is_dir():
+        raise BadInput(f"{path}: cannot write, directory {path.parent} does not exist")
+    if path.is_dir():
+        raise BadInput(f"{path}: is a directory, not a file")
+    temporary = path.with_name(f".{path.name}.{os.getpid()}.{secrets.token_hex(4)}.tmp")
+    try:
+        # Created here, not by the writer, so that a read-only directory is a clear error;
+        # an ordinary open() gives the file the user's usual permissions (umask).
+        with open(temporary, "xb"):
+            pass
+    except OSError as error:
+        raise BadInput(f"{path}: cannot write ({error.strerror})") from None
+    try:
+        yield temporary
+        os.replace(temporary, path)
+    except BaseException:
+        temporary.unlink(missing_ok=True)
+        raise

@@ -1,0 +1,538 @@
+"""The learning log (`tvl-log`): every exemplar a learner recorded, grouped in sessions.
+
+Layout (all lengths grow as whole episodes are appended):
+
+    /                       format, format_version, tvl_version, created
+    /sessions/0000          world_name, world_text, seed, parameters, robot_config,
+                            fam_config (JSON), status, started, ended, tvl_version
+        ring_mm     (N, 16) uint16  sonar ranges in millimetres, S0 forward, CCW
+        pose        (N, 3)  float64 true x, y (m), theta (rad)
+        odometry    (N, 3)  float64 odometry x, y (m), theta (rad)
+        arc_m       (N,)    float64 distance along the arc from the episode start
+        trajectory  (N,)    int8    trajectory index (robot_config order)
+        rotation    (N,)    int8    foveal rotation chosen, in sonar positions CCW
+        episode     (N,)    int32   episode index in the session
+        episodes    (E,)    one row per episode (EPISODE_DTYPE)
+        minutes     (M, 5)  float64 per simulated minute: MINUTE_COLUMNS
+
+Surviving a killed learner: a session being written keeps its datasets chunked but
+uncompressed, so every chunk stays where it was first written and HDF5 never frees and
+reuses file space. (A gzip chunk moves whenever an episode makes it grow, and a kill between
+the reuse of its old place and the next flush leaves the last flushed metadata pointing at
+another chunk's bytes: a whole log lost.) After every episode the file is flushed, and only
+then are the session's `episodes` and `minutes` attributes raised to count the new rows;
+a reader trusts those counts. Closing the session rewrites the log with gzip and shuffle into
+a temporary file renamed into place, so a finished log is compressed, and a killed one is
+whole and compressed when the next session on it closes.
+
+The online FAM must train on mm_to_ring(ring_to_mm(ring)), the values kept here, so that
+`tvl train` rebuilds it exactly from the log.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from dataclasses import dataclass
+from pathlib import Path
+from types import TracebackType
+from typing import Any
+
+import h5py
+import numpy as np
+
+from tvl_cli import __version__
+from tvl_cli.core.config import FamConfig, RobotConfig
+from tvl_cli.core.errors import BadInput
+from tvl_cli.io.atomic import atomic_output
+from tvl_cli.io.lock import WriterLock, writer_pid
+from tvl_cli.io.schema import (
+    LIBVER,
+    LOG_FORMAT,
+    FormatError,
+    open_for_appending,
+    open_for_reading,
+    read_json_attr,
+    read_str_attr,
+    to_json,
+    utc_now,
+    write_header,
+)
+
+SESSIONS = "sessions"
+MM_PER_M = 1000.0
+MM_MAX = np.iinfo(np.uint16).max
+
+EPISODE_DTYPE = np.dtype(
+    [
+        ("first", "<i8"),  # index of the episode's first exemplar in the session
+        ("count", "<i4"),  # exemplars in the episode
+        ("trajectory", "i1"),
+        ("rotation", "i1"),
+        ("collided", "?"),
+        ("end_time_s", "<f8"),  # simulated time at the end, from the session start
+        ("end_arc_m", "<f8"),  # arc length at the end: the collision point if collided
+    ]
+)
+MINUTE_COLUMNS = ("minute", "episodes", "collisions", "exemplars", "delta_v")
+MINUTE_UNITS = ("min", "", "", "", "m/s per control step")
+
+# Rows per chunk: about 32 KiB of sonar readings, enough for gzip to work with.
+EXEMPLAR_CHUNK_ROWS = 1024
+EPISODE_CHUNK_ROWS = 256
+MINUTE_CHUNK_ROWS = 64
+COMPRESSION: dict[str, Any] = {"compression": "gzip", "compression_opts": 4, "shuffle": True}
+
+# Session attributes counting the rows known to be whole in the file: rows past them may be
+# half written by a killed writer and are ignored.
+COMMITTED_EPISODES = "episodes"
+COMMITTED_MINUTES = "minutes"
+
+STATUS_RUNNING = "running"
+STATUS_FINISHED = "finished"
+STATUS_NOT_CLOSED = "interrupted: not closed"  # the writer died without closing the session
+
+
+def ring_to_mm(ring_m: np.ndarray) -> np.ndarray:
+    """Sonar ranges in metres -> uint16 millimetres (nearest), the form the log keeps."""
+    mm = np.rint(np.asarray(ring_m, dtype=np.float64) * MM_PER_M)
+    return np.clip(mm, 0, MM_MAX).astype(np.uint16)
+
+
+def mm_to_ring(ring_mm: np.ndarray) -> np.ndarray:
+    """uint16 millimetres -> float64 metres: the exact values the FAM trains on."""
+    return np.asarray(ring_mm, dtype=np.float64) / MM_PER_M
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class Episode:
+    """One followed trajectory: its exemplars and how it ended."""
+
+    index: int  # in the session, from 0
+    ring_mm: np.ndarray  # (n, sonars) uint16 mm, S0 forward, CCW
+    pose: np.ndarray  # (n, 3) true x m, y m, theta rad
+    odometry: np.ndarray  # (n, 3) odometry x m, y m, theta rad
+    arc_m: np.ndarray  # (n,) distance along the arc from the episode start
+    trajectory: int  # index in the robot configuration's trajectories
+    rotation: int  # foveal rotation chosen, sonar positions CCW
+    collided: bool
+    end_arc_m: float  # arc length at the end: the collision point if collided
+    end_time_s: float  # simulated time at the end, from the session start
+
+    @property
+    def exemplar_count(self) -> int:
+        return len(self.arc_m)
+
+    def distances_m(self) -> np.ndarray:
+        """(n,) metres along the arc from each exemplar to the collision point; inf if none."""
+        if self.collided:
+            return self.end_arc_m - self.arc_m
+        return np.full(len(self.arc_m), np.inf)
+
+
+# name -> (dtype, units, description) of the per-exemplar datasets, in writing order.
+_EXEMPLAR_DATASETS: dict[str, tuple[str, str, str]] = {
+    "ring_mm": ("<u2", "mm", "sonar ranges S0..S15, S0 forward, numbered counter-clockwise"),
+    "pose": ("<f8", "m, m, rad", "true pose x, y, theta"),
+    "odometry": ("<f8", "m, m, rad", "odometry pose x, y, theta"),
+    "arc_m": ("<f8", "m", "distance along the arc from the episode start"),
+    "trajectory": ("i1", "", "trajectory index, in the order of robot_config trajectories"),
+    "rotation": ("i1", "sonar positions", "foveal rotation chosen, counter-clockwise"),
+    "episode": ("<i4", "", "episode index in this session"),
+}
+
+
+class LogWriter:
+    """Appends one session to a learning log, holding the log's writer lock until close."""
+
+    def __init__(self, path: Path, lock: WriterLock, f: h5py.File, group: h5py.Group) -> None:
+        self.path = path
+        self._lock = lock
+        self._file: h5py.File | None = f
+        self._group = group
+        # Handles looked up once: a lookup by name costs about as much as a small write.
+        self._datasets = {name: group[name] for name in (*_EXEMPLAR_DATASETS, "episodes")}
+        self._minutes_dataset = group["minutes"]
+        self._episodes = 0
+        self._exemplars = 0
+        self._minutes = 0
+
+    @classmethod
+    def open(
+        cls,
+        path: Path | str,
+        *,
+        world_name: str,
+        world_text: str,
+        seed: int,
+        parameters: dict[str, Any],
+        robot_config: dict[str, Any],
+        fam_config: dict[str, Any],
+    ) -> LogWriter:
+        """Create the log, or add a new session to an existing one (which must be a tvl-log
+        of the same robot). BadInput if another process is writing it."""
+        path = Path(path)
+        if not path.parent.is_dir():
+            raise BadInput(f"{path}: cannot write, directory {path.parent} does not exist")
+        lock = WriterLock.acquire(path)
+        created = not path.exists()
+        f: h5py.File | None = None
+        try:
+            if created:
+                f = h5py.File(path, "x", libver=LIBVER)
+                write_header(f, LOG_FORMAT)
+            else:
+                f = open_for_appending(path, LOG_FORMAT)
+                _refuse_other_robot(f, path, robot_config)
+            group = _new_session(f, int(robot_config["sonar"]["count"]))
+            group.attrs.update(
+                world_name=world_name,
+                world_text=world_text,
+                seed=np.int64(seed),
+                parameters=to_json(parameters),
+                robot_config=to_json(robot_config),
+                fam_config=to_json(fam_config),
+                status=STATUS_RUNNING,
+                started=utc_now(),
+                tvl_version=__version__,
+            )
+            group.attrs.update({COMMITTED_EPISODES: np.int64(0), COMMITTED_MINUTES: np.int64(0)})
+            f.flush()
+        except BaseException:
+            if f is not None:
+                f.close()
+            if created:
+                path.unlink(missing_ok=True)
+            lock.release()
+            raise
+        return cls(path, lock, f, group)
+
+    @property
+    def session(self) -> str:
+        """The session's group name, e.g. '0001'."""
+        return self._group.name.rsplit("/", 1)[-1]
+
+    def append_episode(self, episode: Episode) -> None:
+        """Append one whole episode (one write per dataset) and flush it to the file."""
+        if episode.index != self._episodes:
+            raise ValueError(f"episode {episode.index} appended as number {self._episodes}")
+        n = episode.exemplar_count
+        columns = {
+            "ring_mm": episode.ring_mm,
+            "pose": episode.pose,
+            "odometry": episode.odometry,
+            "arc_m": episode.arc_m,
+            "trajectory": np.full(n, episode.trajectory, dtype=np.int8),
+            "rotation": np.full(n, episode.rotation, dtype=np.int8),
+            "episode": np.full(n, episode.index, dtype=np.int32),
+        }
+        start = self._exemplars
+        for name, values in columns.items():
+            _append(self._datasets[name], values, start)
+        row = np.array(
+            [
+                (
+                    start,
+                    n,
+                    episode.trajectory,
+                    episode.rotation,
+                    episode.collided,
+                    episode.end_time_s,
+                    episode.end_arc_m,
+                )
+            ],
+            dtype=EPISODE_DTYPE,
+        )
+        _append(self._datasets["episodes"], row, self._episodes)
+        self._exemplars += n
+        self._episodes += 1
+        self._commit()
+
+    def append_minute(
+        self, *, minute: int, episodes: int, collisions: int, exemplars: int, delta_v: float
+    ) -> None:
+        """Append one row of per-minute learning statistics."""
+        row = np.array([[minute, episodes, collisions, exemplars, delta_v]], dtype=np.float64)
+        _append(self._minutes_dataset, row, self._minutes)
+        self._minutes += 1
+        self._commit()
+
+    def close(self, status: str = STATUS_FINISHED) -> None:
+        """Record how the session ended ('finished', 'interrupted: SIGINT', ...), compress
+        the log and release the lock. Closing twice does nothing."""
+        if self._file is None:
+            return
+        try:
+            self._group.attrs.update(status=status, ended=utc_now())
+            self._file.close()
+            self._file = None
+            _compress(self.path)
+        finally:
+            self._file = None
+            self._lock.release()
+
+    def _commit(self) -> None:
+        """Make the rows written so far durable, then count them in the session's attributes.
+
+        Two flushes: the counts reach the file only after the rows they count, so a reader
+        trusts the counts whatever moment a kill cut the writer short.
+        """
+        assert self._file is not None, "the log writer is closed"
+        self._file.flush()
+        # modify() rewrites the attribute in place, where update() would delete and add it.
+        self._group.attrs.modify(COMMITTED_EPISODES, np.int64(self._episodes))
+        self._group.attrs.modify(COMMITTED_MINUTES, np.int64(self._minutes))
+        self._file.flush()
+
+    def __enter__(self) -> LogWriter:
+        return self
+
+    def __exit__(
+        self,
+        kind: type[BaseException] | None,
+        error: BaseException | None,
+        traceback: TracebackType | None,
+    ) -> None:
+        if kind is None:
+            self.close()
+        elif issubclass(kind, KeyboardInterrupt):
+            self.close("interrupted: SIGINT")
+        else:
+            self.close(f"failed: {kind.__name__}")
+
+
+def _refuse_other_robot(f: h5py.File, path: Path, robot_config: dict[str, Any]) -> None:
+    """One log, one robot: `tvl train` refuses logs of different robots, so say it now."""
+    for name, group in f.get(SESSIONS, {}).items():
+        if read_json_attr(group, "robot_config", path) != _round_trip(robot_config):
+            raise BadInput(
+                f"{path}: session {name} was recorded with another robot configuration; "
+                "log this robot to a new file"
+            )
+
+
+def _round_trip(value: dict[str, Any]) -> Any:
+    """The value as it reads back from JSON (tuples become lists)."""
+    return json.loads(to_json(value))
+
+
+def _new_session(f: h5py.File, sonars: int) -> h5py.Group:
+    """The next session group, '0000', '0001', ..., with its empty growable datasets,
+    uncompressed until the session closes (see the module's docstring)."""
+    sessions = f.require_group(SESSIONS)
+    group = sessions.create_group(f"{len(sessions):04d}")
+    row_shapes = {"ring_mm": (sonars,), "pose": (3,), "odometry": (3,)}
+    for name, (dtype, units, description) in _EXEMPLAR_DATASETS.items():
+        row = row_shapes.get(name, ())
+        dataset = group.create_dataset(
+            name,
+            shape=(0, *row),
+            maxshape=(None, *row),
+            dtype=dtype,
+            chunks=(EXEMPLAR_CHUNK_ROWS, *row),
+        )
+        dataset.attrs.update(units=units, description=description)
+    episodes = group.create_dataset(
+        "episodes",
+        shape=(0,),
+        maxshape=(None,),
+        dtype=EPISODE_DTYPE,
+        chunks=(EPISODE_CHUNK_ROWS,),
+    )
+    episodes.attrs["description"] = (
+        "one row per episode: exemplars first..first+count-1, how and where it ended"
+    )
+    minutes = group.create_dataset(
+        "minutes",
+        shape=(0, len(MINUTE_COLUMNS)),
+        maxshape=(None, len(MINUTE_COLUMNS)),
+        dtype="<f8",
+        chunks=(MINUTE_CHUNK_ROWS, len(MINUTE_COLUMNS)),
+    )
+    minutes.attrs.update(
+        columns=list(MINUTE_COLUMNS),
+        units=list(MINUTE_UNITS),
+        description="learning progress per simulated minute (delta_v: paper eq. 4)",
+    )
+    return group
+
+
+def _compress(path: Path) -> None:
+    """Rewrite the log with every session's datasets gzip-compressed, then rename it into
+    place; sessions already compressed are copied chunk for chunk, not recompressed."""
+    with (
+        h5py.File(path, "r") as source,
+        atomic_output(path) as temporary,
+        h5py.File(temporary, "w", libver=LIBVER) as target,
+    ):
+        target.attrs.update(source.attrs)
+        sessions = target.create_group(SESSIONS)
+        for name, group in source[SESSIONS].items():
+            if group["ring_mm"].compression is not None:
+                source.copy(group, sessions, name)
+                continue
+            copy = sessions.create_group(name)
+            copy.attrs.update(group.attrs)
+            for dataset in group.values():
+                compressed = copy.create_dataset(
+                    dataset.name.rsplit("/", 1)[-1],
+                    data=dataset[()],
+                    maxshape=dataset.maxshape,
+                    chunks=dataset.chunks,
+                    **COMPRESSION,
+                )
+                compressed.attrs.update(dataset.attrs)
+
+
+def _append(dataset: h5py.Dataset, values: np.ndarray, start: int) -> None:
+    """Write rows at `start` with one resize and one write: per-row appends cost ~0.2 ms."""
+    if len(values) == 0:
+        return
+    dataset.resize(start + len(values), axis=0)
+    dataset[start:] = values
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class Session:
+    """One learning session as read back: its settings and its whole episodes."""
+
+    name: str  # the group name, e.g. '0000'
+    world_name: str
+    world_text: str
+    seed: int
+    parameters: dict[str, Any]
+    robot_config: RobotConfig
+    fam_config: FamConfig
+    status: str  # 'finished', 'interrupted: SIGINT', 'interrupted: not closed', ...
+    started: str  # UTC ISO 8601
+    ended: str | None
+    tvl_version: str
+    ring_mm: np.ndarray  # (N, sonars) uint16 mm
+    pose: np.ndarray  # (N, 3) true x m, y m, theta rad
+    odometry: np.ndarray  # (N, 3)
+    arc_m: np.ndarray  # (N,) m
+    trajectory: np.ndarray  # (N,) int8
+    rotation: np.ndarray  # (N,) int8
+    episode: np.ndarray  # (N,) int32
+    episode_table: np.ndarray  # (E,) EPISODE_DTYPE
+    minutes: np.ndarray  # (M, 5) float64, MINUTE_COLUMNS
+
+    @property
+    def exemplar_count(self) -> int:
+        return len(self.arc_m)
+
+    def episodes(self) -> list[Episode]:
+        """The session's episodes, whose arrays are views into the session's arrays."""
+        episodes = []
+        for index, row in enumerate(self.episode_table):
+            rows = slice(int(row["first"]), int(row["first"]) + int(row["count"]))
+            episodes.append(
+                Episode(
+                    index=index,
+                    ring_mm=self.ring_mm[rows],
+                    pose=self.pose[rows],
+                    odometry=self.odometry[rows],
+                    arc_m=self.arc_m[rows],
+                    trajectory=int(row["trajectory"]),
+                    rotation=int(row["rotation"]),
+                    collided=bool(row["collided"]),
+                    end_arc_m=float(row["end_arc_m"]),
+                    end_time_s=float(row["end_time_s"]),
+                )
+            )
+        return episodes
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class LearningLog:
+    """A whole learning log as read back, with the SHA-256 of the file for provenance."""
+
+    path: Path
+    sha256: str
+    tvl_version: str
+    created: str
+    sessions: tuple[Session, ...]
+
+    @property
+    def exemplar_count(self) -> int:
+        return sum(s.exemplar_count for s in self.sessions)
+
+
+def read_log(path: Path | str) -> LearningLog:
+    """Read a learning log; FormatError if it is not a readable tvl-log, BadInput if it holds
+    no exemplars."""
+    path = Path(path)
+    with open_for_reading(path, LOG_FORMAT) as f:
+        try:
+            sessions = tuple(
+                _read_session(group, name, path)
+                for name, group in sorted(f.get(SESSIONS, {}).items())
+            )
+            log = LearningLog(
+                path=path,
+                sha256=file_sha256(path),
+                tvl_version=read_str_attr(f, "tvl_version", path),
+                created=read_str_attr(f, "created", path),
+                sessions=sessions,
+            )
+        except (OSError, KeyError, ValueError, TypeError) as error:
+            raise FormatError(f"{path}: corrupt tvl-log ({error})") from None
+    if log.exemplar_count == 0:
+        raise BadInput(f"{path}: has no exemplars (no finished episode in any session)")
+    return log
+
+
+def _read_session(group: h5py.Group, name: str, path: Path) -> Session:
+    where = f"{path}: session {name}"
+    try:
+        robot = RobotConfig.from_dict(read_json_attr(group, "robot_config", path))
+        fam = FamConfig.from_dict(read_json_attr(group, "fam_config", path))
+    except (KeyError, TypeError, ValueError) as error:
+        raise FormatError(f"{where}: malformed configuration ({error})") from None
+    table = group["episodes"][: int(group.attrs[COMMITTED_EPISODES])]
+    end = int(table["first"][-1] + table["count"][-1]) if len(table) else 0
+    columns = {column: group[column][:end] for column in _EXEMPLAR_DATASETS}
+    if any(len(values) < end for values in columns.values()):
+        raise FormatError(f"{where}: fewer exemplars stored than its episodes list")
+    _check_ranges(columns, robot, where)
+    status = read_str_attr(group, "status", path)
+    if status == STATUS_RUNNING and writer_pid(path) is None:
+        status = STATUS_NOT_CLOSED
+    return Session(
+        name=name,
+        world_name=read_str_attr(group, "world_name", path),
+        world_text=read_str_attr(group, "world_text", path),
+        seed=int(group.attrs["seed"]),
+        parameters=read_json_attr(group, "parameters", path),
+        robot_config=robot,
+        fam_config=fam,
+        status=status,
+        started=read_str_attr(group, "started", path),
+        ended=read_str_attr(group, "ended", path) if "ended" in group.attrs else None,
+        tvl_version=read_str_attr(group, "tvl_version", path),
+        episode_table=table,
+        minutes=group["minutes"][: int(group.attrs[COMMITTED_MINUTES])],
+        **columns,
+    )
+
+
+def _check_ranges(columns: dict[str, np.ndarray], robot: RobotConfig, where: str) -> None:
+    """Indices a trainer would use must be in range, or it would fail far from the cause."""
+    sonars = robot.sonar.count
+    if columns["ring_mm"].shape[1:] != (sonars,):
+        raise FormatError(f"{where}: ring_mm has {columns['ring_mm'].shape[1:]} readings a row")
+    trajectory = columns["trajectory"]
+    if len(trajectory) and not 0 <= trajectory.min() <= trajectory.max() < len(robot.trajectories):
+        raise FormatError(f"{where}: trajectory index out of range")
+    rotation = columns["rotation"]
+    if len(rotation) and not 0 <= rotation.min() <= rotation.max() < sonars:
+        raise FormatError(f"{where}: rotation out of range")
+
+
+def file_sha256(path: Path | str) -> str:
+    """Hex SHA-256 of a file's bytes, read in 1 MiB blocks."""
+    digest = hashlib.sha256()
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()

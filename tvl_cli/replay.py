@@ -1,0 +1,97 @@
+"""`tvl replay`: what a learning log or a run trace holds, as numbers and pictures."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from tvl_cli.core.errors import BadInput
+from tvl_cli.io.logfile import MINUTE_COLUMNS, LearningLog, read_log
+from tvl_cli.io.runfile import RunTrace, read_run
+from tvl_cli.io.schema import LOG_FORMAT, RUN_FORMAT, file_format
+from tvl_cli.sim.worldmap import parse_world
+
+
+@dataclass(frozen=True, slots=True)
+class Replay:
+    """A summary: a title, rows of (label, value), and per-minute rows for a learning log."""
+
+    kind: str  # the file format
+    facts: list[tuple[str, Any]]
+    minutes: list[dict[str, float]] = field(default_factory=list)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"format": self.kind, **dict(self.facts), "minutes": self.minutes}
+
+
+def _learning(log: LearningLog, png: Path | None, curves: Path | None) -> Replay:
+    facts: list[tuple[str, Any]] = [("sessions", len(log.sessions))]
+    minutes: list[dict[str, float]] = []
+    for s in log.sessions:
+        collisions = int(s.episode_table["collided"].sum())
+        sim_s = float(s.episode_table["end_time_s"][-1]) if len(s.episode_table) else 0.0
+        facts.append(
+            (
+                f"session {s.name}",
+                f"{s.world_name}, seed {s.seed}, {s.status}: {len(s.episode_table)} episodes, "
+                f"{collisions} collisions, {s.exemplar_count} exemplars, "
+                f"{sim_s / 60:.1f} simulated min",
+            )
+        )
+        minutes += [
+            {"session": float(s.name), **dict(zip(MINUTE_COLUMNS, map(float, row), strict=True))}
+            for row in s.minutes
+        ]
+    facts.append(("exemplars", log.exemplar_count))
+    last = log.sessions[-1]
+    if png is not None or curves is not None:
+        from tvl_cli import plot  # matplotlib only when a picture is wanted
+
+        if png is not None:
+            world = parse_world(last.world_text, f"{log.path} session {last.name}")
+            paths = [e.pose for e in last.episodes()]
+            plot.render_paths(world, paths, png, f"learning episodes, session {last.name}")
+        if curves is not None:
+            if not len(last.minutes):
+                raise BadInput(f"{log.path}: session {last.name} has no whole learning minute")
+            plot.render_learning_curves(
+                last.minutes, MINUTE_COLUMNS, curves, f"learning in {last.world_name}"
+            )
+    return Replay(LOG_FORMAT, facts, minutes)
+
+
+def _run(trace: RunTrace, png: Path | None) -> Replay:
+    facts: list[tuple[str, Any]] = [
+        ("world", trace.world_name),
+        *trace.parameters.items(),
+        ("steps", trace.steps),
+        *trace.metrics.items(),
+    ]
+    if png is not None:
+        from tvl_cli import plot
+
+        world = parse_world(trace.world_text, trace.world_name)
+        goal = trace.parameters.get("goal")
+        plot.render_path(
+            world,
+            trace.arrays["pose"],
+            trace.arrays["speed_mps"],
+            trace.arrays["bumped"].astype(bool),
+            png,
+            title=f"{trace.parameters.get('behaviour')} in {trace.world_name}",
+            goal=tuple(goal) if goal else None,
+        )
+    return Replay(RUN_FORMAT, facts)
+
+
+def replay(path: Path, png: Path | None = None, curves: Path | None = None) -> Replay:
+    """Summarise a learning log or a run trace; draw its paths (and learning curves)."""
+    kind = file_format(path)
+    if kind == RUN_FORMAT:
+        if curves is not None:
+            raise BadInput(f"{path}: a run trace has no learning curves (--curves is for logs)")
+        return _run(read_run(path), png)
+    if kind == LOG_FORMAT:
+        return _learning(read_log(path), png, curves)
+    raise BadInput(f"{path}: is a {kind} file; replay reads tvl-log and tvl-run files")

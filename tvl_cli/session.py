@@ -1,0 +1,141 @@
+"""`tvl learn` end to end: a world file in, a log session (and optionally a FAM file) out,
+surviving Ctrl-C and SIGTERM with every finished episode kept."""
+
+from __future__ import annotations
+
+import signal
+import time
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass
+from pathlib import Path
+from types import FrameType
+
+from tvl_cli.core.config import BUILTIN_FAM_CONFIGS, FamConfig, RobotConfig, SonarConfig
+from tvl_cli.core.errors import BadInput
+from tvl_cli.core.fam import Fam, fam_config_from_json
+from tvl_cli.io.famfile import write_fam
+from tvl_cli.io.logfile import STATUS_FINISHED, Episode, LogWriter, read_log
+from tvl_cli.learn import Learner, LearnParams, LearnSummary, MinuteStats
+from tvl_cli.sim.worldmap import load_world
+from tvl_cli.train import provenance
+from tvl_cli.training import TrainParams
+
+
+def resolve_fam_config(spec: str, robot: RobotConfig) -> FamConfig:
+    """`single`, `multi`, or a JSON file of the user's own."""
+    if spec in BUILTIN_FAM_CONFIGS:
+        return BUILTIN_FAM_CONFIGS[spec]
+    path = Path(spec)
+    if not path.is_file():
+        raise BadInput(
+            f"{spec}: no such FAM configuration (use single, multi or a JSON file that exists)"
+        )
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as error:
+        raise BadInput(f"{spec}: cannot read the FAM configuration ({error})") from None
+    return fam_config_from_json(text, [t.name for t in robot.trajectories], spec)
+
+
+@dataclass(frozen=True, slots=True)
+class LearnRequest:
+    world: Path
+    log: Path
+    seed: int
+    config: str
+    learn: LearnParams
+    train: TrainParams
+    fam_out: Path | None = None
+    ideal_sonar: bool = False
+
+
+@dataclass(frozen=True, slots=True)
+class LearnResult:
+    summary: LearnSummary
+    wall_s: float
+    status: str
+
+
+class _Interrupted:
+    """Remembers the first SIGINT/SIGTERM so the loop can stop between control steps."""
+
+    def __init__(self) -> None:
+        self.signal_name: str | None = None
+
+    def __call__(self, signum: int, frame: FrameType | None) -> None:
+        self.signal_name = self.signal_name or signal.Signals(signum).name
+
+    def reason(self) -> str | None:
+        return self.signal_name
+
+
+@contextmanager
+def _catching_signals() -> Iterator[_Interrupted]:
+    interrupted = _Interrupted()
+    previous = {s: signal.signal(s, interrupted) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield interrupted
+    finally:
+        for s, handler in previous.items():
+            signal.signal(s, handler)
+
+
+def learn_to_log(
+    request: LearnRequest,
+    on_minute: Callable[[MinuteStats], None] = lambda m: None,
+    on_progress: Callable[[float], None] = lambda sim_s: None,
+) -> LearnResult:
+    """Explore the world, appending each whole episode to a new session of the log."""
+    world = load_world(request.world)
+    robot = RobotConfig()
+    if request.ideal_sonar:
+        robot = RobotConfig(sonar=SonarConfig(ideal=True))
+    config = resolve_fam_config(request.config, robot)
+    fam = Fam(config, [t.name for t in robot.trajectories], request.train.init_velocity_mps)
+    learner = Learner(world, robot, fam, request.learn, request.train, request.seed)
+    started = time.perf_counter()
+    parameters = {"config": config.name, **request.learn.to_dict(), **request.train.to_dict()}
+    with (
+        LogWriter.open(
+            request.log,
+            world_name=world.name,
+            world_text=world.text,
+            seed=request.seed,
+            parameters=parameters,
+            robot_config=robot.to_dict(),
+            fam_config=config.to_dict(),
+        ) as writer,
+        _catching_signals() as interrupted,
+    ):
+
+        def record(episode: Episode) -> None:
+            writer.append_episode(episode)
+            on_progress(episode.end_time_s)
+
+        def minute(stats: MinuteStats) -> None:
+            writer.append_minute(
+                minute=stats.minute,
+                episodes=stats.episodes,
+                collisions=stats.collisions,
+                exemplars=stats.exemplars,
+                delta_v=stats.delta_v,
+            )
+            on_minute(stats)
+
+        summary = learner.run(record, minute, interrupted.reason)
+        status = f"interrupted: {summary.stopped_by}" if summary.stopped_by else STATUS_FINISHED
+        session = writer.session
+        writer.close(status)
+    if request.fam_out is not None:
+        # After the writer has closed: the provenance hashes the finished log.
+        write_fam(
+            request.fam_out,
+            fam,
+            robot_config=robot,
+            provenance={
+                **provenance([read_log(request.log)], request.train, config),
+                "online_session": session,
+            },
+        )
+    return LearnResult(summary, time.perf_counter() - started, status)

@@ -1,0 +1,173 @@
+"""WorldMap -> pymunk space for the physics, and numpy arrays of the same geometry for sensing.
+
+The physics walls are thick so a body pushed into them can never tunnel through, yet contact
+happens exactly where the map's geometry says: every obstacle is inflated by a skin and the
+robot's collision disc is shrunk by the same skin (their Minkowski sum is unchanged), so a
+wall segment of radius `skin` stops the body when its true edge reaches the wall's line.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import pymunk
+
+from tvl_cli.core.config import RobotConfig
+from tvl_cli.sim.worldmap import WorldMap
+
+# A quarter of the body radius: walls become solid strips (10 cm wide for the default robot)
+# while the robot keeps most of its radius as its collision disc.
+SKIN_FRACTION = 0.25
+# Penetration the solver leaves alone; the default (0.1) assumes pixels, not metres.
+COLLISION_SLOP_M = 0.0005
+# Fraction of an overlap left uncorrected after one second: about a third of the overlap is
+# removed each 25 ms sub-step, so a contact settles within a few sub-steps.
+COLLISION_BIAS = 1e-8
+# Rings are built from chords; a chord may sag this much inside the true circle.
+RING_MAX_SAG_M = 0.001
+# Segment endpoints closer than this are the same wall corner.
+CORNER_TOLERANCE_M = 1e-6
+# Two walls meeting at a smaller angle than this (as its sine) are one straight wall.
+_COLLINEAR_SINE = 1e-9
+_ROBOT_MASS_KG = 10.0
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class StaticGeometry:
+    """A world's obstacles as flat numpy arrays, built once for ray casting and clearances."""
+
+    segments: np.ndarray  # (n, 4) x1, y1, x2, y2 metres
+    discs: np.ndarray  # (m, 3) x, y, r metres; solid
+    rings: np.ndarray  # (k, 3) x, y, r metres; free inside
+    # Derived once for the vectorised queries (row 0 x, row 1 y):
+    seg_start: np.ndarray  # (2, n) metres
+    seg_delta: np.ndarray  # (2, n) end - start, metres
+    seg_len: np.ndarray  # (n,) metres
+    seg_normal: np.ndarray  # (2, n) (dy, -dx): a row vector D @ seg_normal is cross(D, delta)
+    seg_moment: np.ndarray  # (n,) cross(start, delta), square metres
+    seg_ends: np.ndarray  # (n, 2, 2) [start, end] x, y metres: where corners can be
+    # (n, 2) for the wall meeting this segment at its [start, end]: the side of this segment's
+    # line it lies on, as the sign of cross(end - start, other wall's direction); 0 when no
+    # wall meets it there or the two are collinear. Seen from that side the corner is concave.
+    corner_sides: np.ndarray
+
+
+def static_geometry(world: WorldMap) -> StaticGeometry:
+    """The arrays the sonar and clearance queries read; computed once per world."""
+    segments = np.asarray(world.segments, dtype=np.float64).reshape(-1, 4)
+    start = np.ascontiguousarray(segments[:, :2].T)  # (2, n) metres
+    delta = np.ascontiguousarray((segments[:, 2:] - segments[:, :2]).T)  # (2, n) metres
+    return StaticGeometry(
+        segments=segments,
+        discs=np.asarray(world.discs, dtype=np.float64).reshape(-1, 3),
+        rings=np.asarray(world.rings, dtype=np.float64).reshape(-1, 3),
+        seg_start=start,
+        seg_delta=delta,
+        seg_len=np.hypot(delta[0], delta[1]),
+        seg_normal=np.stack([delta[1], -delta[0]]),
+        seg_moment=start[0] * delta[1] - start[1] * delta[0],
+        seg_ends=segments.reshape(-1, 2, 2),
+        corner_sides=_corner_sides(segments),
+    )
+
+
+def _corner_sides(segments: np.ndarray) -> np.ndarray:
+    """For each segment's start and end, the side of its line where another wall leaves it.
+
+    A map's outline only meets itself at endpoints; where more than two walls meet (two wall
+    cells touching diagonally) the first non-collinear one is taken.
+    """
+    n = len(segments)
+    ends = np.concatenate([segments[:, :2], segments[:, 2:]])  # (2n, 2) starts, then ends
+    far = np.concatenate([segments[:, 2:], segments[:, :2]])  # (2n, 2) the other end of each
+    owner = np.tile(np.arange(n), 2)  # (2n,) segment of each endpoint
+    delta = segments[:, 2:] - segments[:, :2]  # (n, 2) start -> end
+    sides = np.zeros(2 * n)  # (2n,) -1, 0 or +1 for each endpoint
+    same_point = np.all(np.abs(ends[:, None, :] - ends[None, :, :]) <= CORNER_TOLERANCE_M, axis=2)
+    same_point &= owner[:, None] != owner[None, :]
+    for here, there in zip(*np.nonzero(same_point), strict=True):
+        if sides[here]:
+            continue
+        arm = far[there] - ends[there]  # the other wall, leaving the corner
+        own = delta[owner[here]]
+        cross = own[0] * arm[1] - own[1] * arm[0]
+        if abs(cross) > _COLLINEAR_SINE * np.hypot(own[0], own[1]) * np.hypot(arm[0], arm[1]):
+            sides[here] = np.sign(cross)
+    return np.ascontiguousarray(sides.reshape(2, n).T)  # (n, 2) [start, end]
+
+
+def clearances_m(geometry: StaticGeometry, points: np.ndarray, body_radius_m: float) -> np.ndarray:
+    """(p,) metres from the edge of a body centred at each of points (p, 2) to the nearest
+    obstacle; 0 where the body touches or overlaps one, inf in a world with no obstacles."""
+    px = points[:, 0:1]  # (p, 1) metres
+    py = points[:, 1:2]
+    nearest = np.full(len(points), np.inf)  # (p,) metres from the centre
+    if len(geometry.seg_len):
+        # Closest point on each segment: the projection clamped to the segment.
+        (sx, sy), (ex, ey) = geometry.seg_start, geometry.seg_delta
+        rx, ry = px - sx, py - sy  # (p, n) metres
+        along = np.clip((rx * ex + ry * ey) / geometry.seg_len**2, 0.0, 1.0)
+        gap = np.hypot(rx - along * ex, ry - along * ey)
+        nearest = np.minimum(nearest, gap.min(axis=1))
+    if len(geometry.discs):
+        cx, cy, r = geometry.discs.T
+        gap = np.hypot(px - cx, py - cy) - r  # (p, m)
+        nearest = np.minimum(nearest, gap.min(axis=1))
+    if len(geometry.rings):
+        cx, cy, r = geometry.rings.T
+        gap = r - np.hypot(px - cx, py - cy)  # (p, k)
+        nearest = np.minimum(nearest, gap.min(axis=1))
+    return np.maximum(nearest - body_radius_m, 0.0)
+
+
+def clearance_m(geometry: StaticGeometry, x: float, y: float, body_radius_m: float) -> float:
+    """Metres from the edge of a body centred at (x, y) to the nearest obstacle (0 if touching)."""
+    return float(clearances_m(geometry, np.array([[x, y]]), body_radius_m)[0])
+
+
+def skin_m(robot: RobotConfig) -> float:
+    """How much obstacles are inflated, and the robot's collision disc shrunk, in the physics."""
+    return SKIN_FRACTION * robot.radius_m
+
+
+def build_space(world: WorldMap, robot: RobotConfig) -> tuple[pymunk.Space, pymunk.Body]:
+    """A space holding the world's static obstacles and the robot's disc at the start pose.
+
+    Shapes have no friction: the robot's velocity is set by its wheels every sub-step and a
+    contact only removes the part of it that goes into an obstacle.
+    """
+    skin = skin_m(robot)
+    space = pymunk.Space()
+    space.collision_slop = COLLISION_SLOP_M
+    space.collision_bias = COLLISION_BIAS
+    static: list[pymunk.Shape] = [
+        pymunk.Segment(space.static_body, (x1, y1), (x2, y2), skin)
+        for x1, y1, x2, y2 in world.segments
+    ]
+    static += [pymunk.Circle(space.static_body, r + skin, (x, y)) for x, y, r in world.discs]
+    for x, y, r in world.rings:
+        points = _ring_points(x, y, r)
+        static += [
+            pymunk.Segment(space.static_body, a, b, skin)
+            for a, b in zip(points, points[1:] + points[:1], strict=True)
+        ]
+    body_radius = robot.radius_m - skin
+    body = pymunk.Body(_ROBOT_MASS_KG, pymunk.moment_for_circle(_ROBOT_MASS_KG, 0, body_radius))
+    disc = pymunk.Circle(body, body_radius)
+    for shape in [*static, disc]:
+        shape.friction = 0.0
+    x, y, theta = world.start
+    body.position = (x, y)
+    body.angle = theta
+    space.add(*static, body, disc)
+    return space, body
+
+
+def _ring_points(x: float, y: float, r: float) -> list[tuple[float, float]]:
+    """Points on a circle close enough that no chord sags more than RING_MAX_SAG_M inside it."""
+    half_angle = math.acos(max(1.0 - RING_MAX_SAG_M / r, -1.0))
+    count = max(16, math.ceil(math.pi / half_angle))
+    angles = np.linspace(0.0, 2.0 * math.pi, count, endpoint=False)  # (count,) radians
+    return [(x + r * math.cos(a), y + r * math.sin(a)) for a in angles]

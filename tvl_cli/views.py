@@ -1,0 +1,194 @@
+"""How results look in a terminal: rich tables and progress bars, all on one console each."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from dataclasses import asdict
+from pathlib import Path
+from typing import Any
+
+from rich.console import Console
+from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, TimeElapsedColumn
+from rich.table import Table
+
+from tvl_cli.core.fam import Explanation
+from tvl_cli.core.metrics import RunMetrics
+from tvl_cli.demo import DemoResult
+from tvl_cli.learn import MinuteStats
+from tvl_cli.replay import Replay
+from tvl_cli.session import LearnResult
+from tvl_cli.train import TrainSummary
+
+out = Console(highlight=False)
+err = Console(stderr=True, highlight=False)
+
+
+def say(message: str) -> None:
+    err.print(message)
+
+
+def _bar(description: str) -> Progress:
+    return Progress(
+        TextColumn("{task.description}"),
+        BarColumn(),
+        TaskProgressColumn(),
+        TimeElapsedColumn(),
+        console=err,
+        transient=True,
+    )
+
+
+@contextmanager
+def progress(description: str) -> Iterator[Callable[[int, int], None]]:
+    """A progress bar fed with (done, total)."""
+    with _bar(description) as bar:
+        task = bar.add_task(description, total=None)
+        yield lambda done, total: bar.update(task, completed=done, total=total)
+
+
+@contextmanager
+def learning_progress(
+    minutes: float, quiet: bool
+) -> Iterator[tuple[Callable[[MinuteStats], None], Callable[[float], None]]]:
+    """A bar over simulated time with the last minute's episodes, collisions and ΔV."""
+    with _bar("learning") as bar:
+        task = bar.add_task("learning", total=minutes * 60.0, visible=not quiet)
+
+        def on_minute(stats: MinuteStats) -> None:
+            bar.update(
+                task,
+                description=(
+                    f"minute {stats.minute + 1}: {stats.episodes} episodes, "
+                    f"{stats.collisions} collisions, ΔV {stats.delta_v:.2e}"
+                ),
+            )
+
+        def on_progress(sim_s: float) -> None:
+            bar.update(task, completed=sim_s)
+
+        yield on_minute, on_progress
+
+
+def learn_json(result: LearnResult) -> dict[str, Any]:
+    s = result.summary
+    return {
+        "episodes": s.episodes,
+        "collisions": s.collisions,
+        "exemplars": s.exemplars,
+        "sim_minutes": s.sim_s / 60.0,
+        "wall_s": result.wall_s,
+        "status": result.status,
+    }
+
+
+def learn_summary(result: LearnResult, log: Path) -> None:
+    s = result.summary
+    table = Table(title=f"learning → {log} ({result.status})", show_header=True)
+    for column in ("minute", "episodes", "collisions", "exemplars", "ΔV (m/s per step)"):
+        table.add_column(column, justify="right")
+    for m in s.minutes:
+        table.add_row(
+            str(m.minute + 1),
+            str(m.episodes),
+            str(m.collisions),
+            str(m.exemplars),
+            f"{m.delta_v:.2e}",
+        )
+    out.print(table)
+    out.print(
+        f"{s.episodes} episodes, {s.collisions} collisions, {s.exemplars} exemplars in "
+        f"{s.sim_s / 60:.1f} simulated minutes ({result.wall_s:.1f} s)"
+    )
+
+
+def train_summary(summary: TrainSummary, output: Path) -> None:
+    table = Table(title=f"trained → {output}", show_header=False)
+    table.add_column()
+    table.add_column(justify="right")
+    table.add_row("configuration", summary.fam.config.name)
+    table.add_row("episodes", str(summary.episodes))
+    table.add_row("exemplars used", str(summary.exemplars))
+    table.add_row("rules touched", f"{summary.rules_touched} of {summary.rules_total}")
+    table.add_row("rules never touched", str(summary.rules_total - summary.rules_touched))
+    table.add_row("time", f"{summary.wall_s:.2f} s")
+    out.print(table)
+
+
+def explanation(e: Explanation) -> None:
+    inputs = Table(title="inputs")
+    for column in ("table", "input", "sonars", "range (m)", "memberships"):
+        inputs.add_column(column)
+    for i in e.inputs:
+        fired = ", ".join(f"{s.name} {s.degree:.2f}" for s in i.fired)
+        sonars = ",".join(f"S{s}" for s in i.sonars)
+        inputs.add_row(i.table, i.name, sonars, f"{i.value_m:.3f}", fired)
+    out.print(inputs)
+    rules = Table(title="rules that fire")
+    for column in ("table", "IF", "strength", "THEN (m/s, experience)"):
+        rules.add_column(column)
+    for r in e.rules:
+        then = ", ".join(
+            f"{t} = {v:.2f} ({x:.1f})"
+            for t, v, x in zip(r.trajectories, r.velocities_mps, r.experience, strict=True)
+        )
+        rules.add_row(r.table, " AND ".join(r.set_names), f"{r.strength:.3f}", then)
+    out.print(rules)
+    perceived = Table(title="perceived")
+    for name in e.trajectories:
+        perceived.add_column(name, justify="right")
+    perceived.add_row(*(f"{v:.2f} m/s" for v in e.velocities_mps))
+    perceived.add_row(*(f"exp {x:.1f}" for x in e.experience))
+    out.print(perceived)
+
+
+def _metrics_rows(metrics: RunMetrics) -> list[tuple[str, str]]:
+    def show(value: object) -> str:
+        if value is None:
+            return "—"
+        return f"{value:.3f}" if isinstance(value, float) else str(value)
+
+    return [(name, show(value)) for name, value in asdict(metrics).items()]
+
+
+def run_metrics(metrics: RunMetrics) -> None:
+    table = Table(show_header=False)
+    table.add_column()
+    table.add_column(justify="right")
+    for name, value in _metrics_rows(metrics):
+        table.add_row(name, value)
+    out.print(table)
+
+
+def replay(summary: Replay) -> None:
+    table = Table(title=summary.kind, show_header=False)
+    table.add_column()
+    table.add_column()
+    for name, value in summary.facts:
+        table.add_row(str(name), str(value))
+    out.print(table)
+
+
+def demo(result: DemoResult) -> None:
+    learn_summary(result.learning, result.directory / "learn.h5")
+    table = Table(title="behaviours after learning (threshold 0.85)")
+    for column in (
+        "FAM",
+        "behaviour",
+        "coll./min",
+        "speed m/s",
+        "clearance m",
+        "picture",
+    ):
+        table.add_column(column)
+    for row in result.rows:
+        m = row.metrics
+        table.add_row(
+            row.config,
+            row.behaviour,
+            f"{m.collisions_per_min:.2f}",
+            f"{m.mean_speed_mps:.2f}",
+            f"{m.mean_wall_clearance_m or m.mean_clearance_m:.2f}",
+            str(row.png),
+        )
+    out.print(table)
