@@ -1,0 +1,216 @@
+"""Bad input to train, inspect, learn and run: one clear line on stderr, exit 2, nothing lost."""
+
+from __future__ import annotations
+
+import signal
+import subprocess
+import time
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pytest
+from conftest import TVL
+
+from tvl_cli.core.config import SINGLE, RobotConfig
+from tvl_cli.core.fam import Fam
+from tvl_cli.io.famfile import write_fam
+from tvl_cli.io.lock import lock_path
+from tvl_cli.io.logfile import Episode, LogWriter, read_log
+
+WORLDS = Path(__file__).resolve().parent.parent / "worlds"
+SQUARE = WORLDS / "square.txt"
+
+
+def _assert_refused(result: subprocess.CompletedProcess[str], *phrases: str) -> None:
+    assert result.returncode == 2, result.stderr
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1, result.stderr
+    assert lines[0].startswith("tvl: error: ")
+    for phrase in phrases:
+        assert phrase in lines[0]
+    assert "Traceback" not in result.stderr
+
+
+def _log(path: Path, robot: RobotConfig, episodes: int = 1) -> Path:
+    with LogWriter.open(
+        path,
+        world_name="square",
+        world_text=SQUARE.read_text(encoding="utf-8"),
+        seed=1,
+        parameters={},
+        robot_config=robot.to_dict(),
+        fam_config=SINGLE.to_dict(),
+    ) as writer:
+        for index in range(episodes):
+            n = 5
+            writer.append_episode(
+                Episode(
+                    index=index,
+                    ring_mm=np.full((n, 16), 900, dtype=np.uint16),
+                    pose=np.zeros((n, 3)),
+                    odometry=np.zeros((n, 3)),
+                    arc_m=np.arange(n) * 0.02,
+                    trajectory=3,
+                    rotation=0,
+                    collided=True,
+                    end_arc_m=0.1,
+                    end_time_s=1.0 + index,
+                )
+            )
+    return path
+
+
+@pytest.fixture
+def fam_file(tmp_path: Path) -> Path:
+    path = tmp_path / "fam.h5"
+    robot = RobotConfig()
+    write_fam(
+        path,
+        Fam(SINGLE, [t.name for t in robot.trajectories]),
+        robot_config=robot,
+        provenance={},
+    )
+    return path
+
+
+def test_train_refuses_a_file_that_is_not_hdf5(run_tvl, tmp_path):
+    text = tmp_path / "notes.h5"
+    text.write_text("just text")
+    _assert_refused(run_tvl("train", text, "-o", tmp_path / "f.h5"), str(text), "not an HDF5")
+    assert not (tmp_path / "f.h5").exists()
+
+
+def test_train_refuses_another_format_by_name(run_tvl, fam_file, tmp_path):
+    result = run_tvl("train", fam_file, "-o", tmp_path / "f.h5")
+    _assert_refused(result, "is a tvl-fam file, expected a tvl-log")
+
+
+def test_train_refuses_a_newer_format_version(run_tvl, tmp_path):
+    log = _log(tmp_path / "log.h5", RobotConfig())
+    with h5py.File(log, "r+") as f:
+        f.attrs["format_version"] = 99
+    result = run_tvl("train", log, "-o", tmp_path / "f.h5")
+    _assert_refused(result, "format_version 99 is newer")
+
+
+def test_train_refuses_a_truncated_log(run_tvl, tmp_path):
+    log = _log(tmp_path / "log.h5", RobotConfig())
+    data = log.read_bytes()
+    log.write_bytes(data[: len(data) // 2])
+    _assert_refused(run_tvl("train", log, "-o", tmp_path / "f.h5"), str(log))
+
+
+def test_train_refuses_a_log_without_exemplars(run_tvl, tmp_path):
+    log = _log(tmp_path / "log.h5", RobotConfig(), episodes=0)
+    _assert_refused(run_tvl("train", log, "-o", tmp_path / "f.h5"), "no exemplars")
+
+
+def test_train_refuses_logs_of_different_robots(run_tvl, tmp_path):
+    ours = _log(tmp_path / "ours.h5", RobotConfig())
+    theirs = _log(tmp_path / "theirs.h5", RobotConfig(radius_m=0.25))
+    result = run_tvl("train", ours, theirs, "-o", tmp_path / "f.h5")
+    _assert_refused(result, str(theirs), "another robot configuration")
+    assert not (tmp_path / "f.h5").exists()
+
+
+def test_train_refuses_a_malformed_user_configuration(run_tvl, tmp_path):
+    log = _log(tmp_path / "log.h5", RobotConfig())
+    config = tmp_path / "mine.json"
+    config.write_text('{"name": "mine", "tables": [}')
+    _assert_refused(run_tvl("train", log, "-o", tmp_path / "f.h5", "--config", config), "mine.json")
+
+
+@pytest.mark.parametrize("threshold", ["0", "1.5", "-0.2"])
+def test_run_refuses_a_threshold_outside_0_1(run_tvl, fam_file, threshold):
+    result = run_tvl("run", fam_file, SQUARE, "--behaviour", "avoid", "--threshold", threshold)
+    _assert_refused(result, "outside (0, 1]")
+
+
+@pytest.mark.parametrize("minutes", ["0", "-3"])
+def test_run_refuses_minutes_that_are_not_positive(run_tvl, fam_file, minutes):
+    result = run_tvl("run", fam_file, SQUARE, "--behaviour", "avoid", "--minutes", minutes)
+    _assert_refused(result, "positive number of simulated minutes")
+
+
+def test_learn_refuses_negative_minutes(run_tvl, tmp_path):
+    log = tmp_path / "log.h5"
+    _assert_refused(run_tvl("learn", SQUARE, "--log", log, "--minutes", "-1"), "positive")
+    assert not log.exists()
+
+
+def test_run_refuses_a_goal_outside_the_world(run_tvl, fam_file):
+    result = run_tvl("run", fam_file, SQUARE, "--behaviour", "goal", "--goal", "9,2")
+    _assert_refused(result, "outside the world")
+
+
+def test_run_refuses_a_goal_inside_a_wall(run_tvl, fam_file):
+    result = run_tvl("run", fam_file, SQUARE, "--behaviour", "goal", "--goal", "0.1,2")
+    _assert_refused(result, "inside a wall")
+
+
+def test_run_refuses_a_fam_of_another_robot(run_tvl, tmp_path):
+    other = RobotConfig(radius_m=0.3)
+    path = tmp_path / "other.h5"
+    write_fam(
+        path,
+        Fam(SINGLE, [t.name for t in other.trajectories]),
+        robot_config=other,
+        provenance={},
+    )
+    result = run_tvl("run", path, SQUARE, "--behaviour", "avoid")
+    _assert_refused(result, "another robot configuration", "radius_m")
+
+
+def test_run_refuses_an_existing_png_without_force(run_tvl, fam_file, tmp_path):
+    png = tmp_path / "path.png"
+    png.write_bytes(b"mine")
+    result = run_tvl("run", fam_file, SQUARE, "--behaviour", "avoid", "--png", png)
+    _assert_refused(result, "already exists")
+    assert png.read_bytes() == b"mine"
+
+
+def _start_learning(log: Path) -> subprocess.Popen[str]:
+    process = subprocess.Popen(
+        [TVL, "learn", str(SQUARE), "--log", str(log), "--minutes", "100000"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    # Wait until it holds the lock and has written a few whole episodes.
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline:
+        if lock_path(log).exists() and log.exists() and log.stat().st_size > 20_000:
+            return process
+        time.sleep(0.1)
+    process.kill()
+    raise AssertionError("learning never started writing its log")
+
+
+def test_sigint_keeps_every_whole_episode(tmp_path):
+    log = tmp_path / "log.h5"
+    process = _start_learning(log)
+    time.sleep(1.0)
+    process.send_signal(signal.SIGINT)
+    process.communicate(timeout=60)
+    assert process.returncode != 0
+    (session,) = read_log(log).sessions
+    assert session.status == "interrupted: SIGINT"
+    table = session.episode_table
+    assert len(table) > 0
+    assert int(table["count"].sum()) == session.exemplar_count
+    assert np.array_equal(np.cumsum(table["count"])[:-1], table["first"][1:])
+
+
+def test_a_second_learner_on_a_locked_log_is_refused(run_tvl, tmp_path):
+    log = tmp_path / "log.h5"
+    process = _start_learning(log)
+    try:
+        result = run_tvl("learn", SQUARE, "--log", log, "--minutes", "1")
+        _assert_refused(result, str(log), "locked")
+    finally:
+        process.send_signal(signal.SIGTERM)
+        process.communicate(timeout=60)
+    (session,) = read_log(log).sessions
+    assert session.status == "interrupted: SIGTERM"
+    assert int(session.episode_table["count"].sum()) == session.exemplar_count

@@ -1,0 +1,209 @@
+"""The learn -> train -> inspect -> run -> replay pipeline through the real `tvl` process."""
+
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pytest
+from conftest import TVL
+
+from tvl_cli.io.famfile import read_fam
+from tvl_cli.io.logfile import read_log
+
+WORLDS = Path(__file__).resolve().parent.parent / "worlds"
+SQUARE = WORLDS / "square.txt"
+
+
+@pytest.fixture(scope="module")
+def learnt(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
+    """One short learning session with its online FAM, shared by the tests of this module."""
+    import subprocess
+
+    directory = tmp_path_factory.mktemp("learnt")
+    log, online = directory / "log.h5", directory / "online.h5"
+    subprocess.run(
+        [TVL, "learn", str(SQUARE), "--log", str(log), "--minutes", "2", "--fam", str(online)],
+        check=True,
+        capture_output=True,
+        timeout=120,
+    )
+    return {"log": log, "online": online, "dir": directory}
+
+
+def _datasets(path: Path) -> dict[str, object]:
+    """Every dataset's values by name: raw bytes for numbers, the strings for text."""
+    found: dict[str, object] = {}
+
+    def visit(name: str, obj: object) -> None:
+        if isinstance(obj, h5py.Dataset):
+            values = obj[()]
+            found[name] = values.tolist() if obj.dtype.kind == "O" else values.tobytes()
+
+    with h5py.File(path, "r") as f:
+        f.visititems(visit)
+    return found
+
+
+def test_train_rebuilds_the_online_fam_exactly(run_tvl, learnt, tmp_path):
+    rebuilt = tmp_path / "rebuilt.h5"
+    result = run_tvl("train", learnt["log"], "-o", rebuilt)
+    assert result.returncode == 0, result.stderr
+    online, again = read_fam(learnt["online"]).fam, read_fam(rebuilt).fam
+    for t in range(len(online.config.tables)):
+        assert np.array_equal(online.velocity_table(t), again.velocity_table(t))
+        assert np.array_equal(online.experience_table(t), again.experience_table(t))
+
+
+def test_training_twice_gives_byte_identical_datasets(run_tvl, learnt, tmp_path):
+    first, second = tmp_path / "a.h5", tmp_path / "b.h5"
+    assert run_tvl("train", learnt["log"], "-o", first, "--config", "multi").returncode == 0
+    assert run_tvl("train", learnt["log"], "-o", second, "--config", "multi").returncode == 0
+    assert _datasets(first) == _datasets(second)
+    assert _datasets(first)  # there is something to compare
+
+
+def test_train_summary_counts_exemplars_and_rules(run_tvl, learnt, tmp_path):
+    result = run_tvl("train", learnt["log"], "-o", tmp_path / "f.h5")
+    exemplars = read_log(learnt["log"]).exemplar_count
+    assert f"{exemplars}" in result.stdout
+    assert "of 720" in result.stdout
+
+
+def test_train_refuses_an_existing_output_without_force(run_tvl, learnt, tmp_path):
+    output = tmp_path / "keep.h5"
+    output.write_bytes(b"precious")
+    result = run_tvl("train", learnt["log"], "-o", output)
+    assert result.returncode == 2
+    assert "already exists" in result.stderr
+    assert output.read_bytes() == b"precious"
+    assert run_tvl("train", learnt["log"], "-o", output, "--force").returncode == 0
+
+
+def test_inspect_prints_readable_rules(run_tvl, learnt):
+    result = run_tvl("inspect", learnt["online"], "--trajectory", "T1L", "--top", "3")
+    lines = result.stdout.strip().splitlines()
+    assert result.returncode == 0 and len(lines) == 3
+    for line in lines:
+        assert line.startswith("IF front is ")
+        assert " THEN T1L = " in line and "m/s" in line and "(experience " in line
+
+
+def test_inspect_json_lists_rules_with_their_conditions(run_tvl, learnt):
+    result = run_tvl("inspect", learnt["online"], "--json", "--top", "5", "--sort", "velocity")
+    data = json.loads(result.stdout)
+    assert set(data) == {"config", "provenance", "rules"}
+    velocities = [rule["velocity"] for rule in data["rules"]]
+    assert velocities == sorted(velocities, reverse=True) and len(velocities) == 5
+    assert set(data["rules"][0]["if"]) == {
+        "front",
+        "front-left",
+        "rear-left",
+        "rear-right",
+        "front-right",
+    }
+    assert data["provenance"]["logs"][0]["sha256"]
+
+
+def test_inspect_untrained_lists_only_rules_without_experience(run_tvl, learnt):
+    data = json.loads(run_tvl("inspect", learnt["online"], "--untrained", "--json").stdout)
+    assert data["rules"]
+    assert all(rule["experience"] == 0 and rule["velocity"] == 0.1 for rule in data["rules"])
+
+
+def test_inspect_explain_shows_fired_rules_and_velocities(run_tvl, learnt):
+    ring = ",".join(["0.5"] + ["2.0"] * 15)
+    data = json.loads(run_tvl("inspect", learnt["online"], "--explain", ring, "--json").stdout)
+    assert len(data["velocities_mps"]) == 7 and len(data["experience"]) == 7
+    assert data["rules"], "at least one rule fires for any ring"
+    front = next(i for i in data["inputs"] if i["name"] == "front")
+    assert front["value_m"] == 0.5
+    assert abs(sum(s["degree"] for s in front["fired"]) - 1.0) < 1e-12
+
+
+def test_inspect_refuses_an_unknown_trajectory(run_tvl, learnt):
+    result = run_tvl("inspect", learnt["online"], "--trajectory", "T9X")
+    assert result.returncode == 2
+    assert "unknown trajectory 'T9X'" in result.stderr
+
+
+def test_run_prints_the_metrics_json(run_tvl, learnt, tmp_path):
+    trace, png = tmp_path / "run.h5", tmp_path / "run.png"
+    result = run_tvl(
+        "run", learnt["online"], SQUARE, "--behaviour", "wall-left", "--minutes", "0.5",
+        "--json", "--log", trace, "--png", png,
+    )  # fmt: skip
+    assert result.returncode == 0, result.stderr
+    metrics = json.loads(result.stdout)
+    assert set(metrics) == {
+        "sim_s", "distance_m", "mean_speed_mps", "collisions", "collisions_per_min",
+        "mean_clearance_m", "mean_wall_clearance_m", "goal_reached", "time_to_goal_s", "trapped",
+    }  # fmt: skip
+    assert metrics["sim_s"] == pytest.approx(30.0)
+    assert png.stat().st_size > 1000
+    replayed = json.loads(run_tvl("replay", trace, "--json").stdout)
+    assert replayed["format"] == "tvl-run" and replayed["steps"] == 300
+
+
+def test_same_seed_gives_identical_logs_and_run_json(run_tvl, tmp_path):
+    outputs = []
+    for name in ("a", "b"):
+        log, fam = tmp_path / f"{name}.h5", tmp_path / f"{name}-fam.h5"
+        run_tvl("learn", SQUARE, "--log", log, "--minutes", "1", "--seed", "7", "--fam", fam)
+        run = run_tvl("run", fam, SQUARE, "--behaviour", "avoid", "--minutes", "0.5", "--json")
+        outputs.append((_datasets(log), run.stdout))
+    assert outputs[0] == outputs[1]
+    other = tmp_path / "other.h5"
+    run_tvl("learn", SQUARE, "--log", other, "--minutes", "1", "--seed", "8")
+    assert _datasets(other) != outputs[0][0]
+
+
+def test_learn_json_summary(run_tvl, tmp_path):
+    result = run_tvl("learn", SQUARE, "--log", tmp_path / "l.h5", "--minutes", "1", "--json")
+    summary = json.loads(result.stdout)
+    assert {"episodes", "collisions", "exemplars", "sim_minutes", "wall_s"} <= set(summary)
+    assert summary["sim_minutes"] <= 1.0 and summary["exemplars"] > 0
+    assert summary["exemplars"] == read_log(tmp_path / "l.h5").exemplar_count
+
+
+def test_learning_again_on_a_log_adds_a_session(run_tvl, tmp_path):
+    log = tmp_path / "l.h5"
+    for seed in ("1", "2"):
+        assert (
+            run_tvl("learn", SQUARE, "--log", log, "--minutes", "0.5", "--seed", seed).returncode
+            == 0
+        )
+    assert [s.seed for s in read_log(log).sessions] == [1, 2]
+
+
+def test_replay_of_a_learning_log_draws_paths_and_curves(run_tvl, learnt, tmp_path):
+    png, curves = tmp_path / "paths.png", tmp_path / "curves.png"
+    result = run_tvl("replay", learnt["log"], "--png", png, "--curves", curves, "--json")
+    data = json.loads(result.stdout)
+    assert data["format"] == "tvl-log" and len(data["minutes"]) == 2
+    assert png.stat().st_size > 1000 and curves.stat().st_size > 1000
+
+
+def test_demo_runs_to_the_end(run_tvl, tmp_path):
+    result = run_tvl("demo", tmp_path / "demo")
+    assert result.returncode == 0, result.stderr
+    for name in ("learn.h5", "single.h5", "multi.h5", "single-avoid.png", "multi-wall-left.png"):
+        assert (tmp_path / "demo" / name).stat().st_size > 0
+    assert "behaviours after learning" in result.stdout
+
+
+def test_demo_refuses_a_directory_in_use(run_tvl, tmp_path):
+    (tmp_path / "mine.txt").write_text("keep")
+    result = run_tvl("demo", tmp_path)
+    assert result.returncode == 2 and "not empty" in result.stderr
+    assert (tmp_path / "mine.txt").read_text() == "keep"
+
+
+def test_world_of_the_log_travels_with_it(learnt, tmp_path):
+    # A log copied elsewhere still knows its world: replay needs no world file.
+    moved = tmp_path / "moved.h5"
+    shutil.copyfile(learnt["log"], moved)
+    assert read_log(moved).sessions[0].world_text == SQUARE.read_text(encoding="utf-8")
