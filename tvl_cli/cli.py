@@ -377,3 +377,8 @@ def replay(file: Path, png: Path | None, curves: Path | None, force: bool, as_js
 def demo(directory: Path, force: bool) -> None:
     """Learn, train, run and draw on a bundled world, in about a minute."""
     views.demo(run_demo(directory, force, views.say))
+
+
+# --- baselines --------------------------------------------------------------------
+
+# --- experiment figures -----------------------------------------------------------
