@@ -134,6 +134,12 @@ def _print_json(value: object) -> None:
 @click.option("--margin", type=float, default=DEFAULT_MARGIN_M, show_default=True, help="m.")
 @click.option("--no-symmetric", is_flag=True, help="Train each trajectory only on itself.")
 @click.option("--init-velocity", type=float, default=DEFAULT_INIT_VELOCITY_MPS, show_default=True)
+@click.option(
+    "--until-minute",
+    type=float,
+    default=None,
+    help="Use only the episodes each session finished by this simulated minute.",
+)
 @click.option("--force", is_flag=True, help="Overwrite OUTPUT.")
 def train(
     logs: tuple[Path, ...],
@@ -143,6 +149,7 @@ def train(
     margin: float,
     no_symmetric: bool,
     init_velocity: float,
+    until_minute: float | None,
     force: bool,
 ) -> None:
     """Train a FAM file from learning logs (log replay)."""
@@ -150,7 +157,7 @@ def train(
     params = TrainParams(decel, margin, not no_symmetric, init_velocity)
     fam_config = resolve_fam_config(config, RobotConfig())
     with views.progress("training") as bar:
-        summary = train_from_logs(list(logs), fam_config, params, bar)
+        summary = train_from_logs(list(logs), fam_config, params, bar, until_minute)
     write_fam(output, summary.fam, robot_config=summary.robot, provenance=summary.provenance)
     views.train_summary(summary, output)
 

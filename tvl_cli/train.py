@@ -73,13 +73,18 @@ def train_from_logs(
     config: FamConfig,
     params: TrainParams,
     on_progress: Callable[[int, int], None] = lambda done, total: None,
+    until_minute: float | None = None,
 ) -> TrainSummary:
-    """Train a new FAM on every episode of every log, in log, session and episode order."""
+    """Train a new FAM on every episode of every log, in log, session and episode order;
+    with `until_minute`, only on the episodes each session finished by then (a snapshot of
+    what the learner knew at that minute)."""
     started = time.perf_counter()
     logs = [read_log(path) for path in paths]
     robot = common_robot(logs)
     fam = Fam(config, [t.name for t in robot.trajectories], params.init_velocity_mps)
     episodes = [e for log in logs for s in log.sessions for e in s.episodes()]
+    if until_minute is not None:
+        episodes = [e for e in episodes if e.end_time_s <= until_minute * 60.0]
     total = sum(e.exemplar_count for e in episodes)
     done = 0
     for episode in episodes:
@@ -91,7 +96,7 @@ def train_from_logs(
     return TrainSummary(
         fam=fam,
         robot=robot,
-        provenance=provenance(logs, params, config),
+        provenance={**provenance(logs, params, config), "until_minute": until_minute},
         exemplars=total,
         episodes=len(episodes),
         rules_touched=touched,

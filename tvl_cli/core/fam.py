@@ -19,7 +19,14 @@ from typing import Any
 
 import numpy as np
 
-from tvl_cli.core.config import SONAR_COUNT, FamConfig, FamTable, Partition, mirror_sonar
+from tvl_cli.core.config import (
+    SONAR_COUNT,
+    FamConfig,
+    FamInput,
+    FamTable,
+    Partition,
+    mirror_sonar,
+)
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fuzzy import StackedPartitions, memberships
 
@@ -184,7 +191,9 @@ class _Firing:
         degree[:, 1] = upper
         strength = degree[0]
         for k in range(1, inputs):
-            out = None if scratch is None else scratch.strengths[k].reshape(-1, 2, tables, count)
+            out = (
+                None if scratch is None else scratch.strengths[k - 1].reshape(-1, 2, tables, count)
+            )
             strength = np.minimum(strength[:, None], degree[k], out=out).reshape(-1, tables, count)
         return base, strength
 
@@ -199,8 +208,8 @@ class _Scratch:
     def __init__(self, firing: _Firing, stored_rows: int, count: int) -> None:
         corners, tables = firing.corners.shape[:2]
         inputs = firing.strides.shape[0]
-        # (2^(k+1), T, N) corner strengths after combining inputs 0..k
-        self.strengths = [np.empty((2 ** (k + 1), tables, count)) for k in range(inputs)]
+        # item k - 1: the (2^(k+1), T, N) corner strengths after combining inputs 0..k
+        self.strengths = [np.empty((2 ** (k + 1), tables, count)) for k in range(1, inputs)]
         self.rules = np.empty((corners, tables, count), dtype=np.intp)  # (C, T, N) lookup columns
         self.stored = np.empty((stored_rows, corners, tables, count))  # (2 cols, C, T, N)
 
@@ -254,7 +263,10 @@ class Explanation:
 
 
 class Fam:
-    """The tables of a FamConfig with their learnt velocities and experience."""
+    """The tables of a FamConfig with their learnt velocities and experience.
+
+    perceive() reuses buffers of its own, so a Fam serves one thread at a time.
+    """
 
     def __init__(
         self,
@@ -447,8 +459,7 @@ class Fam:
             rules = np.add(base, self._firing.corners, out=scratch.rules)
             # mode="clip" lets take write straight into `out` (the rules are in range anyway)
             stored = np.take(self._lookup, rules, axis=1, out=scratch.stored, mode="clip")
-        stored *= strength
-        average = stored.sum(axis=1)
+        average = np.einsum("mctn,ctn->mtn", stored, strength)  # (2 cols, T, N)
         average /= strength.sum(axis=0)
         flat = average.reshape(-1, x.shape[-1])  # (2 cols * T, N)
         return flat.take(self._velocity_at, axis=0).T, flat.take(self._experience_at, axis=0).T
@@ -503,47 +514,57 @@ class Fam:
         ring = np.asarray(ring, dtype=np.float64)
         if ring.shape != (SONAR_COUNT,):
             raise ValueError(f"ring must be ({SONAR_COUNT},), got {ring.shape}")
-        x = self._inputs(ring[None], 0)
+        x = self._inputs(ring[None], 0)  # (n, T, 1) metres
         base, strength = self._firing.fire(x)
         velocity, experience = self._infer(x)
-        inputs, rules = [], []
-        for t, table in enumerate(self._config.tables):
-            for k, fam_input in enumerate(table.inputs):
-                value = x[k, t, 0]
-                lower, upper = (float(a) for a in memberships(fam_input.partition, value))
-                names = fam_input.partition.names[int(lower) : int(lower) + 2]
-                fired = zip(names, (1.0 - upper, upper), strict=True)
-                inputs.append(
-                    InputReading(
-                        table.name,
-                        fam_input.name,
-                        fam_input.sonars,
-                        float(value),
-                        tuple(FiredSet(n, d) for n, d in fired if d > 0),
-                    )
-                )
-            rows = base[t, 0] + self._firing.corners[:, t, 0]
-            live = strength[:, t, 0] > 0
-            for rule, w in zip(rows[live] - self._first_rows[t], strength[live, t, 0], strict=True):
-                sets = rule_set_indices(table, rule)
-                rules.append(
-                    FiredRule(
-                        table.name,
-                        int(rule),
-                        tuple(int(i) for i in sets),
-                        tuple(
-                            i.partition.names[s] for i, s in zip(table.inputs, sets, strict=True)
-                        ),
-                        float(w),
-                        table.trajectories,
-                        tuple(float(v) for v in self._velocity_view(t)[rule]),
-                        tuple(float(e) for e in self._experience_view(t)[rule]),
-                    )
-                )
+        tables = self._config.tables
         return Explanation(
-            tuple(inputs),
-            tuple(rules),
+            tuple(
+                _reading(table, fam_input, float(x[k, t, 0]))
+                for t, table in enumerate(tables)
+                for k, fam_input in enumerate(table.inputs)
+            ),
+            tuple(
+                rule
+                for t in range(len(tables))
+                for rule in self._fired_rules(t, int(base[t, 0]), strength[:, t, 0])
+            ),
             self._names,
-            tuple(float(v) for v in velocity[0]),
-            tuple(float(e) for e in experience[0]),
+            tuple(velocity[0].tolist()),
+            tuple(experience[0].tolist()),
         )
+
+    def _fired_rules(self, t: int, base: int, strength: np.ndarray) -> list[FiredRule]:
+        """Table t's rules among the corners from `base` with strengths (C,) above 0."""
+        table = self._config.tables[t]
+        live = np.flatnonzero(strength > 0)
+        rules = base + self._firing.corners[live, t, 0] - self._first_rows[t]
+        velocity, experience = self._velocity_view(t), self._experience_view(t)
+        return [
+            FiredRule(
+                table.name,
+                int(rule),
+                tuple(sets.tolist()),
+                tuple(i.partition.names[s] for i, s in zip(table.inputs, sets, strict=True)),
+                float(strength[corner]),
+                table.trajectories,
+                tuple(velocity[rule].tolist()),
+                tuple(experience[rule].tolist()),
+            )
+            for rule, sets, corner in zip(rules, rule_set_indices(table, rules), live, strict=True)
+        ]
+
+
+def _reading(table: FamTable, fam_input: FamInput, value_m: float) -> InputReading:
+    """An input's reading and the (at most two) fuzzy sets it fires."""
+    lower, upper = memberships(fam_input.partition, np.array([value_m]))
+    k, degree = int(lower[0]), float(upper[0])
+    names = fam_input.partition.names[k : k + 2]
+    fired = zip(names, (1.0 - degree, degree), strict=True)
+    return InputReading(
+        table.name,
+        fam_input.name,
+        fam_input.sonars,
+        value_m,
+        tuple(FiredSet(name, d) for name, d in fired if d > 0),
+    )

@@ -53,7 +53,8 @@ class StackedPartitions:
         gap = lower + self.gap_start[:, None]
         upper = np.subtract(x, self.gap_low_m.take(gap))
         upper /= self.gap_width_m.take(gap)
-        np.clip(upper, 0.0, 1.0, out=upper)
+        np.maximum(upper, 0.0, out=upper)  # the shoulders
+        np.minimum(upper, 1.0, out=upper)
         return lower, upper
 
 

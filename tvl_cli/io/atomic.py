@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 import secrets
+import stat
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -31,6 +32,9 @@ def atomic_output(path: Path | str) -> Iterator[Path]:
             pass
     except OSError as error:
         raise BadInput(f"{path}: cannot write ({error.strerror})") from None
+    if path.exists():
+        # A replaced file keeps the permissions its owner gave it.
+        os.chmod(temporary, stat.S_IMODE(path.stat().st_mode))
     try:
         yield temporary
         os.replace(temporary, path)

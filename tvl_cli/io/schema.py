@@ -40,9 +40,23 @@ def utc_now() -> str:
 
 
 def to_json(value: Any) -> str:
-    """Canonical JSON for attributes: sorted keys (same input, same bytes), indented so that
-    `h5dump -A` shows one item a line."""
-    return json.dumps(value, sort_keys=True, indent=1)
+    """Canonical JSON for attributes: sorted keys (same input, same bytes), one key a line so
+    that `h5dump -A` reads well, and lists of plain values kept on one line."""
+    return _json_lines(value, 0)
+
+
+def _json_lines(value: Any, depth: int) -> str:
+    inner, outer = " " * (depth + 1), " " * depth
+    if isinstance(value, dict) and value:
+        items = (
+            f"{inner}{json.dumps(str(key))}: {_json_lines(value[key], depth + 1)}"
+            for key in sorted(value)
+        )
+        return "{\n" + ",\n".join(items) + f"\n{outer}}}"
+    if isinstance(value, (list, tuple)) and any(isinstance(v, (dict, list, tuple)) for v in value):
+        items = (inner + _json_lines(v, depth + 1) for v in value)
+        return "[\n" + ",\n".join(items) + f"\n{outer}]"
+    return json.dumps(value)
 
 
 def write_header(f: h5py.File, file_format: str, **json_attrs: Any) -> None:

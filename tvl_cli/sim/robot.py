@@ -113,7 +113,7 @@ class Simulator:
         self._update_odometry(before, self.pose)
 
     def _record_contact(self, arbiter: pymunk.Arbiter) -> None:
-        # The body's own shape comes first in its arbiters, so the normal points away from it.
+        # The body's own shape comes first in its arbiters: the normal points to the obstacle.
         self._contacts.append((arbiter.normal.x, arbiter.normal.y))
 
     def _slide(self, vx: float, vy: float) -> tuple[float, float]:
