@@ -32,9 +32,10 @@ from tvl_cli.core.fuzzy import StackedPartitions, memberships
 
 DEFAULT_INIT_VELOCITY_MPS = 0.1  # paper §3.1: an unknown reading must be perceived as slow
 MAX_INPUTS_PER_TABLE = 10  # 2^10 rules fire per reading; more makes inference crawl
-MAX_ENTRIES = 20_000_000  # rules x trajectories over all tables: 2 float64 tables, 320 MB
-# Work per chunk, so the temporaries stay in cache: corners (exemplars x 2^n) fired at
-# once in training, and entries (rings x corners x stored columns) gathered in inference.
+MAX_ENTRIES = 20_000_000  # rules x trajectories in all: 3 float64 arrays that size, 480 MB
+# Work per chunk, big enough that per-call costs vanish and small enough to bound memory:
+# corners (exemplars x 2^n) fired at once in training, and entries (rings x corners x
+# stored columns) gathered at once in inference.
 TRAIN_CHUNK_CORNERS = 2**18
 INFER_CHUNK_ENTRIES = 2**19
 
