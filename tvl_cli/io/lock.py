@@ -71,7 +71,8 @@ def _same_file(fd: int, path: Path) -> bool:
 
 
 def writer_pid(path: Path) -> int | None:
-    """The pid of the live process writing `path`, or None when no writer holds the lock."""
+    """The pid of another live process writing `path`, or None when no other process holds
+    the lock (this process's own lock does not count)."""
     sidecar = lock_path(path)
     try:
         fd = os.open(sidecar, os.O_RDONLY)
@@ -82,7 +83,8 @@ def writer_pid(path: Path) -> int | None:
             fcntl.flock(fd, fcntl.LOCK_SH | fcntl.LOCK_NB)
         except BlockingIOError:
             text = os.read(fd, 32).decode("ascii", errors="replace").strip()
-            return int(text) if text.isdigit() else None
+            pid = int(text) if text.isdigit() else None
+            return None if pid == os.getpid() else pid
         fcntl.flock(fd, fcntl.LOCK_UN)
         return None
     finally:

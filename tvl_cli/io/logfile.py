@@ -4,7 +4,8 @@ Layout (all lengths grow as whole episodes are appended):
 
     /                       format, format_version, tvl_version, created
     /sessions/0000          world_name, world_text, seed, parameters, robot_config,
-                            fam_config (JSON), status, started, ended, tvl_version
+                            fam_config (JSON), status, started, ended, tvl_version,
+                            episodes_written, minutes_written
         ring_mm     (N, 16) uint16  sonar ranges in millimetres, S0 forward, CCW
         pose        (N, 3)  float64 true x, y (m), theta (rad)
         odometry    (N, 3)  float64 odometry x, y (m), theta (rad)
@@ -20,10 +21,10 @@ uncompressed, so every chunk stays where it was first written and HDF5 never fre
 reuses file space. (A gzip chunk moves whenever an episode makes it grow, and a kill between
 the reuse of its old place and the next flush leaves the last flushed metadata pointing at
 another chunk's bytes: a whole log lost.) After every episode the file is flushed, and only
-then are the session's `episodes` and `minutes` attributes raised to count the new rows;
-a reader trusts those counts. Closing the session rewrites the log with gzip and shuffle into
-a temporary file renamed into place, so a finished log is compressed, and a killed one is
-whole and compressed when the next session on it closes.
+then are the session's `episodes_written` and `minutes_written` attributes raised to count
+the new rows; a reader trusts those counts. Closing the session rewrites the log with gzip
+and shuffle into a temporary file renamed into place, so a finished log is compressed, and
+a killed one is whole, and compressed when the next session on it closes.
 
 The online FAM must train on mm_to_ring(ring_to_mm(ring)), the values kept here, so that
 `tvl train` rebuilds it exactly from the log.
@@ -85,8 +86,8 @@ COMPRESSION: dict[str, Any] = {"compression": "gzip", "compression_opts": 4, "sh
 
 # Session attributes counting the rows known to be whole in the file: rows past them may be
 # half written by a killed writer and are ignored.
-COMMITTED_EPISODES = "episodes"
-COMMITTED_MINUTES = "minutes"
+COMMITTED_EPISODES = "episodes_written"
+COMMITTED_MINUTES = "minutes_written"
 
 STATUS_RUNNING = "running"
 STATUS_FINISHED = "finished"
@@ -184,7 +185,7 @@ class LogWriter:
             else:
                 f = open_for_appending(path, LOG_FORMAT)
                 _refuse_other_robot(f, path, robot_config)
-            group = _new_session(f, int(robot_config["sonar"]["count"]))
+            group = _new_session(f, RobotConfig.from_dict(robot_config))
             group.attrs.update(
                 world_name=world_name,
                 world_text=world_text,
@@ -214,8 +215,7 @@ class LogWriter:
 
     def append_episode(self, episode: Episode) -> None:
         """Append one whole episode (one write per dataset) and flush it to the file."""
-        if episode.index != self._episodes:
-            raise ValueError(f"episode {episode.index} appended as number {self._episodes}")
+        _check_episode(episode, self._episodes)
         n = episode.exemplar_count
         columns = {
             "ring_mm": episode.ring_mm,
@@ -301,6 +301,26 @@ class LogWriter:
             self.close(f"failed: {kind.__name__}")
 
 
+def _check_episode(episode: Episode, expected_index: int) -> None:
+    """Refuse what h5py would silently convert or half write (programming errors)."""
+    if episode.index != expected_index:
+        raise ValueError(f"episode {episode.index} appended as number {expected_index}")
+    if episode.ring_mm.dtype != np.uint16:
+        raise ValueError(
+            f"ring_mm must be uint16 millimetres (ring_to_mm), not {episode.ring_mm.dtype}"
+        )
+    n = episode.exemplar_count
+    shapes = {
+        "ring_mm": (episode.ring_mm.shape, (n, episode.ring_mm.shape[-1])),
+        "pose": (episode.pose.shape, (n, 3)),
+        "odometry": (episode.odometry.shape, (n, 3)),
+        "arc_m": (episode.arc_m.shape, (n,)),
+    }
+    for name, (shape, expected) in shapes.items():
+        if shape != expected:
+            raise ValueError(f"episode {episode.index}: {name} has shape {shape}, not {expected}")
+
+
 def _refuse_other_robot(f: h5py.File, path: Path, robot_config: dict[str, Any]) -> None:
     """One log, one robot: `tvl train` refuses logs of different robots, so say it now."""
     for name, group in f.get(SESSIONS, {}).items():
@@ -316,12 +336,12 @@ def _round_trip(value: dict[str, Any]) -> Any:
     return json.loads(to_json(value))
 
 
-def _new_session(f: h5py.File, sonars: int) -> h5py.Group:
+def _new_session(f: h5py.File, robot: RobotConfig) -> h5py.Group:
     """The next session group, '0000', '0001', ..., with its empty growable datasets,
     uncompressed until the session closes (see the module's docstring)."""
     sessions = f.require_group(SESSIONS)
     group = sessions.create_group(f"{len(sessions):04d}")
-    row_shapes = {"ring_mm": (sonars,), "pose": (3,), "odometry": (3,)}
+    row_shapes = {"ring_mm": (robot.sonar.count,), "pose": (3,), "odometry": (3,)}
     for name, (dtype, units, description) in _EXEMPLAR_DATASETS.items():
         row = row_shapes.get(name, ())
         dataset = group.create_dataset(
@@ -332,6 +352,7 @@ def _new_session(f: h5py.File, sonars: int) -> h5py.Group:
             chunks=(EXEMPLAR_CHUNK_ROWS, *row),
         )
         dataset.attrs.update(units=units, description=description)
+    group["trajectory"].attrs["names"] = [t.name for t in robot.trajectories]
     episodes = group.create_dataset(
         "episodes",
         shape=(0,),
@@ -456,6 +477,24 @@ class LearningLog:
     @property
     def exemplar_count(self) -> int:
         return sum(s.exemplar_count for s in self.sessions)
+
+    def source(self) -> dict[str, Any]:
+        """This log as a FAM file's provenance names it: path, SHA-256 and sessions."""
+        return {
+            "path": str(self.path),
+            "sha256": self.sha256,
+            "sessions": [
+                {
+                    "name": s.name,
+                    "world_name": s.world_name,
+                    "seed": s.seed,
+                    "status": s.status,
+                    "episodes": len(s.episode_table),
+                    "exemplars": s.exemplar_count,
+                }
+                for s in self.sessions
+            ],
+        }
 
 
 def read_log(path: Path | str) -> LearningLog:

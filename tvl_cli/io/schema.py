@@ -155,19 +155,12 @@ def _detail(message: str) -> str:
 
 def check_format(f: h5py.File, expected_format: str, path: Path | str) -> None:
     """Refuse a file that is not `expected_format`, or is of a version newer than we read."""
-    try:
-        found = f.attrs.get("format")
-        version = f.attrs.get("format_version")
-    except (OSError, KeyError) as error:
-        raise FormatError(f"{path}: corrupt HDF5 file ({_detail(str(error))})") from None
-    if isinstance(found, bytes):
-        found = found.decode("utf-8", errors="replace")
-    if found is None:
-        raise FormatError(f"{path}: not a tvl file (no 'format' attribute)")
+    found = _format_of(f, path)
     if found != expected_format:
         if found in FORMAT_VERSIONS:
             raise FormatError(f"{path}: is a {found} file, expected a {expected_format}")
         raise FormatError(f"{path}: not a tvl file (its format is {found!r})")
+    version = f.attrs.get("format_version")
     if version is None or not _is_integer(version):
         raise FormatError(f"{path}: {found} file without an integer 'format_version'")
     newest = FORMAT_VERSIONS[expected_format]
@@ -179,16 +172,24 @@ def check_format(f: h5py.File, expected_format: str, path: Path | str) -> None:
         raise FormatError(f"{path}: unknown format_version {int(version)}")
 
 
-def _is_integer(value: Any) -> bool:
-    return hasattr(value, "__index__")
-
-
 def file_format(path: Path | str) -> str:
     """The `format` of a tvl file of any kind (for commands that read several kinds)."""
     with _open_hdf5(Path(path), "r", None) as f:
+        return _format_of(f, path)
+
+
+def _format_of(f: h5py.File, path: Path | str) -> str:
+    """The root `format` attribute, whether stored variable- or fixed-length."""
+    try:
         found = f.attrs.get("format")
+    except (OSError, KeyError) as error:
+        raise FormatError(f"{path}: corrupt HDF5 file ({_detail(str(error))})") from None
     if isinstance(found, bytes):
         found = found.decode("utf-8", errors="replace")
     if not isinstance(found, str):
         raise FormatError(f"{path}: not a tvl file (no 'format' attribute)")
     return found
+
+
+def _is_integer(value: Any) -> bool:
+    return hasattr(value, "__index__")

@@ -1,0 +1,88 @@
+"""Outputs appear whole or not at all, and a failed write leaves the old file alone."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from tvl_cli.core.errors import BadInput
+from tvl_cli.io.atomic import atomic_output
+
+
+def test_success_replaces_the_file_with_what_was_written(tmp_path: Path) -> None:
+    path = tmp_path / "out.h5"
+    path.write_text("old")
+    with atomic_output(path) as temporary:
+        temporary.write_text("new")
+    assert path.read_text() == "new"
+    assert [p.name for p in tmp_path.iterdir()] == ["out.h5"]
+
+
+def test_writes_go_to_a_temporary_file_in_the_same_directory(tmp_path: Path) -> None:
+    path = tmp_path / "out.h5"
+    with atomic_output(path) as temporary:
+        assert temporary.parent == tmp_path
+        assert temporary != path
+        assert not path.exists()
+        temporary.write_text("x")
+
+
+def test_failure_removes_the_temporary_file_and_keeps_the_old_one(tmp_path: Path) -> None:
+    path = tmp_path / "out.h5"
+    path.write_text("old")
+    with pytest.raises(RuntimeError), atomic_output(path) as temporary:
+        temporary.write_text("half")
+        raise RuntimeError("disk on fire")
+    assert path.read_text() == "old"
+    assert [p.name for p in tmp_path.iterdir()] == ["out.h5"]
+
+
+def test_interrupt_removes_the_temporary_file(tmp_path: Path) -> None:
+    path = tmp_path / "out.h5"
+    with pytest.raises(KeyboardInterrupt), atomic_output(path) as temporary:
+        temporary.write_text("half")
+        raise KeyboardInterrupt
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_replacing_keeps_the_permissions_of_the_old_file(tmp_path: Path) -> None:
+    path = tmp_path / "out.h5"
+    path.write_text("old")
+    path.chmod(0o640)
+    with atomic_output(path) as temporary:
+        temporary.write_text("new")
+    assert path.stat().st_mode & 0o777 == 0o640
+
+
+def test_missing_directory_is_refused_naming_it(tmp_path: Path) -> None:
+    path = tmp_path / "nowhere" / "out.h5"
+    with pytest.raises(BadInput, match=r"directory .*nowhere does not exist"), atomic_output(path):
+        pass
+
+
+def test_directory_as_output_is_refused(tmp_path: Path) -> None:
+    with pytest.raises(BadInput, match="is a directory"), atomic_output(tmp_path):
+        pass
+
+
+def test_unwritable_directory_is_refused(tmp_path: Path) -> None:
+    locked = tmp_path / "ro"
+    locked.mkdir()
+    locked.chmod(0o500)
+    try:
+        if _can_write(locked):
+            pytest.skip("running with permissions that ignore directory modes (root)")
+        with pytest.raises(BadInput, match="cannot write"), atomic_output(locked / "out.h5"):
+            pass
+    finally:
+        locked.chmod(0o700)
+
+
+def _can_write(directory: Path) -> bool:
+    try:
+        (directory / "probe").write_text("")
+    except PermissionError:
+        return False
+    (directory / "probe").unlink()
+    return True
