@@ -45,6 +45,7 @@ import numpy as np
 from tvl_cli import __version__
 from tvl_cli.core.config import FamConfig, RobotConfig
 from tvl_cli.core.errors import BadInput
+from tvl_cli.core.labels import distances_to_collision
 from tvl_cli.io.atomic import atomic_output
 from tvl_cli.io.lock import WriterLock, writer_pid
 from tvl_cli.io.schema import (
@@ -126,9 +127,7 @@ class Episode:
 
     def distances_m(self) -> np.ndarray:
         """(n,) metres along the arc from each exemplar to the collision point; inf if none."""
-        if self.collided:
-            return self.end_arc_m - self.arc_m
-        return np.full(len(self.arc_m), np.inf)
+        return distances_to_collision(self.arc_m, self.collided, self.end_arc_m)
 
 
 # name -> (dtype, units, description) of the per-exemplar datasets, in writing order.
