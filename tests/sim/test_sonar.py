@@ -1,0 +1,188 @@
+"""The sonar ring against real geometry: head-on walls, grazing walls, corners, noise, modes."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pymunk
+import pytest
+from test_world import room, square_block
+
+from tvl_cli.core.config import SonarConfig
+from tvl_cli.sim.sonar import SonarRing
+from tvl_cli.sim.world import StaticGeometry, clearance_m, static_geometry
+from tvl_cli.sim.worldmap import load_world
+
+RADIUS = 0.2
+QUIET = SonarConfig(noise_sigma_m=0.0, noise_fraction=0.0)
+IDEAL = SonarConfig(ideal=True)
+# One long wall along y = 5 (seen from below), far from anything else.
+LONG_WALL = static_geometry(room(40, 10, walls=((-20, 5, 60, 5),), outline=False))
+
+
+def read(
+    config: SonarConfig, geometry: StaticGeometry, pose: tuple[float, float, float], seed: int = 0
+) -> np.ndarray:
+    return SonarRing(config, RADIUS).read(geometry, pose, np.random.default_rng(seed))
+
+
+def facing_wall(distance_m: float, off_normal_deg: float) -> tuple[float, float, float]:
+    """A pose whose S0 transducer is distance_m from LONG_WALL, beam turned off its normal."""
+    heading = math.pi / 2 - math.radians(off_normal_deg)
+    x = 20.0 - RADIUS * math.cos(heading)
+    y = 5.0 - distance_m - RADIUS * math.sin(heading)
+    return (x, y, heading)
+
+
+@pytest.mark.parametrize("distance", [0.3, 1.0, 2.5, 3.8])
+def test_wall_head_on_reads_its_distance_within_noise(distance: float) -> None:
+    config = SonarConfig()
+    readings = np.array(
+        [read(config, LONG_WALL, facing_wall(distance, 0.0), seed)[0] for seed in range(200)]
+    )
+    sigma = config.noise_sigma_m + config.noise_fraction * distance
+    assert np.all(np.abs(readings - distance) < 5 * sigma)
+    assert readings.mean() == pytest.approx(distance, abs=sigma / 2)
+    assert readings.std() == pytest.approx(sigma, rel=0.2)
+
+
+def test_wall_head_on_without_noise_reads_exactly_its_distance() -> None:
+    assert read(QUIET, LONG_WALL, facing_wall(1.7, 0.0))[0] == pytest.approx(1.7)
+
+
+def test_wall_within_the_specular_angle_still_echoes() -> None:
+    # At 15 degrees off the normal, rays from 2.5 to 27.5 degrees: the nearest echo comes
+    # from the ray nearest the normal.
+    reading = read(QUIET, LONG_WALL, facing_wall(1.0, 15.0))[0]
+    assert reading == pytest.approx(1.0 / math.cos(math.radians(2.5)))
+
+
+def test_wall_60_degrees_off_its_normal_gives_no_echo() -> None:
+    assert read(SonarConfig(), LONG_WALL, facing_wall(1.0, 60.0))[0] == 4.0
+
+
+def test_ideal_mode_sees_the_grazing_wall() -> None:
+    # The beam's nearest ray is 60 - 12.5 = 47.5 degrees off the normal.
+    reading = read(IDEAL, LONG_WALL, facing_wall(1.0, 60.0))[0]
+    assert reading == pytest.approx(1.0 / math.cos(math.radians(47.5)))
+
+
+def test_ideal_mode_has_no_noise() -> None:
+    pose = facing_wall(1.3, 0.0)
+    assert read(IDEAL, LONG_WALL, pose, seed=1)[0] == read(IDEAL, LONG_WALL, pose, seed=2)[0]
+
+
+def test_concave_corner_echoes_at_its_range() -> None:
+    # Looking into a room's corner along its diagonal: both walls 45 degrees off the normal.
+    geometry = static_geometry(room(6, 6))
+    pose = (1.5, 1.5, math.radians(225))
+    expected = math.hypot(1.5, 1.5) - RADIUS
+    assert read(QUIET, geometry, pose)[0] == pytest.approx(expected)
+
+
+def test_convex_corner_seen_the_same_way_gives_no_echo() -> None:
+    # The corner of a solid block, pointing at the robot along the same diagonal.
+    geometry = static_geometry(room(8, 8, walls=square_block(3, 3, 1), outline=False))
+    pose = (1.5, 1.5, math.radians(45))
+    assert read(QUIET, geometry, pose)[0] == 4.0
+    assert read(IDEAL, geometry, pose)[0] == pytest.approx(math.hypot(1.5, 1.5) - RADIUS)
+
+
+def test_corner_off_the_beam_axis_still_echoes() -> None:
+    # The corner lies between two rays of the beam, 10 degrees off its axis.
+    geometry = static_geometry(room(6, 6))
+    pose = (1.5, 1.5, math.radians(235))
+    transducer = (1.5 + RADIUS * math.cos(pose[2]), 1.5 + RADIUS * math.sin(pose[2]))
+    assert read(QUIET, geometry, pose)[0] == pytest.approx(math.hypot(*transducer))
+
+
+def test_disc_echoes_from_its_near_side() -> None:
+    geometry = static_geometry(room(8, 8, discs=((5, 4, 0.3),), outline=False))
+    assert read(QUIET, geometry, (2.0, 4.0, 0.0))[0] == pytest.approx(5 - 0.3 - 2 - RADIUS)
+
+
+def test_disc_seen_only_by_grazing_rays_gives_no_echo() -> None:
+    # The disc sits 2.8 m away midway between two rays (6.25 degrees apart): both pass 0.15 m
+    # from its centre and meet it 30 degrees off its normal.
+    half_gap = math.radians(3.125)
+    centre = (2.2 + 2.8 * math.cos(half_gap), 4.0 + 2.8 * math.sin(half_gap))
+    geometry = static_geometry(room(8, 8, discs=((*centre, 0.3),), outline=False))
+    pose = (2.0, 4.0, 0.0)
+    assert read(QUIET, geometry, pose)[0] == 4.0
+    assert read(IDEAL, geometry, pose)[0] < 4.0
+
+
+def test_ring_wall_echoes_all_round_from_its_centre() -> None:
+    geometry = static_geometry(room(8, 8, rings=((4, 4, 3.0),), outline=False))
+    np.testing.assert_allclose(read(QUIET, geometry, (4.0, 4.0, 0.7)), 3.0 - RADIUS)
+
+
+def test_transducers_are_numbered_counter_clockwise_from_the_front() -> None:
+    # Heading +x in a 6 x 4 room: left (+y) wall 1 m away, right 3 m, front 4 m, rear 1 m.
+    readings = read(QUIET, static_geometry(room(6, 4)), (1.2, 3.0, 0.0))
+    assert readings[0] == 4.0  # the front wall is 4.6 m away, beyond the range
+    assert readings[4] == pytest.approx(1.0 - RADIUS)
+    assert readings[8] == pytest.approx(1.2 - RADIUS)
+    assert readings[12] == pytest.approx(3.0 - RADIUS)
+
+
+def test_readings_are_clamped_to_the_minimum_range() -> None:
+    # The body's edge 5 cm from the wall: nearer than the transducer can measure.
+    readings = read(SonarConfig(), LONG_WALL, facing_wall(0.05, 0.0))
+    assert readings[0] == SonarConfig().min_range_m
+
+
+def test_no_echo_within_range_reads_the_maximum_exactly() -> None:
+    readings = read(SonarConfig(), LONG_WALL, facing_wall(5.0, 0.0))
+    assert readings[0] == 4.0
+    assert np.all(readings == 4.0)
+
+
+def test_a_near_obstacle_hides_the_wall_behind_it() -> None:
+    # A grazing wall in front of a head-on wall: the ray is lost, not passed through.
+    screen = ((19.0, 3.0, 21.0, 4.5),)
+    geometry = static_geometry(room(40, 10, walls=((-20, 5, 60, 5), *screen), outline=False))
+    assert read(QUIET, geometry, facing_wall(2.0, 0.0))[0] == 4.0
+
+
+def test_same_seed_gives_the_same_readings_bit_for_bit() -> None:
+    geometry = static_geometry(room(6, 4))
+    first = read(SonarConfig(), geometry, (2.0, 1.5, 0.4), seed=7)
+    again = read(SonarConfig(), geometry, (2.0, 1.5, 0.4), seed=7)
+    assert first.tobytes() == again.tobytes()
+    other = read(SonarConfig(), geometry, (2.0, 1.5, 0.4), seed=8)
+    assert not np.array_equal(first, other)
+
+
+def test_wider_cone_sees_a_wall_further_off_its_axis() -> None:
+    wide = dataclasses.replace(QUIET, cone_deg=60.0)
+    pose = facing_wall(1.0, 35.0)
+    assert read(QUIET, LONG_WALL, pose)[0] == 4.0
+    assert read(wide, LONG_WALL, pose)[0] < 4.0
+
+
+def test_ideal_readings_match_pymunk_ray_queries_in_the_lab() -> None:
+    world = load_world("worlds/lab.txt")
+    geometry = static_geometry(world)
+    ring = SonarRing(IDEAL, RADIUS)
+    space = pymunk.Space()
+    space.add(*[pymunk.Segment(space.static_body, s[:2], s[2:], 0.0) for s in world.segments])
+    space.add(*[pymunk.Circle(space.static_body, r, (x, y)) for x, y, r in world.discs])
+    rng = np.random.default_rng(3)
+    poses = [
+        (x, y, rng.uniform(-math.pi, math.pi))
+        for x, y in rng.uniform((0, 0), (world.width_m, world.height_m), size=(200, 2))
+        if clearance_m(geometry, x, y, RADIUS) > 0.0
+    ]
+    for pose in poses[:20]:
+        origins, directions = ring.rays(pose)
+        nearest = np.full(len(origins), np.inf)  # (16 * rays,) metres
+        for i, (origin, direction) in enumerate(zip(origins, directions, strict=True)):
+            end = origin + IDEAL.max_range_m * direction
+            info = space.segment_query_first(tuple(origin), tuple(end), 0.0, pymunk.ShapeFilter())
+            if info is not None:
+                nearest[i] = info.alpha * IDEAL.max_range_m
+        expected = np.clip(nearest.reshape(16, -1).min(axis=1), 0.15, 4.0)
+        np.testing.assert_allclose(ring.read(geometry, pose, rng), expected, atol=1e-9)
