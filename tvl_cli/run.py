@@ -12,8 +12,9 @@ from tvl_cli.core.behaviours import (
     Choice,
     Context,
     choose,
-    seen_wall_side,
+    nearest_side,
     trajectory_headings,
+    wall_seen,
 )
 from tvl_cli.core.command import Command
 from tvl_cli.core.config import RobotConfig
@@ -91,11 +92,11 @@ class Runner:
 
     def _context(self, ring_m: np.ndarray) -> Context:
         behaviour = self.params.behaviour
-        if behaviour.startswith("wall") and self._wall_side == 0:
-            side = seen_wall_side(ring_m)
-            wanted = {"wall-left": 1, "wall-right": -1}.get(behaviour, side)
-            if side == wanted:
-                self._wall_side = side
+        if behaviour == "wall" and self._wall_side == 0:
+            self._wall_side = nearest_side(ring_m)
+        elif behaviour.startswith("wall-") and self._wall_side == 0:
+            side = 1 if behaviour == "wall-left" else -1
+            self._wall_side = side if wall_seen(ring_m, side) else 0
         bearing = (
             goal_bearing(self.sim.odometry, self.params.goal_xy) if self.params.goal_xy else 0.0
         )

@@ -53,7 +53,13 @@ def trajectory_headings(curvatures_per_m: np.ndarray, sonar_count: int) -> np.nd
     return np.angle(np.exp(1j * headings))  # wrapped to (-pi, pi]
 
 
-def seen_wall_side(ring_m: np.ndarray) -> int:
+def wall_seen(ring_m: np.ndarray, side: int) -> bool:
+    """Whether a reading within WALL_SEEN_M shows an object on `side` (+1 left, -1 right)."""
+    sonars = LEFT_SONARS if side > 0 else RIGHT_SONARS
+    return bool(ring_m[list(sonars)].min() <= WALL_SEEN_M)
+
+
+def nearest_side(ring_m: np.ndarray) -> int:
     """+1 if the nearest object within WALL_SEEN_M is on the left, -1 right, 0 none."""
     left = float(ring_m[list(LEFT_SONARS)].min())
     right = float(ring_m[list(RIGHT_SONARS)].min())

@@ -14,8 +14,16 @@ import numpy as np
 
 from tvl_cli.core.errors import BadInput
 
-DEFAULT_DECEL_MPS2 = 0.5
-DEFAULT_MARGIN_M = 0.05  # stop this far short of the collision point
+# A trajectory is "fast" at threshold t while the collision point is at least
+# margin + (t * v_max)^2 / (2 a) away along it. A gentle deceleration makes that horizon long
+# enough to turn away within it (at 0.85: 1.6 m for T0, 0.74 m for T3, whose sharpest turn
+# needs about 0.8 m of arc to come parallel to a wall met head on); with 0.5 m/s² T3 stayed
+# fast until 0.14 m from a wall, inside what the ring can resolve, and the robot grazed walls.
+DEFAULT_DECEL_MPS2 = 0.1
+# Stop this far short of the collision point: a collision is placed further out when learning
+# than the body's edge (as the paper found helped), beyond the sonar's 0.15 m minimum range
+# and its noise, so no speed is learnt for a place the ring cannot tell from touching.
+DEFAULT_MARGIN_M = 0.3
 
 
 def velocity_labels(

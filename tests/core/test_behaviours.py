@@ -1,0 +1,93 @@
+"""Choosing among fast trajectories (paper §2.1–2.2, §4.5), on hand-made perceptions."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from tvl_cli.core.behaviours import Choice, Context, choose, trajectory_headings
+from tvl_cli.core.config import RobotConfig
+
+ROBOT = RobotConfig()
+V_MAX = np.array(ROBOT.v_max_mps)  # (7,) T3L .. T3R
+HEADINGS = trajectory_headings(
+    np.array([t.curvature_per_m for t in ROBOT.trajectories]), ROBOT.sonar.count
+)
+T3L, T2L, T1L, T0, T1R, T2R, T3R = range(7)
+FAR = np.full(16, 4.0)  # (16,) metres: nothing in sight
+
+
+def slow_everywhere() -> np.ndarray:
+    """(16, 7) perceived m/s, every trajectory in every direction well under the threshold."""
+    return np.tile(0.3 * V_MAX, (16, 1))
+
+
+def perceiving(fast: dict[int, list[int]]) -> np.ndarray:
+    """(16, 7) perceived m/s with exactly the given trajectories fast, by rotation."""
+    velocities = slow_everywhere()
+    for rotation, trajectories in fast.items():
+        velocities[rotation % 16, trajectories] = V_MAX[trajectories]
+    return velocities
+
+
+def pick(velocities: np.ndarray, behaviour: str, **context: Any) -> Choice | None:
+    return choose(velocities, V_MAX, HEADINGS, behaviour, 0.85, Context(FAR, **context))
+
+
+def test_avoid_goes_straight_when_straight_is_fast() -> None:
+    choice = pick(perceiving({0: list(range(7))}), "avoid")
+    assert choice == Choice(0, T0, V_MAX[T0])
+
+
+def test_the_speed_is_the_perceived_velocity() -> None:
+    velocities = perceiving({0: [T0]})
+    velocities[0, T0] = 0.9 * V_MAX[T0]
+    choice = pick(velocities, "avoid")
+    assert choice is not None and choice.speed_mps == 0.9 * V_MAX[T0]
+
+
+def test_avoid_tie_keeps_the_side_of_the_last_turn() -> None:
+    velocities = perceiving({0: [T1L, T1R, T3L, T3R]})
+    assert pick(velocities, "avoid", last_turn=1) == Choice(0, T1L, V_MAX[T1L])
+    assert pick(velocities, "avoid", last_turn=-1) == Choice(0, T1R, V_MAX[T1R])
+
+
+def test_wall_left_takes_the_leftmost_fast_trajectory_once_a_wall_is_seen() -> None:
+    velocities = perceiving({0: [T1L, T0, T1R]})
+    assert pick(velocities, "wall-left", wall_side=1) == Choice(0, T1L, V_MAX[T1L])
+    assert pick(velocities, "wall-right", wall_side=-1) == Choice(0, T1R, V_MAX[T1R])
+
+
+def test_wall_following_goes_straight_on_until_a_wall_is_seen() -> None:
+    velocities = perceiving({0: [T1L, T0, T1R]})
+    assert pick(velocities, "wall-left", wall_side=0) == Choice(0, T0, V_MAX[T0])
+
+
+def test_no_fast_trajectory_ahead_takes_the_nearest_rotated_one() -> None:
+    choice = pick(perceiving({3: [T0], -2: [T0], 6: list(range(7))}), "avoid")
+    assert choice == Choice(-2, T0, V_MAX[T0])
+
+
+def test_a_bump_makes_the_way_ahead_not_fast() -> None:
+    velocities = perceiving({0: list(range(7)), 1: [T0]})
+    assert pick(velocities, "avoid", ahead_blocked=True) == Choice(1, T0, V_MAX[T0])
+
+
+def test_nothing_fast_in_any_direction_is_trapped() -> None:
+    assert pick(slow_everywhere(), "avoid") is None
+    assert pick(perceiving({0: list(range(7))}), "avoid", ahead_blocked=True) is None
+
+
+def test_goal_takes_the_fast_trajectory_heading_nearest_the_goal() -> None:
+    velocities = perceiving({0: list(range(7))})
+    # After the half-metre look-ahead T2L (radius 1 m) heads 0.5 rad left, T1R 0.25 rad right.
+    assert pick(velocities, "goal", goal_bearing_rad=0.45) == Choice(0, T2L, V_MAX[T2L])
+    assert pick(velocities, "goal", goal_bearing_rad=-0.3) == Choice(0, T1R, V_MAX[T1R])
+
+
+def test_goal_behind_turns_perception_towards_it_when_nothing_ahead_is_fast() -> None:
+    choice = pick(perceiving({8: [T0], 2: [T0]}), "goal", goal_bearing_rad=3.0)
+    assert choice is not None and choice.rotation == 2  # the nearer rotation wins first
+    choice = pick(perceiving({-2: [T0], 2: [T0]}), "goal", goal_bearing_rad=1.0)
+    assert choice == Choice(2, T0, V_MAX[T0])

@@ -1,0 +1,107 @@
+"""Run metrics on a real simulated robot, and runs that repeat exactly."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict
+
+import numpy as np
+import pytest
+
+from tvl_cli.core.command import Command
+from tvl_cli.core.config import SINGLE, RobotConfig
+from tvl_cli.core.fam import Fam
+from tvl_cli.core.metrics import MetricsRecorder
+from tvl_cli.learn import Learner, LearnParams
+from tvl_cli.run import Runner, RunParams
+from tvl_cli.sim.robot import Simulator
+from tvl_cli.sim.worldmap import WorldMap, parse_world
+from tvl_cli.training import TrainParams
+
+ROBOT = RobotConfig()
+# A hall 7.5 m long with its north wall's face at y = 2.0 m and south wall's at y = 0.25 m.
+HALL = parse_world(
+    "version: 1\nname: hall\ncell: 0.25\n\n"
+    + "#" * 32
+    + "\n"
+    + ("#" + "." * 30 + "#\n") * 2
+    + "#.>"
+    + "." * 28
+    + "#\n"
+    + ("#" + "." * 30 + "#\n") * 4
+    + "#" * 32
+    + "\n",
+    "hall",
+)
+Y_M = 1.45  # the robot's centre: its edge 0.35 m from the north wall, 1.0 m from the south
+
+
+def drive(sim: Simulator, commands: list[Command]) -> MetricsRecorder:
+    """Step the simulator through `commands`, feeding a recorder the true state each step."""
+    metrics = MetricsRecorder(sim.pose[:2])
+    for command in commands:
+        sim.step(command)
+        metrics.record(sim.pose[:2], ROBOT.control_period_s, sim.bumped, sim.clearance_m(), True)
+    return metrics
+
+
+def hall_simulator(x: float, heading: float) -> Simulator:
+    sim = Simulator(HALL, ROBOT, np.random.default_rng(0))
+    sim.place(x, Y_M, heading)
+    return sim
+
+
+def test_metrics_of_a_straight_run_beside_a_wall() -> None:
+    # 10 steps spinning on the spot at 1 rad/s to face east, then 30 steps at 0.5 m/s east.
+    sim = hall_simulator(2.0, -1.0)
+    commands = [Command.spin(1.0)] * 10 + [Command(0.5, 0.0)] * 30
+    result = drive(sim, commands).result()
+    assert result.sim_s == pytest.approx(4.0)
+    assert result.distance_m == pytest.approx(1.5, abs=1e-6)
+    assert result.mean_speed_mps == pytest.approx(1.5 / 4.0, abs=1e-6)
+    assert result.mean_clearance_m == pytest.approx(0.35, abs=1e-6)
+    assert result.mean_wall_clearance_m == pytest.approx(0.35, abs=1e-6)
+    assert result.collisions == 0
+    assert result.goal_reached is False and result.time_to_goal_s is None
+
+
+def test_pushing_into_a_wall_is_one_collision_however_long_it_lasts() -> None:
+    sim = hall_simulator(4.0, math.pi / 2)  # facing the north wall 0.35 m away
+    result = drive(sim, [Command(0.5, 0.0)] * 30).result()
+    assert result.collisions == 1
+    assert result.collisions_per_min == pytest.approx(1 / 0.05)
+    # The body stops at the wall: it travelled the clearance and no further.
+    assert result.distance_m == pytest.approx(0.35, abs=0.01)
+
+
+def test_backing_off_and_hitting_again_is_a_second_collision() -> None:
+    sim = hall_simulator(4.0, math.pi / 2)
+    into, back = Command(0.5, 0.0), Command(-0.5, 0.0)
+    result = drive(sim, [into] * 10 + [back] * 5 + [into] * 10).result()
+    assert result.collisions == 2
+
+
+def learnt_fam(world: WorldMap) -> Fam:
+    fam = Fam(SINGLE, [t.name for t in ROBOT.trajectories])
+    learner = Learner(world, ROBOT, fam, LearnParams(minutes=2.0), TrainParams(), seed=3)
+    learner.run(lambda _episode: None, lambda _minute: None)
+    return fam
+
+
+@pytest.mark.parametrize("behaviour", ["avoid", "wall-left", "goal"])
+def test_the_same_world_seed_and_options_give_the_same_run(behaviour: str) -> None:
+    fam = learnt_fam(HALL)
+    params = RunParams(behaviour, 0.85, 0.5, (6.0, 1.0) if behaviour == "goal" else None)
+    first = Runner(HALL, ROBOT, fam, params, seed=5).run()
+    second = Runner(HALL, ROBOT, fam, params, seed=5).run()
+    assert asdict(first.metrics) == asdict(second.metrics)
+    assert first.path == second.path
+    assert first.metrics.distance_m > 1.0  # the robot went somewhere
+
+
+def test_another_seed_gives_another_run() -> None:
+    fam = learnt_fam(HALL)
+    params = RunParams("avoid", 0.85, 0.5)
+    first = Runner(HALL, ROBOT, fam, params, seed=5).run()
+    second = Runner(HALL, ROBOT, fam, params, seed=6).run()
+    assert first.path != second.path

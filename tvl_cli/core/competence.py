@@ -1,0 +1,17 @@
+"""Competence, defined once: what an `avoid` run must achieve for learning to count as done."""
+
+from __future__ import annotations
+
+from tvl_cli.core.metrics import RunMetrics
+
+COMPETENCE_RUN_MINUTES = 5.0  # length of the avoid run that judges it
+MAX_COLLISIONS_PER_MIN = 0.2
+MIN_MEAN_SPEED_MPS = 0.3
+
+
+def is_competent(avoid_run: RunMetrics) -> bool:
+    """At most 0.2 collisions per minute at a mean speed of at least 0.3 m/s."""
+    return (
+        avoid_run.collisions_per_min <= MAX_COLLISIONS_PER_MIN
+        and avoid_run.mean_speed_mps >= MIN_MEAN_SPEED_MPS
+    )
