@@ -103,15 +103,20 @@ def test_disc_echoes_from_its_near_side() -> None:
     assert read(QUIET, geometry, (2.0, 4.0, 0.0))[0] == pytest.approx(5 - 0.3 - 2 - RADIUS)
 
 
-def test_disc_seen_only_by_grazing_rays_gives_no_echo() -> None:
-    # The disc sits 2.8 m away midway between two rays (6.25 degrees apart): both pass 0.15 m
-    # from its centre and meet it 30 degrees off its normal.
+def test_disc_met_off_its_normal_echoes_from_its_nearest_point() -> None:
+    # The disc sits 2.8 m away midway between two rays (6.25 degrees apart): both meet it 30
+    # degrees off its normal, yet the point of it facing the transducer lies inside the cone.
     half_gap = math.radians(3.125)
     centre = (2.2 + 2.8 * math.cos(half_gap), 4.0 + 2.8 * math.sin(half_gap))
     geometry = static_geometry(room(8, 8, discs=((*centre, 0.3),), outline=False))
     pose = (2.0, 4.0, 0.0)
-    assert read(QUIET, geometry, pose)[0] == 4.0
-    assert read(IDEAL, geometry, pose)[0] < 4.0
+    assert read(QUIET, geometry, pose)[0] == pytest.approx(2.8 - 0.3)
+    assert read(IDEAL, geometry, pose)[0] > 2.8 - 0.3  # the nearest ray hit, off the near point
+
+
+def test_disc_outside_every_ray_of_the_cone_is_not_heard() -> None:
+    geometry = static_geometry(room(8, 8, discs=((4.0, 5.5, 0.1),), outline=False))
+    assert read(QUIET, geometry, (2.0, 4.0, 0.0))[0] == 4.0
 
 
 def test_ring_wall_echoes_all_round_from_its_centre() -> None:

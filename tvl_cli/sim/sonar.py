@@ -2,8 +2,10 @@
 
 Each transducer sits on the body edge and sends a cone sampled by a few rays. A ray's fate is
 decided by the first surface it meets (the rest of the ray is reflected away, never seen):
-- a flat wall or a round surface echoes only when the ray meets it within the specular angle
+- a flat wall or a ring wall echoes only when the ray meets it within the specular angle
   of its normal at the hit point (a wall seen at a grazing angle is invisible);
+- a round pillar met by any ray of a cone echoes from its point nearest the transducer,
+  whose normal faces the transducer;
 - a concave corner (two walls meeting with the corner open towards the transducer) echoes
   from anywhere in the beam, as a corner reflector does, at the range of the corner itself.
 A transducer reads its nearest echo; no echo reads the maximum range.
@@ -181,6 +183,11 @@ class SonarRing:
         flat, hit = self._first(t, t > -self._behind_m)
         if self.config.ideal:
             return hit, hit
+        if solid:
+            # A round pillar always turns part of its surface square to the transducer: when
+            # any ray of the cone meets it, the echo returns from that nearest point of it.
+            nearest = np.hypot(b.take(flat), q.take(flat)) - radius.take(flat % m)
+            return hit, np.where(np.isfinite(hit), nearest, np.inf)
         cos_incidence = root.take(flat) / radius.take(flat % m)
         specular = (cos_incidence >= self._cos_specular) | (hit <= 0.0)
         return hit, np.where(specular, hit, np.inf)

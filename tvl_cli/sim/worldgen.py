@@ -80,7 +80,9 @@ OBSTACLE_PILLARS = (
     (0.78, 0.37),
     (0.78, 0.63),
 )
-OBSTACLE_GOALS = ((0.88, 0.15), (0.88, 0.85), (0.92, 0.50), (0.70, 0.30))
+# Goals stand in the open, at least 0.6 m from any wall (the robot stops within 0.3 m of
+# a goal and keeps its clearance from walls); the last one waits behind a narrow gap.
+OBSTACLE_GOALS = ((0.85, 0.22), (0.85, 0.78), (0.88, 0.50), (0.70, 0.30))
 
 
 def _obstacles(canvas: _Canvas, rng: np.random.Generator) -> None:
@@ -199,7 +201,7 @@ KINDS: dict[str, Kind] = {
     "square": Kind("an empty square arena", (4.0, 4.0), (1.25, 1.25), _square),
     "circle": Kind("a circular wall in a square room", (5.0, 5.0), (2.0, 2.0), _circle),
     "corridor": Kind("a closed-loop corridor 1.25 m wide", (6.0, 4.5), (3.5, 3.5), _corridor),
-    "obstacles": Kind("pillars between the start and 4 goals", (5.0, 4.0), (3.5, 3.0), _obstacles),
+    "obstacles": Kind("pillars between the start and 4 goals", (7.0, 5.0), (3.5, 3.0), _obstacles),
     "narrow": Kind("a goal inside a 0.75 m passage", (6.0, 4.0), (4.0, 3.0), _narrow),
     "lab": Kind(
         "benches, desks with thin table tops, pillars, stands", (8.0, 6.0), (5.0, 4.0), _lab, True
