@@ -10,6 +10,8 @@ from pathlib import Path
 import click
 
 from tvl_cli import __version__, views
+from tvl_cli.baselines.dwa import BEHAVIOURS as DWA_BEHAVIOURS
+from tvl_cli.baselines.session import dwa_session, qlearn_session
 from tvl_cli.core.behaviours import BEHAVIOUR_NAMES
 from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.errors import BadInput
@@ -388,4 +390,98 @@ def demo(directory: Path, force: bool) -> None:
 
 # --- baselines --------------------------------------------------------------------
 
+
+@main.group()
+def baseline() -> None:
+    """Controllers to measure TVL against: DWA and tabular Q-learning."""
+
+
+@baseline.command("dwa")
+@click.argument("world_file", metavar="WORLD", type=click.Path(path_type=Path))
+@click.option("--behaviour", type=click.Choice(DWA_BEHAVIOURS), default="avoid", show_default=True)
+@click.option("--goal", default=None, metavar="X,Y", help="Goal in metres (default: the world's).")
+@click.option("--minutes", type=float, default=5.0, show_default=True, help="Simulated minutes.")
+@click.option("--seed", type=int, default=1, show_default=True)
+@click.option("--png", type=click.Path(path_type=Path), default=None, help="Draw the path.")
+@click.option("--force", is_flag=True, help="Overwrite the --png file.")
+@click.option("--json", "as_json", is_flag=True, help="Print the metrics as JSON.")
+def baseline_dwa(
+    world_file: Path,
+    behaviour: str,
+    goal: str | None,
+    minutes: float,
+    seed: int,
+    png: Path | None,
+    force: bool,
+    as_json: bool,
+) -> None:
+    """Drive WORLD with the Dynamic Window Approach, which knows the true obstacles."""
+    if png is not None:
+        refuse_existing(png, force)
+    metrics = dwa_session(
+        world_file, behaviour, parse_goal(goal) if goal else None, minutes, seed, png
+    )
+    if as_json:
+        _print_json(asdict(metrics))
+    else:
+        views.run_metrics(metrics)
+
+
+@baseline.command("qlearn")
+@click.argument("world_file", metavar="WORLD", type=click.Path(path_type=Path))
+@click.option(
+    "--learn-minutes", type=float, default=15.0, show_default=True, help="Simulated minutes."
+)
+@click.option(
+    "--minutes", type=float, default=5.0, show_default=True, help="Greedy run, simulated minutes."
+)
+@click.option("--seed", type=int, default=1, show_default=True)
+@click.option(
+    "--competence-every",
+    type=float,
+    default=None,
+    metavar="K",
+    help="Judge competence with a 5-minute greedy run every K learning minutes.",
+)
+@click.option("--png", type=click.Path(path_type=Path), default=None, help="Draw the greedy run.")
+@click.option("--force", is_flag=True, help="Overwrite the --png file.")
+@click.option("--json", "as_json", is_flag=True, help="Print the metrics as JSON.")
+def baseline_qlearn(
+    world_file: Path,
+    learn_minutes: float,
+    minutes: float,
+    seed: int,
+    competence_every: float | None,
+    png: Path | None,
+    force: bool,
+    as_json: bool,
+) -> None:
+    """Learn a Q-table over the single FAM's rules in WORLD, then avoid greedily with it."""
+    if png is not None:
+        refuse_existing(png, force)
+    report = qlearn_session(world_file, learn_minutes, minutes, seed, competence_every, png)
+    if as_json:
+        _print_json(report.to_dict())
+    else:
+        views.run_metrics(report.result.evaluation.metrics)
+        click.echo(report.summary())
+
+
 # --- experiment figures -----------------------------------------------------------
+
+
+@main.command()
+@click.argument("name", metavar="NAME")
+@click.argument("results", type=click.Path(path_type=Path))
+@click.option("-o", "--output", type=click.Path(path_type=Path), required=True, help="PNG file.")
+@click.option("--table", type=click.Path(path_type=Path), default=None, help="Markdown file.")
+@click.option("--force", is_flag=True, help="Overwrite the PNG and table files.")
+def figure(name: str, results: Path, output: Path, table: Path | None, force: bool) -> None:
+    """Draw figure NAME (fig19, fig21, fig22, fig24, fig27) from an experiment's RESULTS
+    (JSON lines) and print its summary table."""
+    from tvl_cli.figures import draw_figure  # matplotlib is slow to import; only this needs it
+
+    for path in (output, table):
+        if path is not None:
+            refuse_existing(path, force)
+    click.echo(draw_figure(name, results, output, table), nl=False)

@@ -6,8 +6,11 @@ it can still stop before the first obstacle on their arc, and drives the one max
 
     score = heading_weight * heading + clearance_weight * clearance + velocity_weight * velocity
 
-with each term scaled to [0, 1]. The obstacle distances come from the caller, which knows the
-world: this module only builds the candidate arcs and scores them.
+with each term scaled to [0, 1]: heading is the alignment, judged where the robot would stop,
+with the goal (or, without one, with the direction `avoid` wanders); clearance is the free
+distance along the arc, at most what the candidate covers within the horizon; velocity is
+v / v_max. The obstacle distances come from the caller, which knows the world: this module
+builds the candidate arcs and rays and scores them.
 """
 
 from __future__ import annotations
@@ -22,8 +25,8 @@ import numpy as np
 class DwaParams:
     """Limits and weights; defaults are ours (the paper fixes none for this robot)."""
 
-    # A differential-drive base of this size can brake at about g / 20 without skidding, the
-    # same deceleration the TVL labels assume; 2 rad/s² lets it reach a full turn rate in 0.5 s.
+    # The deceleration the TVL labels assume, so both stop in the same distance; 2 rad/s²
+    # reaches the full turn rate in half a second.
     accel_mps2: float = 0.5
     angular_accel_radps2: float = 2.0
     v_max_mps: float = 0.6  # T0's maximum: no faster than a TVL trajectory
@@ -107,8 +110,8 @@ def free_distances(
     """(N,) metres each arc can be followed before the body comes too near an obstacle.
 
     clearance_m (N, K) is the body-edge clearance at each arc point s_m (K,). Too near is within
-    margin_m, or within half the clearance the robot has now when that is less (so a robot
-    already inside the margin may still drive away). Clearance changes by at most the
+    margin_m or, for a robot already that near, nearer than it is now (so it may still drive
+    away or along the obstacle, never closer). Clearance changes by at most the
     distance moved, so from a point with spare clearance c at s the body is free until at
     least s + c: the first point found too near bounds the distance from above, the point
     before it from below, and the lower bound is kept. Arcs free to the end give s_m[-1].

@@ -1,0 +1,71 @@
+"""`tvl baseline dwa` and `tvl baseline qlearn` through the real `tvl` process."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+from collections.abc import Callable
+from dataclasses import fields
+from pathlib import Path
+
+from tvl_cli.core.metrics import RunMetrics
+
+WORLDS = Path(__file__).resolve().parents[2] / "worlds"
+SQUARE = WORLDS / "square.txt"
+RUN_KEYS = {f.name for f in fields(RunMetrics)}
+Tvl = Callable[..., subprocess.CompletedProcess[str]]
+
+
+def test_dwa_json_prints_the_run_metrics_keys(run_tvl: Tvl) -> None:
+    done = run_tvl("baseline", "dwa", SQUARE, "--minutes", "0.5", "--json")
+    assert done.returncode == 0, done.stderr
+    metrics = json.loads(done.stdout)
+    assert set(metrics) == RUN_KEYS
+    assert abs(metrics["sim_s"] - 30.0) < 1e-9
+    assert metrics["collisions"] == 0
+
+
+def test_dwa_goal_seeking_draws_its_path(run_tvl: Tvl, tmp_path: Path) -> None:
+    png = tmp_path / "path.png"
+    done = run_tvl(
+        "baseline", "dwa", WORLDS / "narrow.txt", "--behaviour", "goal", "--png", png, "--json"
+    )
+    assert done.returncode == 0, done.stderr
+    assert json.loads(done.stdout)["goal_reached"] is True
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_qlearn_json_adds_what_learning_cost(run_tvl: Tvl) -> None:
+    done = run_tvl(
+        "baseline", "qlearn", SQUARE, "--learn-minutes", "0.2", "--minutes", "0.1",
+        "--competence-every", "0.1", "--json",
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    report = json.loads(done.stdout)
+    extra = {"learn_minutes", "learn_collisions", "time_to_competence_min", "competence_checks"}
+    assert set(report) == RUN_KEYS | extra
+    assert report["learn_minutes"] == 0.2
+    assert [c["learn_minutes"] for c in report["competence_checks"]] == [0.1, 0.2]
+
+
+def test_qlearn_without_competence_checks_prints_only_the_learning_keys(run_tvl: Tvl) -> None:
+    done = run_tvl(
+        "baseline", "qlearn", SQUARE, "--learn-minutes", "0.1", "--minutes", "0.1", "--json"
+    )
+    assert done.returncode == 0, done.stderr
+    assert set(json.loads(done.stdout)) == RUN_KEYS | {"learn_minutes", "learn_collisions"}
+
+
+def test_bad_options_are_one_line_errors(run_tvl: Tvl) -> None:
+    for args, message in (
+        (("dwa", SQUARE, "--minutes", "-1"), "--minutes -1"),
+        (("dwa", SQUARE, "--behaviour", "goal"), "world has no goal"),
+        (("dwa", SQUARE, "--goal", "1,1"), "--goal is for --behaviour goal only"),
+        (("qlearn", SQUARE, "--learn-minutes", "nan"), "--learn-minutes nan"),
+        (("qlearn", SQUARE, "--competence-every", "0"), "--competence-every 0"),
+        (("dwa", WORLDS / "missing.txt"), "missing.txt: cannot read"),
+    ):
+        done = run_tvl("baseline", *args)
+        assert done.returncode == 2, args
+        assert done.stderr.count("\n") == 1 and done.stderr.startswith("tvl: error: "), done.stderr
+        assert message in done.stderr

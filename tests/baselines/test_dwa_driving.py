@@ -1,0 +1,50 @@
+"""The DWA driving the real simulator in the bundled worlds."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from tvl_cli.baselines.dwa import DwaPolicy, run_dwa
+from tvl_cli.core.command import Command
+from tvl_cli.core.config import RobotConfig
+from tvl_cli.sim.robot import Simulator
+from tvl_cli.sim.worldmap import load_world
+
+WORLDS = Path(__file__).resolve().parents[2] / "worlds"
+SQUARE = load_world(WORLDS / "square.txt")  # walls' inner faces at x, y = 0.25 and 3.75
+ROBOT = RobotConfig()
+CRUISING = Command(0.6, 0.0)
+
+
+def first_choice(x: float, y: float, theta: float) -> Command:
+    """The first command of a DWA cruising straight at top speed from a pose in the square."""
+    sim = Simulator(SQUARE, ROBOT, np.random.default_rng(0))
+    sim.place(x, y, theta)
+    policy = DwaPolicy(ROBOT)
+    policy.last = CRUISING
+    return policy.command(sim)
+
+
+def test_a_wall_ahead_makes_it_slow_down_and_turn() -> None:
+    # Facing the east wall with 0.4 m between the body's edge and the wall.
+    near_wall = first_choice(3.75 - ROBOT.radius_m - 0.4, 2.0, 0.0)
+    open_space = first_choice(1.0, 2.0, 0.0)  # 2.35 m of room ahead
+    assert open_space == CRUISING
+    assert near_wall.linear_mps < open_space.linear_mps
+    assert near_wall.angular_radps != 0.0
+
+
+def test_it_avoids_for_a_minute_in_the_square_without_a_collision() -> None:
+    metrics = run_dwa(SQUARE, ROBOT, 1.0, seed=1).metrics
+    assert metrics.collisions == 0
+    assert metrics.mean_speed_mps > 0.4
+    assert metrics.sim_s == pytest.approx(60.0)
+
+
+def test_it_reaches_a_goal_behind_an_obstacle() -> None:
+    world = load_world(WORLDS / "obstacles.txt")
+    metrics = run_dwa(world, ROBOT, 1.0, seed=1, goal_xy=world.goals[1]).metrics
+    assert metrics.goal_reached and metrics.collisions == 0

@@ -1,0 +1,184 @@
+"""Tabular Q-learning over the single FAM's 720 rules: the reinforcement-learning alternative.
+
+The state of a sonar ring is the rule that fires strongest for it; the actions are the 7
+trajectories, each driven at its maximum velocity. Every control period earns the distance
+the wheels report travelled forward, and a bump costs a fixed penalty and ends the episode,
+after which the robot backs off along its path as TVL learning does.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from tvl_cli.baselines.drive import Drive, drive
+from tvl_cli.core.command import Command
+from tvl_cli.core.competence import COMPETENCE_RUN_MINUTES, is_competent
+from tvl_cli.core.config import SINGLE, FamTable, RobotConfig
+from tvl_cli.core.metrics import RunMetrics
+from tvl_cli.core.qtable import (
+    QParams,
+    RuleStates,
+    epsilon_greedy,
+    greedy,
+    preference_order,
+    q_update,
+)
+from tvl_cli.sim.robot import Pose, Simulator
+from tvl_cli.sim.worldmap import WorldMap
+
+DEFAULT_Q = QParams()
+
+
+def forward_travel_m(before: Pose, after: Pose) -> float:
+    """Metres moved along the mean heading between two poses (negative going backwards)."""
+    mid = 0.5 * (before[2] + after[2])
+    return (after[0] - before[0]) * math.cos(mid) + (after[1] - before[1]) * math.sin(mid)
+
+
+class QPolicy:
+    """Drives by a Q-table: epsilon-greedy and updating it while learning, greedy otherwise."""
+
+    def __init__(
+        self,
+        q: np.ndarray,
+        states: RuleStates,
+        robot: RobotConfig,
+        params: QParams,
+        rng: np.random.Generator | None = None,
+    ) -> None:
+        """`rng` draws the exploration; without one the policy is greedy and never learns."""
+        self.q = q  # (S, A) shared with the owner, updated in place
+        self.states = states
+        self.robot = robot
+        self.params = params
+        self.rng = rng
+        self._order = preference_order(len(robot.trajectories))
+        self._actions = [Command.follow(t, t.v_max_mps) for t in robot.trajectories]
+        self._queue: list[Command] = []  # backing off after a bump
+        self._pending: tuple[int, int, Pose] | None = None  # state, action, odometry at choice
+
+    def command(self, sim: Simulator) -> Command:
+        if self._queue:
+            return self._queue.pop()
+        if self._pending is not None and sim.bumped:
+            self._end_episode(sim, *self._pending)
+            return self._queue.pop()
+        state = self.states.one(sim.read_sonar())
+        if self._pending is not None and self.rng is not None:
+            last_state, action, odometry = self._pending
+            reward = forward_travel_m(odometry, sim.odometry)
+            q_update(self.q, last_state, action, reward, state, self.params)
+        if self.rng is None:
+            action = greedy(self.q[state], self._order)
+        else:
+            action = epsilon_greedy(self.q[state], self._order, self.params.epsilon, self.rng)
+        self._pending = (state, action, sim.odometry)
+        return self._actions[action]
+
+    def _end_episode(self, sim: Simulator, state: int, action: int, odometry: Pose) -> None:
+        """Punish the action that bumped, with nothing after it, and back off along the arc."""
+        if self.rng is not None:
+            reward = forward_travel_m(odometry, sim.odometry) - self.params.collision_penalty
+            q_update(self.q, state, action, reward, None, self.params)
+        self._pending = None
+        last = self._actions[action]
+        steps = math.ceil(self.params.reverse_m / (last.linear_mps * self.robot.control_period_s))
+        self._queue = [Command(-last.linear_mps, -last.angular_radps)] * steps
+
+
+class QLearning:
+    """A Q-table learnt by one robot driving in one world, and greedy runs that judge it.
+
+    Learning continues where the last `train` call stopped: same robot, same table.
+    """
+
+    def __init__(
+        self,
+        world: WorldMap,
+        robot: RobotConfig,
+        seed: int,
+        params: QParams = DEFAULT_Q,
+        table: FamTable = SINGLE.tables[0],
+    ) -> None:
+        sim_seed, explore_seed = np.random.SeedSequence(seed).spawn(2)
+        self.world = world
+        self.robot = robot
+        self.params = params
+        self.states = RuleStates(table)
+        self.q = np.zeros((self.states.count, len(robot.trajectories)))  # (rules, trajectories)
+        self._sim = Simulator(world, robot, np.random.default_rng(sim_seed))
+        self._learner = QPolicy(
+            self.q, self.states, robot, params, np.random.default_rng(explore_seed)
+        )
+        self.learn_collisions = 0
+
+    def train(self, minutes: float) -> RunMetrics:
+        """Learn for `minutes` of simulated time; the metrics of that stretch of driving."""
+        metrics = drive(self._sim, self._learner, minutes).metrics
+        self.learn_collisions += metrics.collisions
+        return metrics
+
+    def evaluate(self, minutes: float, seed: int) -> Drive:
+        """A greedy run from the world's start without learning, seeded as `tvl run` is."""
+        sim = Simulator(self.world, self.robot, np.random.default_rng(seed))
+        return drive(sim, QPolicy(self.q, self.states, self.robot, self.params), minutes)
+
+
+@dataclass(frozen=True, slots=True)
+class CompetenceCheck:
+    """A greedy `avoid` run after some minutes of learning."""
+
+    learn_minutes: float
+    collisions_per_min: float
+    mean_speed_mps: float
+    competent: bool
+
+
+@dataclass(frozen=True, slots=True)
+class QLearningResult:
+    evaluation: Drive  # the final greedy run
+    learn_minutes: float
+    learn_collisions: int
+    checks: tuple[CompetenceCheck, ...]  # empty unless asked for
+
+    @property
+    def time_to_competence_min(self) -> float | None:
+        """The first checked learning minute whose greedy run was competent."""
+        return next((c.learn_minutes for c in self.checks if c.competent), None)
+
+
+def learn_and_evaluate(
+    world: WorldMap,
+    robot: RobotConfig,
+    learn_minutes: float,
+    minutes: float,
+    seed: int,
+    competence_every: float | None = None,
+    params: QParams = DEFAULT_Q,
+) -> QLearningResult:
+    """Learn for `learn_minutes` (0: not at all), judging competence every `competence_every`
+    learning minutes until it is reached, then run the greedy policy for `minutes`."""
+    learner = QLearning(world, robot, seed, params)
+    checks: list[CompetenceCheck] = []
+    stretch = competence_every or learn_minutes
+    stretches = math.ceil(learn_minutes / stretch - 1e-9) if learn_minutes > 0 else 0
+    # Rounded so that 3 x 0.1 minutes reads 0.3, not 0.30000000000000004.
+    ends = [min(round(k * stretch, 9), learn_minutes) for k in range(1, stretches + 1)]
+    for start, end in zip([0.0, *ends[:-1]], ends, strict=True):
+        learner.train(end - start)
+        if competence_every is not None and not any(c.competent for c in checks):
+            run = learner.evaluate(COMPETENCE_RUN_MINUTES, seed).metrics
+            checks.append(
+                CompetenceCheck(
+                    end,
+                    run.collisions_per_min,
+                    run.mean_speed_mps,
+                    is_competent(run),
+                )
+            )
+    return QLearningResult(
+        learner.evaluate(minutes, seed), learn_minutes, learner.learn_collisions, tuple(checks)
+    )

@@ -1,0 +1,120 @@
+"""`tvl baseline dwa` and `tvl baseline qlearn` end to end: checked options and a world in,
+the metrics of `tvl run` (and a picture) out."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+from pathlib import Path
+from typing import Any
+
+from tvl_cli.baselines.drive import Drive
+from tvl_cli.baselines.dwa import BEHAVIOURS, run_dwa
+from tvl_cli.baselines.qlearning import QLearningResult, learn_and_evaluate
+from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.errors import BadInput
+from tvl_cli.core.metrics import RunMetrics
+from tvl_cli.run_session import check_minutes
+from tvl_cli.sim.worldmap import WorldMap, check_goal, load_world
+
+
+def _goal(
+    world_path: Path, world: WorldMap, behaviour: str, goal: tuple[float, float] | None
+) -> tuple[float, float] | None:
+    if behaviour not in BEHAVIOURS:
+        raise BadInput(f"unknown behaviour {behaviour!r} (choose from {', '.join(BEHAVIOURS)})")
+    if behaviour == "avoid":
+        if goal is not None:
+            raise BadInput("--goal is for --behaviour goal only")
+        return None
+    if goal is not None:
+        check_goal(world, *goal, where=f"--goal {goal[0]:g},{goal[1]:g}")
+        return goal
+    if not world.goals:
+        raise BadInput(f"{world_path}: world has no goal; give one with --goal X,Y")
+    return world.goals[0]
+
+
+def _draw(
+    world: WorldMap, run: Drive, png: Path, title: str, goal: tuple[float, float] | None
+) -> None:
+    from tvl_cli.plot import render_path  # matplotlib only when a picture is wanted
+
+    render_path(world, run.poses, run.speeds_mps, run.bumped, png, title=title, goal=goal)
+
+
+def dwa_session(
+    world_path: Path,
+    behaviour: str,
+    goal: tuple[float, float] | None,
+    minutes: float,
+    seed: int,
+    png: Path | None = None,
+) -> RunMetrics:
+    """One DWA run in a world file; the path drawn to `png` if given."""
+    check_minutes(minutes)
+    world = load_world(world_path)
+    goal = _goal(world_path, world, behaviour, goal)
+    run = run_dwa(world, RobotConfig(), minutes, seed, goal)
+    if png is not None:
+        _draw(world, run, png, f"DWA {behaviour} in {world.name}", goal)
+    return run.metrics
+
+
+@dataclass(frozen=True, slots=True)
+class QLearnReport:
+    result: QLearningResult
+    checked_competence: bool
+
+    def to_dict(self) -> dict[str, Any]:
+        """The run metrics of the greedy run, then what learning cost (and achieved)."""
+        result = self.result
+        report = asdict(result.evaluation.metrics)
+        report["learn_minutes"] = result.learn_minutes
+        report["learn_collisions"] = result.learn_collisions
+        if self.checked_competence:
+            report["time_to_competence_min"] = result.time_to_competence_min
+            report["competence_checks"] = [asdict(c) for c in result.checks]
+        return report
+
+    def summary(self) -> str:
+        """What learning cost, and when it became competent if that was judged."""
+        result = self.result
+        text = (
+            f"learnt {result.learn_minutes:g} simulated minutes "
+            f"with {result.learn_collisions} collisions"
+        )
+        if self.checked_competence:
+            reached = result.time_to_competence_min
+            text += "; time to competence: " + (
+                f"{reached:g} min"
+                if reached is not None
+                else f"not within {result.learn_minutes:g} min"
+            )
+        return text
+
+
+def qlearn_session(
+    world_path: Path,
+    learn_minutes: float,
+    minutes: float,
+    seed: int,
+    competence_every: float | None = None,
+    png: Path | None = None,
+) -> QLearnReport:
+    """Learn a Q-table in a world file, then run it greedily; its path drawn to `png`."""
+    check_minutes(minutes)
+    if not (math.isfinite(learn_minutes) and learn_minutes >= 0):
+        raise BadInput(f"--learn-minutes {learn_minutes:g} must be 0 or more simulated minutes")
+    if competence_every is not None and not (
+        math.isfinite(competence_every) and competence_every > 0
+    ):
+        raise BadInput(f"--competence-every {competence_every:g} must be a positive number")
+    world = load_world(world_path)
+    result = learn_and_evaluate(
+        world, RobotConfig(), learn_minutes, minutes, seed, competence_every
+    )
+    if png is not None:
+        title = f"Q-learning after {learn_minutes:g} min, avoid in {world.name}"
+        _draw(world, result.evaluation, png, title, None)
+    return QLearnReport(result, competence_every is not None)
