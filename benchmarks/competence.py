@@ -238,11 +238,15 @@ def main() -> None:
     parser.add_argument("--workers", type=int, default=2, help="parallel processes")
     parser.add_argument("--decel", type=float, default=TrainParams().decel_mps2, help="m/s²")
     parser.add_argument("--margin", type=float, default=TrainParams().margin_m, help="m")
+    parser.add_argument(
+        "--near", type=float, default=LearnParams().near_m, help="m, 0: collisions are bumps"
+    )
     parser.add_argument("--json", action="store_true", help="print the figures as JSON")
     args = parser.parse_args()
     train = TrainParams(decel_mps2=args.decel, margin_m=args.margin)
+    explore = LearnParams(near_m=args.near)
     started = time.perf_counter()
-    jobs = [(seed, args.learn_minutes, args.run_minutes, train) for seed in args.seeds]
+    jobs = [(seed, args.learn_minutes, args.run_minutes, train, explore) for seed in args.seeds]
     with ProcessPoolExecutor(max_workers=args.workers) as pool:
         per_seed = list(pool.map(seed_figures, *zip(*jobs, strict=True)))
     summary = summarise(per_seed)
@@ -251,7 +255,7 @@ def main() -> None:
         return
     print(
         f"seeds {args.seeds}, learning {args.learn_minutes:g} min, runs {args.run_minutes:g} min, "
-        f"decel {args.decel:g} m/s², margin {args.margin:g} m "
+        f"decel {args.decel:g} m/s², margin {args.margin:g} m, near {args.near:g} m "
         f"({time.perf_counter() - started:.0f} s)"
     )
     print(table(summary))

@@ -54,6 +54,7 @@ def _log(path: Path, robot: RobotConfig, episodes: int = 1) -> Path:
                     trajectory=3,
                     rotation=0,
                     collided=True,
+                    bumped=True,
                     end_arc_m=0.1,
                     end_time_s=1.0 + index,
                 )

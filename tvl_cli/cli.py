@@ -21,10 +21,10 @@ from tvl_cli.demo import run_demo
 from tvl_cli.io.atomic import atomic_output
 from tvl_cli.io.famfile import read_fam, write_fam
 from tvl_cli.learn import LearnParams
+from tvl_cli.learn_session import LearnRequest, learn_to_log, resolve_fam_config
 from tvl_cli.replay import replay as replay_file
 from tvl_cli.rules import SORT_KEYS, parse_ring, select_rules
 from tvl_cli.run_session import RunRequest, check_minutes, parse_goal, run_fam
-from tvl_cli.session import LearnRequest, learn_to_log, resolve_fam_config
 from tvl_cli.sim.worldgen import KINDS, generate_world
 from tvl_cli.sim.worldmap import describe, load_world, world_to_dict
 from tvl_cli.train import train_from_logs

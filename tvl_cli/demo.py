@@ -12,8 +12,8 @@ from tvl_cli.core.errors import BadInput
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.io.famfile import write_fam
 from tvl_cli.learn import LearnParams
+from tvl_cli.learn_session import LearnRequest, LearnResult, learn_to_log
 from tvl_cli.run_session import RunRequest, run_fam
-from tvl_cli.session import LearnRequest, LearnResult, learn_to_log
 from tvl_cli.sim.worldgen import bundled_world_path
 from tvl_cli.train import train_from_logs
 from tvl_cli.training import TrainParams

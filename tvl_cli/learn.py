@@ -27,6 +27,11 @@ class LearnParams:
     learn_speed_mps: float = 0.2
     straight_run_m: float = 8.0  # a T0 run this long without a bump counts as free
     reverse_m: float = 0.15  # backed off along the path after a collision
+    # A sonar facing ahead of the body's middle reading this close, once the robot has closed
+    # in on it, marks a collision point before any bump (paper §5.1: a collision placed
+    # further from objects when learning helps). It teaches that a wall the arc runs into
+    # alongside, unseen ahead by the specular ring, is a collision too. 0 waits for bumps.
+    near_m: float = 0.25
 
     def to_dict(self) -> dict[str, float]:
         return asdict(self)
@@ -51,6 +56,12 @@ class LearnSummary:
     sim_s: float = 0.0
     minutes: list[MinuteStats] = field(default_factory=list)
     stopped_by: str | None = None  # what cut learning short (a signal name), if anything
+
+
+# How much nearer than at the episode's start a sonar must read before `near_m` counts: well
+# above the noise (about 1.2 cm close in), so a wall the robot runs beside but does not
+# approach never ends an episode, and one it is leaving behind never does either.
+NEAR_CLOSING_M = 0.05
 
 
 def least_experienced(experience: np.ndarray, rng: np.random.Generator) -> tuple[int, int]:
@@ -99,6 +110,14 @@ class Learner:
         self.train_params = train_params
         self.sim = Simulator(world, robot, np.random.default_rng(sim_seed))
         self.rng = np.random.default_rng(choice_seed)
+        angles = np.arange(robot.sonar.count) * 2 * math.pi / robot.sonar.count
+        self._ahead = np.flatnonzero(np.cos(angles) > -1e-9)  # sonars facing ahead of the middle
+
+    def _too_near(self, ring_m: np.ndarray, start_m: np.ndarray) -> bool:
+        """A sonar ahead reads within near_m, having closed in since the episode started."""
+        ahead = ring_m[self._ahead]
+        closing = ahead < start_m[self._ahead] - NEAR_CLOSING_M
+        return bool((closing & (ahead < self.params.near_m)).any())
 
     def _free_run_m(self, trajectory: int) -> float:
         """How far a trajectory goes before it counts as free: a full circle, or a long run."""
@@ -127,11 +146,15 @@ class Learner:
         odometry: list[tuple[float, float, float]] = []
         arcs: list[float] = []
         arc_m = 0.0
-        collided = False
+        collided = bumped = False
         while arc_m < free_run_m - 1e-9:
             if self.sim.time_s >= deadline_s:
                 return None
-            rings.append(ring_to_mm(self.sim.read_sonar()))
+            ring_mm = ring_to_mm(self.sim.read_sonar())
+            if rings and self._too_near(mm_to_ring(ring_mm), mm_to_ring(rings[0])):
+                collided = True
+                break
+            rings.append(ring_mm)
             poses.append(self.sim.pose)
             odometry.append(self.sim.odometry)
             arcs.append(arc_m)
@@ -139,7 +162,7 @@ class Learner:
             # Odometry-free arc length: the distance commanded; short and exact (paper §4.1).
             arc_m += step_m
             if self.sim.bumped:
-                collided = True
+                collided = bumped = True
                 break
         sonars = self.robot.sonar.count
         episode = Episode(
@@ -151,6 +174,7 @@ class Learner:
             trajectory=trajectory,
             rotation=rotation,
             collided=collided,
+            bumped=bumped,
             end_arc_m=arc_m,
             end_time_s=self.sim.time_s,
         )
@@ -191,11 +215,11 @@ class Learner:
                 summary.minutes.append(minute)
                 minute = MinuteStats(minute.minute + 1)
             minute.episodes += 1
-            minute.collisions += int(episode.collided)
+            minute.collisions += int(episode.bumped)
             minute.exemplars += episode.exemplar_count
             minute.delta_v += change / steps_per_minute
             summary.episodes += 1
-            summary.collisions += int(episode.collided)
+            summary.collisions += int(episode.bumped)
             summary.exemplars += episode.exemplar_count
         if summary.stopped_by is None:
             # The last minute is whole only when time ran out; a cut-short one is partial.

@@ -29,7 +29,7 @@ def _learning(log: LearningLog, png: Path | None, curves: Path | None) -> Replay
     facts: list[tuple[str, Any]] = [("sessions", len(log.sessions))]
     minutes: list[dict[str, float]] = []
     for s in log.sessions:
-        collisions = int(s.episode_table["collided"].sum())
+        collisions = int(s.episode_table["bumped"].sum())
         sim_s = float(s.episode_table["end_time_s"][-1]) if len(s.episode_table) else 0.0
         facts.append(
             (

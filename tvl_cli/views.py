@@ -16,8 +16,8 @@ from tvl_cli.core.fam import Explanation
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.demo import DemoResult
 from tvl_cli.learn import MinuteStats
+from tvl_cli.learn_session import LearnResult
 from tvl_cli.replay import Replay
-from tvl_cli.session import LearnResult
 from tvl_cli.train import TrainSummary
 
 out = Console(highlight=False)

@@ -62,6 +62,7 @@ def golden_episodes() -> tuple[tuple[Episode, ...], ...]:
         trajectory=3,
         rotation=0,
         collided=True,
+        bumped=True,
         end_arc_m=0.05,
         end_time_s=0.3,
     )
@@ -74,6 +75,7 @@ def golden_episodes() -> tuple[tuple[Episode, ...], ...]:
         trajectory=2,
         rotation=4,
         collided=False,
+        bumped=False,
         end_arc_m=12.566,
         end_time_s=63.2,
     )
@@ -86,6 +88,7 @@ def golden_episodes() -> tuple[tuple[Episode, ...], ...]:
         trajectory=6,
         rotation=15,
         collided=True,
+        bumped=False,
         end_arc_m=0.01,
         end_time_s=0.2,
     )

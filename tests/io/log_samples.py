@@ -28,6 +28,7 @@ def sample_episode(index: int) -> Episode:
         trajectory=index % 7,
         rotation=(3 * index) % 16,
         collided=index % 2 == 0,
+        bumped=index % 4 == 0,
         end_arc_m=n * step_m,
         end_time_s=10.0 * (index + 1),
     )
@@ -51,5 +52,13 @@ def assert_same_episode(read: Episode, written: Episode) -> None:
         actual = getattr(read, name)
         assert actual.dtype == expected.dtype, name
         np.testing.assert_array_equal(actual, expected, err_msg=name)
-    for name in ("index", "trajectory", "rotation", "collided", "end_arc_m", "end_time_s"):
+    for name in (
+        "index",
+        "trajectory",
+        "rotation",
+        "collided",
+        "bumped",
+        "end_arc_m",
+        "end_time_s",
+    ):
         assert getattr(read, name) == getattr(written, name), name

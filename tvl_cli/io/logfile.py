@@ -71,7 +71,8 @@ EPISODE_DTYPE = np.dtype(
         ("count", "<i4"),  # exemplars in the episode
         ("trajectory", "i1"),
         ("rotation", "i1"),
-        ("collided", "?"),
+        ("collided", "?"),  # ended at a collision point: labels brake to it
+        ("bumped", "?"),  # that point was a bump, not one the sonars found too near
         ("end_time_s", "<f8"),  # simulated time at the end, from the session start
         ("end_arc_m", "<f8"),  # arc length at the end: the collision point if collided
     ]
@@ -118,6 +119,7 @@ class Episode:
     trajectory: int  # index in the robot configuration's trajectories
     rotation: int  # foveal rotation chosen, sonar positions CCW
     collided: bool
+    bumped: bool  # the collision point was a bump (else the sonars found it, or none)
     end_arc_m: float  # arc length at the end: the collision point if collided
     end_time_s: float  # simulated time at the end, from the session start
 
@@ -236,6 +238,7 @@ class LogWriter:
                     episode.trajectory,
                     episode.rotation,
                     episode.collided,
+                    episode.bumped,
                     episode.end_time_s,
                     episode.end_arc_m,
                 )
@@ -456,6 +459,7 @@ class Session:
                     trajectory=int(row["trajectory"]),
                     rotation=int(row["rotation"]),
                     collided=bool(row["collided"]),
+                    bumped=bool(row["bumped"]),
                     end_arc_m=float(row["end_arc_m"]),
                     end_time_s=float(row["end_time_s"]),
                 )

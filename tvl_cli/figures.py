@@ -1,0 +1,650 @@
+"""The experiment figures (paper §5) and their summary tables, from the scripts' JSON lines.
+
+Each line of a results file is one run: its parameters (`kind`: learn, tvl, dwa or qlearn;
+`world`, `seed`, `config`, `minute`, `behaviour`, `threshold`, ...) and what `tvl ... --json`
+printed. Trials are the seeds; figures show their mean, tables their mean and counts.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import fields
+from itertools import pairwise
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from matplotlib.axes import Axes
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+from matplotlib.ticker import MaxNLocator
+
+from tvl_cli.core import competence
+from tvl_cli.core.errors import BadInput
+from tvl_cli.core.metrics import RunMetrics
+from tvl_cli.io.atomic import atomic_output
+from tvl_cli.io.runfile import read_run
+from tvl_cli.plot import draw_world
+from tvl_cli.sim.worldmap import parse_world
+
+Row = dict[str, Any]
+
+# A setting is collision prone above the competence limit (dashed in Figure 21).
+COLLISION_PRONE_PER_MIN = competence.MAX_COLLISIONS_PER_MIN
+
+WORLD_ORDER = ("square", "circle", "corridor", "obstacles", "narrow", "lab")
+CONFIG_STYLE = {"single": "#1f77b4", "multi": "#d62728"}
+DWA_COLOUR, QLEARN_COLOUR = "#2ca02c", "#9467bd"
+DPI = 120
+PAPER_COLOUR = "grey"
+# The paper's reported ends (SPEC §10): threshold -> (wall clearance m, mean speed m/s) in
+# wall following (§5.1, Fig. 21), and learning minute -> mean speed m/s in the lab, multi FAM
+# (§5.2, Fig. 27).
+PAPER_FIG21 = {0.65: (0.32, 0.32), 0.95: (0.67, 0.45)}
+PAPER_FIG27 = {0.0: 0.1, 45.0: 0.5}
+
+
+def is_competent(run: Row) -> bool:
+    """Whether an avoid run (its `tvl run --json` keys) passes the competence test."""
+    return competence.is_competent(RunMetrics(**{f.name: run[f.name] for f in fields(RunMetrics)}))
+
+
+def time_to_competence(snapshots: Iterable[Row]) -> float | None:
+    """Time to competence: the first learning minute whose snapshot FAM's avoid run is
+    competent; None if none is."""
+    competent = [row["minute"] for row in snapshots if is_competent(row)]
+    return min(competent) if competent else None
+
+
+# --- reading and summarising -------------------------------------------------------
+
+
+def read_results(path: Path) -> list[Row]:
+    """The runs of a JSON-lines results file; BadInput naming the line that is not one."""
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise BadInput(f"{path}: no such results file") from None
+    except (OSError, UnicodeDecodeError) as error:
+        raise BadInput(f"{path}: cannot read ({error})") from None
+    rows: list[Row] = []
+    for number, line in enumerate(text.splitlines(), start=1):
+        if not line.strip():
+            continue
+        try:
+            row = json.loads(line)
+        except json.JSONDecodeError as error:
+            raise BadInput(f"{path}:{number}:{error.colno}: not JSON ({error.msg})") from None
+        if not isinstance(row, dict) or not isinstance(row.get("kind"), str):
+            raise BadInput(f'{path}:{number}: not a run (an object with a "kind")')
+        rows.append(row)
+    return rows
+
+
+def select(rows: Iterable[Row], **where: Any) -> list[Row]:
+    """The rows whose keys have the given values."""
+    return [row for row in rows if all(row.get(key) == value for key, value in where.items())]
+
+
+def distinct(rows: Iterable[Row], key: str, order: Sequence[Any] = ()) -> list[Any]:
+    """The values of `key` in `order` first, then the others sorted."""
+    present = {row[key] for row in rows if row.get(key) is not None}
+    return [v for v in order if v in present] + sorted(present - set(order))
+
+
+def mean(values: Iterable[float | None]) -> float | None:
+    """The mean of the values that are not None; None if there are none."""
+    known = [v for v in values if v is not None]
+    return sum(known) / len(known) if known else None
+
+
+def curve(rows: Iterable[Row], x: str, y: str) -> tuple[np.ndarray, np.ndarray]:
+    """Mean of `y` over the rows at each value of `x` (trials averaged): (K,), (K,) arrays."""
+    by_x: dict[float, list[float | None]] = {}
+    for row in rows:
+        by_x.setdefault(row[x], []).append(row.get(y))
+    xs = sorted(v for v in by_x if mean(by_x[v]) is not None)
+    return np.array(xs, dtype=float), np.array([mean(by_x[v]) for v in xs], dtype=float)
+
+
+def by_trial(rows: Iterable[Row]) -> dict[int, list[Row]]:
+    trials: dict[int, list[Row]] = {}
+    for row in rows:
+        trials.setdefault(row["seed"], []).append(row)
+    return trials
+
+
+def competence_times(snapshots: Iterable[Row]) -> list[float | None]:
+    """Time to competence of each trial (seed) of a set of snapshot avoid runs."""
+    return [time_to_competence(rows) for _, rows in sorted(by_trial(snapshots).items())]
+
+
+def final_runs(snapshots: Iterable[Row]) -> list[Row]:
+    """Each trial's run with its last snapshot FAM."""
+    return [max(rows, key=lambda r: r["minute"]) for rows in by_trial(snapshots).values()]
+
+
+def describe_competence(times: Sequence[float | None], horizon_min: float | None) -> str:
+    """'7.3 (3/3)': the mean over the trials that became competent, and how many did."""
+    reached = [t for t in times if t is not None]
+    if not times:
+        return "–"
+    if not reached:
+        within = f" {horizon_min:g}" if horizon_min is not None else ""
+        return f"not within{within} min (0/{len(times)})"
+    return f"{sum(reached) / len(reached):.1f} ({len(reached)}/{len(times)})"
+
+
+def number(value: float | None, digits: int = 2) -> str:
+    return "–" if value is None or not math.isfinite(value) else f"{value:.{digits}f}"
+
+
+def markdown(title: str, header: Sequence[str], body: Iterable[Sequence[str]]) -> str:
+    lines = [f"### {title}", "", "| " + " | ".join(header) + " |"]
+    lines.append("|" + "|".join(" --- " for _ in header) + "|")
+    lines += ["| " + " | ".join(cells) + " |" for cells in body]
+    return "\n".join(lines) + "\n"
+
+
+def learning_minutes(rows: Iterable[Row]) -> list[Row]:
+    """The per-minute rows (minute, delta_v, collisions, ...) of every learn record, with its
+    seed, world and config; `minute` becomes the end of that minute (1 for the first)."""
+    return [
+        {**minute, "minute": minute["minute"] + 1, "seed": row["seed"], "world": row["world"]}
+        for row in rows
+        if row["kind"] == "learn"
+        for minute in row.get("minutes", [])
+    ]
+
+
+def method_rows(rows: list[Row], world: str, configs: Sequence[str]) -> list[list[str]]:
+    """Table rows for TVL's configurations, DWA and Q-learning in one world: time to
+    competence, collision rate, speed and clearance of an avoid run, collisions in learning."""
+    table: list[list[str]] = []
+    learnt = learning_minutes(select(rows, world=world))
+    learn_rate = mean(m["collisions"] for m in learnt)
+    horizon = max((m["minute"] for m in learnt), default=None)
+    for config in configs:
+        snapshots = select(rows, kind="tvl", world=world, config=config, behaviour="avoid")
+        if not snapshots:
+            continue
+        last = final_runs(snapshots)
+        table.append(
+            [
+                world,
+                f"TVL {config} FAM",
+                describe_competence(competence_times(snapshots), horizon),
+                number(mean(r["collisions_per_min"] for r in last)),
+                number(mean(r["mean_speed_mps"] for r in last)),
+                number(mean(r["mean_clearance_m"] for r in last)),
+                number(learn_rate),
+            ]
+        )
+    dwa = select(rows, kind="dwa", world=world, behaviour="avoid")
+    if dwa:
+        table.append(
+            [
+                world,
+                "DWA (knows the map)",
+                "no learning",
+                number(mean(r["collisions_per_min"] for r in dwa)),
+                number(mean(r["mean_speed_mps"] for r in dwa)),
+                number(mean(r["mean_clearance_m"] for r in dwa)),
+                "–",
+            ]
+        )
+    qlearn = select(rows, kind="qlearn", world=world)
+    if qlearn:
+        times = [r.get("time_to_competence_min") for r in qlearn]
+        table.append(
+            [
+                world,
+                "Q-learning",
+                describe_competence(times, max(r["learn_minutes"] for r in qlearn)),
+                number(mean(r["collisions_per_min"] for r in qlearn)),
+                number(mean(r["mean_speed_mps"] for r in qlearn)),
+                number(mean(r["mean_clearance_m"] for r in qlearn)),
+                number(mean(r["learn_collisions"] / r["learn_minutes"] for r in qlearn)),
+            ]
+        )
+    return table
+
+
+METHOD_HEADER = (
+    "world",
+    "method",
+    "time to competence, min (trials)",
+    "avoid collisions/min",
+    "avoid speed m/s",
+    "avoid clearance m",
+    "collisions/min learning",
+)
+COMPETENCE_NOTE = (
+    f"Competent: an avoid run of {competence.COMPETENCE_RUN_MINUTES:g} simulated minutes with "
+    f"at most {competence.MAX_COLLISIONS_PER_MIN:g} collisions/min and at least "
+    f"{competence.MIN_MEAN_SPEED_MPS:g} m/s. Avoid columns: the FAM at the end of learning "
+    f"(Q-learning: its greedy policy). Means over trials.\n"
+)
+
+
+def competence_note(rows: Iterable[Row]) -> str:
+    """The definition, and a warning when the avoid runs were not of the definition's length."""
+    lengths = {r["run_minutes"] for r in rows if r.get("behaviour") == "avoid"}
+    other = sorted(m for m in lengths if m != competence.COMPETENCE_RUN_MINUTES)
+    if not other:
+        return COMPETENCE_NOTE
+    minutes = ", ".join(f"{m:g}" for m in other)
+    return COMPETENCE_NOTE + f"These avoid runs lasted {minutes} min: not a competence result.\n"
+
+
+# --- drawing helpers -------------------------------------------------------------
+
+
+def new_figure(width_in: float, height_in: float) -> Figure:
+    figure = Figure(figsize=(width_in, height_in), layout="constrained")
+    FigureCanvasAgg(figure)
+    return figure
+
+
+def reference_line(ax: Axes, value: float | None, colour: str, label: str) -> None:
+    if value is not None:
+        ax.axhline(value, color=colour, linestyle="--", linewidth=1.2, label=label)
+
+
+def competence_limit(ax: Axes, value: float) -> None:
+    ax.axhline(value, color="grey", linestyle=":", linewidth=1, label="competence limit")
+
+
+def collision_axis(ax: Axes) -> None:
+    """Collision rates span 0 to tens per minute; symlog keeps the 0.2 limit readable.
+    Call it after the lines are drawn: the top leaves room above the highest."""
+    ax.set_yscale("symlog", linthresh=0.1)
+    ax.autoscale_view()
+    ax.set_ylim(0, 2 * ax.get_ylim()[1])
+
+
+def qlearn_checks(qlearn: Iterable[Row]) -> list[Row]:
+    """Q-learning's competence checks (greedy avoid runs during learning), with their seed and
+    `minute` the learning minutes before the check."""
+    return [
+        {**check, "minute": check["learn_minutes"], "seed": row["seed"]}
+        for row in qlearn
+        for check in row.get("competence_checks", [])
+    ]
+
+
+def baselines_and_limits(hits: Axes, speed: Axes, rows: list[Row], world: str) -> None:
+    """On the avoid-run panels: DWA's level, Q-learning's checks, the competence limits."""
+    dwa = select(rows, kind="dwa", world=world, behaviour="avoid")
+    reference_line(hits, mean(r["collisions_per_min"] for r in dwa), DWA_COLOUR, "DWA")
+    reference_line(speed, mean(r["mean_speed_mps"] for r in dwa), DWA_COLOUR, "DWA")
+    checks = qlearn_checks(select(rows, kind="qlearn", world=world))
+    if checks:
+        for ax, key in ((hits, "collisions_per_min"), (speed, "mean_speed_mps")):
+            ax.plot(*curve(checks, "minute", key), "-.", color=QLEARN_COLOUR, label="Q-learning")
+    competence_limit(hits, competence.MAX_COLLISIONS_PER_MIN)
+    competence_limit(speed, competence.MIN_MEAN_SPEED_MPS)
+    collision_axis(hits)
+
+
+def competence_bar(times: Sequence[float | None], horizon_min: float) -> tuple[float, str]:
+    """Bar height (mean of the competent trials, the horizon if none) and hatch (some not)."""
+    reached = [t for t in times if t is not None]
+    height = sum(reached) / len(reached) if reached else horizon_min
+    return height, "" if len(reached) == len(times) else "//"
+
+
+# --- Figure 19: learning curves ------------------------------------------------------
+
+
+def figure19(rows: list[Row]) -> tuple[Figure, str]:
+    worlds = distinct(select(rows, kind="learn"), "world", WORLD_ORDER)
+    figure = new_figure(4.2 * len(worlds), 10)
+    axes = figure.subplots(4, len(worlds), sharex="col", squeeze=False)
+    for column, world in enumerate(worlds):
+        learnt = learning_minutes(select(rows, world=world))
+        snapshots = select(rows, kind="tvl", world=world, behaviour="avoid")
+        dv, learn_hits, hits, speed = axes[:, column]
+        dv.plot(*curve(learnt, "minute", "delta_v"), marker="o", markersize=3)
+        dv.set_title(world)
+        learn_hits.plot(*curve(learnt, "minute", "collisions"), marker="o", markersize=3)
+        hits.plot(*curve(snapshots, "minute", "collisions_per_min"), "o-", ms=3, label="TVL")
+        speed.plot(*curve(snapshots, "minute", "mean_speed_mps"), "o-", ms=3, label="TVL")
+        baselines_and_limits(hits, speed, rows, world)
+        times = [t for t in competence_times(snapshots) if t is not None]
+        if times:
+            for ax in (hits, speed):
+                ax.axvline(mean(times), color="black", linewidth=0.8, label="TVL competent")
+        speed.set_xlabel("learning time (simulated min)")
+        for ax in axes[:, column]:
+            ax.grid(alpha=0.3)
+    axes[0, 0].set_ylabel("ΔV (m/s per step)")
+    axes[1, 0].set_ylabel("collisions/min, learning")
+    axes[2, 0].set_ylabel("collisions/min, avoid run")
+    axes[3, 0].set_ylabel("mean speed (m/s), avoid run")
+    axes[3, 0].legend(fontsize=7, loc="lower right")
+    figure.suptitle("Learning curves and competence, single FAM (mean of trials)")
+    body = [cells for world in worlds for cells in method_rows(rows, world, ["single"])]
+    table = markdown("Figure 19: learning and competence", METHOD_HEADER, body)
+    return figure, table + "\n" + competence_note(rows)
+
+
+# --- Figure 21: velocity threshold ---------------------------------------------------
+
+
+def threshold_points(rows: list[Row], world: str) -> list[tuple[float, Row]]:
+    """Per threshold, the means over trials and wall sides of one world's wall runs."""
+    walls = [r for r in select(rows, kind="tvl", world=world) if r["behaviour"].startswith("wall")]
+    points = []
+    for threshold in distinct(walls, "threshold"):
+        runs = select(walls, threshold=threshold)
+        points.append(
+            (
+                threshold,
+                {
+                    key: mean(r[key] for r in runs)
+                    for key in ("mean_wall_clearance_m", "mean_speed_mps", "collisions_per_min")
+                },
+            )
+        )
+    return points
+
+
+def prone(point: Row) -> bool:
+    rate = point["collisions_per_min"]
+    return rate is not None and rate > COLLISION_PRONE_PER_MIN
+
+
+def dashed_where_prone(ax: Axes, points: list[tuple[float, Row]], key: str, colour: str) -> None:
+    """Solid between safe settings, dashed where either end is collision prone (paper Fig. 21);
+    hollow markers on the collision-prone settings themselves."""
+    for (t1, p1), (t2, p2) in pairwise(points):
+        if p1[key] is not None and p2[key] is not None:
+            style = "--" if prone(p1) or prone(p2) else "-"
+            ax.plot([t1, t2], [p1[key], p2[key]], style, color=colour)
+    for threshold, point in points:
+        if point[key] is not None:
+            face = "white" if prone(point) else colour
+            ax.plot(threshold, point[key], "o", color=colour, markerfacecolor=face)
+
+
+def figure21(rows: list[Row]) -> tuple[Figure, str]:
+    worlds = distinct(select(rows, kind="tvl"), "world", WORLD_ORDER)
+    figure = new_figure(10, 4.2)
+    clearance, speed = figure.subplots(1, 2)
+    body = []
+    for index, world in enumerate(worlds):
+        colour = f"C{index}"
+        points = threshold_points(rows, world)
+        dashed_where_prone(clearance, points, "mean_wall_clearance_m", colour)
+        dashed_where_prone(speed, points, "mean_speed_mps", colour)
+        clearance.plot([], [], color=colour, label=world)
+        for threshold, p in points:
+            body.append(
+                [
+                    world,
+                    f"{threshold:.2f}",
+                    number(p["mean_wall_clearance_m"]),
+                    number(p["mean_speed_mps"]),
+                    number(p["collisions_per_min"]),
+                    "yes" if prone(p) else "no",
+                ]
+            )
+    ends = sorted(PAPER_FIG21)
+    for ax, index in ((clearance, 0), (speed, 1)):
+        values = [PAPER_FIG21[t][index] for t in ends]
+        ax.plot(ends, values, "x:", color=PAPER_COLOUR, label="paper (ends only)")
+    clearance.plot([], [], "k--", label="collision prone")
+    clearance.legend(fontsize=8)
+    clearance.set_ylabel("mean wall clearance (m)")
+    speed.set_ylabel("mean speed (m/s)")
+    for ax in (clearance, speed):
+        ax.set_xlabel("velocity threshold (fraction of each trajectory's maximum)")
+        ax.grid(alpha=0.3)
+    figure.suptitle("Wall following against the velocity threshold (mean of trials and sides)")
+    table = markdown(
+        "Figure 21: wall following against the velocity threshold",
+        ("world", "threshold", "wall clearance m", "speed m/s", "collisions/min", "prone"),
+        body,
+    )
+    (low, (low_m, low_mps)), (high, (high_m, high_mps)) = sorted(PAPER_FIG21.items())
+    note = (
+        f"Collision prone: more than {COLLISION_PRONE_PER_MIN:g} collisions/min. "
+        f"Paper (§5.1): threshold {low:g} → {high:g}, wall clearance {low_m:g} → {high_m:g} m, "
+        f"mean speed {low_mps:g} → {high_mps:g} m/s.\n"
+    )
+    return figure, table + "\n" + note
+
+
+# --- Figure 22: goal seeking ---------------------------------------------------------
+
+
+def goal_methods(rows: list[Row]) -> list[tuple[str, list[Row]]]:
+    """(label, goal runs) for each TVL configuration and DWA."""
+    goal_runs = select(rows, behaviour="goal")
+    methods = [
+        (f"TVL {config}", select(goal_runs, kind="tvl", config=config))
+        for config in distinct(select(goal_runs, kind="tvl"), "config", ("single", "multi"))
+    ]
+    dwa = select(goal_runs, kind="dwa")
+    return methods + ([("DWA", dwa)] if dwa else [])
+
+
+def draw_paths(ax: Axes, runs: list[Row], base: Path) -> None:
+    """The world and the recorded paths of one trial's goal runs (their run traces)."""
+    traced = [r for r in runs if r.get("trace")]
+    if not traced:
+        ax.set_axis_off()
+        return
+    first = read_run(base / traced[0]["trace"])
+    draw_world(ax, parse_world(first.world_text, traced[0]["trace"]))
+    for run in traced:
+        pose = read_run(base / run["trace"]).arrays["pose"]  # (N, 3) m, m, rad
+        colour = f"C{run['goal_index'] - 1}"
+        style = "-" if run["goal_reached"] else ":"
+        ax.plot(pose[:, 0], pose[:, 1], style, color=colour, linewidth=1.4, zorder=4)
+        gx, gy = (float(v) for v in run["goal"].split(","))
+        ax.annotate(
+            str(run["goal_index"]),
+            (gx, gy),
+            xytext=(5, 5),
+            textcoords="offset points",
+            color=colour,
+            fontweight="bold",
+        )
+
+
+def figure22(rows: list[Row], base: Path) -> tuple[Figure, str]:
+    goal_runs = select(rows, behaviour="goal")
+    worlds = distinct(goal_runs, "world", WORLD_ORDER)
+    configs = distinct(select(goal_runs, kind="tvl"), "config", ("single", "multi"))
+    columns = len(configs) + 1
+    figure = new_figure(4.6 * columns, 3.8 * len(worlds))
+    axes = figure.subplots(len(worlds), columns, squeeze=False)
+    body = []
+    for row_index, world in enumerate(worlds):
+        in_world = select(goal_runs, world=world)
+        for column, config in enumerate(configs):
+            tvl_runs = select(in_world, kind="tvl", config=config)
+            trial = min((r["seed"] for r in tvl_runs), default=None)
+            draw_paths(axes[row_index, column], select(tvl_runs, seed=trial), base)
+            axes[row_index, column].set_title(f"{world}, {config} FAM, trial {trial}")
+        bars = axes[row_index, -1]
+        goals = distinct(in_world, "goal_index")
+        methods = goal_methods(in_world)
+        width = 0.8 / max(len(methods), 1)
+        for m, (label, runs) in enumerate(methods):
+            successes = [sum(r["goal_reached"] for r in select(runs, goal_index=g)) for g in goals]
+            bars.bar(np.arange(len(goals)) + m * width, successes, width, label=label)
+        for goal in goals:
+            at_goal = select(in_world, goal_index=goal)
+            cells = [world, str(goal), at_goal[0]["goal"]]
+            for _, runs in methods:
+                runs = select(runs, goal_index=goal)
+                reached = [r for r in runs if r["goal_reached"]]
+                time_s = mean(r["time_to_goal_s"] for r in reached)
+                cells.append(f"{len(reached)}/{len(runs)} ({number(time_s, 0)} s)")
+            body.append(cells)
+        bars.set_xticks(np.arange(len(goals)) + 0.4 - width / 2, [str(g) for g in goals])
+        bars.set_xlabel("goal")
+        bars.set_ylim(0, len(distinct(in_world, "seed")) + 0.2)
+        bars.yaxis.set_major_locator(MaxNLocator(integer=True))
+        bars.set_ylabel("trials that reached the goal")
+        bars.set_title(f"{world}: successes")
+        bars.legend(fontsize=8)
+    figure.suptitle("Goal seeking: paths of the first trial (dotted: goal not reached)")
+    header = ["world", "goal", "x,y (m)"] + [label for label, _ in goal_methods(goal_runs)]
+    table = markdown("Figure 22: goal seeking, goals reached (mean time to goal)", header, body)
+    return figure, table
+
+
+# --- Figure 24: single against multi FAM ---------------------------------------------
+
+
+def figure24(rows: list[Row]) -> tuple[Figure, str]:
+    snapshots = select(rows, kind="tvl", behaviour="avoid")
+    worlds = distinct(snapshots, "world", WORLD_ORDER)
+    configs = distinct(snapshots, "config", ("single", "multi"))
+    figure = new_figure(5 * len(worlds), 9)
+    axes = figure.subplots(3, len(worlds), squeeze=False)
+    for column, world in enumerate(worlds):
+        hits, speed, bars = axes[:, column]
+        labels: list[str] = []
+        bars_of: list[tuple[tuple[float, str], str]] = []  # ((height, hatch), colour)
+        horizon = max(r["minute"] for r in select(snapshots, world=world))
+        for config in configs:
+            runs = select(snapshots, world=world, config=config)
+            colour = CONFIG_STYLE.get(config, "black")
+            label = f"TVL {config}"
+            hits.plot(
+                *curve(runs, "minute", "collisions_per_min"), "o-", ms=3, c=colour, label=label
+            )
+            speed.plot(*curve(runs, "minute", "mean_speed_mps"), "o-", ms=3, c=colour, label=label)
+            labels.append(config)
+            bars_of.append((competence_bar(competence_times(runs), horizon), colour))
+        baselines_and_limits(hits, speed, rows, world)
+        qlearn = select(rows, kind="qlearn", world=world)
+        if qlearn:
+            times = [r.get("time_to_competence_min") for r in qlearn]
+            labels.append("Q-learning")
+            q_horizon = max(r["learn_minutes"] for r in qlearn)
+            bars_of.append((competence_bar(times, q_horizon), QLEARN_COLOUR))
+        for x, ((height, hatch), colour) in enumerate(bars_of):
+            bars.bar(x, height, color=colour, hatch=hatch, edgecolor="black")
+        bars.set_xticks(range(len(labels)), labels)
+        bars.set_ylabel("time to competence (min)")
+        bars.set_title("hatched: some trials not competent (bar: horizon)", fontsize=8)
+        hits.set_title(world)
+        hits.set_ylabel("collisions/min, avoid run")
+        speed.set_ylabel("mean speed (m/s), avoid run")
+        speed.set_xlabel("learning time (simulated min)")
+        hits.legend(fontsize=7)
+        for ax in (hits, speed):
+            ax.grid(alpha=0.3)
+    figure.suptitle("Single against multi FAM, trained from the same logs (mean of trials)")
+    body = [cells for world in worlds for cells in method_rows(rows, world, configs)]
+    table = markdown("Figure 24: single against multi FAM", METHOD_HEADER, body)
+    return figure, table + "\n" + competence_note(rows)
+
+
+# --- Figure 27: the lab ----------------------------------------------------------------
+
+
+def figure27(rows: list[Row]) -> tuple[Figure, str]:
+    snapshots = select(rows, kind="tvl")
+    configs = distinct(snapshots, "config", ("single", "multi"))
+    behaviours = distinct(snapshots, "behaviour", ("avoid", "wall"))
+    series = [(c, b) for c in configs for b in behaviours]
+    figure = new_figure(11, 4.4)
+    speed, hits = figure.subplots(1, 2)
+    for config, behaviour in series:
+        runs = select(snapshots, config=config, behaviour=behaviour)
+        style = "o-" if behaviour == "avoid" else "s--"
+        colour = CONFIG_STYLE.get(config, "black")
+        label = f"{config} FAM, {behaviour}"
+        speed.plot(*curve(runs, "minute", "mean_speed_mps"), style, ms=3, color=colour, label=label)
+        hits.plot(*curve(runs, "minute", "collisions_per_min"), style, ms=3, color=colour)
+    minutes = sorted(PAPER_FIG27)
+    speed.plot(
+        minutes,
+        [PAPER_FIG27[m] for m in minutes],
+        "x:",
+        color=PAPER_COLOUR,
+        label="paper, multi FAM (ends only)",
+    )
+    dwa = select(rows, kind="dwa", behaviour="avoid")
+    reference_line(speed, mean(r["mean_speed_mps"] for r in dwa), DWA_COLOUR, "DWA avoid")
+    reference_line(hits, mean(r["collisions_per_min"] for r in dwa), DWA_COLOUR, "DWA avoid")
+    collision_axis(hits)
+    speed.set_ylabel("mean speed (m/s)")
+    hits.set_ylabel("collisions/min")
+    for ax in (speed, hits):
+        ax.set_xlabel("learning time (simulated min)")
+        ax.grid(alpha=0.3)
+    speed.legend(fontsize=7)
+    world = "/".join(distinct(snapshots, "world", WORLD_ORDER))
+    figure.suptitle(f"Behaviours in {world} against learning time (mean of trials)")
+    header = ["minute"] + [f"{c} {b}: m/s, coll/min" for c, b in series]
+    body = []
+    for minute in distinct(snapshots, "minute"):
+        cells = [f"{minute:g}"]
+        for config, behaviour in series:
+            runs = select(snapshots, config=config, behaviour=behaviour, minute=minute)
+            cells.append(
+                f"{number(mean(r['mean_speed_mps'] for r in runs))}, "
+                f"{number(mean(r['collisions_per_min'] for r in runs))}"
+            )
+        body.append(cells)
+    if dwa:
+        dwa_cells = (
+            f"{number(mean(r['mean_speed_mps'] for r in dwa))}, "
+            f"{number(mean(r['collisions_per_min'] for r in dwa))}"
+        )
+        body.append(["DWA (avoid)"] + [dwa_cells if b == "avoid" else "–" for _, b in series])
+    table = markdown(f"Figure 27: behaviours in {world} against learning time", header, body)
+    times = [
+        f"- {config} FAM: time to competence "
+        + describe_competence(
+            competence_times(select(snapshots, config=config, behaviour="avoid")),
+            max(r["minute"] for r in snapshots),
+        )
+        for config in configs
+    ]
+    (start, start_mps), (end, end_mps) = sorted(PAPER_FIG27.items())
+    paper = (
+        f"Paper (§5.2): multi FAM mean speed {start_mps:g} → {end_mps:g} m/s "
+        f"from minute {start:g} to {end:g} of learning.\n"
+    )
+    return figure, table + "\n" + "\n".join(times) + "\n\n" + paper + competence_note(rows)
+
+
+# --- the registry and the command's entry point ---------------------------------------
+
+FIGURES: dict[str, Callable[[list[Row], Path], tuple[Figure, str]]] = {
+    "fig19": lambda rows, _base: figure19(rows),
+    "fig21": lambda rows, _base: figure21(rows),
+    "fig22": figure22,
+    "fig24": lambda rows, _base: figure24(rows),
+    "fig27": lambda rows, _base: figure27(rows),
+}
+
+
+def draw_figure(name: str, results: Path, png: Path, table: Path | None = None) -> str:
+    """Draw figure NAME from a results file into PNG; return (and write) its markdown table."""
+    if name not in FIGURES:
+        raise BadInput(f"unknown figure {name!r} (choose from {', '.join(FIGURES)})")
+    rows = read_results(results)
+    if not rows:
+        raise BadInput(f"{results}: no runs")
+    try:
+        figure, summary = FIGURES[name](rows, results.parent)
+    except KeyError as error:
+        raise BadInput(f"{results}: a run lacks the key {error} that {name} needs") from None
+    with atomic_output(png) as temporary:
+        figure.savefig(temporary, format="png", dpi=DPI)
+    if table is not None:
+        with atomic_output(table) as temporary:
+            temporary.write_text(summary, encoding="utf-8")
+    return summary
