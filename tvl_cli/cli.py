@@ -24,7 +24,7 @@ from tvl_cli.learn import LearnParams
 from tvl_cli.learn_session import LearnRequest, learn_to_log, resolve_fam_config
 from tvl_cli.replay import replay as replay_file
 from tvl_cli.rules import SORT_KEYS, parse_ring, select_rules
-from tvl_cli.run_session import RunRequest, check_minutes, parse_goal, run_fam
+from tvl_cli.run_session import RunRequest, parse_goal, run_fam
 from tvl_cli.sim.worldgen import KINDS, generate_world
 from tvl_cli.sim.worldmap import describe, load_world, world_to_dict
 from tvl_cli.train import train_from_logs
@@ -251,6 +251,13 @@ def inspect(
     show_default=True,
     help="m/s.",
 )
+@click.option(
+    "--near",
+    type=float,
+    default=DEFAULT_LEARN.near_m,
+    show_default=True,
+    help="m: a sonar ahead closing in this near marks a collision point (0: bumps only).",
+)
 @click.option("--no-symmetric", is_flag=True, help="Train each trajectory only on itself.")
 @click.option(
     "--sonar",
@@ -271,15 +278,13 @@ def learn(
     decel: float,
     margin: float,
     learn_speed: float,
+    near: float,
     no_symmetric: bool,
     sonar: str,
     force: bool,
     as_json: bool,
 ) -> None:
     """Explore WORLD and learn trajectory velocities, recording every episode in a log."""
-    check_minutes(minutes)
-    if not learn_speed > 0:
-        raise BadInput(f"--learn-speed {learn_speed:g} must be > 0 m/s")
     if fam_out is not None:
         refuse_existing(fam_out, force)
     request = LearnRequest(
@@ -287,7 +292,7 @@ def learn(
         log,
         seed,
         config,
-        LearnParams(minutes=minutes, learn_speed_mps=learn_speed),
+        LearnParams(minutes=minutes, learn_speed_mps=learn_speed, near_m=near),
         TrainParams(decel, margin, not no_symmetric),
         fam_out,
         ideal_sonar=sonar == "ideal",

@@ -12,6 +12,7 @@ import numpy as np
 
 from tvl_cli.core.command import Command
 from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.errors import BadInput, check_minutes
 from tvl_cli.core.fam import Fam
 from tvl_cli.io.logfile import Episode, mm_to_ring, ring_to_mm
 from tvl_cli.sim.robot import Simulator
@@ -32,6 +33,13 @@ class LearnParams:
     # further from objects when learning helps). It teaches that a wall the arc runs into
     # alongside, unseen ahead by the specular ring, is a collision too. 0 waits for bumps.
     near_m: float = 0.25
+
+    def __post_init__(self) -> None:
+        check_minutes(self.minutes)
+        if not (math.isfinite(self.learn_speed_mps) and self.learn_speed_mps > 0):
+            raise BadInput(f"--learn-speed {self.learn_speed_mps:g} must be > 0 m/s")
+        if not (math.isfinite(self.near_m) and self.near_m >= 0):
+            raise BadInput(f"--near {self.near_m:g} must be >= 0 m")
 
     def to_dict(self) -> dict[str, float]:
         return asdict(self)

@@ -9,7 +9,7 @@ from typing import Any
 
 from tvl_cli.core.behaviours import BEHAVIOUR_NAMES
 from tvl_cli.core.config import RobotConfig
-from tvl_cli.core.errors import BadInput
+from tvl_cli.core.errors import BadInput, check_minutes
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.io.famfile import read_fam
 from tvl_cli.io.logfile import file_sha256
@@ -34,11 +34,6 @@ class RunRequest:
 def check_threshold(threshold: float) -> None:
     if not (math.isfinite(threshold) and 0 < threshold <= 1):
         raise BadInput(f"--threshold {threshold:g} is outside (0, 1]")
-
-
-def check_minutes(minutes: float) -> None:
-    if not (math.isfinite(minutes) and minutes > 0):
-        raise BadInput(f"--minutes {minutes:g} must be a positive number of simulated minutes")
 
 
 def parse_goal(text: str) -> tuple[float, float]:

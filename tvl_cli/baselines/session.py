@@ -12,9 +12,8 @@ from tvl_cli.baselines.drive import Drive
 from tvl_cli.baselines.dwa import BEHAVIOURS, run_dwa
 from tvl_cli.baselines.qlearning import QLearningResult, learn_and_evaluate
 from tvl_cli.core.config import RobotConfig
-from tvl_cli.core.errors import BadInput
+from tvl_cli.core.errors import BadInput, check_minutes
 from tvl_cli.core.metrics import RunMetrics
-from tvl_cli.run_session import check_minutes
 from tvl_cli.sim.worldmap import WorldMap, check_goal, load_world
 
 
