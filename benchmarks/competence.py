@@ -241,10 +241,13 @@ def main() -> None:
     parser.add_argument(
         "--near", type=float, default=LearnParams().near_m, help="m, 0: collisions are bumps"
     )
+    parser.add_argument(
+        "--learn-speed", type=float, default=LearnParams().learn_speed_mps, help="m/s"
+    )
     parser.add_argument("--json", action="store_true", help="print the figures as JSON")
     args = parser.parse_args()
     train = TrainParams(decel_mps2=args.decel, margin_m=args.margin)
-    explore = LearnParams(near_m=args.near)
+    explore = LearnParams(near_m=args.near, learn_speed_mps=args.learn_speed)
     started = time.perf_counter()
     jobs = [(seed, args.learn_minutes, args.run_minutes, train, explore) for seed in args.seeds]
     with ProcessPoolExecutor(max_workers=args.workers) as pool:
@@ -255,7 +258,8 @@ def main() -> None:
         return
     print(
         f"seeds {args.seeds}, learning {args.learn_minutes:g} min, runs {args.run_minutes:g} min, "
-        f"decel {args.decel:g} m/s², margin {args.margin:g} m, near {args.near:g} m "
+        f"decel {args.decel:g} m/s², margin {args.margin:g} m, near {args.near:g} m, "
+        f"learning speed {args.learn_speed:g} m/s "
         f"({time.perf_counter() - started:.0f} s)"
     )
     print(table(summary))

@@ -165,7 +165,8 @@ def test_learn_json_summary(run_tvl, tmp_path):
     result = run_tvl("learn", SQUARE, "--log", tmp_path / "l.h5", "--minutes", "1", "--json")
     summary = json.loads(result.stdout)
     assert {"episodes", "collisions", "exemplars", "sim_minutes", "wall_s"} <= set(summary)
-    assert summary["sim_minutes"] <= 1.0 and summary["exemplars"] > 0
+    # Learning stops at the first control step past the minute, or after the last back-off.
+    assert 1.0 <= summary["sim_minutes"] <= 1.0 + 2.0 / 60 and summary["exemplars"] > 0
     assert summary["exemplars"] == read_log(tmp_path / "l.h5").exemplar_count
 
 

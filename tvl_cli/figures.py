@@ -222,10 +222,14 @@ METHOD_HEADER = (
     "collisions/min learning",
 )
 COMPETENCE_NOTE = (
-    f"Competent: an avoid run of {competence.COMPETENCE_RUN_MINUTES:g} simulated minutes with "
-    f"at most {competence.MAX_COLLISIONS_PER_MIN:g} collisions/min and at least "
-    f"{competence.MIN_MEAN_SPEED_MPS:g} m/s. Avoid columns: the FAM at the end of learning "
-    f"(Q-learning: its greedy policy). Means over trials.\n"
+    f"Time to competence: the first learning minute after which an avoid run of "
+    f"{competence.COMPETENCE_RUN_MINUTES:g} simulated minutes has at most "
+    f"{competence.MAX_COLLISIONS_PER_MIN:g} collisions/min and a mean speed of at least "
+    f"{competence.MIN_MEAN_SPEED_MPS:g} m/s.\n"
+)
+METHOD_NOTE = (
+    "Avoid columns: the FAM at the end of learning (Q-learning: its greedy policy); "
+    "means over trials.\n"
 )
 
 
@@ -251,6 +255,17 @@ def new_figure(width_in: float, height_in: float) -> Figure:
 def reference_line(ax: Axes, value: float | None, colour: str, label: str) -> None:
     if value is not None:
         ax.axhline(value, color=colour, linestyle="--", linewidth=1.2, label=label)
+
+
+def shared_legend(figure: Figure, axes: Iterable[Axes]) -> None:
+    """One legend under the panels, each label once."""
+    handles: dict[str, Any] = {}
+    for ax in axes:
+        for handle, label in zip(*ax.get_legend_handles_labels(), strict=True):
+            handles.setdefault(label, handle)
+    figure.legend(
+        list(handles.values()), list(handles), loc="outside lower center", ncols=len(handles)
+    )
 
 
 def competence_limit(ax: Axes, value: float) -> None:
@@ -310,6 +325,7 @@ def figure19(rows: list[Row]) -> tuple[Figure, str]:
         dv.plot(*curve(learnt, "minute", "delta_v"), marker="o", markersize=3)
         dv.set_title(world)
         learn_hits.plot(*curve(learnt, "minute", "collisions"), marker="o", markersize=3)
+        learn_hits.set_ylim(bottom=0)
         hits.plot(*curve(snapshots, "minute", "collisions_per_min"), "o-", ms=3, label="TVL")
         speed.plot(*curve(snapshots, "minute", "mean_speed_mps"), "o-", ms=3, label="TVL")
         baselines_and_limits(hits, speed, rows, world)
@@ -324,11 +340,11 @@ def figure19(rows: list[Row]) -> tuple[Figure, str]:
     axes[1, 0].set_ylabel("collisions/min, learning")
     axes[2, 0].set_ylabel("collisions/min, avoid run")
     axes[3, 0].set_ylabel("mean speed (m/s), avoid run")
-    axes[3, 0].legend(fontsize=7, loc="lower right")
+    shared_legend(figure, axes.flat)
     figure.suptitle("Learning curves and competence, single FAM (mean of trials)")
     body = [cells for world in worlds for cells in method_rows(rows, world, ["single"])]
     table = markdown("Figure 19: learning and competence", METHOD_HEADER, body)
-    return figure, table + "\n" + competence_note(rows)
+    return figure, table + "\n" + METHOD_NOTE + competence_note(rows)
 
 
 # --- Figure 21: velocity threshold ---------------------------------------------------
@@ -540,13 +556,13 @@ def figure24(rows: list[Row]) -> tuple[Figure, str]:
         hits.set_ylabel("collisions/min, avoid run")
         speed.set_ylabel("mean speed (m/s), avoid run")
         speed.set_xlabel("learning time (simulated min)")
-        hits.legend(fontsize=7)
         for ax in (hits, speed):
             ax.grid(alpha=0.3)
+    shared_legend(figure, axes.flat)
     figure.suptitle("Single against multi FAM, trained from the same logs (mean of trials)")
     body = [cells for world in worlds for cells in method_rows(rows, world, configs)]
     table = markdown("Figure 24: single against multi FAM", METHOD_HEADER, body)
-    return figure, table + "\n" + competence_note(rows)
+    return figure, table + "\n" + METHOD_NOTE + competence_note(rows)
 
 
 # --- Figure 27: the lab ----------------------------------------------------------------

@@ -30,9 +30,10 @@ class LearnParams:
     reverse_m: float = 0.15  # backed off along the path after a collision
     # A sonar facing ahead of the body's middle reading this close, once the robot has closed
     # in on it, marks a collision point before any bump (paper §5.1: a collision placed
-    # further from objects when learning helps). It teaches that a wall the arc runs into
-    # alongside, unseen ahead by the specular ring, is a collision too. 0 waits for bumps.
-    near_m: float = 0.25
+    # further from objects when learning helps). Just above the 0.15 m minimum range, it fires
+    # as an object enters the ring's blind zone, so a wall the arc runs into alongside, unseen
+    # ahead by the specular ring, counts as a collision too. 0 waits for bumps.
+    near_m: float = 0.16
 
     def __post_init__(self) -> None:
         check_minutes(self.minutes)

@@ -16,14 +16,13 @@ from tvl_cli.core.errors import BadInput
 
 # A trajectory is "fast" at threshold t while the collision point is at least
 # margin + (t * v_max)^2 / (2 a) away along it. A gentle deceleration makes that horizon long
-# enough to turn away within it (at 0.85: 1.6 m for T0, 0.74 m for T3, whose sharpest turn
+# enough to turn away within it (at 0.85: 1.45 m for T0, 0.59 m for T3, whose sharpest turn
 # needs about 0.8 m of arc to come parallel to a wall met head on); with 0.5 m/s² T3 stayed
 # fast until 0.14 m from a wall, inside what the ring can resolve, and the robot grazed walls.
 DEFAULT_DECEL_MPS2 = 0.1
-# Stop this far short of the collision point: a collision is placed further out when learning
-# than the body's edge (as the paper found helped), beyond the sonar's 0.15 m minimum range
-# and its noise, so no speed is learnt for a place the ring cannot tell from touching.
-DEFAULT_MARGIN_M = 0.3
+# Stop this far short of the collision point, the sonar's minimum range: no speed is learnt
+# for the last stretch that the ring cannot tell from touching.
+DEFAULT_MARGIN_M = 0.15
 
 
 def velocity_labels(
