@@ -215,3 +215,13 @@ def test_a_second_learner_on_a_locked_log_is_refused(run_tvl, tmp_path):
     (session,) = read_log(log).sessions
     assert session.status == "interrupted: SIGTERM"
     assert int(session.episode_table["count"].sum()) == session.exemplar_count
+
+
+@pytest.mark.parametrize(
+    ("option", "value", "phrase"),
+    [("--decel", "0", "--decel 0 must be > 0"), ("--margin", "-0.1", "--margin -0.1 must be")],
+)
+def test_learn_refuses_bad_labels_before_touching_the_log(run_tvl, tmp_path, option, value, phrase):
+    log = tmp_path / "log.h5"
+    _assert_refused(run_tvl("learn", SQUARE, "--log", log, option, value), phrase)
+    assert not log.exists()

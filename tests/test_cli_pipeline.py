@@ -208,3 +208,15 @@ def test_world_of_the_log_travels_with_it(learnt, tmp_path):
     moved = tmp_path / "moved.h5"
     shutil.copyfile(learnt["log"], moved)
     assert read_log(moved).sessions[0].world_text == SQUARE.read_text(encoding="utf-8")
+
+
+def test_train_until_a_minute_uses_only_the_episodes_finished_by_then(run_tvl, learnt, tmp_path):
+    snapshot, whole = tmp_path / "snapshot.h5", tmp_path / "whole.h5"
+    assert run_tvl("train", learnt["log"], "-o", snapshot, "--until-minute", "1").returncode == 0
+    assert run_tvl("train", learnt["log"], "-o", whole).returncode == 0
+    (session,) = read_log(learnt["log"]).sessions
+    early = int(session.episode_table["count"][session.episode_table["end_time_s"] <= 60].sum())
+    assert 0 < early < session.exemplar_count
+    experience = [read_fam(p).fam.experience_table(0).sum() for p in (snapshot, whole)]
+    assert 0 < experience[0] < experience[1]
+    assert read_fam(snapshot).provenance["until_minute"] == 1.0

@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
+import functools
 import json
 import sys
+from collections.abc import Callable
 from dataclasses import asdict
 from pathlib import Path
+from typing import Any
 
 import click
 
@@ -124,6 +127,54 @@ def world_render(file: Path, output: Path, force: bool) -> None:
 DEFAULT_LEARN = LearnParams()
 
 
+def training_options(command: Callable[..., None]) -> Callable[..., None]:
+    """--config, --decel, --margin, --no-symmetric and --init-velocity, given to the command
+    as `config` and one `train_params`: learn and train label and train alike."""
+
+    @functools.wraps(command)
+    def with_params(
+        *args: Any,
+        decel: float,
+        margin: float,
+        no_symmetric: bool,
+        init_velocity: float,
+        **kwargs: Any,
+    ) -> None:
+        params = TrainParams(decel, margin, not no_symmetric, init_velocity)
+        command(*args, train_params=params, **kwargs)
+
+    options = (
+        click.option(
+            "--config", default="single", show_default=True, help="single, multi or FILE.json."
+        ),
+        click.option(
+            "--decel",
+            type=float,
+            default=DEFAULT_DECEL_MPS2,
+            show_default=True,
+            help="Deceleration of the labels, m/s².",
+        ),
+        click.option(
+            "--margin",
+            type=float,
+            default=DEFAULT_MARGIN_M,
+            show_default=True,
+            help="Stop this far short of a collision point, m.",
+        ),
+        click.option("--no-symmetric", is_flag=True, help="Train each trajectory only on itself."),
+        click.option(
+            "--init-velocity",
+            type=float,
+            default=DEFAULT_INIT_VELOCITY_MPS,
+            show_default=True,
+            help="Every entry's velocity before training, m/s.",
+        ),
+    )
+    for option in reversed(options):
+        with_params = option(with_params)
+    return with_params
+
+
 def _print_json(value: object) -> None:
     click.echo(json.dumps(value, indent=1, allow_nan=False))
 
@@ -131,11 +182,7 @@ def _print_json(value: object) -> None:
 @main.command()
 @click.argument("logs", nargs=-1, required=True, type=click.Path(path_type=Path))
 @click.option("-o", "--output", type=click.Path(path_type=Path), required=True, help="FAM file.")
-@click.option("--config", default="single", show_default=True, help="single, multi or FILE.json.")
-@click.option("--decel", type=float, default=DEFAULT_DECEL_MPS2, show_default=True, help="m/s².")
-@click.option("--margin", type=float, default=DEFAULT_MARGIN_M, show_default=True, help="m.")
-@click.option("--no-symmetric", is_flag=True, help="Train each trajectory only on itself.")
-@click.option("--init-velocity", type=float, default=DEFAULT_INIT_VELOCITY_MPS, show_default=True)
+@training_options
 @click.option(
     "--until-minute",
     type=float,
@@ -147,19 +194,15 @@ def train(
     logs: tuple[Path, ...],
     output: Path,
     config: str,
-    decel: float,
-    margin: float,
-    no_symmetric: bool,
-    init_velocity: float,
+    train_params: TrainParams,
     until_minute: float | None,
     force: bool,
 ) -> None:
     """Train a FAM file from learning logs (log replay)."""
     refuse_existing(output, force)
-    params = TrainParams(decel, margin, not no_symmetric, init_velocity)
     fam_config = resolve_fam_config(config, RobotConfig())
     with views.progress("training") as bar:
-        summary = train_from_logs(list(logs), fam_config, params, bar, until_minute)
+        summary = train_from_logs(list(logs), fam_config, train_params, bar, until_minute)
     write_fam(output, summary.fam, robot_config=summary.robot, provenance=summary.provenance)
     views.train_summary(summary, output)
 
@@ -234,7 +277,7 @@ def inspect(
     help="Simulated minutes.",
 )
 @click.option("--seed", type=int, default=1, show_default=True)
-@click.option("--config", default="single", show_default=True, help="single, multi or FILE.json.")
+@training_options
 @click.option(
     "--fam",
     "fam_out",
@@ -242,8 +285,6 @@ def inspect(
     default=None,
     help="Also write the online FAM here.",
 )
-@click.option("--decel", type=float, default=DEFAULT_DECEL_MPS2, show_default=True, help="m/s².")
-@click.option("--margin", type=float, default=DEFAULT_MARGIN_M, show_default=True, help="m.")
 @click.option(
     "--learn-speed",
     type=float,
@@ -258,7 +299,6 @@ def inspect(
     show_default=True,
     help="m: a sonar ahead closing in this near marks a collision point (0: bumps only).",
 )
-@click.option("--no-symmetric", is_flag=True, help="Train each trajectory only on itself.")
 @click.option(
     "--sonar",
     type=click.Choice(["real", "ideal"]),
@@ -275,11 +315,9 @@ def learn(
     seed: int,
     config: str,
     fam_out: Path | None,
-    decel: float,
-    margin: float,
+    train_params: TrainParams,
     learn_speed: float,
     near: float,
-    no_symmetric: bool,
     sonar: str,
     force: bool,
     as_json: bool,
@@ -293,7 +331,7 @@ def learn(
         seed,
         config,
         LearnParams(minutes=minutes, learn_speed_mps=learn_speed, near_m=near),
-        TrainParams(decel, margin, not no_symmetric),
+        train_params,
         fam_out,
         ideal_sonar=sonar == "ideal",
     )

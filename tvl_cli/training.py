@@ -3,11 +3,13 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import asdict, dataclass
 
 import numpy as np
 
 from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS, Fam
 from tvl_cli.core.labels import DEFAULT_DECEL_MPS2, DEFAULT_MARGIN_M, velocity_labels
 from tvl_cli.io.logfile import Episode, mm_to_ring
@@ -21,6 +23,15 @@ class TrainParams:
     margin_m: float = DEFAULT_MARGIN_M
     symmetric: bool = True
     init_velocity_mps: float = DEFAULT_INIT_VELOCITY_MPS
+
+    def __post_init__(self) -> None:
+        # Checked here, before any file is touched, rather than at the first label.
+        if not (math.isfinite(self.decel_mps2) and self.decel_mps2 > 0):
+            raise BadInput(f"--decel {self.decel_mps2:g} must be > 0 m/s²")
+        if not (math.isfinite(self.margin_m) and self.margin_m >= 0):
+            raise BadInput(f"--margin {self.margin_m:g} must be >= 0 m")
+        if not (math.isfinite(self.init_velocity_mps) and self.init_velocity_mps >= 0):
+            raise BadInput(f"--init-velocity {self.init_velocity_mps:g} must be >= 0 m/s")
 
     def to_dict(self) -> dict[str, float | bool]:
         return asdict(self)
