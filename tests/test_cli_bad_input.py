@@ -24,7 +24,7 @@ SQUARE = WORLDS / "square.txt"
 
 def _assert_refused(result: subprocess.CompletedProcess[str], *phrases: str) -> None:
     assert result.returncode == 2, result.stderr
-    lines = result.stderr.strip().splitlines()
+    lines = result.stderr.splitlines()
     assert len(lines) == 1, result.stderr
     assert lines[0].startswith("tvl: error: ")
     for phrase in phrases:
@@ -225,3 +225,14 @@ def test_learn_refuses_bad_labels_before_touching_the_log(run_tvl, tmp_path, opt
     log = tmp_path / "log.h5"
     _assert_refused(run_tvl("learn", SQUARE, "--log", log, option, value), phrase)
     assert not log.exists()
+
+
+def test_train_refuses_a_log_with_corrupt_data(run_tvl, tmp_path):
+    log = tmp_path / "log.h5"
+    assert run_tvl("learn", SQUARE, "--log", log, "--minutes", "2").returncode == 0
+    data = bytearray(log.read_bytes())
+    middle = len(data) // 3
+    data[middle : middle + 4000] = np.random.default_rng(1).bytes(4000)
+    log.write_bytes(bytes(data))
+    _assert_refused(run_tvl("train", log, "-o", tmp_path / "f.h5"), str(log), "corrupt")
+    assert not (tmp_path / "f.h5").exists()

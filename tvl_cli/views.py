@@ -36,6 +36,8 @@ def _bar(description: str) -> Progress:
         TimeElapsedColumn(),
         console=err,
         transient=True,
+        # A bar only for a person watching: scripts and pipes get clean stderr.
+        disable=not err.is_terminal,
     )
 
 

@@ -222,27 +222,40 @@ def mirror_sonar(index: int, count: int = SONAR_COUNT) -> int:
     return (-index) % count
 
 
+def _sonar_input(sonars: tuple[int, ...], sets: int) -> FamInput:
+    """One sonar, or the nearest of a few, named after them (S3, S13+S14+S15)."""
+    return _input("+".join(f"S{s}" for s in sonars), sonars, sets)
+
+
 def _mirror_table(table: FamTable, name: str) -> FamTable:
     inputs = tuple(
-        FamInput(i.name, tuple(mirror_sonar(s) for s in i.sonars), i.partition)
+        _sonar_input(tuple(mirror_sonar(s) for s in i.sonars), len(i.partition.names))
         for i in table.inputs
     )
     return FamTable(name, inputs, (name,))
 
 
-def _single_sonar_table(name: str, sets_by_sonar: tuple[tuple[int, int], ...]) -> FamTable:
-    inputs = tuple(_input(f"S{s}", (s,), sets) for s, sets in sets_by_sonar)
+def _sonar_table(name: str, sets_by_sonars: tuple[tuple[tuple[int, ...], int], ...]) -> FamTable:
+    inputs = tuple(_sonar_input(sonars, sets) for sonars, sets in sets_by_sonars)
     return FamTable(name, inputs, (name,))
 
 
 # Paper §3.2-3.3: one FAM per trajectory fed by individual sonars. Each left arc takes the
 # sonars beside its path and the left-side sonars that meet a wall across that path near
-# the normal (Figure 12: S3-S5 see the wall T1L would hit while S1-S2 graze it); the outer
-# sonar of each gets only near/far. The right FAMs mirror the left ones.
-_T0 = _single_sonar_table("T0", ((14, 3), (15, 5), (0, 5), (1, 5), (2, 3)))
-_T1L = _single_sonar_table("T1L", ((15, 5), (0, 5), (1, 5), (2, 5), (3, 5), (4, 5), (5, 2)))
-_T2L = _single_sonar_table("T2L", ((0, 5), (1, 5), (2, 5), (3, 5), (4, 5), (5, 5)))
-_T3L = _single_sonar_table("T3L", ((1, 3), (2, 5), (3, 5), (4, 5), (5, 5), (6, 4), (7, 2)))
+# the normal (Figure 12: S3-S5 see the wall T1L would hit while S1-S2 graze it), the front
+# sonar S0 (every arc starts straight ahead), and S13, near/far only, for a wall touching
+# the body on the outside of the turn, which the first step of any arc runs into.
+# The right FAMs mirror the left ones.
+_T0 = _sonar_table("T0", (((14,), 3), ((15,), 5), ((0,), 5), ((1,), 5), ((2,), 3)))
+_T1L = _sonar_table(
+    "T1L", (((15,), 5), ((0,), 5), ((1,), 5), ((2,), 5), ((3,), 5), ((4,), 5), ((13,), 2))
+)
+_T2L = _sonar_table(
+    "T2L", (((0,), 5), ((1,), 5), ((2,), 5), ((3,), 5), ((4,), 5), ((5,), 3), ((13,), 2))
+)
+_T3L = _sonar_table(
+    "T3L", (((0,), 3), ((2,), 5), ((3,), 5), ((4,), 5), ((5,), 5), ((6,), 3), ((13,), 2))
+)
 
 MULTI = FamConfig(
     "multi",
