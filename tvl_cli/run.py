@@ -97,6 +97,10 @@ class Runner:
         elif behaviour.startswith("wall-") and self._wall_side == 0:
             side = 1 if behaviour == "wall-left" else -1
             self._wall_side = side if wall_seen(ring_m, side) else 0
+            if self._wall_side == 0:
+                # Until its wall is found, turn away from that side at a tie, so that the
+                # first wall met ahead is left on the side to follow (not kept on the other).
+                self._last_turn = -side
         bearing = (
             goal_bearing(self.sim.odometry, self.params.goal_xy) if self.params.goal_xy else 0.0
         )
