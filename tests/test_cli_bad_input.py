@@ -236,3 +236,46 @@ def test_train_refuses_a_log_with_corrupt_data(run_tvl, tmp_path):
     log.write_bytes(bytes(data))
     _assert_refused(run_tvl("train", log, "-o", tmp_path / "f.h5"), str(log), "corrupt")
     assert not (tmp_path / "f.h5").exists()
+
+
+def test_run_checks_every_output_directory_before_running(run_tvl, fam_file, tmp_path):
+    trace = tmp_path / "trace.h5"
+    result = run_tvl(
+        "run", fam_file, SQUARE, "--behaviour", "avoid", "--log", trace,
+        "--png", tmp_path / "missing" / "path.png",
+    )  # fmt: skip
+    _assert_refused(result, "missing", "does not exist")
+    assert not trace.exists()
+
+
+def test_a_usage_error_is_one_line(run_tvl, fam_file):
+    _assert_refused(run_tvl("run", fam_file, SQUARE, "--behaviour", "fly"), "'fly'")
+
+
+def test_run_refuses_a_goal_for_another_behaviour(run_tvl, fam_file):
+    result = run_tvl("run", fam_file, SQUARE, "--behaviour", "avoid", "--goal", "2,2")
+    _assert_refused(result, "--goal is for --behaviour goal only")
+
+
+def test_demo_refuses_a_file_for_its_directory(run_tvl, tmp_path):
+    target = tmp_path / "notes.txt"
+    target.write_text("keep")
+    _assert_refused(run_tvl("demo", target), "is a file")
+    assert target.read_text() == "keep"
+
+
+def test_train_refuses_the_same_log_twice(run_tvl, tmp_path):
+    log = _log(tmp_path / "log.h5", RobotConfig())
+    _assert_refused(run_tvl("train", log, log, "-o", tmp_path / "f.h5"), "given twice")
+
+
+def test_train_refuses_a_negative_minute(run_tvl, tmp_path):
+    log = _log(tmp_path / "log.h5", RobotConfig())
+    result = run_tvl("train", log, "-o", tmp_path / "f.h5", "--until-minute", "-1")
+    _assert_refused(result, "--until-minute -1")
+
+
+def test_an_initial_velocity_may_not_be_fast(run_tvl, tmp_path):
+    log = _log(tmp_path / "log.h5", RobotConfig())
+    result = run_tvl("train", log, "-o", tmp_path / "f.h5", "--init-velocity", "5")
+    _assert_refused(result, "--init-velocity 5", "slowest")

@@ -220,3 +220,14 @@ def test_train_until_a_minute_uses_only_the_episodes_finished_by_then(run_tvl, l
     experience = [read_fam(p).fam.experience_table(0).sum() for p in (snapshot, whole)]
     assert 0 < experience[0] < experience[1]
     assert read_fam(snapshot).provenance["until_minute"] == 1.0
+
+
+def test_every_episode_is_counted_in_a_recorded_minute(run_tvl, tmp_path):
+    log = tmp_path / "l.h5"
+    # In the corridor with bumps only, seed 1 ends an episode on the closing boundary.
+    summary = run_tvl(
+        "learn", WORLDS / "corridor.txt", "--log", log, "--minutes", "1", "--near", "0", "--json"
+    )
+    replayed = json.loads(run_tvl("replay", log, "--json").stdout)
+    episodes = sum(int(row["episodes"]) for row in replayed["minutes"])
+    assert episodes == json.loads(summary.stdout)["episodes"]

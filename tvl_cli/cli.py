@@ -15,7 +15,7 @@ import click
 from tvl_cli import __version__, views
 from tvl_cli.baselines.dwa import BEHAVIOURS as DWA_BEHAVIOURS
 from tvl_cli.baselines.session import dwa_session, qlearn_session
-from tvl_cli.core.behaviours import BEHAVIOUR_NAMES
+from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD
 from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS
@@ -45,6 +45,11 @@ class TvlGroup(click.Group):
                 raise
             click.echo(f"tvl: error: {error}", err=True)
             sys.exit(2)
+        except click.UsageError as error:
+            # One line like every other bad input; `tvl COMMAND --help` shows the usage.
+            command = f" {error.ctx.command_path}" if error.ctx else ""
+            click.echo(f"tvl: error:{command}: {error.format_message()}", err=True)
+            sys.exit(2)
 
 
 @click.group(cls=TvlGroup)
@@ -57,9 +62,12 @@ def main(ctx: click.Context, debug: bool) -> None:
 
 
 def refuse_existing(path: Path, force: bool) -> None:
-    """Output files are never overwritten unless the user says --force."""
+    """Output files are never overwritten unless the user says --force, and a missing
+    directory is found before any work is done, not after."""
     if path.exists() and not force:
         raise BadInput(f"{path}: already exists (use --force to overwrite)")
+    if not path.parent.is_dir():
+        raise BadInput(f"{path}: cannot write, directory {path.parent} does not exist")
 
 
 # --- world commands ---------------------------------------------------------------
@@ -117,8 +125,7 @@ def world_render(file: Path, output: Path, force: bool) -> None:
 
     loaded = load_world(file)
     refuse_existing(output, force)
-    with atomic_output(output) as temporary:
-        render_world(loaded, temporary)
+    render_world(loaded, output)
 
 
 # --- FAM commands: train, inspect -------------------------------------------------
@@ -352,7 +359,7 @@ def learn(
 @click.option(
     "--threshold",
     type=float,
-    default=0.85,
+    default=DEFAULT_THRESHOLD,
     show_default=True,
     help="A trajectory is fast at this fraction of its maximum, in (0, 1].",
 )
@@ -427,7 +434,7 @@ def replay(file: Path, png: Path | None, curves: Path | None, force: bool, as_js
 @click.argument("directory", default="tvl-demo", type=click.Path(path_type=Path))
 @click.option("--force", is_flag=True, help="Write into a DIRECTORY that is not empty.")
 def demo(directory: Path, force: bool) -> None:
-    """Learn, train, run and draw on a bundled world, in about a minute."""
+    """Learn, train, run and draw on a bundled world, in seconds."""
     views.demo(run_demo(directory, force, views.say))
 
 

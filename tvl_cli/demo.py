@@ -1,4 +1,4 @@
-"""`tvl demo`: the whole pipeline on the bundled square arena, in about a minute."""
+"""`tvl demo`: the whole pipeline on the bundled square arena, in seconds."""
 
 from __future__ import annotations
 
@@ -7,6 +7,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
+from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
 from tvl_cli.core.config import MULTI, SINGLE
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.metrics import RunMetrics
@@ -42,6 +43,8 @@ class DemoResult:
 
 def run_demo(directory: Path, force: bool, say: Callable[[str], None]) -> DemoResult:
     """Learn in the square, train single and multi FAMs from the log, run two behaviours."""
+    if directory.exists() and not directory.is_dir():
+        raise BadInput(f"{directory}: is a file, not a directory for the demo")
     if directory.exists() and any(directory.iterdir()) and not force:
         raise BadInput(f"{directory}: exists and is not empty (use --force to write into it)")
     directory.mkdir(parents=True, exist_ok=True)
@@ -65,7 +68,9 @@ def run_demo(directory: Path, force: bool, say: Callable[[str], None]) -> DemoRe
             say(f"running {behaviour} with the {config.name} FAM ...")
             png = directory / f"{config.name}-{behaviour}.png"
             metrics = run_fam(
-                RunRequest(fam_path, world, behaviour, 0.85, RUN_MINUTES, DEMO_SEED, png=png)
+                RunRequest(
+                    fam_path, world, behaviour, DEFAULT_THRESHOLD, RUN_MINUTES, DEMO_SEED, png=png
+                )
             )
             rows.append(DemoRow(config.name, behaviour, metrics, png))
     return DemoResult(directory, learning, rows)

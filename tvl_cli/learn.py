@@ -19,6 +19,9 @@ from tvl_cli.sim.robot import Simulator
 from tvl_cli.sim.worldmap import WorldMap
 from tvl_cli.training import TrainParams, train_episode
 
+# Backed off along the path after a collision, when learning and when behaving.
+BACKOFF_M = 0.15
+
 
 @dataclass(frozen=True, slots=True)
 class LearnParams:
@@ -27,7 +30,7 @@ class LearnParams:
     minutes: float = 15.0
     learn_speed_mps: float = 0.2
     straight_run_m: float = 8.0  # a T0 run this long without a bump counts as free
-    reverse_m: float = 0.15  # backed off along the path after a collision
+    reverse_m: float = BACKOFF_M  # backed off along the path after a collision
     # A sonar facing ahead of the body's middle reading this close, once the robot has closed
     # in on it, marks a collision point before any bump (paper §5.1: a collision placed
     # further from objects when learning helps). Just above the 0.15 m minimum range, it fires
@@ -80,6 +83,13 @@ def least_experienced(experience: np.ndarray, rng: np.random.Generator) -> tuple
     pick = int(candidates[rng.integers(len(candidates))])
     rotation, trajectory = divmod(pick, experience.shape[1])
     return rotation, trajectory
+
+
+def backoff_commands(forward: Command, robot: RobotConfig, distance_m: float) -> list[Command]:
+    """Commands that drive back along the arc `forward` was following, for distance_m."""
+    step_m = forward.linear_mps * robot.control_period_s
+    steps = math.ceil(distance_m / step_m - 1e-9)
+    return [Command(-forward.linear_mps, -forward.angular_radps)] * steps
 
 
 def spin_commands(sonar_offset: int, robot: RobotConfig) -> list[Command]:
@@ -188,8 +198,7 @@ class Learner:
             end_time_s=self.sim.time_s,
         )
         if collided:
-            back = Command.follow(traj, -command.linear_mps)
-            for _ in range(math.ceil(self.params.reverse_m / step_m - 1e-9)):
+            for back in backoff_commands(command, self.robot, self.params.reverse_m):
                 self.sim.step(back)
         return episode
 
@@ -207,6 +216,7 @@ class Learner:
         summary = LearnSummary()
         deadline_s = self.params.minutes * 60.0
         steps_per_minute = 60.0 / self.robot.control_period_s
+        last = math.ceil(deadline_s / 60.0)  # minutes 0 .. last - 1 are recorded
         minute = MinuteStats(0)
         while self.sim.time_s < deadline_s:
             summary.stopped_by = should_stop()
@@ -219,7 +229,8 @@ class Learner:
             train_episode(self.fam, episode, self.robot, self.train_params)
             change = float(np.abs(self._velocity_entries() - before).mean())
             on_episode(episode)
-            while episode.end_time_s >= (minute.minute + 1) * 60.0:
+            # The last minute keeps an episode ending on its closing boundary.
+            while episode.end_time_s >= (minute.minute + 1) * 60.0 and minute.minute + 1 < last:
                 on_minute(minute)
                 summary.minutes.append(minute)
                 minute = MinuteStats(minute.minute + 1)
@@ -232,7 +243,7 @@ class Learner:
             summary.exemplars += episode.exemplar_count
         if summary.stopped_by is None:
             # The last minute is whole only when time ran out; a cut-short one is partial.
-            while minute.minute < math.ceil(deadline_s / 60.0):
+            while minute.minute < last:
                 on_minute(minute)
                 summary.minutes.append(minute)
                 minute = MinuteStats(minute.minute + 1)

@@ -58,7 +58,7 @@ class LearnResult:
 
 
 class _Interrupted:
-    """Remembers the first SIGINT/SIGTERM so the loop can stop between control steps."""
+    """Remembers the first SIGINT/SIGTERM so the loop stops after the episode under way."""
 
     def __init__(self) -> None:
         self.signal_name: str | None = None

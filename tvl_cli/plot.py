@@ -15,6 +15,7 @@ from matplotlib.patches import Circle, PathPatch, Rectangle
 from matplotlib.path import Path as DrawPath
 
 from tvl_cli.core.config import RobotConfig
+from tvl_cli.io.atomic import atomic_output
 from tvl_cli.sim.worldmap import WorldMap
 
 WALL_COLOUR = "#2b2b2b"
@@ -110,7 +111,8 @@ def _world_figure(world: WorldMap, extra_width_in: float = 0.0) -> tuple[Figure,
 
 
 def _save(figure: Figure, png_path: str | Path) -> None:
-    figure.savefig(png_path, format="png", dpi=120, bbox_inches="tight")
+    with atomic_output(png_path) as temporary:
+        figure.savefig(temporary, format="png", dpi=120, bbox_inches="tight")
 
 
 def render_world(world: WorldMap, png_path: str | Path) -> None:

@@ -19,7 +19,7 @@ class Replay:
 
     kind: str  # the file format
     facts: list[tuple[str, Any]]
-    minutes: list[dict[str, float]] = field(default_factory=list)
+    minutes: list[dict[str, str | float]] = field(default_factory=list)
 
     def to_dict(self) -> dict[str, Any]:
         return {"format": self.kind, **dict(self.facts), "minutes": self.minutes}
@@ -27,7 +27,7 @@ class Replay:
 
 def _learning(log: LearningLog, png: Path | None, curves: Path | None) -> Replay:
     facts: list[tuple[str, Any]] = [("sessions", len(log.sessions))]
-    minutes: list[dict[str, float]] = []
+    minutes: list[dict[str, str | float]] = []
     for s in log.sessions:
         collisions = int(s.episode_table["bumped"].sum())
         sim_s = float(s.episode_table["end_time_s"][-1]) if len(s.episode_table) else 0.0
@@ -40,7 +40,7 @@ def _learning(log: LearningLog, png: Path | None, curves: Path | None) -> Replay
             )
         )
         minutes += [
-            {"session": float(s.name), **dict(zip(MINUTE_COLUMNS, map(float, row), strict=True))}
+            {"session": s.name, **dict(zip(MINUTE_COLUMNS, map(float, row), strict=True))}
             for row in s.minutes
         ]
     facts.append(("exemplars", log.exemplar_count))

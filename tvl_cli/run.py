@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from tvl_cli.core.behaviours import (
+    DEFAULT_THRESHOLD,
     Choice,
     Context,
     choose,
@@ -20,21 +21,19 @@ from tvl_cli.core.command import Command
 from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.metrics import MetricsRecorder, RunMetrics
-from tvl_cli.learn import spin_commands
+from tvl_cli.learn import BACKOFF_M, backoff_commands, spin_commands
 from tvl_cli.sim.robot import Simulator
 from tvl_cli.sim.worldmap import WorldMap
 
 GOAL_RADIUS_M = 0.3
 # Trapped: turn slowly on the spot so the ring sees new directions.
 TRAPPED_SPIN_RADPS = 0.3
-# After a bump, back off along the path as learning does, so the ring sees the obstacle.
-REVERSE_M = 0.15
 
 
 @dataclass(frozen=True, slots=True)
 class RunParams:
     behaviour: str
-    threshold: float = 0.85
+    threshold: float = DEFAULT_THRESHOLD
     minutes: float = 5.0
     goal_xy: tuple[float, float] | None = None
 
@@ -114,11 +113,6 @@ class Runner:
         if lateral:
             self._last_turn = 1 if lateral > 0 else -1
 
-    def _reverse_plan(self, last: Command) -> None:
-        speed = abs(last.linear_mps) or 0.1
-        steps = math.ceil(REVERSE_M / (speed * self.robot.control_period_s))
-        self._queue = [(Command(-last.linear_mps, -last.angular_radps), -1)] * steps
-
     def run(self, trace: TraceFn | None = None) -> RunResult:
         metrics = MetricsRecorder(self.sim.pose[:2])
         result = RunResult(metrics.result())
@@ -133,7 +127,7 @@ class Runner:
                     velocities,
                     self._v_max,
                     self._headings,
-                    "wall" if self.params.behaviour == "wall" else self.params.behaviour,
+                    self.params.behaviour,
                     self.params.threshold,
                     ctx,
                 )
@@ -148,8 +142,10 @@ class Runner:
                     self._plan(choice)
             command, trajectory = self._queue.pop(0)
             self.sim.step(command)
-            if self.sim.bumped:
-                self._reverse_plan(command)
+            if self.sim.bumped and command.linear_mps > 0:
+                # Back off along the arc that met the obstacle (a spin or a back-off cannot
+                # have driven into it), as learning does.
+                self._queue = [(c, -1) for c in backoff_commands(command, self.robot, BACKOFF_M)]
                 self._ahead_blocked = True
             pose = self.sim.pose
             metrics.record(

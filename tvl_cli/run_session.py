@@ -45,14 +45,20 @@ def parse_goal(text: str) -> tuple[float, float]:
     return x, y
 
 
-def _goal_for(request: RunRequest, world: WorldMap) -> tuple[float, float] | None:
-    if request.goal is not None:
-        check_goal(world, *request.goal, where=f"--goal {request.goal[0]:g},{request.goal[1]:g}")
-        return request.goal
-    if request.behaviour != "goal":
+def resolve_goal(
+    world_path: Path, world: WorldMap, behaviour: str, goal: tuple[float, float] | None
+) -> tuple[float, float] | None:
+    """The goal a run seeks: --goal checked against the world, else the world's first goal;
+    None for other behaviours, which take no goal."""
+    if behaviour != "goal":
+        if goal is not None:
+            raise BadInput("--goal is for --behaviour goal only")
         return None
+    if goal is not None:
+        check_goal(world, *goal, where=f"--goal {goal[0]:g},{goal[1]:g}")
+        return goal
     if not world.goals:
-        raise BadInput(f"{request.world}: world has no goal; give one with --goal X,Y")
+        raise BadInput(f"{world_path}: world has no goal; give one with --goal X,Y")
     return world.goals[0]
 
 
@@ -77,7 +83,7 @@ def run_fam(request: RunRequest) -> RunMetrics:
             f"{request.fam}: FAM was learnt by another robot configuration than this "
             f"simulator's (differs in {', '.join(differences)})"
         )
-    goal = _goal_for(request, world)
+    goal = resolve_goal(request.world, world, request.behaviour, request.goal)
     params = RunParams(request.behaviour, request.threshold, request.minutes, goal)
     runner = Runner(world, robot, fam_file.fam, params, request.seed)
     steps: dict[str, list[Any]] = {f.name: [] for f in fields(StepRecord)}

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -43,6 +44,15 @@ def common_robot(logs: Sequence[LearningLog]) -> RobotConfig:
     return first
 
 
+def _refuse_repeated(logs: Sequence[LearningLog]) -> None:
+    """The same log given twice would train every exemplar twice."""
+    seen: dict[str, Path] = {}
+    for log in logs:
+        if log.sha256 in seen:
+            raise BadInput(f"{log.path}: the same log as {seen[log.sha256]}, given twice")
+        seen[log.sha256] = log.path
+
+
 def provenance(logs: Sequence[LearningLog], params: TrainParams, config: FamConfig) -> dict:
     """Everything needed to rebuild the FAM: its sources and every training parameter."""
     return {
@@ -79,7 +89,10 @@ def train_from_logs(
     with `until_minute`, only on the episodes each session finished by then (a snapshot of
     what the learner knew at that minute)."""
     started = time.perf_counter()
+    if until_minute is not None and not (math.isfinite(until_minute) and until_minute >= 0):
+        raise BadInput(f"--until-minute {until_minute:g} must be a number of minutes >= 0")
     logs = [read_log(path) for path in paths]
+    _refuse_repeated(logs)
     robot = common_robot(logs)
     fam = Fam(config, [t.name for t in robot.trajectories], params.init_velocity_mps)
     episodes = [e for log in logs for s in log.sessions for e in s.episodes()]

@@ -8,7 +8,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.config import DEFAULT_TRAJECTORIES, RobotConfig
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS, Fam
 from tvl_cli.core.labels import DEFAULT_DECEL_MPS2, DEFAULT_MARGIN_M, velocity_labels
@@ -30,8 +30,13 @@ class TrainParams:
             raise BadInput(f"--decel {self.decel_mps2:g} must be > 0 m/s²")
         if not (math.isfinite(self.margin_m) and self.margin_m >= 0):
             raise BadInput(f"--margin {self.margin_m:g} must be >= 0 m")
-        if not (math.isfinite(self.init_velocity_mps) and self.init_velocity_mps >= 0):
-            raise BadInput(f"--init-velocity {self.init_velocity_mps:g} must be >= 0 m/s")
+        slowest = min(t.v_max_mps for t in DEFAULT_TRAJECTORIES)
+        if not (math.isfinite(self.init_velocity_mps) and 0 <= self.init_velocity_mps < slowest):
+            # An input never met must be perceived as slow (paper §3.1), never as fast.
+            raise BadInput(
+                f"--init-velocity {self.init_velocity_mps:g} must be >= 0 m/s and below the "
+                f"slowest trajectory's maximum ({slowest:g} m/s)"
+            )
 
     def to_dict(self) -> dict[str, float | bool]:
         return asdict(self)

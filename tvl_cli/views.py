@@ -12,6 +12,7 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
+from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
 from tvl_cli.core.fam import Explanation
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.demo import DemoResult
@@ -173,7 +174,7 @@ def replay(summary: Replay) -> None:
 
 def demo(result: DemoResult) -> None:
     learn_summary(result.learning, result.directory / "learn.h5")
-    table = Table(title="behaviours after learning (threshold 0.85)")
+    table = Table(title=f"behaviours after learning (threshold {DEFAULT_THRESHOLD:g})")
     for column in (
         "FAM",
         "behaviour",

@@ -14,7 +14,8 @@ from tvl_cli.baselines.qlearning import QLearningResult, learn_and_evaluate
 from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.errors import BadInput, check_minutes
 from tvl_cli.core.metrics import RunMetrics
-from tvl_cli.sim.worldmap import WorldMap, check_goal, load_world
+from tvl_cli.run_session import resolve_goal
+from tvl_cli.sim.worldmap import WorldMap, load_world
 
 
 def _goal(
@@ -22,16 +23,7 @@ def _goal(
 ) -> tuple[float, float] | None:
     if behaviour not in BEHAVIOURS:
         raise BadInput(f"unknown behaviour {behaviour!r} (choose from {', '.join(BEHAVIOURS)})")
-    if behaviour == "avoid":
-        if goal is not None:
-            raise BadInput("--goal is for --behaviour goal only")
-        return None
-    if goal is not None:
-        check_goal(world, *goal, where=f"--goal {goal[0]:g},{goal[1]:g}")
-        return goal
-    if not world.goals:
-        raise BadInput(f"{world_path}: world has no goal; give one with --goal X,Y")
-    return world.goals[0]
+    return resolve_goal(world_path, world, behaviour, goal)
 
 
 def _draw(

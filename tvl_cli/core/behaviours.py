@@ -17,6 +17,8 @@ import numpy as np
 # How far along an arc its heading is judged: far enough that arcs of different radius
 # point in clearly different directions, near enough to stay inside a few-metre arena.
 LOOKAHEAD_M = 0.5
+# The paper's default: fast means at least 85 % of a trajectory's maximum velocity.
+DEFAULT_THRESHOLD = 0.85
 # A reading this short on one side means a wall to follow on that side.
 WALL_SEEN_M = 1.0
 LEFT_SONARS = (2, 3, 4, 5, 6)
@@ -41,7 +43,7 @@ class Context:
 class Choice:
     """Face sonar `rotation` (0: as now), then follow `trajectory` at `speed_mps`."""
 
-    rotation: int  # -8..8 sonar positions, positive counter-clockwise
+    rotation: int  # -7..8 sonar positions, positive counter-clockwise
     trajectory: int
     speed_mps: float
 
