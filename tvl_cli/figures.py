@@ -243,7 +243,7 @@ def competence_note(rows: Iterable[Row]) -> str:
     return COMPETENCE_NOTE + f"These avoid runs lasted {minutes} min: not a competence result.\n"
 
 
-# --- drawing helpers -------------------------------------------------------------
+# --- drawing ----------------------------------------------------------------------
 
 
 def new_figure(width_in: float, height_in: float) -> Figure:

@@ -13,6 +13,7 @@ from tvl_cli.core.behaviours import (
     Choice,
     Context,
     choose,
+    lateral_sides,
     nearest_side,
     trajectory_headings,
     wall_seen,
@@ -83,6 +84,7 @@ class Runner:
         self._v_max = np.array(robot.v_max_mps)
         curvatures = np.array([t.curvature_per_m for t in robot.trajectories])
         self._headings = trajectory_headings(curvatures, robot.sonar.count)
+        self._sides = lateral_sides(len(robot.trajectories))
         self._queue: list[tuple[Command, int]] = []  # commands already decided
         self._last_turn = 1
         self._wall_side = 0
@@ -109,9 +111,9 @@ class Runner:
         self._queue = [(c, -1) for c in spin_commands(choice.rotation, self.robot)]
         traj = self.robot.trajectories[choice.trajectory]
         self._queue.append((Command.follow(traj, choice.speed_mps), choice.trajectory))
-        lateral = 3 - choice.trajectory
-        if lateral:
-            self._last_turn = 1 if lateral > 0 else -1
+        side = int(self._sides[choice.trajectory])
+        if side:
+            self._last_turn = side
 
     def run(self, trace: TraceFn | None = None) -> RunResult:
         metrics = MetricsRecorder(self.sim.pose[:2])

@@ -80,6 +80,11 @@ def _wall_bearing(ring_m: np.ndarray, side: int) -> float:
 Scorer = Callable[[np.ndarray, np.ndarray, Context], np.ndarray]
 
 
+def lateral_sides(trajectory_count: int) -> np.ndarray:
+    """(J,) +1 for the left arcs, 0 straight on, -1 for the right arcs (left to right order)."""
+    return np.sign((trajectory_count - 1) / 2 - np.arange(trajectory_count))
+
+
 def _avoid_score(headings: np.ndarray, lateral: np.ndarray, ctx: Context) -> np.ndarray:
     # Nearest the forward direction; a tie goes to the side of the last turn.
     return np.abs(headings) - 1e-6 * np.sign(lateral) * ctx.last_turn
@@ -139,7 +144,7 @@ def choose(
     if ctx.ahead_blocked:
         fast[0] = False
     n_sonars, n_traj = velocities.shape
-    lateral = (n_traj - 1) / 2 - np.arange(n_traj)  # +3 for T3L .. -3 for T3R
+    lateral = lateral_sides(n_traj)
     scorer = _wall_score(ctx.wall_side or 1) if behaviour == "wall" else BEHAVIOURS[behaviour]
     if fast[0].any():
         pick = _straight_ahead_pick(behaviour, fast[0], ctx)
