@@ -1,7 +1,7 @@
 """What the robot achieves after learning (issue 4), with the paper's figures beside ours.
 
     python benchmarks/competence.py [--seeds 1-5] [--learn-minutes 15] [--run-minutes 10]
-                                    [--workers 2] [--json]
+                                    [--workers 2] [--no-near-miss] [--json]
 
 For each seed: learn 15 simulated minutes in worlds/square.txt with the single FAM, then run
 10 simulated minutes of each behaviour from the world's start: avoid, wall-left and
@@ -9,7 +9,9 @@ wall-right at threshold 0.85, both wall followings again at 0.65 and 0.95, and a
 worlds/circle.txt with the square's FAM. Then learn 20 minutes in worlds/obstacles.txt and
 seek each of its goals in turn (a run of up to --run-minutes each). Seeds run in parallel
 processes. `--decel` and `--margin` change the training labels, to see how the defaults
-were chosen. The figures are means over the seeds; per-seed figures are in --json.
+were chosen; `--no-near-miss` runs without the back-off when an object enters the blind zone
+ahead, to see what it is worth. The figures are means over the seeds; per-seed figures are
+in --json.
 """
 
 from __future__ import annotations
@@ -61,9 +63,12 @@ def run(
     seed: int,
     robot: RobotConfig,
     goal: tuple[float, float] | None = None,
+    near_miss_backoff: bool = True,
 ) -> dict[str, Any]:
-    params = RunParams(behaviour, threshold, minutes, goal)
-    return asdict(Runner(world, robot, fam, params, seed).run().metrics)
+    params = RunParams(behaviour, threshold, minutes, goal, near_miss_backoff)
+    result = Runner(world, robot, fam, params, seed).run()
+    minutes_run = result.metrics.sim_s / 60.0
+    return {**asdict(result.metrics), "near_misses_per_min": result.near_misses / minutes_run}
 
 
 def seed_figures(
@@ -72,6 +77,7 @@ def seed_figures(
     run_minutes: float,
     train: TrainParams,
     explore: LearnParams | None = None,
+    near_miss_backoff: bool = True,
 ) -> dict[str, Any]:
     """Every run of the protocol for one seed: {"square": {...}, "circle": .., "goals": [..]}."""
     robot = RobotConfig()
@@ -79,22 +85,28 @@ def seed_figures(
     square, circle, obstacles = (
         load_world(WORLDS / f"{n}.txt") for n in ("square", "circle", "obstacles")
     )
+
+    def behave(
+        world: WorldMap,
+        fam: Fam,
+        behaviour: str,
+        threshold: float = THRESHOLD,
+        goal: tuple[float, float] | None = None,
+    ) -> dict[str, Any]:
+        return run(
+            world, fam, behaviour, threshold, run_minutes, seed, robot, goal, near_miss_backoff
+        )
+
     fam = learn(square, learn_minutes, seed, train, explore, robot)
-    runs: dict[str, Any] = {
-        "avoid@0.85": run(square, fam, "avoid", THRESHOLD, run_minutes, seed, robot)
-    }
+    runs: dict[str, Any] = {"avoid@0.85": behave(square, fam, "avoid")}
     for behaviour in WALLS:
         for threshold in (LOW, THRESHOLD, HIGH):
-            key = f"{behaviour}@{threshold:g}"
-            runs[key] = run(square, fam, behaviour, threshold, run_minutes, seed, robot)
-    circle_run = run(circle, fam, "avoid", THRESHOLD, run_minutes, seed, robot)
+            runs[f"{behaviour}@{threshold:g}"] = behave(square, fam, behaviour, threshold)
+    circle_run = behave(circle, fam, "avoid")
     goal_fam = learn(
         obstacles, learn_minutes * GOAL_LEARN_MINUTES_PER_SQUARE_MINUTE, seed, train, explore, robot
     )
-    goals = [
-        run(obstacles, goal_fam, "goal", THRESHOLD, run_minutes, seed, robot, goal)
-        for goal in obstacles.goals
-    ]
+    goals = [behave(obstacles, goal_fam, "goal", goal=goal) for goal in obstacles.goals]
     return {"seed": seed, "square": runs, "circle": circle_run, "goals": goals}
 
 
@@ -117,6 +129,7 @@ def summarise(per_seed: list[dict[str, Any]]) -> dict[str, Any]:
         "seeds": [s["seed"] for s in per_seed],
         "avoid_collisions_per_min": square("avoid@0.85", "collisions_per_min"),
         "avoid_mean_speed_mps": square("avoid@0.85", "mean_speed_mps"),
+        "avoid_near_misses_per_min": square("avoid@0.85", "near_misses_per_min"),
         **{
             f"{b.replace('-', '_')}_{f}": square(f"{b}@0.85", k)
             for b in WALLS
@@ -134,6 +147,9 @@ def summarise(per_seed: list[dict[str, Any]]) -> dict[str, Any]:
         "wall_collisions_per_min_at_0.95": walls(HIGH, "collisions_per_min"),
         "circle_avoid_collisions_per_min": _mean(
             [s["circle"]["collisions_per_min"] for s in per_seed]
+        ),
+        "circle_avoid_near_misses_per_min": _mean(
+            [s["circle"]["near_misses_per_min"] for s in per_seed]
         ),
         "goal_first_reached_seeds": sum(s["goals"][0]["goal_reached"] for s in per_seed),
         "goal_reached_per_goal": [
@@ -163,6 +179,7 @@ def table(summary: dict[str, Any]) -> str:
             "none after < 9 min learning",
         ),
         ("avoid: mean speed m/s", _f(s["avoid_mean_speed_mps"]), ">= 0.30", "-"),
+        ("avoid: near misses/min", _f(s["avoid_near_misses_per_min"]), "-", "-"),
     ]
     for b in WALLS:
         key = b.replace("-", "_")
@@ -206,6 +223,12 @@ def table(summary: dict[str, Any]) -> str:
             "works reasonably well",
         ),
         (
+            "circle, square's FAM: avoid near misses/min",
+            _f(s["circle_avoid_near_misses_per_min"]),
+            "-",
+            "-",
+        ),
+        (
             "goal (obstacles): first goal reached",
             f"{s['goal_first_reached_seeds']}/{n}",
             ">= 4/5",
@@ -244,12 +267,20 @@ def main() -> None:
     parser.add_argument(
         "--learn-speed", type=float, default=LearnParams().learn_speed_mps, help="m/s"
     )
+    parser.add_argument(
+        "--no-near-miss",
+        action="store_true",
+        help="runs back off after bumps only, not when an object enters the blind zone ahead",
+    )
     parser.add_argument("--json", action="store_true", help="print the figures as JSON")
     args = parser.parse_args()
     train = TrainParams(decel_mps2=args.decel, margin_m=args.margin)
     explore = LearnParams(near_m=args.near, learn_speed_mps=args.learn_speed)
     started = time.perf_counter()
-    jobs = [(seed, args.learn_minutes, args.run_minutes, train, explore) for seed in args.seeds]
+    jobs = [
+        (seed, args.learn_minutes, args.run_minutes, train, explore, not args.no_near_miss)
+        for seed in args.seeds
+    ]
     with ProcessPoolExecutor(max_workers=args.workers) as pool:
         per_seed = list(pool.map(seed_figures, *zip(*jobs, strict=True)))
     summary = summarise(per_seed)
@@ -259,7 +290,8 @@ def main() -> None:
     print(
         f"seeds {args.seeds}, learning {args.learn_minutes:g} min, runs {args.run_minutes:g} min, "
         f"decel {args.decel:g} m/s², margin {args.margin:g} m, near {args.near:g} m, "
-        f"learning speed {args.learn_speed:g} m/s "
+        f"learning speed {args.learn_speed:g} m/s, "
+        f"near-miss back-off {'off' if args.no_near_miss else 'on'} "
         f"({time.perf_counter() - started:.0f} s)"
     )
     print(table(summary))

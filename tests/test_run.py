@@ -105,3 +105,49 @@ def test_another_seed_gives_another_run() -> None:
     first = Runner(HALL, ROBOT, fam, params, seed=5).run()
     second = Runner(HALL, ROBOT, fam, params, seed=6).run()
     assert first.path != second.path
+
+
+def fast_everywhere_fam() -> Fam:
+    """A FAM that perceives every trajectory at its maximum, whatever the ring reads."""
+    return Fam(SINGLE, [t.name for t in ROBOT.trajectories], max(ROBOT.v_max_mps))
+
+
+# A straight passage 7 m long and 0.75 m wide, the robot in its middle facing along it.
+PASSAGE = parse_world(
+    "version: 1\nname: passage\ncell: 0.25\n\n"
+    + "#" * 30
+    + "\n"
+    + ("#" + "." * 28 + "#\n")
+    + ("#.>" + "." * 26 + "#\n")
+    + ("#" + "." * 28 + "#\n")
+    + "#" * 30
+    + "\n",
+    "passage",
+)
+
+
+# Straight down the hall at T0's 0.6 m/s, the body's edge meets the east wall after 11.5 s.
+TO_THE_END_WALL_MIN = 12.0 / 60.0
+
+
+def test_a_wall_entering_the_blind_zone_ahead_is_backed_off_before_contact() -> None:
+    params = RunParams("avoid", 0.85, TO_THE_END_WALL_MIN)
+    result = Runner(HALL, ROBOT, fast_everywhere_fam(), params, seed=1).run()
+    assert result.near_misses == 1
+    assert result.metrics.collisions == 0
+
+
+def test_without_the_near_miss_back_off_the_same_run_meets_the_wall() -> None:
+    params = RunParams("avoid", 0.85, TO_THE_END_WALL_MIN, near_miss_backoff=False)
+    result = Runner(HALL, ROBOT, fast_everywhere_fam(), params, seed=1).run()
+    assert result.near_misses == 0
+    assert result.metrics.collisions == 1
+
+
+def test_walls_alongside_in_a_narrow_passage_are_no_near_miss() -> None:
+    # 0.75 m wide: 0.175 m either side of the body, just outside the sonars' blind zone.
+    params = RunParams("avoid", 0.85, 5.0 / 60.0)
+    result = Runner(PASSAGE, ROBOT, fast_everywhere_fam(), params, seed=1).run()
+    assert result.near_misses == 0
+    assert result.metrics.collisions == 0
+    assert result.metrics.distance_m == pytest.approx(0.6 * 5.0, abs=0.01)

@@ -370,6 +370,13 @@ def learn(
 @click.option(
     "--log", "trace", type=click.Path(path_type=Path), default=None, help="Write a run trace."
 )
+@click.option(
+    "--near-miss/--no-near-miss",
+    "near_miss_backoff",
+    default=True,
+    show_default=True,
+    help="Back off when an object enters the sonars' blind zone ahead, as after a bump.",
+)
 @click.option("--force", is_flag=True, help="Overwrite the --png and --log files.")
 @click.option("--json", "as_json", is_flag=True, help="Print the metrics as JSON.")
 def run(
@@ -382,6 +389,7 @@ def run(
     seed: int,
     png: Path | None,
     trace: Path | None,
+    near_miss_backoff: bool,
     force: bool,
     as_json: bool,
 ) -> None:
@@ -399,12 +407,13 @@ def run(
         parse_goal(goal) if goal else None,
         png,
         trace,
+        near_miss_backoff,
     )
-    metrics = run_fam(request)
+    result = run_fam(request)
     if as_json:
-        _print_json(asdict(metrics))
+        _print_json(asdict(result.metrics))
     else:
-        views.run_metrics(metrics)
+        views.run_metrics(result.metrics, near_misses=result.near_misses)
 
 
 @main.command()

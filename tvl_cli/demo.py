@@ -67,10 +67,10 @@ def run_demo(directory: Path, force: bool, say: Callable[[str], None]) -> DemoRe
         for behaviour in BEHAVIOURS:
             say(f"running {behaviour} with the {config.name} FAM ...")
             png = directory / f"{config.name}-{behaviour}.png"
-            metrics = run_fam(
+            result = run_fam(
                 RunRequest(
                     fam_path, world, behaviour, DEFAULT_THRESHOLD, RUN_MINUTES, DEMO_SEED, png=png
                 )
             )
-            rows.append(DemoRow(config.name, behaviour, metrics, png))
+            rows.append(DemoRow(config.name, behaviour, result.metrics, png))
     return DemoResult(directory, learning, rows)

@@ -11,7 +11,7 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 
 from tvl_cli.core.command import Command
-from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.config import RobotConfig, sonars_within
 from tvl_cli.core.errors import BadInput, check_minutes
 from tvl_cli.core.fam import Fam
 from tvl_cli.io.logfile import Episode, mm_to_ring, ring_to_mm
@@ -129,8 +129,8 @@ class Learner:
         self.train_params = train_params
         self.sim = Simulator(world, robot, np.random.default_rng(sim_seed))
         self.rng = np.random.default_rng(choice_seed)
-        angles = np.arange(robot.sonar.count) * 2 * math.pi / robot.sonar.count
-        self._ahead = np.flatnonzero(np.cos(angles) > -1e-9)  # sonars facing ahead of the middle
+        # The sonars facing ahead of the body's middle (sideways ones included).
+        self._ahead = list(sonars_within(math.pi / 2, robot.sonar.count))
 
     def _too_near(self, ring_m: np.ndarray, start_m: np.ndarray) -> bool:
         """A sonar ahead reads within near_m, having closed in since the episode started."""

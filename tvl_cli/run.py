@@ -19,7 +19,7 @@ from tvl_cli.core.behaviours import (
     wall_seen,
 )
 from tvl_cli.core.command import Command
-from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.config import RobotConfig, sonars_within
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.metrics import MetricsRecorder, RunMetrics
 from tvl_cli.learn import BACKOFF_M, backoff_commands, spin_commands
@@ -27,6 +27,12 @@ from tvl_cli.sim.robot import Simulator
 from tvl_cli.sim.worldmap import WorldMap
 
 GOAL_RADIUS_M = 0.3
+# A sonar this near straight ahead that reads inside its blind zone (at its minimum range) while
+# the robot drives forward means an object the ring can no longer range is about to meet the
+# body: the robot backs off as after a bump, just as learning ends an episode there (a sonar
+# within the blind zone is a collision point, `LearnParams.near_m`). Sideways sonars do not
+# count: a wall alongside, as in a narrow passage, is passed, not met.
+NEAR_MISS_WITHIN_RAD = math.pi / 4
 # Trapped: turn slowly on the spot so the ring sees new directions.
 TRAPPED_SPIN_RADPS = 0.3
 
@@ -37,6 +43,7 @@ class RunParams:
     threshold: float = DEFAULT_THRESHOLD
     minutes: float = 5.0
     goal_xy: tuple[float, float] | None = None
+    near_miss_backoff: bool = True  # back off when an object enters the blind zone ahead
 
 
 @dataclass(slots=True)
@@ -56,6 +63,8 @@ class StepRecord:
 class RunResult:
     metrics: RunMetrics
     path: list[tuple[float, float, float]] = field(default_factory=list)
+    # Back-offs made before any contact, when an object entered the blind zone ahead.
+    near_misses: int = 0
 
 
 TraceFn = Callable[[StepRecord], None]
@@ -89,7 +98,9 @@ class Runner:
         self._last_turn = 1
         self._wall_side = 0
         self._trapped = False
-        self._ahead_blocked = False  # set by a bump, spent on the next choice
+        self._ahead_blocked = False  # set by a bump or near miss, spent on the next choice
+        self._front = list(sonars_within(NEAR_MISS_WITHIN_RAD, robot.sonar.count))
+        self._forward: Command | None = None  # the last command, if it drove forward
 
     def _context(self, ring_m: np.ndarray) -> Context:
         behaviour = self.params.behaviour
@@ -115,6 +126,14 @@ class Runner:
         if side:
             self._last_turn = side
 
+    def _back_off(self, forward: Command) -> None:
+        """Reverse along the arc that met (or nearly met) an obstacle, then look elsewhere."""
+        self._queue = [(c, -1) for c in backoff_commands(forward, self.robot, BACKOFF_M)]
+        self._ahead_blocked = True
+
+    def _blind_ahead(self, ring_m: np.ndarray) -> bool:
+        return bool((ring_m[self._front] <= self.robot.sonar.min_range_m).any())
+
     def run(self, trace: TraceFn | None = None) -> RunResult:
         metrics = MetricsRecorder(self.sim.pose[:2])
         result = RunResult(metrics.result())
@@ -122,6 +141,10 @@ class Runner:
         steps = round(self.params.minutes * 60 / dt)
         for _ in range(steps):
             ring_m = self.sim.read_sonar()
+            forward = self._forward
+            if forward is not None and self.params.near_miss_backoff and self._blind_ahead(ring_m):
+                self._back_off(forward)
+                result.near_misses += 1
             velocities, _ = self.fam.perceive(ring_m)
             ctx = self._context(ring_m)
             if not self._queue:
@@ -144,11 +167,12 @@ class Runner:
                     self._plan(choice)
             command, trajectory = self._queue.pop(0)
             self.sim.step(command)
-            if self.sim.bumped and command.linear_mps > 0:
+            self._forward = command if command.linear_mps > 0 else None
+            if self.sim.bumped and self._forward is not None:
                 # Back off along the arc that met the obstacle (a spin or a back-off cannot
                 # have driven into it), as learning does.
-                self._queue = [(c, -1) for c in backoff_commands(command, self.robot, BACKOFF_M)]
-                self._ahead_blocked = True
+                self._back_off(self._forward)
+                self._forward = None
             pose = self.sim.pose
             metrics.record(
                 pose[:2], dt, self.sim.bumped, self.sim.clearance_m(), self._wall_side != 0

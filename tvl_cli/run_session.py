@@ -10,11 +10,10 @@ from typing import Any
 from tvl_cli.core.behaviours import BEHAVIOUR_NAMES
 from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.errors import BadInput, check_minutes
-from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.io.famfile import read_fam
 from tvl_cli.io.logfile import file_sha256
 from tvl_cli.io.runfile import write_run
-from tvl_cli.run import Runner, RunParams, StepRecord
+from tvl_cli.run import Runner, RunParams, RunResult, StepRecord
 from tvl_cli.sim.worldmap import WorldMap, check_goal, load_world
 
 
@@ -29,6 +28,7 @@ class RunRequest:
     goal: tuple[float, float] | None = None
     png: Path | None = None
     trace: Path | None = None
+    near_miss_backoff: bool = True
 
 
 def check_threshold(threshold: float) -> None:
@@ -67,7 +67,7 @@ def _robot_differences(theirs: RobotConfig, ours: RobotConfig) -> list[str]:
     return sorted(key for key in mine if mine[key] != other.get(key))
 
 
-def run_fam(request: RunRequest) -> RunMetrics:
+def run_fam(request: RunRequest) -> RunResult:
     """Run one behaviour with a learnt FAM; write the trace and picture if asked."""
     if request.behaviour not in BEHAVIOUR_NAMES:
         raise BadInput(f"unknown behaviour {request.behaviour!r}")
@@ -84,7 +84,9 @@ def run_fam(request: RunRequest) -> RunMetrics:
             f"simulator's (differs in {', '.join(differences)})"
         )
     goal = resolve_goal(request.world, world, request.behaviour, request.goal)
-    params = RunParams(request.behaviour, request.threshold, request.minutes, goal)
+    params = RunParams(
+        request.behaviour, request.threshold, request.minutes, goal, request.near_miss_backoff
+    )
     runner = Runner(world, robot, fam_file.fam, params, request.seed)
     steps: dict[str, list[Any]] = {f.name: [] for f in fields(StepRecord)}
 
@@ -105,6 +107,7 @@ def run_fam(request: RunRequest) -> RunMetrics:
                 "minutes": request.minutes,
                 "goal": list(goal) if goal else None,
                 "seed": request.seed,
+                "near_miss_backoff": request.near_miss_backoff,
                 "fam": str(request.fam),
                 "fam_sha256": file_sha256(request.fam),
             },
@@ -124,4 +127,4 @@ def run_fam(request: RunRequest) -> RunMetrics:
             title=f"{request.behaviour} in {world.name}, threshold {request.threshold:g}",
             goal=goal,
         )
-    return metrics
+    return result

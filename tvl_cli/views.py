@@ -154,12 +154,15 @@ def _metrics_rows(metrics: RunMetrics) -> list[tuple[str, str]]:
     return [(name, show(value)) for name, value in asdict(metrics).items()]
 
 
-def run_metrics(metrics: RunMetrics) -> None:
+def run_metrics(metrics: RunMetrics, near_misses: int | None = None) -> None:
+    """The metrics of a run; for a FAM run also its back-offs before any contact."""
     table = Table(show_header=False)
     table.add_column()
     table.add_column(justify="right")
     for name, value in _metrics_rows(metrics):
         table.add_row(name, value)
+    if near_misses is not None:
+        table.add_row("near_misses", str(near_misses))
     out.print(table)
 
 

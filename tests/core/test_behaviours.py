@@ -31,8 +31,10 @@ def perceiving(fast: dict[int, list[int]]) -> np.ndarray:
     return velocities
 
 
-def pick(velocities: np.ndarray, behaviour: str, **context: Any) -> Choice | None:
-    return choose(velocities, V_MAX, HEADINGS, behaviour, 0.85, Context(FAR, **context))
+def pick(
+    velocities: np.ndarray, behaviour: str, ring_m: np.ndarray = FAR, **context: Any
+) -> Choice | None:
+    return choose(velocities, V_MAX, HEADINGS, behaviour, 0.85, Context(ring_m, **context))
 
 
 def test_avoid_goes_straight_when_straight_is_fast() -> None:
@@ -53,10 +55,26 @@ def test_avoid_tie_keeps_the_side_of_the_last_turn() -> None:
     assert pick(velocities, "avoid", last_turn=-1) == Choice(0, T1R, V_MAX[T1R])
 
 
-def test_wall_left_takes_the_leftmost_fast_trajectory_once_a_wall_is_seen() -> None:
-    velocities = perceiving({0: [T1L, T0, T1R]})
-    assert pick(velocities, "wall-left", wall_side=1) == Choice(0, T1L, V_MAX[T1L])
-    assert pick(velocities, "wall-right", wall_side=-1) == Choice(0, T1R, V_MAX[T1R])
+def ring_with_object_at(sonar: int) -> np.ndarray:
+    """(16,) metres: one object 0.6 m from `sonar`, nothing else in sight."""
+    ring = FAR.copy()
+    ring[sonar] = 0.6
+    return ring
+
+
+def test_wall_left_takes_the_fast_trajectory_nearest_the_wall_alongside() -> None:
+    velocities = perceiving({0: [T3L, T2L, T1L, T0]})
+    choice = pick(velocities, "wall-left", wall_side=1, ring_m=ring_with_object_at(4))
+    assert choice == Choice(0, T3L, V_MAX[T3L])
+
+
+def test_wall_following_never_takes_a_trajectory_that_turns_past_the_wall() -> None:
+    # The object 45 degrees off: T3L would turn past it (57 degrees after 0.5 m); T2L does not.
+    velocities = perceiving({0: list(range(7))})
+    left = pick(velocities, "wall-left", wall_side=1, ring_m=ring_with_object_at(2))
+    right = pick(velocities, "wall-right", wall_side=-1, ring_m=ring_with_object_at(14))
+    assert left == Choice(0, T2L, V_MAX[T2L])
+    assert right == Choice(0, T2R, V_MAX[T2R])
 
 
 def test_wall_following_goes_straight_on_until_a_wall_is_seen() -> None:

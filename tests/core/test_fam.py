@@ -19,6 +19,7 @@ from tvl_cli.core.config import (
     FamTable,
     Partition,
     mirror_sonar,
+    sonars_within,
 )
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam, fam_config_from_json, rule_set_indices, validate_fam_config
@@ -206,6 +207,11 @@ def test_batch_inference_agrees_with_one_ring_at_a_time(multi: Fam) -> None:
     assert batch.shape == (700, 7)
     for i in (0, 350, 699):
         np.testing.assert_allclose(batch[i], multi.velocities(rings[i], rotation=3), rtol=1e-12)
+
+
+def test_sonars_within_an_angle_of_ahead_include_the_edge_ones() -> None:
+    assert sorted(sonars_within(np.pi / 4)) == [0, 1, 2, 14, 15]
+    assert sorted(sonars_within(np.pi / 2)) == [0, 1, 2, 3, 4, 12, 13, 14, 15]
 
 
 def test_the_mirror_of_the_mirror_is_the_identity() -> None:

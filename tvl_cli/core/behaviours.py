@@ -94,7 +94,11 @@ def _wall_score(side: int) -> Scorer:
     def score(headings: np.ndarray, lateral: np.ndarray, ctx: Context) -> np.ndarray:
         if ctx.wall_side != side:
             return _avoid_score(headings, lateral, ctx)
-        # The trajectory nearest the wall, measured from the wall's bearing away from it.
+        # Paper §2.1: the fast trajectory nearest the nearest object on the wall's side, without
+        # passing it (for a wall on the left, the nearest to its right), measured from the
+        # object's bearing away from it. The outermost arc is taken only while it still heads
+        # short of the wall; in open space that arc is fast all the way round, and taking it
+        # regardless would circle on the spot instead of closing in on the wall.
         away = (_wall_bearing(ctx.ring_m, side) - headings) * side
         return np.mod(away, 2 * math.pi)
 
@@ -113,18 +117,6 @@ BEHAVIOURS: dict[str, Scorer] = {
 }
 # `wall` follows the side of the nearest object, so it scores like wall-left or wall-right.
 BEHAVIOUR_NAMES = ("avoid", "wall-left", "wall-right", "wall", "goal")
-
-
-def _straight_ahead_pick(behaviour: str, fast: np.ndarray, ctx: Context) -> int | None:
-    """Wall following takes the outermost fast trajectory on the wall's side (paper §2.1)."""
-    side = ctx.wall_side
-    if behaviour not in ("wall-left", "wall-right", "wall") or side == 0:
-        return None
-    if behaviour != "wall" and side != (1 if behaviour == "wall-left" else -1):
-        return None
-    indices = np.flatnonzero(fast)
-    # Index 0 is the leftmost trajectory (T3L), the last the rightmost.
-    return int(indices[0] if side > 0 else indices[-1])
 
 
 def choose(
@@ -147,10 +139,8 @@ def choose(
     lateral = lateral_sides(n_traj)
     scorer = _wall_score(ctx.wall_side or 1) if behaviour == "wall" else BEHAVIOURS[behaviour]
     if fast[0].any():
-        pick = _straight_ahead_pick(behaviour, fast[0], ctx)
-        if pick is None:
-            scores = np.where(fast[0], scorer(headings[0], lateral, ctx), np.inf)
-            pick = int(np.argmin(scores))
+        scores = np.where(fast[0], scorer(headings[0], lateral, ctx), np.inf)
+        pick = int(np.argmin(scores))
         return Choice(0, pick, float(min(velocities[0, pick], v_max[pick])))
     for step in range(1, n_sonars // 2 + 1):
         rotations = [step, -step] if step < n_sonars // 2 else [step]

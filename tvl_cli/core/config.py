@@ -7,6 +7,7 @@ the robot that made it. Units are in the field names.
 from __future__ import annotations
 
 import json
+import math
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
@@ -220,6 +221,12 @@ SINGLE = FamConfig(
 def mirror_sonar(index: int, count: int = SONAR_COUNT) -> int:
     """The sonar in the mirror image of the ring across the forward axis: Si <-> S(16-i)."""
     return (-index) % count
+
+
+def sonars_within(angle_rad: float, count: int = SONAR_COUNT) -> tuple[int, ...]:
+    """The sonars facing at most angle_rad to either side of straight ahead (S0 ahead, CCW)."""
+    lowest = math.cos(angle_rad) - 1e-9  # the sideways sonars count at exactly 90 degrees
+    return tuple(i for i in range(count) if math.cos(2 * math.pi * i / count) >= lowest)
 
 
 def _sonar_input(sonars: tuple[int, ...], sets: int) -> FamInput:
