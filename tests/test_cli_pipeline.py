@@ -148,6 +148,18 @@ def test_run_prints_the_metrics_json(run_tvl, learnt, tmp_path):
     assert replayed["format"] == "tvl-run" and replayed["steps"] == 300
 
 
+def test_run_table_counts_near_misses_and_the_trace_records_the_switch(run_tvl, learnt, tmp_path):
+    trace = tmp_path / "run.h5"
+    result = run_tvl(
+        "run", learnt["online"], SQUARE, "--behaviour", "avoid", "--minutes", "0.2",
+        "--no-near-miss", "--log", trace,
+    )  # fmt: skip
+    assert result.returncode == 0, result.stderr
+    assert "near_misses" in result.stdout
+    replayed = json.loads(run_tvl("replay", trace, "--json").stdout)
+    assert replayed["near_miss_backoff"] is False
+
+
 def test_same_seed_gives_identical_logs_and_run_json(run_tvl, tmp_path):
     outputs = []
     for name in ("a", "b"):

@@ -27,11 +27,11 @@ from tvl_cli.sim.robot import Simulator
 from tvl_cli.sim.worldmap import WorldMap
 
 GOAL_RADIUS_M = 0.3
-# A sonar this near straight ahead that reads inside its blind zone (at its minimum range) while
-# the robot drives forward means an object the ring can no longer range is about to meet the
-# body: the robot backs off as after a bump, just as learning ends an episode there (a sonar
-# within the blind zone is a collision point, `LearnParams.near_m`). Sideways sonars do not
-# count: a wall alongside, as in a narrow passage, is passed, not met.
+# A sonar within this angle of straight ahead that reads inside its blind zone (at its minimum
+# range) while the robot drives forward means an object the ring can no longer range is about
+# to meet the body: the robot backs off as after a bump, just as learning ends an episode
+# there (a sonar within the blind zone is a collision point, `LearnParams.near_m`). Sideways
+# sonars do not count: a wall alongside, as in a narrow passage, is passed, not met.
 NEAR_MISS_WITHIN_RAD = math.pi / 4
 # Trapped: turn slowly on the spot so the ring sees new directions.
 TRAPPED_SPIN_RADPS = 0.3
@@ -132,6 +132,7 @@ class Runner:
         self._ahead_blocked = True
 
     def _blind_ahead(self, ring_m: np.ndarray) -> bool:
+        """A front sonar reads its minimum range: something is inside its blind zone."""
         return bool((ring_m[self._front] <= self.robot.sonar.min_range_m).any())
 
     def run(self, trace: TraceFn | None = None) -> RunResult:
