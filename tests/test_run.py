@@ -13,7 +13,7 @@ from tvl_cli.core.config import SINGLE, RobotConfig
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.metrics import MetricsRecorder
 from tvl_cli.learn import Learner, LearnParams
-from tvl_cli.run import Runner, RunParams
+from tvl_cli.run import Runner, RunParams, StepRecord
 from tvl_cli.sim.robot import Simulator
 from tvl_cli.sim.worldmap import WorldMap, parse_world
 from tvl_cli.training import TrainParams
@@ -151,3 +151,15 @@ def test_walls_alongside_in_a_narrow_passage_are_no_near_miss() -> None:
     assert result.near_misses == 0
     assert result.metrics.collisions == 0
     assert result.metrics.distance_m == pytest.approx(0.6 * 5.0, abs=0.01)
+
+
+def test_after_a_near_miss_the_robot_heads_away_from_the_way_it_met_the_wall() -> None:
+    steps: list[StepRecord] = []
+    params = RunParams("avoid", 0.85, TO_THE_END_WALL_MIN + 2.0 / 60.0)
+    result = Runner(HALL, ROBOT, fast_everywhere_fam(), params, seed=1).run(steps.append)
+    assert result.near_misses >= 1
+    reversing = next(i for i, s in enumerate(steps) if s.speed_mps < 0)
+    after = next(s for s in steps[reversing:] if s.speed_mps > 0)
+    # Every trajectory is fast, yet T0 to T2 (heading within 45 degrees of the wall) are not
+    # taken: the nearest to straight on that is left is a T3 arc.
+    assert ROBOT.trajectories[after.trajectory].name in ("T3L", "T3R")

@@ -33,6 +33,9 @@ GOAL_RADIUS_M = 0.3
 # there (a sonar within the blind zone is a collision point, `LearnParams.near_m`). Sideways
 # sonars do not count: a wall alongside, as in a narrow passage, is passed, not met.
 NEAR_MISS_WITHIN_RAD = math.pi / 4
+# How long the way that met an obstacle stays out of the choice (Context.blocked_bearing_rad):
+# time to back off and drive clear of the spot, short enough to try that way again later.
+BLOCKED_S = 2.0
 # Trapped: turn slowly on the spot so the ring sees new directions.
 TRAPPED_SPIN_RADPS = 0.3
 
@@ -98,9 +101,12 @@ class Runner:
         self._last_turn = 1
         self._wall_side = 0
         self._trapped = False
-        self._ahead_blocked = False  # set by a bump or near miss, spent on the next choice
+        # The way that last met an obstacle, by odometry (world heading, radians), and until
+        # when (simulated seconds) it stays out of the choice.
+        self._blocked: tuple[float, float] | None = None
         self._front = list(sonars_within(NEAR_MISS_WITHIN_RAD, robot.sonar.count))
-        self._forward: Command | None = None  # the last command, if it drove forward
+        # The last command and its trajectory, if it drove forward.
+        self._forward: tuple[Command, int] | None = None
 
     def _context(self, ring_m: np.ndarray) -> Context:
         behaviour = self.params.behaviour
@@ -116,7 +122,10 @@ class Runner:
         bearing = (
             goal_bearing(self.sim.odometry, self.params.goal_xy) if self.params.goal_xy else 0.0
         )
-        return Context(ring_m, self._last_turn, bearing, self._wall_side, self._ahead_blocked)
+        blocked = None
+        if self._blocked is not None and self.sim.time_s < self._blocked[1]:
+            blocked = math.remainder(self._blocked[0] - self.sim.odometry[2], 2 * math.pi)
+        return Context(ring_m, self._last_turn, bearing, self._wall_side, blocked)
 
     def _plan(self, choice: Choice) -> None:
         self._queue = [(c, -1) for c in spin_commands(choice.rotation, self.robot)]
@@ -126,10 +135,12 @@ class Runner:
         if side:
             self._last_turn = side
 
-    def _back_off(self, forward: Command) -> None:
+    def _back_off(self, forward: tuple[Command, int]) -> None:
         """Reverse along the arc that met (or nearly met) an obstacle, then look elsewhere."""
-        self._queue = [(c, -1) for c in backoff_commands(forward, self.robot, BACKOFF_M)]
-        self._ahead_blocked = True
+        command, trajectory = forward
+        self._queue = [(c, -1) for c in backoff_commands(command, self.robot, BACKOFF_M)]
+        way = self.sim.odometry[2] + self._headings[0, trajectory]
+        self._blocked = (way, self.sim.time_s + BLOCKED_S)
 
     def _blind_ahead(self, ring_m: np.ndarray) -> bool:
         """A front sonar reads its minimum range: something is inside its blind zone."""
@@ -157,7 +168,6 @@ class Runner:
                     self.params.threshold,
                     ctx,
                 )
-                self._ahead_blocked = False
                 if choice is None:
                     if not self._trapped:
                         metrics.trapped()
@@ -168,7 +178,7 @@ class Runner:
                     self._plan(choice)
             command, trajectory = self._queue.pop(0)
             self.sim.step(command)
-            self._forward = command if command.linear_mps > 0 else None
+            self._forward = (command, trajectory) if command.linear_mps > 0 else None
             if self.sim.bumped and self._forward is not None:
                 # Back off along the arc that met the obstacle (a spin or a back-off cannot
                 # have driven into it), as learning does.

@@ -87,14 +87,23 @@ def test_no_fast_trajectory_ahead_takes_the_nearest_rotated_one() -> None:
     assert choice == Choice(-2, T0, V_MAX[T0])
 
 
-def test_a_bump_makes_the_way_ahead_not_fast() -> None:
-    velocities = perceiving({0: list(range(7)), 1: [T0]})
-    assert pick(velocities, "avoid", ahead_blocked=True) == Choice(1, T0, V_MAX[T0])
+def test_a_bump_makes_the_way_it_met_the_obstacle_not_fast() -> None:
+    # Straight ahead blocked: T0, T1 and T2 head within 45 degrees of it, T3 (57) does not.
+    velocities = perceiving({0: list(range(7))})
+    assert pick(velocities, "avoid", blocked_bearing_rad=0.0) == Choice(0, T3L, V_MAX[T3L])
+
+
+def test_the_blocked_way_is_blocked_in_every_rotated_view() -> None:
+    # Facing sonar 2 (45 degrees left), T2R heads 16 degrees left: inside the blocked way.
+    velocities = perceiving({2: [T2R], -4: [T0]})
+    assert pick(velocities, "avoid") == Choice(2, T2R, V_MAX[T2R])
+    assert pick(velocities, "avoid", blocked_bearing_rad=0.0) == Choice(-4, T0, V_MAX[T0])
 
 
 def test_nothing_fast_in_any_direction_is_trapped() -> None:
     assert pick(slow_everywhere(), "avoid") is None
-    assert pick(perceiving({0: list(range(7))}), "avoid", ahead_blocked=True) is None
+    velocities = perceiving({0: [T2L, T1L, T0, T1R, T2R]})
+    assert pick(velocities, "avoid", blocked_bearing_rad=0.0) is None
 
 
 def test_goal_takes_the_fast_trajectory_heading_nearest_the_goal() -> None:

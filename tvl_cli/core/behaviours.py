@@ -21,6 +21,8 @@ LOOKAHEAD_M = 0.5
 DEFAULT_THRESHOLD = 0.85
 # A reading this short on one side means a wall to follow on that side.
 WALL_SEEN_M = 1.0
+# Trajectories heading within this angle of the way that just met an obstacle are not fast.
+BLOCKED_HALF_WIDTH_RAD = math.pi / 4
 LEFT_SONARS = (2, 3, 4, 5, 6)
 RIGHT_SONARS = (10, 11, 12, 13, 14)
 
@@ -33,10 +35,12 @@ class Context:
     last_turn: int = 1  # +1 left, -1 right: the side an avoid tie keeps
     goal_bearing_rad: float = 0.0  # goal direction relative to the heading (goal only)
     wall_side: int = 0  # +1 left, -1 right, 0 none seen yet (wall following only)
-    # A bump is evidence the FAM over-rated the way ahead: the ring reads much the same after
-    # backing off, so trusting it again would repeat the bump. Rotation 0 is then not fast,
-    # and rotating foveal perception finds another direction.
-    ahead_blocked: bool = False
+    # A bump (or a near miss) is evidence the FAM over-rated the way the robot went: the ring
+    # reads much the same after backing off, and an object it cannot see (a convex corner, a
+    # table edge) is still there, so trusting it again would repeat the bump. For a while
+    # after, every trajectory heading near that way (this bearing, relative to the heading
+    # now) is not fast, in every rotated view, and the choice goes elsewhere.
+    blocked_bearing_rad: float | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -133,8 +137,9 @@ def choose(
     headings: (16, 7) from trajectory_headings.
     """
     fast = velocities >= threshold * v_max[None, :]
-    if ctx.ahead_blocked:
-        fast[0] = False
+    if ctx.blocked_bearing_rad is not None:
+        off = np.abs(np.angle(np.exp(1j * (headings - ctx.blocked_bearing_rad))))
+        fast &= off > BLOCKED_HALF_WIDTH_RAD
     n_sonars, n_traj = velocities.shape
     lateral = lateral_sides(n_traj)
     scorer = _wall_score(ctx.wall_side or 1) if behaviour == "wall" else BEHAVIOURS[behaviour]
