@@ -130,7 +130,7 @@ class Learner:
         self.sim = Simulator(world, robot, np.random.default_rng(sim_seed))
         self.rng = np.random.default_rng(choice_seed)
         # The sonars facing ahead of the body's middle (sideways ones included).
-        self._ahead = list(sonars_within(math.pi / 2, robot.sonar.count))
+        self._ahead = np.array(sonars_within(math.pi / 2, robot.sonar.count))
 
     def _too_near(self, ring_m: np.ndarray, start_m: np.ndarray) -> bool:
         """A sonar ahead reads within near_m, having closed in since the episode started."""

@@ -104,7 +104,7 @@ class Runner:
         # The way that last met an obstacle, by odometry (world heading, radians), and until
         # when (simulated seconds) it stays out of the choice.
         self._blocked: tuple[float, float] | None = None
-        self._front = list(sonars_within(NEAR_MISS_WITHIN_RAD, robot.sonar.count))
+        self._front = np.array(sonars_within(NEAR_MISS_WITHIN_RAD, robot.sonar.count))
         # The last command and its trajectory, if it drove forward.
         self._forward: tuple[Command, int] | None = None
 
