@@ -31,6 +31,7 @@ class DemoRow:
     config: str
     behaviour: str
     metrics: RunMetrics
+    near_misses: int
     png: Path
 
 
@@ -72,5 +73,5 @@ def run_demo(directory: Path, force: bool, say: Callable[[str], None]) -> DemoRe
                     fam_path, world, behaviour, DEFAULT_THRESHOLD, RUN_MINUTES, DEMO_SEED, png=png
                 )
             )
-            rows.append(DemoRow(config.name, behaviour, result.metrics, png))
+            rows.append(DemoRow(config.name, behaviour, result.metrics, result.near_misses, png))
     return DemoResult(directory, learning, rows)
