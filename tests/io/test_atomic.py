@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import pytest
@@ -44,6 +45,30 @@ def test_interrupt_removes_the_temporary_file(tmp_path: Path) -> None:
         temporary.write_text("half")
         raise KeyboardInterrupt
     assert list(tmp_path.iterdir()) == []
+
+
+def _finished_pid() -> int:
+    """The process id of a process that has ended."""
+    import subprocess
+    import sys
+
+    child = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], check=True,
+                           capture_output=True, text=True)  # fmt: skip
+    return int(child.stdout)
+
+
+def test_temporary_files_of_killed_writers_are_removed_by_the_next_write(tmp_path: Path) -> None:
+    path = tmp_path / "out.h5"
+    abandoned = tmp_path / f".out.h5.{_finished_pid()}.0a1b2c3d.tmp"
+    at_work = tmp_path / f".out.h5.{os.getpid()}.4e5f6a7b.tmp"  # this process still runs
+    other = tmp_path / f".other.h5.{_finished_pid()}.0a1b2c3d.tmp"
+    for leftover in (abandoned, at_work, other):
+        leftover.write_text("half")
+    with atomic_output(path) as temporary:
+        temporary.write_text("new")
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(
+        ["out.h5", at_work.name, other.name]
+    )
 
 
 def test_replacing_keeps_the_permissions_of_the_old_file(tmp_path: Path) -> None:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import glob
 import os
 import secrets
 import stat
@@ -24,6 +25,7 @@ def atomic_output(path: Path | str) -> Iterator[Path]:
         raise BadInput(f"{path}: cannot write, directory {path.parent} does not exist")
     if path.is_dir():
         raise BadInput(f"{path}: is a directory, not a file")
+    _remove_abandoned_temporaries(path)
     temporary = path.with_name(f".{path.name}.{os.getpid()}.{secrets.token_hex(4)}.tmp")
     try:
         # Created here, not by the writer, so that a read-only directory is a clear error;
@@ -41,3 +43,25 @@ def atomic_output(path: Path | str) -> Iterator[Path]:
     except BaseException:
         temporary.unlink(missing_ok=True)
         raise
+
+
+def _remove_abandoned_temporaries(path: Path) -> None:
+    """Delete temporary files for `path` left by writers that no longer run.
+
+    Only a hard kill (SIGKILL, a power cut) gets past the cleanup above; the writer's process
+    id in the name tells such leftovers from the temporary file of a writer still at work.
+    """
+    for leftover in path.parent.glob(f".{glob.escape(path.name)}.*.tmp"):
+        pid = leftover.name[len(path.name) + 2 :].split(".")[0]
+        if pid.isdigit() and not _running(int(pid)):
+            leftover.unlink(missing_ok=True)
+
+
+def _running(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)  # signal 0: only asks whether the process exists
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True  # it exists, under another user
+    return True
