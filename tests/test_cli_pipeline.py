@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 import shutil
 from pathlib import Path
 
@@ -148,14 +149,19 @@ def test_run_prints_the_metrics_json(run_tvl, learnt, tmp_path):
     assert replayed["format"] == "tvl-run" and replayed["steps"] == 300
 
 
-def test_run_table_counts_near_misses_and_the_trace_records_the_switch(run_tvl, learnt, tmp_path):
+def test_run_counts_near_misses_unless_switched_off(run_tvl, learnt, tmp_path):
+    on = run_tvl(
+        "run", learnt["online"], SQUARE, "--behaviour", "avoid", "--minutes", "0.2",
+    )  # fmt: skip
+    assert on.returncode == 0, on.stderr
+    assert re.search(r"near misses \(backed off before any contact\): \d+", on.stdout)
     trace = tmp_path / "run.h5"
-    result = run_tvl(
+    off = run_tvl(
         "run", learnt["online"], SQUARE, "--behaviour", "avoid", "--minutes", "0.2",
         "--no-near-miss", "--log", trace,
     )  # fmt: skip
-    assert result.returncode == 0, result.stderr
-    assert "near_misses" in result.stdout
+    assert off.returncode == 0, off.stderr
+    assert "near misses" not in off.stdout
     replayed = json.loads(run_tvl("replay", trace, "--json").stdout)
     assert replayed["near_miss_backoff"] is False
 

@@ -413,7 +413,9 @@ def run(
     if as_json:
         _print_json(asdict(result.metrics))
     else:
-        views.run_metrics(result.metrics, near_misses=result.near_misses)
+        views.run_metrics(
+            result.metrics, near_misses=result.near_misses if near_miss_backoff else None
+        )
 
 
 @main.command()

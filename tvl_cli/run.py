@@ -10,13 +10,16 @@ import numpy as np
 
 from tvl_cli.core.behaviours import (
     DEFAULT_THRESHOLD,
+    BlockedWay,
     Choice,
     Context,
+    blocked_bearings,
     choose,
     lateral_sides,
     nearest_side,
     trajectory_headings,
     wall_seen,
+    wrap_rad,
 )
 from tvl_cli.core.command import Command
 from tvl_cli.core.config import RobotConfig, sonars_within
@@ -29,12 +32,13 @@ from tvl_cli.sim.worldmap import WorldMap
 GOAL_RADIUS_M = 0.3
 # A sonar within this angle of straight ahead that reads inside its blind zone (at its minimum
 # range) while the robot drives forward means an object the ring can no longer range is about
-# to meet the body: the robot backs off as after a bump, just as learning ends an episode
-# there (a sonar within the blind zone is a collision point, `LearnParams.near_m`). Sideways
-# sonars do not count: a wall alongside, as in a narrow passage, is passed, not met.
+# to meet the body: the robot backs off as after a bump, without touching. (Learning places a
+# collision point where a sonar ahead enters the blind zone for the same reason; see
+# `LearnParams.near_m`.) Sideways sonars do not count: a wall alongside, as in a narrow
+# passage, is passed, not met.
 NEAR_MISS_WITHIN_RAD = math.pi / 4
-# How long the way that met an obstacle stays out of the choice (Context.blocked_bearing_rad):
-# time to back off and drive clear of the spot, short enough to try that way again later.
+# How long a way that met an obstacle stays out of the choice (BlockedWay), once backed off:
+# time to drive clear of the spot, short enough to try that way again later.
 BLOCKED_S = 2.0
 # Trapped: turn slowly on the spot so the ring sees new directions.
 TRAPPED_SPIN_RADPS = 0.3
@@ -76,8 +80,7 @@ TraceFn = Callable[[StepRecord], None]
 def goal_bearing(odometry: tuple[float, float, float], goal_xy: tuple[float, float]) -> float:
     """Goal direction relative to the heading, (-pi, pi], from odometry alone."""
     x, y, theta = odometry
-    bearing = math.atan2(goal_xy[1] - y, goal_xy[0] - x) - theta
-    return math.atan2(math.sin(bearing), math.cos(bearing))
+    return wrap_rad(math.atan2(goal_xy[1] - y, goal_xy[0] - x) - theta)
 
 
 class Runner:
@@ -96,17 +99,17 @@ class Runner:
         self._v_max = np.array(robot.v_max_mps)
         curvatures = np.array([t.curvature_per_m for t in robot.trajectories])
         self._headings = trajectory_headings(curvatures, robot.sonar.count)
+        # Where each trajectory sets off: its heading over the back-off distance, the stretch
+        # in which an obstacle just met lies.
+        self._starts = trajectory_headings(curvatures, robot.sonar.count, BACKOFF_M)
         self._sides = lateral_sides(len(robot.trajectories))
         self._queue: list[tuple[Command, int]] = []  # commands already decided
         self._last_turn = 1
         self._wall_side = 0
         self._trapped = False
-        # The way that last met an obstacle, by odometry (world heading, radians), and until
-        # when (simulated seconds) it stays out of the choice.
-        self._blocked: tuple[float, float] | None = None
+        self._blocked: list[BlockedWay] = []
         self._front = np.array(sonars_within(NEAR_MISS_WITHIN_RAD, robot.sonar.count))
-        # The last command and its trajectory, if it drove forward.
-        self._forward: tuple[Command, int] | None = None
+        self._forward: Command | None = None  # the last command, if it followed a trajectory
 
     def _context(self, ring_m: np.ndarray) -> Context:
         behaviour = self.params.behaviour
@@ -122,9 +125,7 @@ class Runner:
         bearing = (
             goal_bearing(self.sim.odometry, self.params.goal_xy) if self.params.goal_xy else 0.0
         )
-        blocked = None
-        if self._blocked is not None and self.sim.time_s < self._blocked[1]:
-            blocked = math.remainder(self._blocked[0] - self.sim.odometry[2], 2 * math.pi)
+        blocked = blocked_bearings(self._blocked, self.sim.odometry[2], self.sim.time_s)
         return Context(ring_m, self._last_turn, bearing, self._wall_side, blocked)
 
     def _plan(self, choice: Choice) -> None:
@@ -135,12 +136,15 @@ class Runner:
         if side:
             self._last_turn = side
 
-    def _back_off(self, forward: tuple[Command, int]) -> None:
-        """Reverse along the arc that met (or nearly met) an obstacle, then look elsewhere."""
-        command, trajectory = forward
-        self._queue = [(c, -1) for c in backoff_commands(command, self.robot, BACKOFF_M)]
-        way = self.sim.odometry[2] + self._headings[0, trajectory]
-        self._blocked = (way, self.sim.time_s + BLOCKED_S)
+    def _back_off(self, forward: Command) -> None:
+        """Reverse along the arc that met (or nearly met) an obstacle, and keep the way it
+        was driving out of the choices until BLOCKED_S after the back-off."""
+        reverse = backoff_commands(forward, self.robot, BACKOFF_M)
+        self._queue = [(c, -1) for c in reverse]
+        now = self.sim.time_s
+        clear_s = now + len(reverse) * self.robot.control_period_s + BLOCKED_S
+        self._blocked = [w for w in self._blocked if now < w.until_s]
+        self._blocked.append(BlockedWay(self.sim.odometry[2], clear_s))
 
     def _blind_ahead(self, ring_m: np.ndarray) -> bool:
         """A front sonar reads its minimum range: something is inside its blind zone."""
@@ -164,6 +168,7 @@ class Runner:
                     velocities,
                     self._v_max,
                     self._headings,
+                    self._starts,
                     self.params.behaviour,
                     self.params.threshold,
                     ctx,
@@ -178,7 +183,8 @@ class Runner:
                     self._plan(choice)
             command, trajectory = self._queue.pop(0)
             self.sim.step(command)
-            self._forward = (command, trajectory) if command.linear_mps > 0 else None
+            # Only a planned trajectory drives forward; spins and back-offs never do.
+            self._forward = command if trajectory >= 0 else None
             if self.sim.bumped and self._forward is not None:
                 # Back off along the arc that met the obstacle (a spin or a back-off cannot
                 # have driven into it), as learning does.

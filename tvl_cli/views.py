@@ -155,15 +155,16 @@ def _metrics_rows(metrics: RunMetrics) -> list[tuple[str, str]]:
 
 
 def run_metrics(metrics: RunMetrics, near_misses: int | None = None) -> None:
-    """The metrics of a run; for a FAM run also its back-offs before any contact."""
+    """The metrics of a run (what --json prints), then, when the robot backs off from near
+    misses, how many times it did."""
     table = Table(show_header=False)
     table.add_column()
     table.add_column(justify="right")
     for name, value in _metrics_rows(metrics):
         table.add_row(name, value)
-    if near_misses is not None:
-        table.add_row("near_misses", str(near_misses))
     out.print(table)
+    if near_misses is not None:
+        out.print(f"near misses (backed off before any contact): {near_misses}")
 
 
 def replay(summary: Replay) -> None:

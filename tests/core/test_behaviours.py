@@ -5,15 +5,23 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
+import pytest
 
-from tvl_cli.core.behaviours import Choice, Context, choose, trajectory_headings
+from tvl_cli.core.behaviours import (
+    BlockedWay,
+    Choice,
+    Context,
+    blocked_bearings,
+    choose,
+    trajectory_headings,
+)
 from tvl_cli.core.config import RobotConfig
 
 ROBOT = RobotConfig()
 V_MAX = np.array(ROBOT.v_max_mps)  # (7,) T3L .. T3R
-HEADINGS = trajectory_headings(
-    np.array([t.curvature_per_m for t in ROBOT.trajectories]), ROBOT.sonar.count
-)
+CURVATURES = np.array([t.curvature_per_m for t in ROBOT.trajectories])
+HEADINGS = trajectory_headings(CURVATURES, ROBOT.sonar.count)
+STARTS = trajectory_headings(CURVATURES, ROBOT.sonar.count, 0.15)  # T3 sets off 17 degrees
 T3L, T2L, T1L, T0, T1R, T2R, T3R = range(7)
 FAR = np.full(16, 4.0)  # (16,) metres: nothing in sight
 
@@ -34,7 +42,7 @@ def perceiving(fast: dict[int, list[int]]) -> np.ndarray:
 def pick(
     velocities: np.ndarray, behaviour: str, ring_m: np.ndarray = FAR, **context: Any
 ) -> Choice | None:
-    return choose(velocities, V_MAX, HEADINGS, behaviour, 0.85, Context(ring_m, **context))
+    return choose(velocities, V_MAX, HEADINGS, STARTS, behaviour, 0.85, Context(ring_m, **context))
 
 
 def test_avoid_goes_straight_when_straight_is_fast() -> None:
@@ -88,22 +96,48 @@ def test_no_fast_trajectory_ahead_takes_the_nearest_rotated_one() -> None:
 
 
 def test_a_bump_makes_the_way_it_met_the_obstacle_not_fast() -> None:
-    # Straight ahead blocked: T0, T1 and T2 head within 45 degrees of it, T3 (57) does not.
-    velocities = perceiving({0: list(range(7))})
-    assert pick(velocities, "avoid", blocked_bearing_rad=0.0) == Choice(0, T3L, V_MAX[T3L])
+    # Straight ahead blocked: every trajectory facing as now sets off within 45 degrees of it.
+    velocities = perceiving({0: list(range(7)), 3: [T0]})
+    assert pick(velocities, "avoid") == Choice(0, T0, V_MAX[T0])
+    assert pick(velocities, "avoid", blocked_bearings_rad=(0.0,)) == Choice(3, T0, V_MAX[T0])
 
 
 def test_the_blocked_way_is_blocked_in_every_rotated_view() -> None:
-    # Facing sonar 2 (45 degrees left), T2R heads 16 degrees left: inside the blocked way.
+    # Facing sonar 2 (45 degrees left), T2R sets off 36 degrees left: inside the blocked way.
     velocities = perceiving({2: [T2R], -4: [T0]})
     assert pick(velocities, "avoid") == Choice(2, T2R, V_MAX[T2R])
-    assert pick(velocities, "avoid", blocked_bearing_rad=0.0) == Choice(-4, T0, V_MAX[T0])
+    assert pick(velocities, "avoid", blocked_bearings_rad=(0.0,)) == Choice(-4, T0, V_MAX[T0])
+
+
+def test_every_blocked_way_counts() -> None:
+    velocities = perceiving({0: [T0], 4: [T0], -4: [T0]})
+    blocked = (0.0, np.pi / 2)  # straight ahead and to the left
+    assert pick(velocities, "avoid", blocked_bearings_rad=blocked) == Choice(-4, T0, V_MAX[T0])
+
+
+def test_blocked_ways_turn_with_the_robot_and_expire() -> None:
+    ways = [BlockedWay(heading_rad=1.0, until_s=5.0), BlockedWay(heading_rad=3.0, until_s=2.0)]
+    assert blocked_bearings(ways, heading_rad=0.5, time_s=3.0) == pytest.approx((0.5,))
+    assert blocked_bearings(ways, heading_rad=0.5, time_s=1.0) == pytest.approx((0.5, 2.5))
+    # Bearings wrap: a way at 3.0 rad seen from a heading of -3.0 rad is 0.28 rad to the right.
+    assert blocked_bearings(ways, heading_rad=-3.0, time_s=1.0)[1] == pytest.approx(6.0 - 2 * np.pi)
+    assert blocked_bearings(ways, heading_rad=0.5, time_s=5.0) == ()
 
 
 def test_nothing_fast_in_any_direction_is_trapped() -> None:
     assert pick(slow_everywhere(), "avoid") is None
-    velocities = perceiving({0: [T2L, T1L, T0, T1R, T2R]})
-    assert pick(velocities, "avoid", blocked_bearing_rad=0.0) is None
+    velocities = perceiving({0: list(range(7))})
+    assert pick(velocities, "avoid", blocked_bearings_rad=(0.0,)) is None
+
+
+def test_wall_left_and_wall_right_are_mirror_images_when_readings_tie() -> None:
+    # Nothing in range on either side: every sonar reads its maximum.
+    velocities = perceiving({0: list(range(7))})
+    left = pick(velocities, "wall-left", wall_side=1)
+    right = pick(velocities, "wall-right", wall_side=-1)
+    assert left is not None and right is not None
+    assert (left.rotation, right.rotation) == (0, 0)
+    assert right.trajectory == 6 - left.trajectory
 
 
 def test_goal_takes_the_fast_trajectory_heading_nearest_the_goal() -> None:

@@ -59,16 +59,22 @@ def _finished_pid() -> int:
 
 def test_temporary_files_of_killed_writers_are_removed_by_the_next_write(tmp_path: Path) -> None:
     path = tmp_path / "out.h5"
-    abandoned = tmp_path / f".out.h5.{_finished_pid()}.0a1b2c3d.tmp"
-    at_work = tmp_path / f".out.h5.{os.getpid()}.4e5f6a7b.tmp"  # this process still runs
-    other = tmp_path / f".other.h5.{_finished_pid()}.0a1b2c3d.tmp"
-    for leftover in (abandoned, at_work, other):
+    with atomic_output(path) as temporary:  # learn how this host names its temporary files
+        host = temporary.name.split(".")[3]
+        temporary.write_text("x")
+    gone = _finished_pid()
+    abandoned = tmp_path / f".out.h5.{host}.{gone}.0a1b2c3d.tmp"
+    kept = [
+        tmp_path / f".out.h5.{host}.{os.getpid()}.4e5f6a7b.tmp",  # a writer still at work
+        tmp_path / f".out.h5.elsewhere.{gone}.0a1b2c3d.tmp",  # another host's writer
+        tmp_path / f".out.h5.7.{host}.{gone}.0a1b2c3d.tmp",  # the file out.h5.7's
+        tmp_path / f".other.h5.{host}.{gone}.0a1b2c3d.tmp",
+    ]
+    for leftover in (abandoned, *kept):
         leftover.write_text("half")
     with atomic_output(path) as temporary:
         temporary.write_text("new")
-    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(
-        ["out.h5", at_work.name, other.name]
-    )
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(["out.h5", *(k.name for k in kept)])
 
 
 def test_replacing_keeps_the_permissions_of_the_old_file(tmp_path: Path) -> None:

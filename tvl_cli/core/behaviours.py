@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import TypeVar
 
 import numpy as np
 
@@ -21,10 +22,11 @@ LOOKAHEAD_M = 0.5
 DEFAULT_THRESHOLD = 0.85
 # A reading this short on one side means a wall to follow on that side.
 WALL_SEEN_M = 1.0
-# Trajectories heading within this angle of the way that just met an obstacle are not fast.
+# Trajectories setting off within this angle of a way that met an obstacle are not fast.
 BLOCKED_HALF_WIDTH_RAD = math.pi / 4
+# Each side front to back, mirror images, so that equal readings pick the same sonar on both.
 LEFT_SONARS = (2, 3, 4, 5, 6)
-RIGHT_SONARS = (10, 11, 12, 13, 14)
+RIGHT_SONARS = (14, 13, 12, 11, 10)
 
 
 @dataclass(frozen=True, slots=True)
@@ -35,12 +37,30 @@ class Context:
     last_turn: int = 1  # +1 left, -1 right: the side an avoid tie keeps
     goal_bearing_rad: float = 0.0  # goal direction relative to the heading (goal only)
     wall_side: int = 0  # +1 left, -1 right, 0 none seen yet (wall following only)
-    # A bump (or a near miss) is evidence the FAM over-rated the way the robot went: the ring
-    # reads much the same after backing off, and an object it cannot see (a convex corner, a
-    # table edge) is still there, so trusting it again would repeat the bump. For a while
-    # after, every trajectory heading near that way (this bearing, relative to the heading
-    # now) is not fast, in every rotated view, and the choice goes elsewhere.
-    blocked_bearing_rad: float | None = None
+    # Ways that met an obstacle lately (bearings relative to the heading now; BlockedWay).
+    blocked_bearings_rad: tuple[float, ...] = ()
+
+
+@dataclass(frozen=True, slots=True)
+class BlockedWay:
+    """A way that met an obstacle: the world heading (by odometry) the robot was driving when
+    it bumped or nearly bumped, kept out of its choices until a time.
+
+    A bump is evidence the FAM over-rated that way: after backing off the ring reads much
+    the same, and an object it cannot see (a convex corner, a table edge) is still there, so
+    trusting it again would repeat the bump. Until then, every trajectory setting off within
+    BLOCKED_HALF_WIDTH_RAD of it is not fast, in every rotated view.
+    """
+
+    heading_rad: float
+    until_s: float
+
+
+def blocked_bearings(
+    ways: list[BlockedWay], heading_rad: float, time_s: float
+) -> tuple[float, ...]:
+    """The bearings, relative to `heading_rad`, of the ways still blocked at `time_s`."""
+    return tuple(wrap_rad(w.heading_rad - heading_rad) for w in ways if time_s < w.until_s)
 
 
 @dataclass(frozen=True, slots=True)
@@ -52,11 +72,20 @@ class Choice:
     speed_mps: float
 
 
-def trajectory_headings(curvatures_per_m: np.ndarray, sonar_count: int) -> np.ndarray:
-    """(sonar_count, 7) heading of each rotated trajectory after LOOKAHEAD_M, radians."""
+Angle = TypeVar("Angle", float, np.ndarray)
+
+
+def wrap_rad(angle: Angle) -> Angle:
+    """An angle (or an array of them) wrapped to [-pi, pi)."""
+    return (angle + math.pi) % (2 * math.pi) - math.pi
+
+
+def trajectory_headings(
+    curvatures_per_m: np.ndarray, sonar_count: int, lookahead_m: float = LOOKAHEAD_M
+) -> np.ndarray:
+    """(sonar_count, 7) heading of each rotated trajectory after lookahead_m of it, radians."""
     sonar_angles = np.arange(sonar_count) * (2 * math.pi / sonar_count)
-    headings = sonar_angles[:, None] + curvatures_per_m[None, :] * LOOKAHEAD_M
-    return np.angle(np.exp(1j * headings))  # wrapped to (-pi, pi]
+    return wrap_rad(sonar_angles[:, None] + curvatures_per_m[None, :] * lookahead_m)
 
 
 def wall_seen(ring_m: np.ndarray, side: int) -> bool:
@@ -77,7 +106,7 @@ def nearest_side(ring_m: np.ndarray) -> int:
 def _wall_bearing(ring_m: np.ndarray, side: int) -> float:
     sonars = LEFT_SONARS if side > 0 else RIGHT_SONARS
     nearest = sonars[int(np.argmin(ring_m[list(sonars)]))]
-    return float(np.angle(np.exp(1j * nearest * 2 * math.pi / len(ring_m))))
+    return float(wrap_rad(nearest * 2 * math.pi / len(ring_m)))
 
 
 # A score per candidate (lower is better) for one rotation's fast trajectories.
@@ -100,9 +129,9 @@ def _wall_score(side: int) -> Scorer:
             return _avoid_score(headings, lateral, ctx)
         # Paper §2.1: the fast trajectory nearest the nearest object on the wall's side, without
         # passing it (for a wall on the left, the nearest to its right), measured from the
-        # object's bearing away from it. The outermost arc is taken only while it still heads
-        # short of the wall; in open space that arc is fast all the way round, and taking it
-        # regardless would circle on the spot instead of closing in on the wall.
+        # object's bearing away from it. The outermost arc qualifies only while it heads short
+        # of the wall: with the wall a metre off, a T3 arc is fast all the way round, and
+        # taking it there circles beside the wall instead of closing in on it.
         away = (_wall_bearing(ctx.ring_m, side) - headings) * side
         return np.mod(away, 2 * math.pi)
 
@@ -110,7 +139,7 @@ def _wall_score(side: int) -> Scorer:
 
 
 def _goal_score(headings: np.ndarray, lateral: np.ndarray, ctx: Context) -> np.ndarray:
-    return np.abs(np.angle(np.exp(1j * (headings - ctx.goal_bearing_rad))))
+    return np.abs(wrap_rad(headings - ctx.goal_bearing_rad))
 
 
 BEHAVIOURS: dict[str, Scorer] = {
@@ -127,6 +156,7 @@ def choose(
     velocities: np.ndarray,
     v_max: np.ndarray,
     headings: np.ndarray,
+    starts: np.ndarray,
     behaviour: str,
     threshold: float,
     ctx: Context,
@@ -134,12 +164,13 @@ def choose(
     """Pick a fast trajectory for `behaviour`, or None when no direction has one (trapped).
 
     velocities: (16, 7) perceived m/s, row k as if facing sonar k; v_max: (7,);
-    headings: (16, 7) from trajectory_headings.
+    headings: (16, 7) from trajectory_headings, how behaviours judge where a trajectory goes;
+    starts: (16, 7) the same over the short stretch where an obstacle just met lies, how
+    blocked ways (ctx.blocked_bearings_rad) are judged.
     """
     fast = velocities >= threshold * v_max[None, :]
-    if ctx.blocked_bearing_rad is not None:
-        off = np.abs(np.angle(np.exp(1j * (headings - ctx.blocked_bearing_rad))))
-        fast &= off > BLOCKED_HALF_WIDTH_RAD
+    for bearing in ctx.blocked_bearings_rad:
+        fast &= np.abs(wrap_rad(starts - bearing)) > BLOCKED_HALF_WIDTH_RAD
     n_sonars, n_traj = velocities.shape
     lateral = lateral_sides(n_traj)
     scorer = _wall_score(ctx.wall_side or 1) if behaviour == "wall" else BEHAVIOURS[behaviour]

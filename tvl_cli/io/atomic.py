@@ -4,13 +4,18 @@ from __future__ import annotations
 
 import glob
 import os
+import re
 import secrets
+import socket
 import stat
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
 from tvl_cli.core.errors import BadInput
+
+# This host's name as it appears in temporary file names (no dots, so names split cleanly).
+_HOST = socket.gethostname().replace(".", "-").replace("/", "-") or "host"
 
 
 @contextmanager
@@ -26,7 +31,7 @@ def atomic_output(path: Path | str) -> Iterator[Path]:
     if path.is_dir():
         raise BadInput(f"{path}: is a directory, not a file")
     _remove_abandoned_temporaries(path)
-    temporary = path.with_name(f".{path.name}.{os.getpid()}.{secrets.token_hex(4)}.tmp")
+    temporary = path.with_name(f".{path.name}.{_HOST}.{os.getpid()}.{secrets.token_hex(4)}.tmp")
     try:
         # Created here, not by the writer, so that a read-only directory is a clear error;
         # an ordinary open() gives the file the user's usual permissions (umask).
@@ -46,14 +51,18 @@ def atomic_output(path: Path | str) -> Iterator[Path]:
 
 
 def _remove_abandoned_temporaries(path: Path) -> None:
-    """Delete temporary files for `path` left by writers that no longer run.
+    """Delete temporary files for `path` left by writers on this host that no longer run.
 
-    Only a hard kill (SIGKILL, a power cut) gets past the cleanup above; the writer's process
-    id in the name tells such leftovers from the temporary file of a writer still at work.
+    Only a hard kill (SIGKILL, a power cut) gets past the cleanup above. The host and process
+    id in the name tell such leftovers from the temporary file of a writer still at work,
+    here or on another host sharing the directory (whose processes this host cannot see).
     """
+    pattern = re.compile(
+        rf"\.{re.escape(path.name)}\.{re.escape(_HOST)}\.(\d+)\.[0-9a-f]{{8}}\.tmp"
+    )
     for leftover in path.parent.glob(f".{glob.escape(path.name)}.*.tmp"):
-        pid = leftover.name[len(path.name) + 2 :].split(".")[0]
-        if pid.isdigit() and not _running(int(pid)):
+        found = pattern.fullmatch(leftover.name)
+        if found and not _running(int(found.group(1))):
             leftover.unlink(missing_ok=True)
 
 
