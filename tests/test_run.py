@@ -13,7 +13,7 @@ from tvl_cli.core.config import SINGLE, RobotConfig
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.metrics import MetricsRecorder
 from tvl_cli.learn import Learner, LearnParams
-from tvl_cli.run import Runner, RunParams, StepRecord
+from tvl_cli.run import BLOCKED_S, Runner, RunParams, StepRecord
 from tvl_cli.sim.robot import Simulator
 from tvl_cli.sim.worldmap import WorldMap, parse_world
 from tvl_cli.training import TrainParams
@@ -163,3 +163,27 @@ def test_after_a_near_miss_the_robot_sets_off_away_from_the_way_it_met_the_wall(
     # Every trajectory is fast, yet the robot (which met the wall driving east, heading 0)
     # turns on the spot until what it follows sets off more than 45 degrees away from east.
     assert abs(math.remainder(after.pose[2], 2 * math.pi)) > math.radians(40)
+
+
+def test_a_near_miss_blocks_the_way_by_odometry_until_two_seconds_after_backing_off() -> None:
+    steps: list[StepRecord] = []
+    params = RunParams("avoid", 0.85, TO_THE_END_WALL_MIN)
+    runner = Runner(HALL, ROBOT, fast_everywhere_fam(), params, seed=1)
+    runner.run(steps.append)
+    event = next(i for i, s in enumerate(steps) if s.speed_mps < 0)  # the first reversing step
+    reversing = sum(1 for s in steps[event:] if s.speed_mps < 0)
+    (way,) = runner.blocked_ways
+    before = steps[event - 1]  # the step that drove into the blind zone
+    assert way.heading_rad == before.odometry[2] != before.pose[2]
+    dt = ROBOT.control_period_s
+    assert way.until_s == pytest.approx(event * dt + reversing * dt + BLOCKED_S)
+
+
+def test_five_minutes_of_steps_are_exactly_five_minutes() -> None:
+    # One collision in 3000 control steps of 0.1 s is 0.2 a minute, not a hair over.
+    metrics = MetricsRecorder((0.0, 0.0))
+    for step in range(3000):
+        metrics.record((0.0, 0.0), ROBOT.control_period_s, step == 10, 0.5, False)
+    result = metrics.result()
+    assert result.sim_s == 300.0
+    assert result.collisions_per_min == 0.2

@@ -13,9 +13,9 @@ from tvl_cli.core.behaviours import (
     BlockedWay,
     Choice,
     Context,
+    block_way,
     blocked_bearings,
     choose,
-    lateral_sides,
     nearest_side,
     trajectory_headings,
     wall_seen,
@@ -78,7 +78,7 @@ TraceFn = Callable[[StepRecord], None]
 
 
 def goal_bearing(odometry: tuple[float, float, float], goal_xy: tuple[float, float]) -> float:
-    """Goal direction relative to the heading, (-pi, pi], from odometry alone."""
+    """Goal direction relative to the heading, [-pi, pi), from odometry alone."""
     x, y, theta = odometry
     return wrap_rad(math.atan2(goal_xy[1] - y, goal_xy[0] - x) - theta)
 
@@ -102,7 +102,6 @@ class Runner:
         # Where each trajectory sets off: its heading over the back-off distance, the stretch
         # in which an obstacle just met lies.
         self._starts = trajectory_headings(curvatures, robot.sonar.count, BACKOFF_M)
-        self._sides = lateral_sides(len(robot.trajectories))
         self._queue: list[tuple[Command, int]] = []  # commands already decided
         self._last_turn = 1
         self._wall_side = 0
@@ -132,9 +131,17 @@ class Runner:
         self._queue = [(c, -1) for c in spin_commands(choice.rotation, self.robot)]
         traj = self.robot.trajectories[choice.trajectory]
         self._queue.append((Command.follow(traj, choice.speed_mps), choice.trajectory))
-        side = int(self._sides[choice.trajectory])
+        # The side the robot turns to, spin and arc together, is the side a tie keeps next.
+        side = int(
+            np.sign(self._headings[choice.rotation % len(self._headings), choice.trajectory])
+        )
         if side:
             self._last_turn = side
+
+    @property
+    def blocked_ways(self) -> tuple[BlockedWay, ...]:
+        """The ways that met obstacles, kept out of the choices until their times."""
+        return tuple(self._blocked)
 
     def _back_off(self, forward: Command) -> None:
         """Reverse along the arc that met (or nearly met) an obstacle, and keep the way it
@@ -143,8 +150,7 @@ class Runner:
         self._queue = [(c, -1) for c in reverse]
         now = self.sim.time_s
         clear_s = now + len(reverse) * self.robot.control_period_s + BLOCKED_S
-        self._blocked = [w for w in self._blocked if now < w.until_s]
-        self._blocked.append(BlockedWay(self.sim.odometry[2], clear_s))
+        self._blocked = block_way(self._blocked, BlockedWay(self.sim.odometry[2], clear_s), now)
 
     def _blind_ahead(self, ring_m: np.ndarray) -> bool:
         """A front sonar reads its minimum range: something is inside its blind zone."""

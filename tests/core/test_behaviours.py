@@ -11,6 +11,7 @@ from tvl_cli.core.behaviours import (
     BlockedWay,
     Choice,
     Context,
+    block_way,
     blocked_bearings,
     choose,
     trajectory_headings,
@@ -122,6 +123,27 @@ def test_blocked_ways_turn_with_the_robot_and_expire() -> None:
     # Bearings wrap: a way at 3.0 rad seen from a heading of -3.0 rad is 0.28 rad to the right.
     assert blocked_bearings(ways, heading_rad=-3.0, time_s=1.0)[1] == pytest.approx(6.0 - 2 * np.pi)
     assert blocked_bearings(ways, heading_rad=0.5, time_s=5.0) == ()
+
+
+def test_a_new_blocked_way_keeps_the_others_still_blocked() -> None:
+    old, live = BlockedWay(0.0, until_s=1.0), BlockedWay(1.0, until_s=4.0)
+    new = BlockedWay(2.0, until_s=5.0)
+    assert block_way([old, live], new, time_s=2.0) == [live, new]
+
+
+def test_equally_good_views_either_side_go_to_the_side_of_the_last_turn() -> None:
+    velocities = perceiving({4: [T0], -4: [T0]})
+    assert pick(velocities, "avoid", last_turn=1) == Choice(4, T0, V_MAX[T0])
+    assert pick(velocities, "avoid", last_turn=-1) == Choice(-4, T0, V_MAX[T0])
+    assert pick(velocities, "goal", last_turn=-1, goal_bearing_rad=0.0) == Choice(-4, T0, V_MAX[T0])
+
+
+def test_a_tie_goes_to_the_trajectory_heading_to_the_side_of_the_last_turn() -> None:
+    # Facing sonar 4 (90 degrees left), T3R ends 33 degrees left and T3L 147: T3R is the
+    # nearest straight on however the robot last turned; facing sonar -4 the mirror of it.
+    velocities = perceiving({4: list(range(7)), -4: list(range(7))})
+    assert pick(velocities, "avoid", last_turn=-1) == Choice(-4, T3L, V_MAX[T3L])
+    assert pick(velocities, "avoid", last_turn=1) == Choice(4, T3R, V_MAX[T3R])
 
 
 def test_nothing_fast_in_any_direction_is_trapped() -> None:

@@ -22,8 +22,10 @@ LOOKAHEAD_M = 0.5
 DEFAULT_THRESHOLD = 0.85
 # A reading this short on one side means a wall to follow on that side.
 WALL_SEEN_M = 1.0
-# Trajectories setting off within this angle of a way that met an obstacle are not fast.
-BLOCKED_HALF_WIDTH_RAD = math.pi / 4
+# Trajectories setting off within this angle of a way that met an obstacle are not fast:
+# more than two sonar spacings, so that facing the next sonar but one (exactly 45 degrees
+# round) is never decided by the noise in odometry.
+BLOCKED_HALF_WIDTH_RAD = math.radians(50.0)
 # Each side front to back, mirror images, so that equal readings pick the same sonar on both.
 LEFT_SONARS = (2, 3, 4, 5, 6)
 RIGHT_SONARS = (14, 13, 12, 11, 10)
@@ -34,7 +36,7 @@ class Context:
     """What a behaviour knows besides the perceived velocities."""
 
     ring_m: np.ndarray  # (16,) metres, S0 forward, CCW
-    last_turn: int = 1  # +1 left, -1 right: the side an avoid tie keeps
+    last_turn: int = 1  # +1 left, -1 right: the side a tie keeps
     goal_bearing_rad: float = 0.0  # goal direction relative to the heading (goal only)
     wall_side: int = 0  # +1 left, -1 right, 0 none seen yet (wall following only)
     # Ways that met an obstacle lately (bearings relative to the heading now; BlockedWay).
@@ -54,6 +56,12 @@ class BlockedWay:
 
     heading_rad: float
     until_s: float
+
+
+def block_way(ways: list[BlockedWay], way: BlockedWay, time_s: float) -> list[BlockedWay]:
+    """The ways still blocked at `time_s`, and the new one: several can hold at once, so
+    that in a corner both walls stay blocked."""
+    return [w for w in ways if time_s < w.until_s] + [way]
 
 
 def blocked_bearings(
@@ -109,24 +117,19 @@ def _wall_bearing(ring_m: np.ndarray, side: int) -> float:
     return float(wrap_rad(nearest * 2 * math.pi / len(ring_m)))
 
 
-# A score per candidate (lower is better) for one rotation's fast trajectories.
-Scorer = Callable[[np.ndarray, np.ndarray, Context], np.ndarray]
+# A score per candidate (lower is better) from one rotation's trajectory headings.
+Scorer = Callable[[np.ndarray, Context], np.ndarray]
 
 
-def lateral_sides(trajectory_count: int) -> np.ndarray:
-    """(J,) +1 for the left arcs, 0 straight on, -1 for the right arcs (left to right order)."""
-    return np.sign((trajectory_count - 1) / 2 - np.arange(trajectory_count))
-
-
-def _avoid_score(headings: np.ndarray, lateral: np.ndarray, ctx: Context) -> np.ndarray:
-    # Nearest the forward direction; a tie goes to the side of the last turn.
-    return np.abs(headings) - 1e-6 * np.sign(lateral) * ctx.last_turn
+def _avoid_score(headings: np.ndarray, ctx: Context) -> np.ndarray:
+    # Nearest the forward direction; a tie goes to the one heading to the side of the last turn.
+    return np.abs(headings) - 1e-6 * np.sign(headings) * ctx.last_turn
 
 
 def _wall_score(side: int) -> Scorer:
-    def score(headings: np.ndarray, lateral: np.ndarray, ctx: Context) -> np.ndarray:
+    def score(headings: np.ndarray, ctx: Context) -> np.ndarray:
         if ctx.wall_side != side:
-            return _avoid_score(headings, lateral, ctx)
+            return _avoid_score(headings, ctx)
         # Paper §2.1: the fast trajectory nearest the nearest object on the wall's side, without
         # passing it (for a wall on the left, the nearest to its right), measured from the
         # object's bearing away from it. The outermost arc qualifies only while it heads short
@@ -138,7 +141,7 @@ def _wall_score(side: int) -> Scorer:
     return score
 
 
-def _goal_score(headings: np.ndarray, lateral: np.ndarray, ctx: Context) -> np.ndarray:
+def _goal_score(headings: np.ndarray, ctx: Context) -> np.ndarray:
     return np.abs(wrap_rad(headings - ctx.goal_bearing_rad))
 
 
@@ -171,21 +174,22 @@ def choose(
     fast = velocities >= threshold * v_max[None, :]
     for bearing in ctx.blocked_bearings_rad:
         fast &= np.abs(wrap_rad(starts - bearing)) > BLOCKED_HALF_WIDTH_RAD
-    n_sonars, n_traj = velocities.shape
-    lateral = lateral_sides(n_traj)
+    n_sonars = velocities.shape[0]
     scorer = _wall_score(ctx.wall_side or 1) if behaviour == "wall" else BEHAVIOURS[behaviour]
     if fast[0].any():
-        scores = np.where(fast[0], scorer(headings[0], lateral, ctx), np.inf)
+        scores = np.where(fast[0], scorer(headings[0], ctx), np.inf)
         pick = int(np.argmin(scores))
         return Choice(0, pick, float(min(velocities[0, pick], v_max[pick])))
+    side = 1 if ctx.last_turn >= 0 else -1
     for step in range(1, n_sonars // 2 + 1):
-        rotations = [step, -step] if step < n_sonars // 2 else [step]
+        # Equally good views either side: the one on the side of the last turn wins.
+        rotations = [side * step, -side * step] if step < n_sonars // 2 else [step]
         best: tuple[float, int, int] | None = None
         for k in rotations:
             row = k % n_sonars
             if not fast[row].any():
                 continue
-            scores = np.where(fast[row], scorer(headings[row], lateral, ctx), np.inf)
+            scores = np.where(fast[row], scorer(headings[row], ctx), np.inf)
             j = int(np.argmin(scores))
             if best is None or scores[j] < best[0]:
                 best = (float(scores[j]), k, j)
