@@ -8,6 +8,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from tvl_cli.core.angles import wrap_rad
 from tvl_cli.core.behaviours import (
     DEFAULT_THRESHOLD,
     BlockedWay,
@@ -19,7 +20,6 @@ from tvl_cli.core.behaviours import (
     nearest_side,
     trajectory_headings,
     wall_seen,
-    wrap_rad,
 )
 from tvl_cli.core.command import Command
 from tvl_cli.core.config import RobotConfig, sonars_within

@@ -11,9 +11,10 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TypeVar
 
 import numpy as np
+
+from tvl_cli.core.angles import wrap_rad
 
 # How far along an arc its heading is judged: far enough that arcs of different radius
 # point in clearly different directions, near enough to stay inside a few-metre arena.
@@ -78,14 +79,6 @@ class Choice:
     rotation: int  # -7..8 sonar positions, positive counter-clockwise
     trajectory: int
     speed_mps: float
-
-
-Angle = TypeVar("Angle", float, np.ndarray)
-
-
-def wrap_rad(angle: Angle) -> Angle:
-    """An angle (or an array of them) wrapped to [-pi, pi)."""
-    return (angle + math.pi) % (2 * math.pi) - math.pi
 
 
 def trajectory_headings(

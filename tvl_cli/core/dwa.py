@@ -20,6 +20,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from tvl_cli.core.angles import wrap_rad
+
 
 @dataclass(frozen=True, slots=True)
 class DwaParams:
@@ -188,7 +190,7 @@ def goal_headings(predicted: np.ndarray, goal_xy: tuple[float, float]) -> np.nda
 
 def heading_scores(predicted: np.ndarray, wanted_rad: np.ndarray | float) -> np.ndarray:
     """(N,) 1 where the predicted heading (column 2 of (N, 3)) is the wanted one, 0 opposite."""
-    error = np.angle(np.exp(1j * (wanted_rad - predicted[:, 2])))  # (N,) wrapped to (-pi, pi]
+    error = wrap_rad(wanted_rad - predicted[:, 2])  # (N,) radians
     return 1.0 - np.abs(error) / math.pi
 
 
