@@ -1,7 +1,7 @@
 """What the robot achieves after learning (issue 4), with the paper's figures beside ours.
 
     python benchmarks/competence.py [--seeds 1-5] [--learn-minutes 15] [--run-minutes 10]
-                                    [--workers 2] [--no-near-miss] [--json]
+                                    [--workers 2] [--reflex NAMES | --paper] [--json]
 
 For each seed: learn 15 simulated minutes in worlds/square.txt with the single FAM, then run
 10 simulated minutes of each behaviour from the world's start: avoid, wall-left and
@@ -9,9 +9,10 @@ wall-right at threshold 0.85, both wall followings again at 0.65 and 0.95, and a
 worlds/circle.txt with the square's FAM. Then learn 20 minutes in worlds/obstacles.txt and
 seek each of its goals in turn (a run of up to --run-minutes each). Seeds run in parallel
 processes. `--decel` and `--margin` change the training labels, to see how the defaults
-were chosen; `--no-near-miss` runs without the back-off when an object enters the blind zone
-ahead, to see what it is worth. The figures are means over the seeds; per-seed figures are
-in --json.
+were chosen; `--reflex` picks the reflexes the runs use (all by default) and `--paper` runs
+the paper's method alone, with its labels and bump-only collision points. Contacts are
+collisions and near misses together. The figures are means over the seeds; per-seed figures
+are in --json.
 """
 
 from __future__ import annotations
@@ -26,12 +27,14 @@ from typing import Any
 
 import numpy as np
 
+from tvl_cli.agent.behave import behave
+from tvl_cli.agent.explore import PAPER_NEAR_M, Learner, LearnParams
+from tvl_cli.agent.reflexes import ALL, parse_reflexes
 from tvl_cli.core.config import SINGLE, RobotConfig
 from tvl_cli.core.fam import Fam
-from tvl_cli.learn import Learner, LearnParams
-from tvl_cli.run import Runner, RunParams
+from tvl_cli.core.labels import PAPER_DECEL_MPS2, PAPER_MARGIN_M
+from tvl_cli.core.training import TrainParams
 from tvl_cli.sim.worldmap import WorldMap, load_world
-from tvl_cli.training import TrainParams
 
 WORLDS = Path(__file__).resolve().parent.parent / "worlds"
 THRESHOLD = 0.85
@@ -63,12 +66,20 @@ def run(
     seed: int,
     robot: RobotConfig,
     goal: tuple[float, float] | None = None,
-    near_miss_backoff: bool = True,
+    reflexes: tuple[str, ...] = (),
 ) -> dict[str, Any]:
-    params = RunParams(behaviour, threshold, minutes, goal, near_miss_backoff)
-    result = Runner(world, robot, fam, params, seed).run()
-    minutes_run = result.metrics.sim_s / 60.0
-    return {**asdict(result.metrics), "near_misses_per_min": result.near_misses / minutes_run}
+    metrics = behave(
+        world,
+        robot,
+        fam,
+        behaviour,
+        minutes=minutes,
+        seed=seed,
+        threshold=threshold,
+        goal_xy=goal,
+        reflexes=reflexes,
+    )
+    return {**asdict(metrics), "near_misses_per_min": metrics.near_misses / (metrics.sim_s / 60)}
 
 
 def seed_figures(
@@ -77,7 +88,7 @@ def seed_figures(
     run_minutes: float,
     train: TrainParams,
     explore: LearnParams | None = None,
-    near_miss_backoff: bool = True,
+    reflexes: tuple[str, ...] = (),
 ) -> dict[str, Any]:
     """Every run of the protocol for one seed: {"square": {...}, "circle": .., "goals": [..]}."""
     robot = RobotConfig()
@@ -86,27 +97,25 @@ def seed_figures(
         load_world(WORLDS / f"{n}.txt") for n in ("square", "circle", "obstacles")
     )
 
-    def behave(
+    def one_run(
         world: WorldMap,
         fam: Fam,
         behaviour: str,
         threshold: float = THRESHOLD,
         goal: tuple[float, float] | None = None,
     ) -> dict[str, Any]:
-        return run(
-            world, fam, behaviour, threshold, run_minutes, seed, robot, goal, near_miss_backoff
-        )
+        return run(world, fam, behaviour, threshold, run_minutes, seed, robot, goal, reflexes)
 
     fam = learn(square, learn_minutes, seed, train, explore, robot)
-    runs: dict[str, Any] = {"avoid@0.85": behave(square, fam, "avoid")}
+    runs: dict[str, Any] = {"avoid@0.85": one_run(square, fam, "avoid")}
     for behaviour in WALLS:
         for threshold in (LOW, THRESHOLD, HIGH):
-            runs[f"{behaviour}@{threshold:g}"] = behave(square, fam, behaviour, threshold)
-    circle_run = behave(circle, fam, "avoid")
+            runs[f"{behaviour}@{threshold:g}"] = one_run(square, fam, behaviour, threshold)
+    circle_run = one_run(circle, fam, "avoid")
     goal_fam = learn(
         obstacles, learn_minutes * GOAL_LEARN_MINUTES_PER_SQUARE_MINUTE, seed, train, explore, robot
     )
-    goals = [behave(obstacles, goal_fam, "goal", goal=goal) for goal in obstacles.goals]
+    goals = [one_run(obstacles, goal_fam, "goal", goal=goal) for goal in obstacles.goals]
     return {"seed": seed, "square": runs, "circle": circle_run, "goals": goals}
 
 
@@ -115,7 +124,7 @@ def _mean(values: list[float | None]) -> float | None:
     return float(np.mean(present)) if present else None
 
 
-def summarise(per_seed: list[dict[str, Any]], near_miss_backoff: bool) -> dict[str, Any]:
+def summarise(per_seed: list[dict[str, Any]], reflexes: tuple[str, ...]) -> dict[str, Any]:
     """Means over seeds of the figures the targets speak of."""
 
     def square(key: str, field: str) -> float | None:
@@ -127,15 +136,15 @@ def summarise(per_seed: list[dict[str, Any]], near_miss_backoff: bool) -> dict[s
     goal_count = len(per_seed[0]["goals"]) if per_seed else 0
     return {
         "seeds": [s["seed"] for s in per_seed],
-        "near_miss_backoff": near_miss_backoff,
-        "avoid_collisions_per_min": square("avoid@0.85", "collisions_per_min"),
+        "reflexes": list(reflexes),
+        "avoid_contacts_per_min": square("avoid@0.85", "contacts_per_min"),
         "avoid_mean_speed_mps": square("avoid@0.85", "mean_speed_mps"),
         "avoid_near_misses_per_min": square("avoid@0.85", "near_misses_per_min"),
         **{
             f"{b.replace('-', '_')}_{f}": square(f"{b}@0.85", k)
             for b in WALLS
             for f, k in (
-                ("collisions_per_min", "collisions_per_min"),
+                ("contacts_per_min", "contacts_per_min"),
                 ("wall_clearance_m", "mean_wall_clearance_m"),
                 ("mean_speed_mps", "mean_speed_mps"),
             )
@@ -144,11 +153,9 @@ def summarise(per_seed: list[dict[str, Any]], near_miss_backoff: bool) -> dict[s
         "wall_clearance_m_at_0.95": walls(HIGH, "mean_wall_clearance_m"),
         "wall_speed_mps_at_0.65": walls(LOW, "mean_speed_mps"),
         "wall_speed_mps_at_0.95": walls(HIGH, "mean_speed_mps"),
-        "wall_collisions_per_min_at_0.65": walls(LOW, "collisions_per_min"),
-        "wall_collisions_per_min_at_0.95": walls(HIGH, "collisions_per_min"),
-        "circle_avoid_collisions_per_min": _mean(
-            [s["circle"]["collisions_per_min"] for s in per_seed]
-        ),
+        "wall_contacts_per_min_at_0.65": walls(LOW, "contacts_per_min"),
+        "wall_contacts_per_min_at_0.95": walls(HIGH, "contacts_per_min"),
+        "circle_avoid_contacts_per_min": _mean([s["circle"]["contacts_per_min"] for s in per_seed]),
         "circle_avoid_near_misses_per_min": _mean(
             [s["circle"]["near_misses_per_min"] for s in per_seed]
         ),
@@ -172,26 +179,23 @@ def table(summary: dict[str, Any]) -> str:
     s = summary
     n = len(s["seeds"])
 
-    def near_misses(value: float | None) -> str:
-        return _f(value) if s["near_miss_backoff"] else "off"
-
     per_goal = ", ".join(f"{k}/{n}" for k in s["goal_reached_per_goal"])
     rows = [
         (
-            "avoid: collisions/min (square, 0.85)",
-            _f(s["avoid_collisions_per_min"]),
+            "avoid: contacts/min (square, 0.85)",
+            _f(s["avoid_contacts_per_min"]),
             "<= 0.2",
             "none after < 9 min learning",
         ),
         ("avoid: mean speed m/s", _f(s["avoid_mean_speed_mps"]), ">= 0.30", "-"),
-        ("avoid: near misses/min", near_misses(s["avoid_near_misses_per_min"]), "-", "-"),
+        ("avoid: near misses/min", _f(s["avoid_near_misses_per_min"]), "-", "-"),
     ]
     for b in WALLS:
         key = b.replace("-", "_")
         rows += [
             (
-                f"{b}: collisions/min (0.85)",
-                _f(s[f"{key}_collisions_per_min"]),
+                f"{b}: contacts/min (0.85)",
+                _f(s[f"{key}_contacts_per_min"]),
                 "<= 0.2",
                 "competent < 15 min",
             ),
@@ -216,20 +220,20 @@ def table(summary: dict[str, Any]) -> str:
             "0.32 -> 0.45",
         ),
         (
-            "wall: collisions/min, 0.65 -> 0.95",
-            _low_high(s, "wall_collisions_per_min"),
+            "wall: contacts/min, 0.65 -> 0.95",
+            _low_high(s, "wall_contacts_per_min"),
             "-",
             "more collisions when low",
         ),
         (
-            "circle, square's FAM: avoid collisions/min",
-            _f(s["circle_avoid_collisions_per_min"]),
+            "circle, square's FAM: avoid contacts/min",
+            _f(s["circle_avoid_contacts_per_min"]),
             "<= 0.5",
             "works reasonably well",
         ),
         (
             "circle, square's FAM: avoid near misses/min",
-            near_misses(s["circle_avoid_near_misses_per_min"]),
+            _f(s["circle_avoid_near_misses_per_min"]),
             "-",
             "-",
         ),
@@ -272,23 +276,32 @@ def main() -> None:
     parser.add_argument(
         "--learn-speed", type=float, default=LearnParams().learn_speed_mps, help="m/s"
     )
+    parser.add_argument("--reflex", default=ALL, help="reflexes of the runs: all, none or names")
     parser.add_argument(
-        "--no-near-miss",
+        "--paper",
         action="store_true",
-        help="runs back off after bumps only, not when an object enters the blind zone ahead",
+        help="the paper's method: its labels, bump-only collision points and no reflexes",
     )
     parser.add_argument("--json", action="store_true", help="print the figures as JSON")
     args = parser.parse_args()
+    if args.paper:
+        args.decel, args.margin, args.near, args.reflex = (
+            PAPER_DECEL_MPS2,
+            PAPER_MARGIN_M,
+            PAPER_NEAR_M,
+            "none",
+        )
+    reflexes = parse_reflexes(args.reflex)
     train = TrainParams(decel_mps2=args.decel, margin_m=args.margin)
     explore = LearnParams(near_m=args.near, learn_speed_mps=args.learn_speed)
     started = time.perf_counter()
     jobs = [
-        (seed, args.learn_minutes, args.run_minutes, train, explore, not args.no_near_miss)
+        (seed, args.learn_minutes, args.run_minutes, train, explore, reflexes)
         for seed in args.seeds
     ]
     with ProcessPoolExecutor(max_workers=args.workers) as pool:
         per_seed = list(pool.map(seed_figures, *zip(*jobs, strict=True)))
-    summary = summarise(per_seed, not args.no_near_miss)
+    summary = summarise(per_seed, reflexes)
     if args.json:
         print(json.dumps({"summary": summary, "per_seed": per_seed}, indent=2))
         return
@@ -296,7 +309,7 @@ def main() -> None:
         f"seeds {args.seeds}, learning {args.learn_minutes:g} min, runs {args.run_minutes:g} min, "
         f"decel {args.decel:g} m/s², margin {args.margin:g} m, near {args.near:g} m, "
         f"learning speed {args.learn_speed:g} m/s, "
-        f"near-miss back-off {'off' if args.no_near_miss else 'on'} "
+        f"reflexes {', '.join(reflexes) or 'none'} "
         f"({time.perf_counter() - started:.0f} s)"
     )
     print(table(summary))

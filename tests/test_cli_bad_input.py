@@ -13,10 +13,11 @@ import pytest
 from conftest import TVL
 
 from tvl_cli.core.config import SINGLE, RobotConfig
+from tvl_cli.core.episode import Episode
 from tvl_cli.core.fam import Fam
 from tvl_cli.io.famfile import write_fam
 from tvl_cli.io.lock import lock_path
-from tvl_cli.io.logfile import Episode, LogWriter, read_log
+from tvl_cli.io.logfile import LogWriter, read_log
 
 WORLDS = Path(__file__).resolve().parent.parent / "worlds"
 SQUARE = WORLDS / "square.txt"

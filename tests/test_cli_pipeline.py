@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-import re
 import shutil
 from pathlib import Path
 
@@ -140,30 +139,69 @@ def test_run_prints_the_metrics_json(run_tvl, learnt, tmp_path):
     assert result.returncode == 0, result.stderr
     metrics = json.loads(result.stdout)
     assert set(metrics) == {
-        "sim_s", "distance_m", "mean_speed_mps", "collisions", "collisions_per_min",
-        "mean_clearance_m", "mean_wall_clearance_m", "goal_reached", "time_to_goal_s", "trapped",
+        "sim_s", "distance_m", "mean_speed_mps", "mean_drive_speed_mps", "collisions",
+        "near_misses", "contacts", "contacts_per_min", "collisions_per_min", "backoffs",
+        "spins", "trapped", "mean_clearance_m", "mean_wall_clearance_m", "goal_reached",
+        "time_to_goal_s",
     }  # fmt: skip
+    assert metrics["contacts"] == metrics["collisions"] + metrics["near_misses"]
     assert metrics["sim_s"] == pytest.approx(30.0)
     assert png.stat().st_size > 1000
     replayed = json.loads(run_tvl("replay", trace, "--json").stdout)
     assert replayed["format"] == "tvl-run" and replayed["steps"] == 300
 
 
-def test_run_counts_near_misses_unless_switched_off(run_tvl, learnt, tmp_path):
-    on = run_tvl(
-        "run", learnt["online"], SQUARE, "--behaviour", "avoid", "--minutes", "0.2",
-    )  # fmt: skip
-    assert on.returncode == 0, on.stderr
-    assert re.search(r"near misses \(backed off before any contact\): \d+", on.stdout)
+@pytest.mark.parametrize("method", [["--paper"], ["--reflex", "none"]])
+def test_the_paper_method_runs_alone_and_says_so(run_tvl, learnt, tmp_path, method):
     trace = tmp_path / "run.h5"
-    off = run_tvl(
-        "run", learnt["online"], SQUARE, "--behaviour", "avoid", "--minutes", "0.2",
-        "--no-near-miss", "--log", trace,
-    )  # fmt: skip
-    assert off.returncode == 0, off.stderr
-    assert "near misses" not in off.stdout
+    args = ["run", learnt["online"], SQUARE, "--behaviour", "avoid", "--minutes", "0.2"]
+    result = run_tvl(*args, *method, "--log", trace, "--json")
+    assert result.returncode == 0, result.stderr
+    metrics = json.loads(result.stdout)
+    assert metrics["contacts"] == metrics["collisions"] + metrics["near_misses"]
     replayed = json.loads(run_tvl("replay", trace, "--json").stdout)
-    assert replayed["near_miss_backoff"] is False
+    assert replayed["reflexes"] == []
+    with h5py.File(trace) as f:
+        assert (f["reflex"][()] == -1).all()  # no step was taken by a reflex
+
+
+def test_reflexes_are_named_in_the_trace_and_the_table(run_tvl, learnt, tmp_path):
+    trace = tmp_path / "run.h5"
+    args = ["run", learnt["online"], SQUARE, "--behaviour", "avoid", "--minutes", "0.2"]
+    result = run_tvl(*args, "--reflex", "bump,near-miss", "--log", trace)
+    assert result.returncode == 0, result.stderr
+    assert "reflexes: near-miss, bump" in result.stdout
+    replayed = json.loads(run_tvl("replay", trace, "--json").stdout)
+    assert replayed["reflexes"] == ["near-miss", "bump"]
+
+
+def test_paper_and_reflex_together_are_refused(run_tvl, learnt):
+    args = ["run", learnt["online"], SQUARE, "--behaviour", "avoid", "--paper"]
+    result = run_tvl(*args, "--reflex", "bump")
+    assert result.returncode == 2
+    assert (
+        result.stderr.strip() == "tvl: error: --reflex cannot be given with --paper, which fixes it"
+    )
+
+
+def test_an_unknown_reflex_is_refused_by_name(run_tvl, learnt):
+    args = ["run", learnt["online"], SQUARE, "--behaviour", "avoid", "--reflex", "bump,typo"]
+    result = run_tvl(*args)
+    assert result.returncode == 2 and "unknown reflex typo" in result.stderr
+
+
+def test_an_ideal_sonar_fam_runs_with_the_ideal_sonar(run_tvl, tmp_path):
+    log, fam, trace = tmp_path / "log.h5", tmp_path / "fam.h5", tmp_path / "run.h5"
+    learn = run_tvl("learn", SQUARE, "--log", log, "--minutes", "1", "--sonar", "ideal")
+    assert learn.returncode == 0, learn.stderr
+    assert run_tvl("train", log, "-o", fam).returncode == 0
+    args = ["run", fam, SQUARE, "--behaviour", "avoid", "--minutes", "0.2", "--log", trace]
+    result = run_tvl(*args)
+    assert result.returncode == 0, result.stderr
+    replayed = json.loads(run_tvl("replay", trace, "--json").stdout)
+    assert replayed["sonar"] == "ideal"
+    real = run_tvl(*args[:-2], "--sonar", "real", "--log", tmp_path / "real.h5")
+    assert real.returncode == 0, real.stderr
 
 
 def test_same_seed_gives_identical_logs_and_run_json(run_tvl, tmp_path):

@@ -16,7 +16,7 @@ from conftest import TVL
 
 from tvl_cli.core.competence import COMPETENCE_RUN_MINUTES
 from tvl_cli.core.metrics import RunMetrics
-from tvl_cli.figures import is_competent, time_to_competence
+from tvl_cli.render.figures import is_competent, time_to_competence
 
 EXPERIMENTS = Path(__file__).resolve().parent.parent / "experiments"
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
@@ -147,13 +147,31 @@ def test_an_unknown_option_is_refused_before_any_run(tmp_path):
     assert not calls.exists()
 
 
-def avoid_run(minute: float, collisions_per_min: float, speed_mps: float) -> dict[str, object]:
-    """A snapshot's avoid run as a results line holds it."""
-    metrics = RunMetrics(300.0, 90.0, speed_mps, 0, collisions_per_min, 0.3, None, False, None, 0)
+def avoid_run(minute: float, contacts_per_min: float, speed_mps: float) -> dict[str, object]:
+    """A snapshot's avoid run as a results line holds it; its contacts all near misses."""
+    contacts = round(contacts_per_min * 5)
+    metrics = RunMetrics(
+        sim_s=300.0,
+        distance_m=300.0 * speed_mps,
+        mean_speed_mps=speed_mps,
+        mean_drive_speed_mps=speed_mps,
+        collisions=0,
+        near_misses=contacts,
+        contacts=contacts,
+        contacts_per_min=contacts_per_min,
+        collisions_per_min=0.0,
+        backoffs=contacts,
+        spins=0,
+        trapped=0,
+        mean_clearance_m=0.3,
+        mean_wall_clearance_m=None,
+        goal_reached=False,
+        time_to_goal_s=None,
+    )
     return {"kind": "tvl", "minute": minute, **asdict(metrics)}
 
 
-def test_competence_needs_few_collisions_and_enough_speed_limits_included():
+def test_competence_needs_few_contacts_and_enough_speed_limits_included():
     assert is_competent(avoid_run(1, 0.2, 0.3))
     assert not is_competent(avoid_run(1, 0.21, 0.5))
     assert not is_competent(avoid_run(1, 0.0, 0.29))

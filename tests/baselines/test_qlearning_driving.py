@@ -7,10 +7,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from tvl_cli.agent.policy import LazyRing, Observation
 from tvl_cli.baselines.qlearning import QLearning, QPolicy, forward_travel_m, learn_and_evaluate
+from tvl_cli.baselines.qtable import QParams, RuleStates
 from tvl_cli.core.command import Command
 from tvl_cli.core.config import SINGLE, RobotConfig
-from tvl_cli.core.qtable import QParams, RuleStates
 from tvl_cli.sim.robot import Simulator
 from tvl_cli.sim.worldmap import load_world
 
@@ -19,6 +20,10 @@ SQUARE = load_world(WORLDS / "square.txt")  # the east wall's inner face at x = 
 ROBOT = RobotConfig()
 STATES = RuleStates(SINGLE.tables[0])
 T0 = ROBOT.trajectory_index("T0")
+
+
+def observe(sim: Simulator) -> Observation:
+    return Observation(sim.time_s, LazyRing(sim.read_sonar), sim.odometry, sim.bumped)
 
 
 def facing_the_east_wall(gap_m: float) -> Simulator:
@@ -33,11 +38,11 @@ def test_a_bump_is_punished_without_bootstrapping_and_followed_by_backing_off() 
     policy = QPolicy(q, STATES, ROBOT, params, np.random.default_rng(0))
     sim = facing_the_east_wall(0.03)
     before = sim.odometry
-    command = policy.command(sim)  # an unknown state: straight on at T0's top speed
+    command = policy.decide(observe(sim)).command  # unknown state: T0 at its top speed
     assert command == Command(0.6, 0.0)
     sim.step(command)
     assert sim.bumped
-    backing = [policy.command(sim) for _ in range(3)]
+    backing = [policy.decide(observe(sim)).command for _ in range(3)]
     (punished,) = np.argwhere(q != 0)
     assert punished[1] == T0
     reward = forward_travel_m(before, sim.odometry) - params.collision_penalty
@@ -52,8 +57,8 @@ def test_progress_is_rewarded_with_the_next_state_bootstrapped() -> None:
     policy = QPolicy(q, STATES, ROBOT, params, np.random.default_rng(0))
     sim = Simulator(SQUARE, ROBOT, np.random.default_rng(0))  # the start: 1.4 m of room ahead
     before = sim.odometry
-    sim.step(policy.command(sim))
-    policy.command(sim)
+    sim.step(policy.decide(observe(sim)).command)
+    policy.decide(observe(sim))
     (updated,) = np.argwhere(q != 0)
     assert updated[1] == T0
     assert q[tuple(updated)] == pytest.approx(
@@ -88,9 +93,18 @@ def test_competence_is_judged_every_k_learning_minutes() -> None:
     minutes = [check.learn_minutes for check in result.checks]
     assert minutes == pytest.approx([0.1, 0.2, 0.3])
     for check in result.checks:
-        assert check.competent == (check.collisions_per_min <= 0.2 and check.mean_speed_mps >= 0.3)
-        assert check.collisions_per_min > 0  # a third of a minute is not enough to learn
+        assert check.competent == (check.contacts_per_min <= 0.2 and check.mean_speed_mps >= 0.3)
+        assert check.contacts_per_min > 0  # a third of a minute is not enough to learn
     assert result.time_to_competence_min == next(
         (c.learn_minutes for c in result.checks if c.competent), None
     )
-    assert result.evaluation.metrics.sim_s == pytest.approx(12.0)
+    assert result.evaluation.sim_s == pytest.approx(12.0)
+
+
+def test_a_greedy_run_backs_off_only_inside_the_bump_reflex() -> None:
+    learner = QLearning(SQUARE, ROBOT, seed=1)
+    learner.train(0.3)
+    alone = learner.evaluate(0.5, seed=1)
+    reflexed = learner.evaluate(0.5, seed=1, reflexes=("bump",))
+    assert alone.collisions > 0 and alone.backoffs == 0
+    assert reflexed.backoffs > 0

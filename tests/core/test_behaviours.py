@@ -5,17 +5,9 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
-import pytest
 
-from tvl_cli.core.behaviours import (
-    BlockedWay,
-    Choice,
-    Context,
-    block_way,
-    blocked_bearings,
-    choose,
-    trajectory_headings,
-)
+from tvl_cli.agent.reflexes import keep_out_ways
+from tvl_cli.core.behaviours import Choice, Context, choose, fast_set, trajectory_headings
 from tvl_cli.core.config import RobotConfig
 
 ROBOT = RobotConfig()
@@ -41,9 +33,16 @@ def perceiving(fast: dict[int, list[int]]) -> np.ndarray:
 
 
 def pick(
-    velocities: np.ndarray, behaviour: str, ring_m: np.ndarray = FAR, **context: Any
+    velocities: np.ndarray,
+    behaviour: str,
+    ring_m: np.ndarray = FAR,
+    blocked_bearings_rad: tuple[float, ...] = (),
+    **context: Any,
 ) -> Choice | None:
-    return choose(velocities, V_MAX, HEADINGS, STARTS, behaviour, 0.85, Context(ring_m, **context))
+    fast = fast_set(velocities, V_MAX, 0.85)
+    if blocked_bearings_rad:
+        fast &= ~keep_out_ways(list(blocked_bearings_rad))(STARTS)
+    return choose(velocities, fast, V_MAX, HEADINGS, behaviour, Context(ring_m, **context))
 
 
 def test_avoid_goes_straight_when_straight_is_fast() -> None:
@@ -60,8 +59,8 @@ def test_the_speed_is_the_perceived_velocity() -> None:
 
 def test_avoid_tie_keeps_the_side_of_the_last_turn() -> None:
     velocities = perceiving({0: [T1L, T1R, T3L, T3R]})
-    assert pick(velocities, "avoid", last_turn=1) == Choice(0, T1L, V_MAX[T1L])
-    assert pick(velocities, "avoid", last_turn=-1) == Choice(0, T1R, V_MAX[T1R])
+    assert pick(velocities, "avoid", tie_side=1) == Choice(0, T1L, V_MAX[T1L])
+    assert pick(velocities, "avoid", tie_side=-1) == Choice(0, T1R, V_MAX[T1R])
 
 
 def ring_with_object_at(sonar: int) -> np.ndarray:
@@ -116,34 +115,19 @@ def test_every_blocked_way_counts() -> None:
     assert pick(velocities, "avoid", blocked_bearings_rad=blocked) == Choice(-4, T0, V_MAX[T0])
 
 
-def test_blocked_ways_turn_with_the_robot_and_expire() -> None:
-    ways = [BlockedWay(heading_rad=1.0, until_s=5.0), BlockedWay(heading_rad=3.0, until_s=2.0)]
-    assert blocked_bearings(ways, heading_rad=0.5, time_s=3.0) == pytest.approx((0.5,))
-    assert blocked_bearings(ways, heading_rad=0.5, time_s=1.0) == pytest.approx((0.5, 2.5))
-    # Bearings wrap: a way at 3.0 rad seen from a heading of -3.0 rad is 0.28 rad to the right.
-    assert blocked_bearings(ways, heading_rad=-3.0, time_s=1.0)[1] == pytest.approx(6.0 - 2 * np.pi)
-    assert blocked_bearings(ways, heading_rad=0.5, time_s=5.0) == ()
-
-
-def test_a_new_blocked_way_keeps_the_others_still_blocked() -> None:
-    old, live = BlockedWay(0.0, until_s=1.0), BlockedWay(1.0, until_s=4.0)
-    new = BlockedWay(2.0, until_s=5.0)
-    assert block_way([old, live], new, time_s=2.0) == [live, new]
-
-
-def test_equally_good_views_either_side_go_to_the_side_of_the_last_turn() -> None:
+def test_equally_good_views_either_side_go_to_the_tie_side() -> None:
     velocities = perceiving({4: [T0], -4: [T0]})
-    assert pick(velocities, "avoid", last_turn=1) == Choice(4, T0, V_MAX[T0])
-    assert pick(velocities, "avoid", last_turn=-1) == Choice(-4, T0, V_MAX[T0])
-    assert pick(velocities, "goal", last_turn=-1, goal_bearing_rad=0.0) == Choice(-4, T0, V_MAX[T0])
+    assert pick(velocities, "avoid", tie_side=1) == Choice(4, T0, V_MAX[T0])
+    assert pick(velocities, "avoid", tie_side=-1) == Choice(-4, T0, V_MAX[T0])
+    assert pick(velocities, "goal", tie_side=-1, goal_bearing_rad=0.0) == Choice(-4, T0, V_MAX[T0])
 
 
-def test_a_tie_goes_to_the_trajectory_heading_to_the_side_of_the_last_turn() -> None:
+def test_a_tie_goes_to_the_trajectory_heading_to_the_tie_side() -> None:
     # Facing sonar 4 (90 degrees left), T3R ends 33 degrees left and T3L 147: T3R is the
     # nearest straight on however the robot last turned; facing sonar -4 the mirror of it.
     velocities = perceiving({4: list(range(7)), -4: list(range(7))})
-    assert pick(velocities, "avoid", last_turn=-1) == Choice(-4, T3L, V_MAX[T3L])
-    assert pick(velocities, "avoid", last_turn=1) == Choice(4, T3R, V_MAX[T3R])
+    assert pick(velocities, "avoid", tie_side=-1) == Choice(-4, T3L, V_MAX[T3L])
+    assert pick(velocities, "avoid", tie_side=1) == Choice(4, T3R, V_MAX[T3R])
 
 
 def test_nothing_fast_in_any_direction_is_trapped() -> None:
@@ -174,3 +158,11 @@ def test_goal_behind_turns_perception_towards_it_when_nothing_ahead_is_fast() ->
     assert choice is not None and choice.rotation == 2  # the nearer rotation wins first
     choice = pick(perceiving({-2: [T0], 2: [T0]}), "goal", goal_bearing_rad=1.0)
     assert choice == Choice(2, T0, V_MAX[T0])
+
+
+def test_with_no_tie_side_a_tie_takes_the_first_in_trajectory_order() -> None:
+    # The paper is silent on ties: T1L and T1R equally near straight on, the left one wins,
+    # and of two equally good views, the one to the left.
+    velocities = perceiving({0: [T1L, T1R]})
+    assert pick(velocities, "avoid", tie_side=0) == Choice(0, T1L, V_MAX[T1L])
+    assert pick(perceiving({4: [T0], -4: [T0]}), "avoid", tie_side=0) == Choice(4, T0, V_MAX[T0])

@@ -1,4 +1,4 @@
-"""Competence: at most 0.2 collisions per minute at a mean speed of at least 0.3 m/s."""
+"""Competence: at most 0.2 contacts per minute at a mean speed of at least 0.3 m/s."""
 
 from __future__ import annotations
 
@@ -8,26 +8,41 @@ from tvl_cli.core.competence import is_competent
 from tvl_cli.core.metrics import RunMetrics
 
 
-def avoid_run(collisions_per_min: float, mean_speed_mps: float) -> RunMetrics:
+def avoid_run(collisions: int, near_misses: int, mean_speed_mps: float) -> RunMetrics:
+    contacts = collisions + near_misses
     return RunMetrics(
-        300.0,
-        300.0 * mean_speed_mps,
-        mean_speed_mps,
-        0,
-        collisions_per_min,
-        0.5,
-        None,
-        False,
-        None,
-        0,
+        sim_s=300.0,
+        distance_m=300.0 * mean_speed_mps,
+        mean_speed_mps=mean_speed_mps,
+        mean_drive_speed_mps=mean_speed_mps,
+        collisions=collisions,
+        near_misses=near_misses,
+        contacts=contacts,
+        contacts_per_min=contacts / 5.0,
+        collisions_per_min=collisions / 5.0,
+        backoffs=near_misses,
+        spins=0,
+        trapped=0,
+        mean_clearance_m=0.5,
+        mean_wall_clearance_m=None,
+        goal_reached=False,
+        time_to_goal_s=None,
     )
 
 
 @pytest.mark.parametrize(
-    ("collisions_per_min", "mean_speed_mps", "competent"),
-    [(0.2, 0.3, True), (0.0, 0.6, True), (0.4, 0.5, False), (0.0, 0.29, False)],
+    ("collisions", "near_misses", "mean_speed_mps", "competent"),
+    [
+        (1, 0, 0.3, True),
+        (0, 1, 0.3, True),
+        (0, 0, 0.6, True),
+        (2, 0, 0.5, False),
+        (0, 2, 0.5, False),  # near misses count: backing off is not competence
+        (1, 1, 0.5, False),
+        (0, 0, 0.29, False),
+    ],
 )
-def test_competence_needs_few_collisions_and_enough_speed(
-    collisions_per_min: float, mean_speed_mps: float, competent: bool
+def test_competence_needs_few_contacts_and_enough_speed(
+    collisions: int, near_misses: int, mean_speed_mps: float, competent: bool
 ) -> None:
-    assert is_competent(avoid_run(collisions_per_min, mean_speed_mps)) is competent
+    assert is_competent(avoid_run(collisions, near_misses, mean_speed_mps)) is competent

@@ -16,9 +16,10 @@ from pathlib import Path
 import numpy as np
 
 from tvl_cli.core.config import SINGLE, FamConfig, FamInput, FamTable, Partition, RobotConfig
+from tvl_cli.core.episode import Episode
 from tvl_cli.core.fam import Fam
 from tvl_cli.io.famfile import write_fam
-from tvl_cli.io.logfile import Episode, LogWriter
+from tvl_cli.io.logfile import LogWriter
 
 HERE = Path(__file__).parent
 GOLDEN_LOG = HERE / "golden-log-v1.h5"

@@ -7,7 +7,9 @@ from pathlib import Path
 import numpy as np
 
 from tvl_cli.core.config import SINGLE, RobotConfig
-from tvl_cli.io.logfile import Episode, LogWriter, ring_to_mm
+from tvl_cli.core.episode import Episode
+from tvl_cli.core.ring import ring_to_mm
+from tvl_cli.io.logfile import LogWriter
 
 ROBOT = RobotConfig()
 WORLD_TEXT = "version: 1\nname: box\n\n#####\n#.>.#\n#####\n"

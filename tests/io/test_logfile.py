@@ -24,8 +24,9 @@ from log_samples import (
 
 from tvl_cli.core.config import SINGLE, RobotConfig
 from tvl_cli.core.errors import BadInput
+from tvl_cli.core.ring import mm_to_ring, ring_to_mm
 from tvl_cli.io.famfile import write_fam
-from tvl_cli.io.logfile import MINUTE_COLUMNS, mm_to_ring, read_log, ring_to_mm
+from tvl_cli.io.logfile import MINUTE_COLUMNS, read_log
 from tvl_cli.io.schema import FormatError
 
 HERE = Path(__file__).parent

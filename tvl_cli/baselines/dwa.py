@@ -8,10 +8,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from tvl_cli.baselines.drive import Drive, drive
-from tvl_cli.core.command import Command
-from tvl_cli.core.config import RobotConfig
-from tvl_cli.core.dwa import (
+from tvl_cli.agent.drive import StepSink, drive
+from tvl_cli.agent.policy import Decision, Observation
+from tvl_cli.agent.reflexes import wrap
+from tvl_cli.baselines.dwa_window import (
     DwaParams,
     arc_lengths,
     arc_points,
@@ -25,6 +25,9 @@ from tvl_cli.core.dwa import (
     recovery_spin,
     wander_heading,
 )
+from tvl_cli.core.command import Command
+from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.sim.robot import Simulator
 from tvl_cli.sim.world import clearances_m
 from tvl_cli.sim.worldmap import WorldMap
@@ -34,15 +37,20 @@ DEFAULT_DWA = DwaParams()
 
 
 class DwaPolicy:
-    """Chooses (v, w) in the dynamic window around the last command it gave."""
+    """Chooses (v, w) in the dynamic window around the last command it gave.
+
+    It reads the simulator's true pose and geometry, not the observation: that is the point
+    of this baseline. Advice from reflexes is ignored, but a reflex can still take over.
+    """
 
     def __init__(
         self,
-        robot: RobotConfig,
+        sim: Simulator,
         params: DwaParams = DEFAULT_DWA,
         goal_xy: tuple[float, float] | None = None,
     ) -> None:
-        self.robot = robot
+        self.sim = sim
+        self.robot = sim.robot
         self.params = params
         self.goal_xy = goal_xy
         self._s_m = arc_lengths(params)  # (K,) metres
@@ -65,7 +73,14 @@ class DwaPolicy:
         free = self._free(sim, ray_points(sim.pose, self._ray_offsets, self._s_m))
         return wander_heading(sim.pose[2], self._ray_offsets, free, self.params, self._turn_side)
 
-    def command(self, sim: Simulator) -> Command:
+    def interrupt(self) -> None:
+        # A reflex has driven the robot meanwhile: the window starts again from rest.
+        self.last = Command(0.0, 0.0)
+
+    def decide(self, obs: Observation) -> Decision:
+        return Decision(self._command(self.sim))
+
+    def _command(self, sim: Simulator) -> Command:
         pose = sim.pose
         period = self.robot.control_period_s
         candidates = dynamic_window(
@@ -94,10 +109,15 @@ def run_dwa(
     seed: int,
     goal_xy: tuple[float, float] | None = None,
     params: DwaParams = DEFAULT_DWA,
-) -> Drive:
+    reflexes: tuple[str, ...] = (),
+    on_step: StepSink | None = None,
+) -> RunMetrics:
     """One run from the world's start: `avoid` without a goal, goal seeking with one.
 
-    The simulator's generator is seeded as `tvl run` seeds its own.
+    The simulator's generator is seeded as `tvl run` seeds its own; the goal is judged on
+    the true pose, by which the DWA localises.
     """
     sim = Simulator(world, robot, np.random.default_rng(seed))
-    return drive(sim, DwaPolicy(robot, params, goal_xy), minutes, goal_xy)
+    behaviour = "avoid" if goal_xy is None else "goal"
+    policy = wrap(DwaPolicy(sim, params, goal_xy), reflexes, robot, behaviour)
+    return drive(sim, policy, minutes, goal_xy=goal_xy, goal_by_odometry=False, on_step=on_step)

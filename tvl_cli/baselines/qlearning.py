@@ -3,7 +3,8 @@
 The state of a sonar ring is the rule that fires strongest for it; the actions are the 7
 trajectories, each driven at its maximum velocity. Every control period earns the distance
 the wheels report travelled forward, and a bump costs a fixed penalty and ends the episode,
-after which the robot backs off along its path as TVL learning does.
+after which the learner backs off along its path as TVL learning does. A greedy run backs
+off only if a reflex says so, as a TVL run does.
 """
 
 from __future__ import annotations
@@ -13,12 +14,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from tvl_cli.baselines.drive import Drive, drive
-from tvl_cli.core.command import Command
-from tvl_cli.core.competence import COMPETENCE_RUN_MINUTES, is_competent
-from tvl_cli.core.config import SINGLE, FamTable, RobotConfig
-from tvl_cli.core.metrics import RunMetrics
-from tvl_cli.core.qtable import (
+from tvl_cli.agent.drive import StepSink, drive
+from tvl_cli.agent.policy import Decision, Observation
+from tvl_cli.agent.reflexes import wrap
+from tvl_cli.baselines.qtable import (
     QParams,
     RuleStates,
     epsilon_greedy,
@@ -26,6 +25,10 @@ from tvl_cli.core.qtable import (
     preference_order,
     q_update,
 )
+from tvl_cli.core.command import Command
+from tvl_cli.core.competence import COMPETENCE_RUN_MINUTES, is_competent
+from tvl_cli.core.config import SINGLE, FamTable, RobotConfig
+from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.sim.robot import Pose, Simulator
 from tvl_cli.sim.worldmap import WorldMap
 
@@ -57,32 +60,35 @@ class QPolicy:
         self.rng = rng
         self._order = preference_order(len(robot.trajectories))
         self._actions = [Command.follow(t, t.v_max_mps) for t in robot.trajectories]
-        self._queue: list[Command] = []  # backing off after a bump
+        self._queue: list[Command] = []  # backing off after a bump, while learning
         self._pending: tuple[int, int, Pose] | None = None  # state, action, odometry at choice
 
-    def command(self, sim: Simulator) -> Command:
+    def interrupt(self) -> None:
+        # A reflex moved the robot: the last action's outcome is not its own to learn from.
+        self._pending = None
+
+    def decide(self, obs: Observation) -> Decision:
         if self._queue:
-            return self._queue.pop()
-        if self._pending is not None and sim.bumped:
-            self._end_episode(sim, *self._pending)
-            return self._queue.pop()
-        state = self.states.one(sim.read_sonar())
+            return Decision(self._queue.pop())
+        if self._pending is not None and obs.bumped and self.rng is not None:
+            self._end_episode(obs, *self._pending)
+            return Decision(self._queue.pop())
+        state = self.states.one(obs.ring_m)
         if self._pending is not None and self.rng is not None:
             last_state, action, odometry = self._pending
-            reward = forward_travel_m(odometry, sim.odometry)
+            reward = forward_travel_m(odometry, obs.odometry)
             q_update(self.q, last_state, action, reward, state, self.params)
         if self.rng is None:
             action = greedy(self.q[state], self._order)
         else:
             action = epsilon_greedy(self.q[state], self._order, self.params.epsilon, self.rng)
-        self._pending = (state, action, sim.odometry)
-        return self._actions[action]
+        self._pending = (state, action, obs.odometry)
+        return Decision(self._actions[action], trajectory=action, choice=action)
 
-    def _end_episode(self, sim: Simulator, state: int, action: int, odometry: Pose) -> None:
+    def _end_episode(self, obs: Observation, state: int, action: int, odometry: Pose) -> None:
         """Punish the action that bumped, with nothing after it, and back off along the arc."""
-        if self.rng is not None:
-            reward = forward_travel_m(odometry, sim.odometry) - self.params.collision_penalty
-            q_update(self.q, state, action, reward, None, self.params)
+        reward = forward_travel_m(odometry, obs.odometry) - self.params.collision_penalty
+        q_update(self.q, state, action, reward, None, self.params)
         self._pending = None
         last = self._actions[action]
         steps = math.ceil(self.params.reverse_m / (last.linear_mps * self.robot.control_period_s))
@@ -117,14 +123,23 @@ class QLearning:
 
     def train(self, minutes: float) -> RunMetrics:
         """Learn for `minutes` of simulated time; the metrics of that stretch of driving."""
-        metrics = drive(self._sim, self._learner, minutes).metrics
+        metrics = drive(self._sim, self._learner, minutes, measure=False)
         self.learn_collisions += metrics.collisions
         return metrics
 
-    def evaluate(self, minutes: float, seed: int) -> Drive:
-        """A greedy run from the world's start without learning, seeded as `tvl run` is."""
+    def evaluate(
+        self,
+        minutes: float,
+        seed: int,
+        reflexes: tuple[str, ...] = (),
+        on_step: StepSink | None = None,
+    ) -> RunMetrics:
+        """A greedy `avoid` run from the world's start without learning, seeded as `tvl run`
+        is, inside the named reflexes."""
         sim = Simulator(self.world, self.robot, np.random.default_rng(seed))
-        return drive(sim, QPolicy(self.q, self.states, self.robot, self.params), minutes)
+        greedy_policy = QPolicy(self.q, self.states, self.robot, self.params)
+        policy = wrap(greedy_policy, reflexes, self.robot, "avoid")
+        return drive(sim, policy, minutes, on_step=on_step)
 
 
 @dataclass(frozen=True, slots=True)
@@ -132,14 +147,14 @@ class CompetenceCheck:
     """A greedy `avoid` run after some minutes of learning."""
 
     learn_minutes: float
-    collisions_per_min: float
+    contacts_per_min: float
     mean_speed_mps: float
     competent: bool
 
 
 @dataclass(frozen=True, slots=True)
 class QLearningResult:
-    evaluation: Drive  # the final greedy run
+    evaluation: RunMetrics  # the final greedy run
     learn_minutes: float
     learn_collisions: int
     checks: tuple[CompetenceCheck, ...]  # empty unless asked for
@@ -158,9 +173,12 @@ def learn_and_evaluate(
     seed: int,
     competence_every: float | None = None,
     params: QParams = DEFAULT_Q,
+    reflexes: tuple[str, ...] = (),
+    on_step: StepSink | None = None,
 ) -> QLearningResult:
     """Learn for `learn_minutes` (0: not at all), judging competence every `competence_every`
-    learning minutes until it is reached, then run the greedy policy for `minutes`."""
+    learning minutes until it is reached, then run the greedy policy for `minutes`; every
+    greedy run inside the named reflexes, the last one's steps to `on_step`."""
     learner = QLearning(world, robot, seed, params)
     checks: list[CompetenceCheck] = []
     stretch = competence_every or learn_minutes
@@ -170,15 +188,18 @@ def learn_and_evaluate(
     for start, end in zip([0.0, *ends[:-1]], ends, strict=True):
         learner.train(end - start)
         if competence_every is not None and not any(c.competent for c in checks):
-            run = learner.evaluate(COMPETENCE_RUN_MINUTES, seed).metrics
+            run = learner.evaluate(COMPETENCE_RUN_MINUTES, seed, reflexes)
             checks.append(
                 CompetenceCheck(
                     end,
-                    run.collisions_per_min,
+                    run.contacts_per_min,
                     run.mean_speed_mps,
                     is_competent(run),
                 )
             )
     return QLearningResult(
-        learner.evaluate(minutes, seed), learn_minutes, learner.learn_collisions, tuple(checks)
+        learner.evaluate(minutes, seed, reflexes, on_step),
+        learn_minutes,
+        learner.learn_collisions,
+        tuple(checks),
     )

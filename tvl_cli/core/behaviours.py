@@ -23,10 +23,6 @@ LOOKAHEAD_M = 0.5
 DEFAULT_THRESHOLD = 0.85
 # A reading this short on one side means a wall to follow on that side.
 WALL_SEEN_M = 1.0
-# Trajectories setting off within this angle of a way that met an obstacle are not fast:
-# more than two sonar spacings, so that facing the next sonar but one (exactly 45 degrees
-# round) is never decided by the noise in odometry.
-BLOCKED_HALF_WIDTH_RAD = math.radians(50.0)
 # Each side front to back, mirror images, so that equal readings pick the same sonar on both.
 LEFT_SONARS = (2, 3, 4, 5, 6)
 RIGHT_SONARS = (14, 13, 12, 11, 10)
@@ -37,39 +33,11 @@ class Context:
     """What a behaviour knows besides the perceived velocities."""
 
     ring_m: np.ndarray  # (16,) metres, S0 forward, CCW
-    last_turn: int = 1  # +1 left, -1 right: the side a tie keeps
+    # +1 left, -1 right: the side a tie goes to. The paper is silent on ties; 0 takes the
+    # first in trajectory order (T3L to T3R) and looks left first when rotating perception.
+    tie_side: int = 0
     goal_bearing_rad: float = 0.0  # goal direction relative to the heading (goal only)
     wall_side: int = 0  # +1 left, -1 right, 0 none seen yet (wall following only)
-    # Ways that met an obstacle lately (bearings relative to the heading now; BlockedWay).
-    blocked_bearings_rad: tuple[float, ...] = ()
-
-
-@dataclass(frozen=True, slots=True)
-class BlockedWay:
-    """A way that met an obstacle: the world heading (by odometry) the robot was driving when
-    it bumped or nearly bumped, kept out of its choices until a time.
-
-    A bump is evidence the FAM over-rated that way: after backing off the ring reads much
-    the same, and an object it cannot see (a convex corner, a table edge) is still there, so
-    trusting it again would repeat the bump. Until then, every trajectory setting off within
-    BLOCKED_HALF_WIDTH_RAD of it is not fast, in every rotated view.
-    """
-
-    heading_rad: float
-    until_s: float
-
-
-def block_way(ways: list[BlockedWay], way: BlockedWay, time_s: float) -> list[BlockedWay]:
-    """The ways still blocked at `time_s`, and the new one: several can hold at once, so
-    that in a corner both walls stay blocked."""
-    return [w for w in ways if time_s < w.until_s] + [way]
-
-
-def blocked_bearings(
-    ways: list[BlockedWay], heading_rad: float, time_s: float
-) -> tuple[float, ...]:
-    """The bearings, relative to `heading_rad`, of the ways still blocked at `time_s`."""
-    return tuple(wrap_rad(w.heading_rad - heading_rad) for w in ways if time_s < w.until_s)
 
 
 @dataclass(frozen=True, slots=True)
@@ -115,8 +83,8 @@ Scorer = Callable[[np.ndarray, Context], np.ndarray]
 
 
 def _avoid_score(headings: np.ndarray, ctx: Context) -> np.ndarray:
-    # Nearest the forward direction; a tie goes to the one heading to the side of the last turn.
-    return np.abs(headings) - 1e-6 * np.sign(headings) * ctx.last_turn
+    # Nearest the forward direction; a tie goes to the one heading to the tie side.
+    return np.abs(headings) - 1e-6 * np.sign(headings) * ctx.tie_side
 
 
 def _wall_score(side: int) -> Scorer:
@@ -148,34 +116,34 @@ BEHAVIOURS: dict[str, Scorer] = {
 BEHAVIOUR_NAMES = ("avoid", "wall-left", "wall-right", "wall", "goal")
 
 
+def fast_set(velocities: np.ndarray, v_max: np.ndarray, threshold: float) -> np.ndarray:
+    """(16, 7) bool: the trajectories perceived at threshold x their maximum or faster."""
+    return velocities >= threshold * v_max[None, :]
+
+
 def choose(
     velocities: np.ndarray,
+    fast: np.ndarray,
     v_max: np.ndarray,
     headings: np.ndarray,
-    starts: np.ndarray,
     behaviour: str,
-    threshold: float,
     ctx: Context,
 ) -> Choice | None:
     """Pick a fast trajectory for `behaviour`, or None when no direction has one (trapped).
 
-    velocities: (16, 7) perceived m/s, row k as if facing sonar k; v_max: (7,);
-    headings: (16, 7) from trajectory_headings, how behaviours judge where a trajectory goes;
-    starts: (16, 7) the same over the short stretch where an obstacle just met lies, how
-    blocked ways (ctx.blocked_bearings_rad) are judged.
+    velocities: (16, 7) perceived m/s, row k as if facing sonar k; fast: (16, 7) bool, the
+    candidates (fast_set, less any the caller leaves out); v_max: (7,); headings: (16, 7)
+    from trajectory_headings, how behaviours judge where a trajectory goes.
     """
-    fast = velocities >= threshold * v_max[None, :]
-    for bearing in ctx.blocked_bearings_rad:
-        fast &= np.abs(wrap_rad(starts - bearing)) > BLOCKED_HALF_WIDTH_RAD
     n_sonars = velocities.shape[0]
     scorer = _wall_score(ctx.wall_side or 1) if behaviour == "wall" else BEHAVIOURS[behaviour]
     if fast[0].any():
         scores = np.where(fast[0], scorer(headings[0], ctx), np.inf)
         pick = int(np.argmin(scores))
         return Choice(0, pick, float(min(velocities[0, pick], v_max[pick])))
-    side = 1 if ctx.last_turn >= 0 else -1
+    side = -1 if ctx.tie_side < 0 else 1
     for step in range(1, n_sonars // 2 + 1):
-        # Equally good views either side: the one on the side of the last turn wins.
+        # Equally good views either side: the one on the tie side (left first) wins.
         rotations = [side * step, -side * step] if step < n_sonars // 2 else [step]
         best: tuple[float, int, int] | None = None
         for k in rotations:

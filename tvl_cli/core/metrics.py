@@ -1,9 +1,13 @@
-"""Run metrics accumulated step by step: distance, speed, collisions, clearances, goal."""
+"""Run metrics accumulated step by step: distance, speed, contacts, clearances, goal."""
 
 from __future__ import annotations
 
 import math
+from collections import Counter
+from collections.abc import Iterable
 from dataclasses import dataclass
+
+from tvl_cli.core.contacts import BACKOFF, BUMP, NEAR_MISS, SPIN, TRAPPED
 
 
 @dataclass(frozen=True, slots=True)
@@ -12,14 +16,20 @@ class RunMetrics:
 
     sim_s: float
     distance_m: float
-    mean_speed_mps: float
+    mean_speed_mps: float  # over the whole run, stops, spins and back-offs included
+    mean_drive_speed_mps: float  # over the steps that drove forward
     collisions: int
+    near_misses: int
+    contacts: int  # collisions + near misses
+    contacts_per_min: float
     collisions_per_min: float
+    backoffs: int
+    spins: int
+    trapped: int
     mean_clearance_m: float
     mean_wall_clearance_m: float | None  # None unless a wall was being followed
     goal_reached: bool
     time_to_goal_s: float | None
-    trapped: int
 
 
 class MetricsRecorder:
@@ -29,40 +39,45 @@ class MetricsRecorder:
         self._last_xy = start_xy
         self._sim_s = 0.0
         self._distance_m = 0.0
-        self._collisions = 0
-        self._was_bumped = False
+        self._drive_distance_m = 0.0
+        self._drive_steps = 0
+        self._dt_s = 0.0
+        self._events: Counter[str] = Counter()
         self._clearance_sum = 0.0
         self._steps = 0
         self._wall_clearance_sum = 0.0
         self._wall_steps = 0
-        self._trapped = 0
         self._time_to_goal_s: float | None = None
 
     def record(
         self,
         xy: tuple[float, float],
         dt_s: float,
-        bumped: bool,
         clearance_m: float,
         following_wall: bool,
+        driving_forward: bool,
+        events: Iterable[str],
     ) -> None:
         self._steps += 1
+        self._dt_s = dt_s
         # Counted, not summed: 3000 additions of 0.1 s fall short of 300 s, and one collision
         # in five minutes would then be a hair over 0.2 a minute.
         self._sim_s = self._steps * dt_s
-        self._distance_m += math.dist(xy, self._last_xy)
+        moved_m = math.dist(xy, self._last_xy)
+        self._distance_m += moved_m
+        if driving_forward:
+            self._drive_distance_m += moved_m
+            self._drive_steps += 1
         self._last_xy = xy
-        # A collision is an event: the step the bump sensor closes, not every step it stays closed.
-        if bumped and not self._was_bumped:
-            self._collisions += 1
-        self._was_bumped = bumped
+        self._events.update(events)
         self._clearance_sum += clearance_m
         if following_wall:
             self._wall_clearance_sum += clearance_m
             self._wall_steps += 1
 
-    def trapped(self) -> None:
-        self._trapped += 1
+    def count(self, events: Iterable[str]) -> None:
+        """Events judged after the last step (an approach still open when the run ends)."""
+        self._events.update(events)
 
     def goal_reached(self) -> None:
         if self._time_to_goal_s is None:
@@ -70,17 +85,25 @@ class MetricsRecorder:
 
     def result(self) -> RunMetrics:
         minutes = self._sim_s / 60.0
+        collisions, near_misses = self._events[BUMP], self._events[NEAR_MISS]
+        drive_s = self._drive_steps * self._dt_s
         return RunMetrics(
             sim_s=self._sim_s,
             distance_m=self._distance_m,
             mean_speed_mps=self._distance_m / self._sim_s if self._sim_s else 0.0,
-            collisions=self._collisions,
-            collisions_per_min=self._collisions / minutes if minutes else 0.0,
+            mean_drive_speed_mps=self._drive_distance_m / drive_s if drive_s else 0.0,
+            collisions=collisions,
+            near_misses=near_misses,
+            contacts=collisions + near_misses,
+            contacts_per_min=(collisions + near_misses) / minutes if minutes else 0.0,
+            collisions_per_min=collisions / minutes if minutes else 0.0,
+            backoffs=self._events[BACKOFF],
+            spins=self._events[SPIN],
+            trapped=self._events[TRAPPED],
             mean_clearance_m=self._clearance_sum / self._steps if self._steps else 0.0,
             mean_wall_clearance_m=(
                 self._wall_clearance_sum / self._wall_steps if self._wall_steps else None
             ),
             goal_reached=self._time_to_goal_s is not None,
             time_to_goal_s=self._time_to_goal_s,
-            trapped=self._trapped,
         )

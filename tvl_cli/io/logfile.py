@@ -44,8 +44,8 @@ import numpy as np
 
 from tvl_cli import __version__
 from tvl_cli.core.config import FamConfig, RobotConfig
+from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
-from tvl_cli.core.labels import distances_to_collision
 from tvl_cli.io.atomic import atomic_output
 from tvl_cli.io.lock import WriterLock, writer_pid
 from tvl_cli.io.schema import (
@@ -62,8 +62,6 @@ from tvl_cli.io.schema import (
 )
 
 SESSIONS = "sessions"
-MM_PER_M = 1000.0
-MM_MAX = np.iinfo(np.uint16).max
 
 EPISODE_DTYPE = np.dtype(
     [
@@ -94,42 +92,6 @@ COMMITTED_MINUTES = "minutes_written"
 STATUS_RUNNING = "running"
 STATUS_FINISHED = "finished"
 STATUS_NOT_CLOSED = "interrupted: not closed"  # the writer died without closing the session
-
-
-def ring_to_mm(ring_m: np.ndarray) -> np.ndarray:
-    """Sonar ranges in metres -> uint16 millimetres (nearest), the form the log keeps."""
-    mm = np.rint(np.asarray(ring_m, dtype=np.float64) * MM_PER_M)
-    return np.clip(mm, 0, MM_MAX).astype(np.uint16)
-
-
-def mm_to_ring(ring_mm: np.ndarray) -> np.ndarray:
-    """uint16 millimetres -> float64 metres: the exact values the FAM trains on."""
-    return np.asarray(ring_mm, dtype=np.float64) / MM_PER_M
-
-
-@dataclass(frozen=True, slots=True, eq=False)
-class Episode:
-    """One followed trajectory: its exemplars and how it ended."""
-
-    index: int  # in the session, from 0
-    ring_mm: np.ndarray  # (n, sonars) uint16 mm, S0 forward, CCW
-    pose: np.ndarray  # (n, 3) true x m, y m, theta rad
-    odometry: np.ndarray  # (n, 3) odometry x m, y m, theta rad
-    arc_m: np.ndarray  # (n,) distance along the arc from the episode start
-    trajectory: int  # index in the robot configuration's trajectories
-    rotation: int  # foveal rotation chosen, sonar positions CCW
-    collided: bool
-    bumped: bool  # the collision point was a bump (else the sonars found it, or none)
-    end_arc_m: float  # arc length at the end: the collision point if collided
-    end_time_s: float  # simulated time at the end, from the session start
-
-    @property
-    def exemplar_count(self) -> int:
-        return len(self.arc_m)
-
-    def distances_m(self) -> np.ndarray:
-        """(n,) metres along the arc from each exemplar to the collision point; inf if none."""
-        return distances_to_collision(self.arc_m, self.collided, self.end_arc_m)
 
 
 # name -> (dtype, units, description) of the per-exemplar datasets, in writing order.

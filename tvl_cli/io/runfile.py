@@ -1,16 +1,25 @@
-"""The run trace (`tvl-run`): every control step of one behaviour run, and its metrics.
+"""The run trace (`tvl-run`): every control step of one behaviour run, why it was taken,
+and the run's metrics.
 
-Layout:
+Layout (format_version 2; version 1 had only pose, odometry, ring_mm, velocities,
+trajectory, speed_mps and bumped, with velocities facing forward, and is still read):
 
     /             format, format_version, tvl_version, created, world_name, world_text,
-                  parameters (JSON: behaviour, threshold, minutes, goal, seed, FAM file and
-                  its SHA-256), robot_config (JSON), metrics (JSON: what `tvl run --json` prints)
+                  parameters (JSON: behaviour, threshold, minutes, goal, seed, reflexes, FAM
+                  file and its SHA-256), robot_config (JSON), metrics (JSON: what
+                  `tvl run --json` prints)
     pose          (N, 3) float64  true x, y (m), theta (rad) after each step
     odometry      (N, 3) float64  odometry x, y (m), theta (rad) after each step
-    ring_mm       (N, 16) uint16  sonar ranges read before the step, mm
-    velocities    (N, 7) float64  perceived m/s of the 7 trajectories facing forward
-    trajectory    (N,) int8       trajectory driven, -1 while spinning, reversing or trapped
+    ring_mm       (N, 16) uint16  sonar ranges read before the step, mm; 0 if not read
+    velocities    (N, 7) float64  perceived m/s of the 7 trajectories in the view used; NaN
+    fast          (N, 7) bool     the fast set of that view
+    rotation      (N,) int8       the view: sonar positions CCW the choice was made facing
+    choice        (N,) int8       the policy's choice of trajectory, -1 none this step
+    trajectory    (N,) int8       trajectory driven, -1 spinning, reversing or trapped
     speed_mps     (N,) float64    commanded forward speed (negative when reversing)
+    turn_radps    (N,) float64    commanded turn rate
+    reflex        (N,) int8       the reflex that overrode the policy (attribute `names`), -1
+    events        (N,) uint8      events the step began, one bit each (attribute `bits`)
     bumped        (N,) bool       bump sensor after the step
 """
 
@@ -23,8 +32,8 @@ from typing import Any
 import h5py
 import numpy as np
 
+from tvl_cli.core.contacts import EVENTS
 from tvl_cli.io.atomic import atomic_output
-from tvl_cli.io.logfile import ring_to_mm
 from tvl_cli.io.schema import (
     LIBVER,
     RUN_FORMAT,
@@ -40,11 +49,20 @@ _COMPRESSION: dict[str, Any] = {"compression": "gzip", "compression_opts": 4, "s
 _DATASETS: dict[str, tuple[str, str]] = {
     "pose": ("m, m, rad", "true pose x, y, theta after each control step"),
     "odometry": ("m, m, rad", "odometry pose x, y, theta after each control step"),
-    "ring_mm": ("mm", "sonar ranges S0..S15 read before the step, S0 forward, CCW"),
-    "velocities": ("m/s", "perceived velocity of each trajectory, facing forward"),
+    "ring_mm": ("mm", "sonar ranges S0..S15 read before the step, S0 forward, CCW; 0 unread"),
+    "velocities": ("m/s", "perceived velocity of each trajectory in the view used; NaN none"),
     "trajectory": ("", "trajectory driven (robot_config order); -1 spinning or reversing"),
     "speed_mps": ("m/s", "commanded forward speed, negative when reversing"),
     "bumped": ("", "bump sensor after the step"),
+}
+# The decision record, added in format_version 2.
+_DECISION_DATASETS: dict[str, tuple[str, str]] = {
+    "fast": ("", "the fast set of the view used"),
+    "rotation": ("sonar positions", "the view the choice was made in, counter-clockwise"),
+    "choice": ("", "the policy's choice of trajectory before any reflex; -1 none"),
+    "turn_radps": ("rad/s", "commanded turn rate, counter-clockwise"),
+    "reflex": ("", "the reflex that overrode the policy (index into `names`); -1 none"),
+    "events": ("", "events the step began, one bit each (bit i is `bits`[i])"),
 }
 
 
@@ -57,10 +75,22 @@ class RunTrace:
     parameters: dict[str, Any]
     metrics: dict[str, Any]
     arrays: dict[str, np.ndarray]  # the datasets above, by name
+    reflex_names: tuple[str, ...] = ()
 
     @property
     def steps(self) -> int:
         return len(self.arrays["pose"])
+
+    @property
+    def has_decisions(self) -> bool:
+        """Whether the trace records why each step was taken (format_version 2)."""
+        return "events" in self.arrays
+
+    def event_steps(self, event: str) -> np.ndarray:
+        """The indices of the steps that began `event` (one of core.contacts.EVENTS)."""
+        if not self.has_decisions:
+            return np.array([], dtype=np.int64)
+        return np.flatnonzero(self.arrays["events"] & (1 << EVENTS.index(event)))
 
 
 def write_run(
@@ -71,28 +101,22 @@ def write_run(
     parameters: dict[str, Any],
     robot_config: dict[str, Any],
     metrics: dict[str, Any],
-    steps: dict[str, list[Any]],
+    arrays: dict[str, np.ndarray],
+    reflex_names: tuple[str, ...],
 ) -> None:
-    """Write a whole run trace atomically; `steps` holds one list per dataset name."""
-    arrays = {
-        "pose": np.array(steps["pose"], dtype=np.float64).reshape(-1, 3),
-        "odometry": np.array(steps["odometry"], dtype=np.float64).reshape(-1, 3),
-        "ring_mm": ring_to_mm(np.array(steps["ring_m"], dtype=np.float64).reshape(-1, 16)),
-        "velocities": np.array(steps["velocities"], dtype=np.float64).reshape(-1, 7),
-        "trajectory": np.array(steps["trajectory"], dtype=np.int8),
-        "speed_mps": np.array(steps["speed_mps"], dtype=np.float64),
-        "bumped": np.array(steps["bumped"], dtype=bool),
-    }
+    """Write a whole run trace atomically; `arrays` holds every dataset above, by name."""
     with atomic_output(path) as temporary, h5py.File(temporary, "w", libver=LIBVER) as f:
         write_header(
             f, RUN_FORMAT, parameters=parameters, robot_config=robot_config, metrics=metrics
         )
         f.attrs.update(world_name=world_name, world_text=world_text)
-        for name, values in arrays.items():
-            units, description = _DATASETS[name]
+        for name, (units, description) in {**_DATASETS, **_DECISION_DATASETS}.items():
+            values = arrays[name]
             chunked = _COMPRESSION if len(values) else {}
             dataset = f.create_dataset(name, data=values, **chunked)
             dataset.attrs.update(units=units, description=description)
+        f["reflex"].attrs["names"] = list(reflex_names)
+        f["events"].attrs["bits"] = list(EVENTS)
 
 
 def read_run(path: Path | str) -> RunTrace:
@@ -101,8 +125,12 @@ def read_run(path: Path | str) -> RunTrace:
         missing = [name for name in _DATASETS if name not in f]
         if missing:
             raise FormatError(f"{path}: run trace has no {', '.join(missing)} dataset")
+        names = [*_DATASETS, *(n for n in _DECISION_DATASETS if n in f)]
         try:
-            arrays = {name: f[name][()] for name in _DATASETS}
+            arrays = {name: f[name][()] for name in names}
+            reflex_names = (
+                tuple(str(n) for n in f["reflex"].attrs.get("names", ())) if "reflex" in f else ()
+            )
         except OSError as error:
             raise FormatError(f"{path}: run trace is corrupt ({error})") from None
         return RunTrace(
@@ -111,4 +139,5 @@ def read_run(path: Path | str) -> RunTrace:
             parameters=read_json_attr(f, "parameters", path),
             metrics=read_json_attr(f, "metrics", path),
             arrays=arrays,
+            reflex_names=reflex_names,
         )

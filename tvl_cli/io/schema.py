@@ -23,7 +23,7 @@ FAM_FORMAT = "tvl-fam"
 RUN_FORMAT = "tvl-run"
 
 # The newest version of each format this tvl writes and reads.
-FORMAT_VERSIONS: dict[str, int] = {LOG_FORMAT: 1, FAM_FORMAT: 1, RUN_FORMAT: 1}
+FORMAT_VERSIONS: dict[str, int] = {LOG_FORMAT: 1, FAM_FORMAT: 1, RUN_FORMAT: 2}
 
 # HDF5 1.8 object headers: readable by any HDF5 library since 2008, and they allow attributes
 # over 64 KiB (a large world map's text) in dense storage.

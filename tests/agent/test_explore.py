@@ -7,15 +7,15 @@ from pathlib import Path
 
 import numpy as np
 
+from tvl_cli.agent.explore import Learner, LearnParams, least_experienced, spin_commands
 from tvl_cli.core.config import SINGLE, RobotConfig
+from tvl_cli.core.episode import Episode
 from tvl_cli.core.fam import Fam
-from tvl_cli.io.logfile import Episode
-from tvl_cli.learn import Learner, LearnParams, least_experienced, spin_commands
+from tvl_cli.core.training import TrainParams, episode_labels
 from tvl_cli.sim.worldmap import load_world, parse_world
-from tvl_cli.training import TrainParams, episode_labels
 
 ROBOT = RobotConfig()
-SQUARE = Path(__file__).resolve().parent.parent / "worlds" / "square.txt"
+SQUARE = Path(__file__).resolve().parents[2] / "worlds" / "square.txt"
 # A 12 m hall: room for T3's full circle (1 m across) from its middle.
 HALL = "version: 1\nname: hall\ncell: 0.5\n\n" + "\n".join(
     ["#" * 24] + ["#" + "." * 22 + "#"] * 10 + ["#" + "." * 10 + ">" + "." * 11 + "#"]

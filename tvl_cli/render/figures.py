@@ -26,13 +26,13 @@ from tvl_cli.core.errors import BadInput
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.io.atomic import atomic_output
 from tvl_cli.io.runfile import read_run
-from tvl_cli.plot import draw_world
+from tvl_cli.render.plot import draw_world
 from tvl_cli.sim.worldmap import parse_world
 
 Row = dict[str, Any]
 
 # A setting is collision prone above the competence limit (dashed in Figure 21).
-COLLISION_PRONE_PER_MIN = competence.MAX_COLLISIONS_PER_MIN
+COLLISION_PRONE_PER_MIN = competence.MAX_CONTACTS_PER_MIN
 
 WORLD_ORDER = ("square", "circle", "corridor", "obstacles", "narrow", "lab")
 CONFIG_STYLE = {"single": "#1f77b4", "multi": "#d62728"}
@@ -176,7 +176,7 @@ def method_rows(rows: list[Row], world: str, configs: Sequence[str]) -> list[lis
                 world,
                 f"TVL {config} FAM",
                 describe_competence(competence_times(snapshots), horizon),
-                number(mean(r["collisions_per_min"] for r in last)),
+                number(mean(r["contacts_per_min"] for r in last)),
                 number(mean(r["mean_speed_mps"] for r in last)),
                 number(mean(r["mean_clearance_m"] for r in last)),
                 number(learn_rate),
@@ -189,7 +189,7 @@ def method_rows(rows: list[Row], world: str, configs: Sequence[str]) -> list[lis
                 world,
                 "DWA (knows the map)",
                 "no learning",
-                number(mean(r["collisions_per_min"] for r in dwa)),
+                number(mean(r["contacts_per_min"] for r in dwa)),
                 number(mean(r["mean_speed_mps"] for r in dwa)),
                 number(mean(r["mean_clearance_m"] for r in dwa)),
                 "–",
@@ -203,7 +203,7 @@ def method_rows(rows: list[Row], world: str, configs: Sequence[str]) -> list[lis
                 world,
                 "Q-learning",
                 describe_competence(times, max(r["learn_minutes"] for r in qlearn)),
-                number(mean(r["collisions_per_min"] for r in qlearn)),
+                number(mean(r["contacts_per_min"] for r in qlearn)),
                 number(mean(r["mean_speed_mps"] for r in qlearn)),
                 number(mean(r["mean_clearance_m"] for r in qlearn)),
                 number(mean(r["learn_collisions"] / r["learn_minutes"] for r in qlearn)),
@@ -216,7 +216,7 @@ METHOD_HEADER = (
     "world",
     "method",
     "time to competence, min (trials)",
-    "avoid collisions/min",
+    "avoid contacts/min",
     "avoid speed m/s",
     "avoid clearance m",
     "collisions/min learning",
@@ -224,7 +224,8 @@ METHOD_HEADER = (
 COMPETENCE_NOTE = (
     f"Time to competence: the first learning minute after which an avoid run of "
     f"{competence.COMPETENCE_RUN_MINUTES:g} simulated minutes has at most "
-    f"{competence.MAX_COLLISIONS_PER_MIN:g} collisions/min and a mean speed of at least "
+    f"{competence.MAX_CONTACTS_PER_MIN:g} contacts (collisions and near misses) a minute "
+    f"and a mean speed of at least "
     f"{competence.MIN_MEAN_SPEED_MPS:g} m/s.\n"
 )
 METHOD_NOTE = (
@@ -293,13 +294,13 @@ def qlearn_checks(qlearn: Iterable[Row]) -> list[Row]:
 def baselines_and_limits(hits: Axes, speed: Axes, rows: list[Row], world: str) -> None:
     """On the avoid-run panels: DWA's level, Q-learning's checks, the competence limits."""
     dwa = select(rows, kind="dwa", world=world, behaviour="avoid")
-    reference_line(hits, mean(r["collisions_per_min"] for r in dwa), DWA_COLOUR, "DWA")
+    reference_line(hits, mean(r["contacts_per_min"] for r in dwa), DWA_COLOUR, "DWA")
     reference_line(speed, mean(r["mean_speed_mps"] for r in dwa), DWA_COLOUR, "DWA")
     checks = qlearn_checks(select(rows, kind="qlearn", world=world))
     if checks:
-        for ax, key in ((hits, "collisions_per_min"), (speed, "mean_speed_mps")):
+        for ax, key in ((hits, "contacts_per_min"), (speed, "mean_speed_mps")):
             ax.plot(*curve(checks, "minute", key), "-.", color=QLEARN_COLOUR, label="Q-learning")
-    competence_limit(hits, competence.MAX_COLLISIONS_PER_MIN)
+    competence_limit(hits, competence.MAX_CONTACTS_PER_MIN)
     competence_limit(speed, competence.MIN_MEAN_SPEED_MPS)
     collision_axis(hits)
 
@@ -326,7 +327,7 @@ def figure19(rows: list[Row]) -> tuple[Figure, str]:
         dv.set_title(world)
         learn_hits.plot(*curve(learnt, "minute", "collisions"), marker="o", markersize=3)
         learn_hits.set_ylim(bottom=0)
-        hits.plot(*curve(snapshots, "minute", "collisions_per_min"), "o-", ms=3, label="TVL")
+        hits.plot(*curve(snapshots, "minute", "contacts_per_min"), "o-", ms=3, label="TVL")
         speed.plot(*curve(snapshots, "minute", "mean_speed_mps"), "o-", ms=3, label="TVL")
         baselines_and_limits(hits, speed, rows, world)
         times = [t for t in competence_times(snapshots) if t is not None]
@@ -338,7 +339,7 @@ def figure19(rows: list[Row]) -> tuple[Figure, str]:
             ax.grid(alpha=0.3)
     axes[0, 0].set_ylabel("ΔV (m/s per step)")
     axes[1, 0].set_ylabel("collisions/min, learning")
-    axes[2, 0].set_ylabel("collisions/min, avoid run")
+    axes[2, 0].set_ylabel("contacts/min, avoid run")
     axes[3, 0].set_ylabel("mean speed (m/s), avoid run")
     shared_legend(figure, axes.flat)
     figure.suptitle("Learning curves and competence, single FAM (mean of trials)")
@@ -361,7 +362,7 @@ def threshold_points(rows: list[Row], world: str) -> list[tuple[float, Row]]:
                 threshold,
                 {
                     key: mean(r[key] for r in runs)
-                    for key in ("mean_wall_clearance_m", "mean_speed_mps", "collisions_per_min")
+                    for key in ("mean_wall_clearance_m", "mean_speed_mps", "contacts_per_min")
                 },
             )
         )
@@ -369,7 +370,7 @@ def threshold_points(rows: list[Row], world: str) -> list[tuple[float, Row]]:
 
 
 def prone(point: Row) -> bool:
-    rate = point["collisions_per_min"]
+    rate = point["contacts_per_min"]
     return rate is not None and rate > COLLISION_PRONE_PER_MIN
 
 
@@ -404,7 +405,7 @@ def figure21(rows: list[Row]) -> tuple[Figure, str]:
                     f"{threshold:.2f}",
                     number(p["mean_wall_clearance_m"]),
                     number(p["mean_speed_mps"]),
-                    number(p["collisions_per_min"]),
+                    number(p["contacts_per_min"]),
                     "yes" if prone(p) else "no",
                 ]
             )
@@ -422,12 +423,12 @@ def figure21(rows: list[Row]) -> tuple[Figure, str]:
     figure.suptitle("Wall following against the velocity threshold (mean of trials and sides)")
     table = markdown(
         "Figure 21: wall following against the velocity threshold",
-        ("world", "threshold", "wall clearance m", "speed m/s", "collisions/min", "prone"),
+        ("world", "threshold", "wall clearance m", "speed m/s", "contacts/min", "prone"),
         body,
     )
     (low, (low_m, low_mps)), (high, (high_m, high_mps)) = sorted(PAPER_FIG21.items())
     note = (
-        f"Collision prone: more than {COLLISION_PRONE_PER_MIN:g} collisions/min. "
+        f"Collision prone: more than {COLLISION_PRONE_PER_MIN:g} contacts/min. "
         f"Paper (§5.1): threshold {low:g} → {high:g}, wall clearance {low_m:g} → {high_m:g} m, "
         f"mean speed {low_mps:g} → {high_mps:g} m/s.\n"
     )
@@ -534,9 +535,7 @@ def figure24(rows: list[Row]) -> tuple[Figure, str]:
             runs = select(snapshots, world=world, config=config)
             colour = CONFIG_STYLE.get(config, "black")
             label = f"TVL {config}"
-            hits.plot(
-                *curve(runs, "minute", "collisions_per_min"), "o-", ms=3, c=colour, label=label
-            )
+            hits.plot(*curve(runs, "minute", "contacts_per_min"), "o-", ms=3, c=colour, label=label)
             speed.plot(*curve(runs, "minute", "mean_speed_mps"), "o-", ms=3, c=colour, label=label)
             labels.append(config)
             bars_of.append((competence_bar(competence_times(runs), horizon), colour))
@@ -553,7 +552,7 @@ def figure24(rows: list[Row]) -> tuple[Figure, str]:
         bars.set_ylabel("time to competence (min)")
         bars.set_title("hatched: some trials not competent (bar: horizon)", fontsize=8)
         hits.set_title(world)
-        hits.set_ylabel("collisions/min, avoid run")
+        hits.set_ylabel("contacts/min, avoid run")
         speed.set_ylabel("mean speed (m/s), avoid run")
         speed.set_xlabel("learning time (simulated min)")
         for ax in (hits, speed):
@@ -581,7 +580,7 @@ def figure27(rows: list[Row]) -> tuple[Figure, str]:
         colour = CONFIG_STYLE.get(config, "black")
         label = f"{config} FAM, {behaviour}"
         speed.plot(*curve(runs, "minute", "mean_speed_mps"), style, ms=3, color=colour, label=label)
-        hits.plot(*curve(runs, "minute", "collisions_per_min"), style, ms=3, color=colour)
+        hits.plot(*curve(runs, "minute", "contacts_per_min"), style, ms=3, color=colour)
     minutes = sorted(PAPER_FIG27)
     speed.plot(
         minutes,
@@ -592,10 +591,10 @@ def figure27(rows: list[Row]) -> tuple[Figure, str]:
     )
     dwa = select(rows, kind="dwa", behaviour="avoid")
     reference_line(speed, mean(r["mean_speed_mps"] for r in dwa), DWA_COLOUR, "DWA avoid")
-    reference_line(hits, mean(r["collisions_per_min"] for r in dwa), DWA_COLOUR, "DWA avoid")
+    reference_line(hits, mean(r["contacts_per_min"] for r in dwa), DWA_COLOUR, "DWA avoid")
     collision_axis(hits)
     speed.set_ylabel("mean speed (m/s)")
-    hits.set_ylabel("collisions/min")
+    hits.set_ylabel("contacts/min")
     for ax in (speed, hits):
         ax.set_xlabel("learning time (simulated min)")
         ax.grid(alpha=0.3)
@@ -610,13 +609,13 @@ def figure27(rows: list[Row]) -> tuple[Figure, str]:
             runs = select(snapshots, config=config, behaviour=behaviour, minute=minute)
             cells.append(
                 f"{number(mean(r['mean_speed_mps'] for r in runs))}, "
-                f"{number(mean(r['collisions_per_min'] for r in runs))}"
+                f"{number(mean(r['contacts_per_min'] for r in runs))}"
             )
         body.append(cells)
     if dwa:
         dwa_cells = (
             f"{number(mean(r['mean_speed_mps'] for r in dwa))}, "
-            f"{number(mean(r['collisions_per_min'] for r in dwa))}"
+            f"{number(mean(r['contacts_per_min'] for r in dwa))}"
         )
         body.append(["DWA (avoid)"] + [dwa_cells if b == "avoid" else "–" for _, b in series])
     table = markdown(f"Figure 27: behaviours in {world} against learning time", header, body)

@@ -11,27 +11,37 @@ from pathlib import Path
 from typing import Any
 
 import click
+from click.core import ParameterSource
 
-from tvl_cli import __version__, views
+from tvl_cli import __version__
+from tvl_cli.agent.explore import PAPER_NEAR_M, LearnParams
+from tvl_cli.agent.reflexes import ALL as ALL_REFLEXES
+from tvl_cli.agent.reflexes import NONE as NO_REFLEXES
+from tvl_cli.agent.reflexes import STACK_ORDER, parse_reflexes
+from tvl_cli.analysis.rules import SORT_KEYS, parse_ring, select_rules
 from tvl_cli.baselines.dwa import BEHAVIOURS as DWA_BEHAVIOURS
-from tvl_cli.baselines.session import dwa_session, qlearn_session
+from tvl_cli.cli import views
+from tvl_cli.commands.baseline import dwa_session, qlearn_session
+from tvl_cli.commands.demo import run_demo
+from tvl_cli.commands.learn import LearnRequest, learn_to_log, resolve_fam_config
+from tvl_cli.commands.replay import replay as replay_file
+from tvl_cli.commands.run import RunRequest, parse_goal, run_fam
+from tvl_cli.commands.train import train_from_logs
 from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD
 from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS
-from tvl_cli.core.labels import DEFAULT_DECEL_MPS2, DEFAULT_MARGIN_M
-from tvl_cli.demo import run_demo
+from tvl_cli.core.labels import (
+    DEFAULT_DECEL_MPS2,
+    DEFAULT_MARGIN_M,
+    PAPER_DECEL_MPS2,
+    PAPER_MARGIN_M,
+)
+from tvl_cli.core.training import TrainParams
 from tvl_cli.io.atomic import atomic_output
 from tvl_cli.io.famfile import read_fam, write_fam
-from tvl_cli.learn import LearnParams
-from tvl_cli.learn_session import LearnRequest, learn_to_log, resolve_fam_config
-from tvl_cli.replay import replay as replay_file
-from tvl_cli.rules import SORT_KEYS, parse_ring, select_rules
-from tvl_cli.run_session import RunRequest, parse_goal, run_fam
 from tvl_cli.sim.worldgen import KINDS, generate_world
 from tvl_cli.sim.worldmap import describe, load_world, world_to_dict
-from tvl_cli.train import train_from_logs
-from tvl_cli.training import TrainParams
 
 
 class TvlGroup(click.Group):
@@ -121,7 +131,7 @@ def world_check(file: Path) -> None:
 @click.option("--force", is_flag=True, help="Overwrite OUTPUT.")
 def world_render(file: Path, output: Path, force: bool) -> None:
     """Draw a world file as a PNG picture."""
-    from tvl_cli.plot import render_world  # matplotlib is slow to import; only this needs it
+    from tvl_cli.render.plot import render_world  # matplotlib is slow to import; only this needs it
 
     loaded = load_world(file)
     refuse_existing(output, force)
@@ -145,14 +155,24 @@ def training_options(command: Callable[..., None]) -> Callable[..., None]:
         margin: float,
         no_symmetric: bool,
         init_velocity: float,
+        paper: bool,
         **kwargs: Any,
     ) -> None:
+        if paper:
+            _refuse_beside_paper("--decel", "--margin")
+            decel, margin = PAPER_DECEL_MPS2, PAPER_MARGIN_M
         params = TrainParams(decel, margin, not no_symmetric, init_velocity)
         command(*args, train_params=params, **kwargs)
 
     options = (
         click.option(
             "--config", default="single", show_default=True, help="single, multi or FILE.json."
+        ),
+        click.option(
+            "--paper",
+            is_flag=True,
+            help=f"The paper's method: labels at {PAPER_DECEL_MPS2:g} m/s² with a "
+            f"{PAPER_MARGIN_M:g} m margin (and, learning, collision points by bumps only).",
         ),
         click.option(
             "--decel",
@@ -180,6 +200,41 @@ def training_options(command: Callable[..., None]) -> Callable[..., None]:
     for option in reversed(options):
         with_params = option(with_params)
     return with_params
+
+
+def _refuse_beside_paper(*options: str) -> None:
+    """--paper fixes these options: giving one as well is a contradiction, not a choice."""
+    ctx = click.get_current_context()
+    for option in options:
+        name = option.lstrip("-").replace("-", "_")
+        if ctx.get_parameter_source(name) is ParameterSource.COMMANDLINE:
+            raise BadInput(f"{option} cannot be given with --paper, which fixes it")
+
+
+def reflex_options(default: str) -> Callable[[Callable[..., None]], Callable[..., None]]:
+    """--reflex NAMES and --paper, given to the command as one `reflexes` tuple."""
+
+    def decorate(command: Callable[..., None]) -> Callable[..., None]:
+        @functools.wraps(command)
+        def with_reflexes(*args: Any, reflex: str, paper: bool, **kwargs: Any) -> None:
+            if paper:
+                _refuse_beside_paper("--reflex")
+            reflexes = () if paper else parse_reflexes(reflex)
+            command(*args, reflexes=reflexes, **kwargs)
+
+        with_reflexes = click.option(
+            "--paper", is_flag=True, help="The paper's method alone: no reflexes."
+        )(with_reflexes)
+        return click.option(
+            "--reflex",
+            default=default,
+            show_default=True,
+            metavar="NAMES",
+            help=f"Reflexes beyond the paper, comma-separated: {', '.join(STACK_ORDER)}; "
+            "or all, or none.",
+        )(with_reflexes)
+
+    return decorate
 
 
 def _print_json(value: object) -> None:
@@ -332,6 +387,9 @@ def learn(
     """Explore WORLD and learn trajectory velocities, recording every episode in a log."""
     if fam_out is not None:
         refuse_existing(fam_out, force)
+    if click.get_current_context().params["paper"]:
+        _refuse_beside_paper("--near")
+        near = PAPER_NEAR_M
     request = LearnRequest(
         world_file,
         log,
@@ -370,12 +428,12 @@ def learn(
 @click.option(
     "--log", "trace", type=click.Path(path_type=Path), default=None, help="Write a run trace."
 )
+@reflex_options(default=ALL_REFLEXES)
 @click.option(
-    "--near-miss/--no-near-miss",
-    "near_miss_backoff",
-    default=True,
-    show_default=True,
-    help="Back off when an object enters the sonars' blind zone ahead, as after a bump.",
+    "--sonar",
+    type=click.Choice(["real", "ideal"]),
+    default=None,
+    help="The sonar model to drive with (default: the one the FAM was learnt with).",
 )
 @click.option("--force", is_flag=True, help="Overwrite the --png and --log files.")
 @click.option("--json", "as_json", is_flag=True, help="Print the metrics as JSON.")
@@ -389,11 +447,15 @@ def run(
     seed: int,
     png: Path | None,
     trace: Path | None,
-    near_miss_backoff: bool,
+    reflexes: tuple[str, ...],
+    sonar: str | None,
     force: bool,
     as_json: bool,
 ) -> None:
-    """Perform a behaviour in WORLD with a learnt FAM."""
+    """Perform a behaviour in WORLD with a learnt FAM.
+
+    Every rule beyond the paper's method is a reflex: --paper (or --reflex none) runs the
+    paper's method alone."""
     for output in (png, trace):
         if output is not None:
             refuse_existing(output, force)
@@ -407,15 +469,14 @@ def run(
         parse_goal(goal) if goal else None,
         png,
         trace,
-        near_miss_backoff,
+        reflexes,
+        sonar,
     )
-    result = run_fam(request)
+    metrics = run_fam(request)
     if as_json:
-        _print_json(asdict(result.metrics))
+        _print_json(asdict(metrics))
     else:
-        views.run_metrics(
-            result.metrics, near_misses=result.near_misses if near_miss_backoff else None
-        )
+        views.run_metrics(metrics, reflexes)
 
 
 @main.command()
@@ -464,6 +525,7 @@ def baseline() -> None:
 @click.option("--minutes", type=float, default=5.0, show_default=True, help="Simulated minutes.")
 @click.option("--seed", type=int, default=1, show_default=True)
 @click.option("--png", type=click.Path(path_type=Path), default=None, help="Draw the path.")
+@reflex_options(default=NO_REFLEXES)
 @click.option("--force", is_flag=True, help="Overwrite the --png file.")
 @click.option("--json", "as_json", is_flag=True, help="Print the metrics as JSON.")
 def baseline_dwa(
@@ -473,6 +535,7 @@ def baseline_dwa(
     minutes: float,
     seed: int,
     png: Path | None,
+    reflexes: tuple[str, ...],
     force: bool,
     as_json: bool,
 ) -> None:
@@ -480,12 +543,12 @@ def baseline_dwa(
     if png is not None:
         refuse_existing(png, force)
     metrics = dwa_session(
-        world_file, behaviour, parse_goal(goal) if goal else None, minutes, seed, png
+        world_file, behaviour, parse_goal(goal) if goal else None, minutes, seed, png, reflexes
     )
     if as_json:
         _print_json(asdict(metrics))
     else:
-        views.run_metrics(metrics)
+        views.run_metrics(metrics, reflexes)
 
 
 @baseline.command("qlearn")
@@ -505,6 +568,7 @@ def baseline_dwa(
     help="Judge competence with a 5-minute greedy run every K learning minutes.",
 )
 @click.option("--png", type=click.Path(path_type=Path), default=None, help="Draw the greedy run.")
+@reflex_options(default=NO_REFLEXES)
 @click.option("--force", is_flag=True, help="Overwrite the --png file.")
 @click.option("--json", "as_json", is_flag=True, help="Print the metrics as JSON.")
 def baseline_qlearn(
@@ -514,17 +578,20 @@ def baseline_qlearn(
     seed: int,
     competence_every: float | None,
     png: Path | None,
+    reflexes: tuple[str, ...],
     force: bool,
     as_json: bool,
 ) -> None:
     """Learn a Q-table over the single FAM's rules in WORLD, then avoid greedily with it."""
     if png is not None:
         refuse_existing(png, force)
-    report = qlearn_session(world_file, learn_minutes, minutes, seed, competence_every, png)
+    report = qlearn_session(
+        world_file, learn_minutes, minutes, seed, competence_every, png, reflexes
+    )
     if as_json:
         _print_json(report.to_dict())
     else:
-        views.run_metrics(report.result.evaluation.metrics)
+        views.run_metrics(report.result.evaluation, reflexes)
         click.echo(report.summary())
 
 
@@ -540,7 +607,9 @@ def baseline_qlearn(
 def figure(name: str, results: Path, output: Path, table: Path | None, force: bool) -> None:
     """Draw figure NAME (fig19, fig21, fig22, fig24, fig27) from an experiment's RESULTS
     (JSON lines) and print its summary table."""
-    from tvl_cli.figures import draw_figure  # matplotlib is slow to import; only this needs it
+    from tvl_cli.render.figures import (
+        draw_figure,  # matplotlib is slow to import; only this needs it
+    )
 
     for path in (output, table):
         if path is not None:

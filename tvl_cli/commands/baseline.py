@@ -8,13 +8,13 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
 
-from tvl_cli.baselines.drive import Drive
+from tvl_cli.agent.trace import TraceRecorder
 from tvl_cli.baselines.dwa import BEHAVIOURS, run_dwa
 from tvl_cli.baselines.qlearning import QLearningResult, learn_and_evaluate
+from tvl_cli.commands.run import resolve_goal
 from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.errors import BadInput, check_minutes
 from tvl_cli.core.metrics import RunMetrics
-from tvl_cli.run_session import resolve_goal
 from tvl_cli.sim.worldmap import WorldMap, load_world
 
 
@@ -27,11 +27,18 @@ def _goal(
 
 
 def _draw(
-    world: WorldMap, run: Drive, png: Path, title: str, goal: tuple[float, float] | None
+    world: WorldMap,
+    run: TraceRecorder,
+    png: Path,
+    title: str,
+    goal: tuple[float, float] | None,
 ) -> None:
-    from tvl_cli.plot import render_path  # matplotlib only when a picture is wanted
+    from tvl_cli.render.plot import render_path  # matplotlib only when a picture is wanted
 
-    render_path(world, run.poses, run.speeds_mps, run.bumped, png, title=title, goal=goal)
+    steps = run.arrays()
+    render_path(
+        world, steps["pose"], steps["speed_mps"], steps["bumped"], png, title=title, goal=goal
+    )
 
 
 def dwa_session(
@@ -41,15 +48,20 @@ def dwa_session(
     minutes: float,
     seed: int,
     png: Path | None = None,
+    reflexes: tuple[str, ...] = (),
 ) -> RunMetrics:
-    """One DWA run in a world file; the path drawn to `png` if given."""
+    """One DWA run in a world file inside the named reflexes; the path drawn to `png`."""
     check_minutes(minutes)
     world = load_world(world_path)
     goal = _goal(world_path, world, behaviour, goal)
-    run = run_dwa(world, RobotConfig(), minutes, seed, goal)
+    robot = RobotConfig()
+    steps = TraceRecorder(reflexes, robot.sonar.count)
+    metrics = run_dwa(
+        world, robot, minutes, seed, goal, reflexes=reflexes, on_step=steps if png else None
+    )
     if png is not None:
-        _draw(world, run, png, f"DWA {behaviour} in {world.name}", goal)
-    return run.metrics
+        _draw(world, steps, png, f"DWA {behaviour} in {world.name}", goal)
+    return metrics
 
 
 @dataclass(frozen=True, slots=True)
@@ -60,7 +72,7 @@ class QLearnReport:
     def to_dict(self) -> dict[str, Any]:
         """The run metrics of the greedy run, then what learning cost (and achieved)."""
         result = self.result
-        report = asdict(result.evaluation.metrics)
+        report = asdict(result.evaluation)
         report["learn_minutes"] = result.learn_minutes
         report["learn_collisions"] = result.learn_collisions
         if self.checked_competence:
@@ -92,8 +104,10 @@ def qlearn_session(
     seed: int,
     competence_every: float | None = None,
     png: Path | None = None,
+    reflexes: tuple[str, ...] = (),
 ) -> QLearnReport:
-    """Learn a Q-table in a world file, then run it greedily; its path drawn to `png`."""
+    """Learn a Q-table in a world file, then run it greedily inside the named reflexes; its
+    path drawn to `png`."""
     check_minutes(minutes)
     if not (math.isfinite(learn_minutes) and learn_minutes >= 0):
         raise BadInput(f"--learn-minutes {learn_minutes:g} must be 0 or more simulated minutes")
@@ -102,10 +116,19 @@ def qlearn_session(
     ):
         raise BadInput(f"--competence-every {competence_every:g} must be a positive number")
     world = load_world(world_path)
+    robot = RobotConfig()
+    steps = TraceRecorder(reflexes, robot.sonar.count)
     result = learn_and_evaluate(
-        world, RobotConfig(), learn_minutes, minutes, seed, competence_every
+        world,
+        robot,
+        learn_minutes,
+        minutes,
+        seed,
+        competence_every,
+        reflexes=reflexes,
+        on_step=steps if png else None,
     )
     if png is not None:
         title = f"Q-learning after {learn_minutes:g} min, avoid in {world.name}"
-        _draw(world, result.evaluation, png, title, None)
+        _draw(world, steps, png, title, None)
     return QLearnReport(result, competence_every is not None)

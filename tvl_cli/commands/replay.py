@@ -6,6 +6,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from tvl_cli.core.contacts import BUMP, EVENTS, NEAR_MISS, TRAPPED
 from tvl_cli.core.errors import BadInput
 from tvl_cli.io.logfile import MINUTE_COLUMNS, LearningLog, read_log
 from tvl_cli.io.runfile import RunTrace, read_run
@@ -46,7 +47,7 @@ def _learning(log: LearningLog, png: Path | None, curves: Path | None) -> Replay
     facts.append(("exemplars", log.exemplar_count))
     last = log.sessions[-1]
     if png is not None or curves is not None:
-        from tvl_cli import plot  # matplotlib only when a picture is wanted
+        from tvl_cli.render import plot  # matplotlib only when a picture is wanted
 
         if png is not None:
             world = parse_world(last.world_text, f"{log.path} session {last.name}")
@@ -61,15 +62,39 @@ def _learning(log: LearningLog, png: Path | None, curves: Path | None) -> Replay
     return Replay(LOG_FORMAT, facts, minutes)
 
 
+# Events a person looks for first, each listed with the times the steps began them.
+LISTED_EVENTS = (BUMP, NEAR_MISS, TRAPPED)
+
+
+def _events(trace: RunTrace) -> list[tuple[str, Any]]:
+    """How many steps began each event, and when the contacts and traps happened."""
+    if not trace.has_decisions:
+        return [("decisions", "not recorded (a format_version 1 trace)")]
+    # The run's simulated time is its steps times the control period.
+    period_s = float(trace.metrics["sim_s"]) / trace.steps if trace.steps else 0.0
+    facts: list[tuple[str, Any]] = []
+    for event in EVENTS:
+        steps = trace.event_steps(event)
+        facts.append((f"events: {event}", len(steps)))
+        if event in LISTED_EVENTS and len(steps):
+            # The time an event began: the end of the step that began it.
+            facts.append((f"{event} at (s)", [round(float(i + 1) * period_s, 1) for i in steps]))
+    overridden = trace.arrays["reflex"]
+    for index, name in enumerate(trace.reflex_names):
+        facts.append((f"steps taken by reflex {name}", int((overridden == index).sum())))
+    return facts
+
+
 def _run(trace: RunTrace, png: Path | None) -> Replay:
     facts: list[tuple[str, Any]] = [
         ("world", trace.world_name),
         *trace.parameters.items(),
         ("steps", trace.steps),
         *trace.metrics.items(),
+        *_events(trace),
     ]
     if png is not None:
-        from tvl_cli import plot
+        from tvl_cli.render import plot
 
         world = parse_world(trace.world_text, trace.world_name)
         goal = trace.parameters.get("goal")

@@ -12,14 +12,14 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
+from tvl_cli.agent.explore import MinuteStats
+from tvl_cli.commands.demo import DemoResult
+from tvl_cli.commands.learn import LearnResult
+from tvl_cli.commands.replay import Replay
+from tvl_cli.commands.train import TrainSummary
 from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
 from tvl_cli.core.fam import Explanation
 from tvl_cli.core.metrics import RunMetrics
-from tvl_cli.demo import DemoResult
-from tvl_cli.learn import MinuteStats
-from tvl_cli.learn_session import LearnResult
-from tvl_cli.replay import Replay
-from tvl_cli.train import TrainSummary
 
 out = Console(highlight=False)
 err = Console(stderr=True, highlight=False)
@@ -154,17 +154,16 @@ def _metrics_rows(metrics: RunMetrics) -> list[tuple[str, str]]:
     return [(name, show(value)) for name, value in asdict(metrics).items()]
 
 
-def run_metrics(metrics: RunMetrics, near_misses: int | None = None) -> None:
-    """The metrics of a run (what --json prints), then, when the robot backs off from near
-    misses, how many times it did."""
+def run_metrics(metrics: RunMetrics, reflexes: tuple[str, ...] | None = None) -> None:
+    """The metrics of a run (what --json prints), and the reflexes it ran with."""
     table = Table(show_header=False)
     table.add_column()
     table.add_column(justify="right")
     for name, value in _metrics_rows(metrics):
         table.add_row(name, value)
     out.print(table)
-    if near_misses is not None:
-        out.print(f"near misses (backed off before any contact): {near_misses}")
+    if reflexes is not None:
+        out.print(f"reflexes: {', '.join(reflexes) or 'none (the paper method)'}")
 
 
 def replay(summary: Replay) -> None:
@@ -182,7 +181,7 @@ def demo(result: DemoResult) -> None:
     for column in (
         "FAM",
         "behaviour",
-        "coll./min",
+        "contacts/min",
         "near misses",
         "speed m/s",
         "clearance m",
@@ -194,8 +193,8 @@ def demo(result: DemoResult) -> None:
         table.add_row(
             row.config,
             row.behaviour,
-            f"{m.collisions_per_min:.2f}",
-            str(row.near_misses),
+            f"{m.contacts_per_min:.2f}",
+            str(m.near_misses),
             f"{m.mean_speed_mps:.2f}",
             f"{m.mean_wall_clearance_m or m.mean_clearance_m:.2f}",
             str(row.png),

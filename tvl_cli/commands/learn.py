@@ -11,15 +11,16 @@ from dataclasses import dataclass
 from pathlib import Path
 from types import FrameType
 
+from tvl_cli.agent.explore import Learner, LearnParams, LearnSummary, MinuteStats
+from tvl_cli.commands.train import provenance
 from tvl_cli.core.config import BUILTIN_FAM_CONFIGS, FamConfig, RobotConfig, SonarConfig
+from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam, fam_config_from_json
+from tvl_cli.core.training import TrainParams
 from tvl_cli.io.famfile import write_fam
-from tvl_cli.io.logfile import STATUS_FINISHED, Episode, LogWriter, read_log
-from tvl_cli.learn import Learner, LearnParams, LearnSummary, MinuteStats
+from tvl_cli.io.logfile import STATUS_FINISHED, LogWriter, read_log
 from tvl_cli.sim.worldmap import load_world
-from tvl_cli.train import provenance
-from tvl_cli.training import TrainParams
 
 
 def resolve_fam_config(spec: str, robot: RobotConfig) -> FamConfig:

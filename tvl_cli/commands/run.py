@@ -3,17 +3,19 @@
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, fields
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
-from typing import Any
 
+from tvl_cli.agent.behave import behave
+from tvl_cli.agent.reflexes import STACK_ORDER
+from tvl_cli.agent.trace import TraceRecorder
 from tvl_cli.core.behaviours import BEHAVIOUR_NAMES
-from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.config import RobotConfig, SonarConfig
 from tvl_cli.core.errors import BadInput, check_minutes
+from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.io.famfile import read_fam
 from tvl_cli.io.logfile import file_sha256
 from tvl_cli.io.runfile import write_run
-from tvl_cli.run import Runner, RunParams, RunResult, StepRecord
 from tvl_cli.sim.worldmap import WorldMap, check_goal, load_world
 
 
@@ -28,7 +30,8 @@ class RunRequest:
     goal: tuple[float, float] | None = None
     png: Path | None = None
     trace: Path | None = None
-    near_miss_backoff: bool = True
+    reflexes: tuple[str, ...] = STACK_ORDER
+    sonar: str | None = None  # "real" or "ideal"; None: the sonar the FAM was learnt with
 
 
 def check_threshold(threshold: float) -> None:
@@ -62,12 +65,23 @@ def resolve_goal(
     return world.goals[0]
 
 
-def _robot_differences(theirs: RobotConfig, ours: RobotConfig) -> list[str]:
-    mine, other = ours.to_dict(), theirs.to_dict()
-    return sorted(key for key in mine if mine[key] != other.get(key))
+def run_robot(learnt_by: RobotConfig, sonar: str | None, fam_path: Path) -> RobotConfig:
+    """The robot a FAM drives: this simulator's, with the sonar model the FAM was learnt with
+    (or the one asked for). Refused if the FAM's robot differs in anything else: other
+    sonars or trajectories mean other rules."""
+    ideal = learnt_by.sonar.ideal if sonar is None else sonar == "ideal"
+    robot = RobotConfig(sonar=SonarConfig(ideal=ideal))
+    ours, theirs = robot.to_dict(), replace(learnt_by, sonar=robot.sonar).to_dict()
+    differences = sorted(key for key in ours if ours[key] != theirs.get(key))
+    if differences:
+        raise BadInput(
+            f"{fam_path}: FAM was learnt by another robot configuration than this "
+            f"simulator's (differs in {', '.join(differences)})"
+        )
+    return robot
 
 
-def run_fam(request: RunRequest) -> RunResult:
+def run_fam(request: RunRequest) -> RunMetrics:
     """Run one behaviour with a learnt FAM; write the trace and picture if asked."""
     if request.behaviour not in BEHAVIOUR_NAMES:
         raise BadInput(f"unknown behaviour {request.behaviour!r}")
@@ -75,27 +89,23 @@ def run_fam(request: RunRequest) -> RunResult:
     check_minutes(request.minutes)
     fam_file = read_fam(request.fam)
     world = load_world(request.world)
-    robot = RobotConfig()
-    differences = _robot_differences(fam_file.robot_config, robot)
-    if differences:
-        # Different sonars or trajectories mean different rules: refuse rather than mislead.
-        raise BadInput(
-            f"{request.fam}: FAM was learnt by another robot configuration than this "
-            f"simulator's (differs in {', '.join(differences)})"
-        )
+    robot = run_robot(fam_file.robot_config, request.sonar, request.fam)
     goal = resolve_goal(request.world, world, request.behaviour, request.goal)
-    params = RunParams(
-        request.behaviour, request.threshold, request.minutes, goal, request.near_miss_backoff
+    recorder = TraceRecorder(request.reflexes, robot.sonar.count)
+    wanted = request.trace is not None or request.png is not None
+    metrics = behave(
+        world,
+        robot,
+        fam_file.fam,
+        request.behaviour,
+        minutes=request.minutes,
+        seed=request.seed,
+        threshold=request.threshold,
+        goal_xy=goal,
+        reflexes=request.reflexes,
+        on_step=recorder if wanted else None,
     )
-    runner = Runner(world, robot, fam_file.fam, params, request.seed)
-    steps: dict[str, list[Any]] = {f.name: [] for f in fields(StepRecord)}
-
-    def record(step: StepRecord) -> None:
-        for name, values in steps.items():
-            values.append(getattr(step, name))
-
-    result = runner.run(record)
-    metrics = result.metrics
+    arrays = recorder.arrays()
     if request.trace is not None:
         write_run(
             request.trace,
@@ -107,24 +117,26 @@ def run_fam(request: RunRequest) -> RunResult:
                 "minutes": request.minutes,
                 "goal": list(goal) if goal else None,
                 "seed": request.seed,
-                "near_miss_backoff": request.near_miss_backoff,
+                "reflexes": list(request.reflexes),
+                "sonar": "ideal" if robot.sonar.ideal else "real",
                 "fam": str(request.fam),
                 "fam_sha256": file_sha256(request.fam),
             },
             robot_config=robot.to_dict(),
             metrics=asdict(metrics),
-            steps=steps,
+            arrays=arrays,
+            reflex_names=request.reflexes,
         )
     if request.png is not None:
-        from tvl_cli.plot import render_path  # matplotlib only when a picture is wanted
+        from tvl_cli.render.plot import render_path  # matplotlib only when a picture is wanted
 
         render_path(
             world,
-            steps["pose"],
-            steps["speed_mps"],
-            steps["bumped"],
+            arrays["pose"],
+            arrays["speed_mps"],
+            arrays["bumped"],
             request.png,
             title=f"{request.behaviour} in {world.name}, threshold {request.threshold:g}",
             goal=goal,
         )
-    return result
+    return metrics

@@ -9,10 +9,11 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 from tvl_cli.core.config import DEFAULT_TRAJECTORIES, RobotConfig
+from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS, Fam
 from tvl_cli.core.labels import DEFAULT_DECEL_MPS2, DEFAULT_MARGIN_M, velocity_labels
-from tvl_cli.io.logfile import Episode, mm_to_ring
+from tvl_cli.core.ring import mm_to_ring
 
 
 @dataclass(frozen=True, slots=True)

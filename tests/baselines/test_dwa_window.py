@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from tvl_cli.core.dwa import (
+from tvl_cli.baselines.dwa_window import (
     Candidates,
     DwaParams,
     admissible,

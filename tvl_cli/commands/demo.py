@@ -7,17 +7,17 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
+from tvl_cli.agent.explore import LearnParams
+from tvl_cli.commands.learn import LearnRequest, LearnResult, learn_to_log
+from tvl_cli.commands.run import RunRequest, run_fam
+from tvl_cli.commands.train import train_from_logs
 from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
 from tvl_cli.core.config import MULTI, SINGLE
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.metrics import RunMetrics
+from tvl_cli.core.training import TrainParams
 from tvl_cli.io.famfile import write_fam
-from tvl_cli.learn import LearnParams
-from tvl_cli.learn_session import LearnRequest, LearnResult, learn_to_log
-from tvl_cli.run_session import RunRequest, run_fam
 from tvl_cli.sim.worldgen import bundled_world_path
-from tvl_cli.train import train_from_logs
-from tvl_cli.training import TrainParams
 
 DEMO_WORLD = "square"
 DEMO_SEED = 1
@@ -31,7 +31,6 @@ class DemoRow:
     config: str
     behaviour: str
     metrics: RunMetrics
-    near_misses: int
     png: Path
 
 
@@ -68,10 +67,10 @@ def run_demo(directory: Path, force: bool, say: Callable[[str], None]) -> DemoRe
         for behaviour in BEHAVIOURS:
             say(f"running {behaviour} with the {config.name} FAM ...")
             png = directory / f"{config.name}-{behaviour}.png"
-            result = run_fam(
+            metrics = run_fam(
                 RunRequest(
                     fam_path, world, behaviour, DEFAULT_THRESHOLD, RUN_MINUTES, DEMO_SEED, png=png
                 )
             )
-            rows.append(DemoRow(config.name, behaviour, result.metrics, result.near_misses, png))
+            rows.append(DemoRow(config.name, behaviour, metrics, png))
     return DemoResult(directory, learning, rows)

@@ -14,8 +14,8 @@ import numpy as np
 from tvl_cli.core.config import FamConfig, RobotConfig
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.training import TrainParams, train_episode
 from tvl_cli.io.logfile import LearningLog, read_log
-from tvl_cli.training import TrainParams, train_episode
 
 
 @dataclass(frozen=True, slots=True)

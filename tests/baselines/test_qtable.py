@@ -5,9 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tvl_cli.core.config import ALL_TRAJECTORY_NAMES, SINGLE
-from tvl_cli.core.fam import Fam
-from tvl_cli.core.qtable import (
+from tvl_cli.baselines.qtable import (
     QParams,
     RuleStates,
     epsilon_greedy,
@@ -15,6 +13,8 @@ from tvl_cli.core.qtable import (
     preference_order,
     q_update,
 )
+from tvl_cli.core.config import ALL_TRAJECTORY_NAMES, SINGLE
+from tvl_cli.core.fam import Fam
 
 TABLE = SINGLE.tables[0]
 

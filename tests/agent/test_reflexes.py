@@ -1,0 +1,212 @@
+"""Each reflex switched on alone, on a real simulated robot, changes what it should."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from tvl_cli.agent.behave import behave
+from tvl_cli.agent.drive import Step
+from tvl_cli.agent.policy import Decision, Observation
+from tvl_cli.agent.reflexes import (
+    BLOCKED_S,
+    STACK_ORDER,
+    BlockedWays,
+    TieToLastTurn,
+    WallStart,
+    parse_reflexes,
+    wrap,
+)
+from tvl_cli.core.command import Command
+from tvl_cli.core.config import SINGLE, RobotConfig
+from tvl_cli.core.errors import BadInput
+from tvl_cli.core.fam import Fam
+from tvl_cli.sim.worldmap import parse_world
+
+ROBOT = RobotConfig()
+HALL = parse_world(
+    "version: 1\nname: hall\ncell: 0.25\n\n"
+    + "#" * 32
+    + "\n"
+    + ("#" + "." * 30 + "#\n") * 2
+    + "#.>"
+    + "." * 28
+    + "#\n"
+    + ("#" + "." * 30 + "#\n") * 4
+    + "#" * 32
+    + "\n",
+    "hall",
+)
+# A straight passage 7 m long and 0.75 m wide, the robot in its middle facing along it.
+PASSAGE = parse_world(
+    "version: 1\nname: passage\ncell: 0.25\n\n"
+    + "#" * 30
+    + "\n"
+    + ("#" + "." * 28 + "#\n")
+    + ("#.>" + "." * 26 + "#\n")
+    + ("#" + "." * 28 + "#\n")
+    + "#" * 30
+    + "\n",
+    "passage",
+)
+# Straight down the hall at T0's 0.6 m/s, the body's edge meets the east wall after 11.5 s.
+TO_THE_END_WALL_MIN = 12.0 / 60.0
+
+
+def fast_everywhere_fam() -> Fam:
+    """A FAM that perceives every trajectory at its maximum, whatever the ring reads."""
+    return Fam(SINGLE, [t.name for t in ROBOT.trajectories], max(ROBOT.v_max_mps))
+
+
+def run(reflexes: tuple[str, ...], minutes: float = TO_THE_END_WALL_MIN, world=HALL):
+    steps: list[Step] = []
+    metrics = behave(
+        world,
+        ROBOT,
+        fast_everywhere_fam(),
+        "avoid",
+        minutes=minutes,
+        seed=1,
+        reflexes=reflexes,
+        on_step=steps.append,
+    )
+    return metrics, steps
+
+
+def test_near_miss_alone_backs_off_before_contact() -> None:
+    metrics, steps = run(("near-miss",))
+    # Alone it backs off and, every way still perceived fast, drives at the wall again.
+    assert metrics.collisions == 0
+    assert metrics.near_misses == metrics.backoffs >= 1
+    assert {s.decision.reflex for s in steps if s.decision.command.linear_mps < 0} == {"near-miss"}
+
+
+def test_without_it_the_same_run_meets_the_wall() -> None:
+    metrics, _ = run(())
+    assert (metrics.collisions, metrics.near_misses, metrics.backoffs) == (1, 0, 0)
+
+
+def test_bump_alone_backs_off_after_the_contact() -> None:
+    metrics, steps = run(("bump",), TO_THE_END_WALL_MIN + 1.0 / 60.0)
+    assert metrics.collisions >= 1 and metrics.backoffs >= 1
+    first_bump = next(i for i, s in enumerate(steps) if "bump" in s.events)
+    assert steps[first_bump + 1].decision.reflex == "bump"
+    assert steps[first_bump + 1].decision.command.linear_mps < 0
+
+
+def test_walls_alongside_in_a_narrow_passage_are_no_near_miss() -> None:
+    # 0.75 m wide: 0.175 m either side of the body, just outside the sonars' blind zone.
+    metrics, _ = run(STACK_ORDER, 5.0 / 60.0, PASSAGE)
+    assert (metrics.near_misses, metrics.collisions, metrics.backoffs) == (0, 0, 0)
+    assert metrics.distance_m == pytest.approx(0.6 * 5.0, abs=0.01)
+
+
+def test_blocked_ways_send_the_robot_off_away_from_the_way_it_met_the_wall() -> None:
+    _, steps = run(("blocked-ways", "near-miss"), TO_THE_END_WALL_MIN + 2.0 / 60.0)
+    reversing = next(i for i, s in enumerate(steps) if s.decision.command.linear_mps < 0)
+    after = next(s for s in steps[reversing:] if s.decision.command.linear_mps > 0)
+    # Every trajectory is fast, yet the robot (which met the wall driving east, heading 0)
+    # turns on the spot until what it follows sets off more than 45 degrees away from east.
+    assert abs(math.remainder(after.pose[2], 2 * math.pi)) > math.radians(40)
+
+
+def test_without_blocked_ways_it_sets_off_the_way_it_came() -> None:
+    _, steps = run(("near-miss",), TO_THE_END_WALL_MIN + 2.0 / 60.0)
+    reversing = next(i for i, s in enumerate(steps) if s.decision.command.linear_mps < 0)
+    after = next(s for s in steps[reversing:] if s.decision.command.linear_mps > 0)
+    assert abs(math.remainder(after.pose[2], 2 * math.pi)) < math.radians(5)
+
+
+def test_a_blocked_way_is_held_by_odometry_until_two_seconds_after_backing_off() -> None:
+    steps: list[Step] = []
+    from tvl_cli.agent.drive import drive
+    from tvl_cli.agent.tvl import TvlPolicy
+    from tvl_cli.sim.robot import Simulator
+
+    sim = Simulator(HALL, ROBOT, np.random.default_rng(1))
+    policy = wrap(
+        TvlPolicy(fast_everywhere_fam(), ROBOT, "avoid", 0.85),
+        ("blocked-ways", "near-miss"),
+        ROBOT,
+        "avoid",
+    )
+    assert isinstance(policy, BlockedWays)
+    drive(sim, policy, TO_THE_END_WALL_MIN, on_step=steps.append)
+    event = next(i for i, s in enumerate(steps) if s.decision.command.linear_mps < 0)
+    reversing = sum(1 for s in steps[event:] if s.decision.command.linear_mps < 0)
+    (way,) = policy.blocked_ways
+    before = steps[event - 1]  # the step that drove into the blind zone
+    assert way.heading_rad == before.odometry[2] != before.pose[2]
+    dt = ROBOT.control_period_s
+    assert way.until_s == pytest.approx((event + reversing) * dt + BLOCKED_S)
+
+
+class Recording:
+    """An inner policy that remembers the advice it was given and turns as it is told."""
+
+    def __init__(self, decisions: list[Decision]) -> None:
+        self.decisions = decisions
+        self.tie_sides: list[int] = []
+
+    def decide(self, obs: Observation) -> Decision:
+        self.tie_sides.append(obs.tie_side)
+        return self.decisions.pop(0)
+
+    def interrupt(self) -> None:
+        pass
+
+
+def _obs() -> Observation:
+    from tvl_cli.agent.policy import LazyRing
+
+    return Observation(0.0, LazyRing(lambda: np.full(16, 4.0)), (0.0, 0.0, 0.0), False)
+
+
+def test_tie_passes_the_side_of_the_last_turn() -> None:
+    right_arc = Decision(Command(0.3, -0.3), trajectory=5, choice=5)  # T1R
+    left_spin = Decision(Command.spin(1.0))
+    inner = Recording([right_arc, left_spin, right_arc])
+    reflex = TieToLastTurn(inner, ROBOT, "avoid")
+    for _ in range(3):
+        reflex.decide(_obs())
+    assert inner.tie_sides == [1, -1, 1]
+
+
+def test_the_paper_policy_alone_has_no_tie_side() -> None:
+    inner = Recording([Decision(Command(0.3, -0.3), trajectory=5, choice=5)] * 2)
+    wrapped = wrap(inner, (), ROBOT, "avoid")
+    wrapped.decide(_obs())
+    wrapped.decide(_obs())
+    assert inner.tie_sides == [0, 0]
+
+
+@pytest.mark.parametrize(("behaviour", "away"), [("wall-left", -1), ("wall-right", 1)])
+def test_wall_start_turns_ties_away_from_the_wall_side_until_the_wall_is_found(
+    behaviour: str, away: int
+) -> None:
+    searching = Decision(Command(0.6, 0.0), trajectory=3, choice=3)
+    found = Decision(Command(0.6, 0.0), trajectory=3, choice=3, following_wall=True)
+    inner = Recording([searching, found, found])
+    reflex = WallStart(inner, ROBOT, behaviour)
+    for _ in range(3):
+        reflex.decide(_obs())
+    assert inner.tie_sides == [away, away, 0]
+
+
+def test_wall_start_leaves_other_behaviours_alone() -> None:
+    inner = Recording([Decision(Command(0.6, 0.0))])
+    WallStart(inner, ROBOT, "avoid").decide(_obs())
+    assert inner.tie_sides == [0]
+
+
+def test_reflexes_stack_in_one_order_whatever_order_they_are_named_in() -> None:
+    assert parse_reflexes("tie,bump,blocked-ways") == ("blocked-ways", "bump", "tie")
+    assert parse_reflexes("all") == STACK_ORDER
+    assert parse_reflexes("none") == ()
+
+
+def test_an_unknown_reflex_is_bad_input() -> None:
+    with pytest.raises(BadInput, match="unknown reflex bumpy"):
+        parse_reflexes("bump,bumpy")

@@ -1,0 +1,87 @@
+"""Imports point one way: cli -> commands -> (render, analysis, io) -> baselines -> agent ->
+sim -> core. Checked over every import statement in the package, function-level ones too."""
+
+from __future__ import annotations
+
+import ast
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+PACKAGE = Path(__file__).resolve().parents[1] / "tvl_cli"
+
+# The rooms each room may import from, besides itself. Top-level modules (tvl_cli/__init__)
+# hold only the version and may be imported by anyone.
+ALLOWED: dict[str, set[str]] = {
+    "core": set(),
+    "sim": {"core"},
+    "agent": {"core", "sim"},
+    "baselines": {"core", "sim", "agent"},
+    "io": {"core"},
+    "analysis": {"core"},
+    "render": {"core", "sim", "analysis", "io"},
+    "commands": {"core", "sim", "agent", "baselines", "io", "analysis", "render"},
+    "cli": {"core", "sim", "agent", "baselines", "io", "analysis", "render", "commands"},
+}
+# Libraries a room must not load: the paper's core is numpy and the standard library, and the
+# run loop never pulls in files, the terminal or drawing.
+BANNED: dict[str, set[str]] = {
+    "core": {"h5py", "pymunk", "click", "rich", "matplotlib"},
+    "sim": {"h5py", "click", "rich", "matplotlib"},
+    "agent": {"h5py", "click", "rich", "matplotlib"},
+    "baselines": {"h5py", "click", "rich", "matplotlib"},
+    "io": {"pymunk", "click", "rich", "matplotlib"},
+    "analysis": {"h5py", "pymunk", "click", "rich", "matplotlib"},
+}
+
+
+def _imports(path: Path) -> list[str]:
+    """Every module name an import statement in the file names, at any depth."""
+    names: list[str] = []
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.Import):
+            names += [alias.name for alias in node.names]
+        elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+            base = node.module
+            names += [base] + [f"{base}.{alias.name}" for alias in node.names]
+    return names
+
+
+def _modules() -> list[tuple[str, Path]]:
+    found = []
+    for path in sorted(PACKAGE.rglob("*.py")):
+        parts = path.relative_to(PACKAGE).parts
+        if len(parts) > 1:
+            found.append((parts[0], path))
+    return found
+
+
+def test_every_module_lives_in_a_known_room() -> None:
+    assert {room for room, _ in _modules()} == set(ALLOWED)
+
+
+@pytest.mark.parametrize(("room", "path"), _modules(), ids=lambda v: str(v))
+def test_imports_point_one_way(room: str, path: Path) -> None:
+    wrong = []
+    for name in _imports(path):
+        parts = name.split(".")
+        if parts[0] == "tvl_cli" and len(parts) > 2 and parts[1] in ALLOWED:
+            target = parts[1]
+            if target != room and target not in ALLOWED[room]:
+                wrong.append(name)
+        elif parts[0] in BANNED.get(room, set()):
+            wrong.append(name)
+    assert not wrong, f"{path.relative_to(PACKAGE)} ({room}) imports {wrong}"
+
+
+def test_importing_the_run_loop_loads_no_file_or_terminal_library() -> None:
+    code = (
+        "import sys, tvl_cli.agent.behave, tvl_cli.agent.explore, tvl_cli.baselines.dwa; "
+        "print(sorted(m for m in ('h5py', 'click', 'rich', 'matplotlib') if m in sys.modules))"
+    )
+    result = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, check=True, timeout=60
+    )
+    assert result.stdout.strip() == "[]"

@@ -1,0 +1,35 @@
+"""A behaviour run: the paper's TVL policy inside the chosen reflexes, driven from the
+world's start for some simulated minutes."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from tvl_cli.agent.drive import StepSink, drive
+from tvl_cli.agent.reflexes import STACK_ORDER, wrap
+from tvl_cli.agent.tvl import TvlPolicy
+from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
+from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.fam import Fam
+from tvl_cli.core.metrics import RunMetrics
+from tvl_cli.sim.robot import Simulator
+from tvl_cli.sim.worldmap import WorldMap
+
+
+def behave(
+    world: WorldMap,
+    robot: RobotConfig,
+    fam: Fam,
+    behaviour: str,
+    *,
+    minutes: float,
+    seed: int,
+    threshold: float = DEFAULT_THRESHOLD,
+    goal_xy: tuple[float, float] | None = None,
+    reflexes: tuple[str, ...] = STACK_ORDER,
+    on_step: StepSink | None = None,
+) -> RunMetrics:
+    """Perform `behaviour` with a FAM; the simulator's generator is seeded with `seed`."""
+    sim = Simulator(world, robot, np.random.default_rng(seed))
+    policy = wrap(TvlPolicy(fam, robot, behaviour, threshold), reflexes, robot, behaviour)
+    return drive(sim, policy, minutes, goal_xy=goal_xy, on_step=on_step)

@@ -1,0 +1,310 @@
+"""Exploratory learning (paper §4.1, Figure 14): follow the least experienced trajectory
+slowly until it collides or closes a circle, label every point by deceleration to the
+collision point, and train the FAM with the whole episode."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import asdict, dataclass, field
+
+import numpy as np
+
+from tvl_cli.agent.drive import drive
+from tvl_cli.agent.motions import BACKOFF_M, backoff_commands, spin_commands
+from tvl_cli.agent.policy import Decision, Observation, Pose
+from tvl_cli.core.command import Command
+from tvl_cli.core.config import RobotConfig, sonars_within
+from tvl_cli.core.episode import Episode
+from tvl_cli.core.errors import BadInput, check_minutes
+from tvl_cli.core.fam import Fam
+from tvl_cli.core.ring import mm_to_ring, ring_to_mm
+from tvl_cli.core.training import TrainParams, train_episode
+from tvl_cli.sim.robot import Simulator
+from tvl_cli.sim.worldmap import WorldMap
+
+
+@dataclass(frozen=True, slots=True)
+class LearnParams:
+    """How the robot explores; stored with each log session beside the TrainParams."""
+
+    minutes: float = 15.0
+    learn_speed_mps: float = 0.2
+    straight_run_m: float = 8.0  # a T0 run this long without a bump counts as free
+    reverse_m: float = BACKOFF_M  # backed off along the path after a collision
+    # A sonar facing ahead of the body's middle reading this close, once the robot has closed
+    # in on it, marks a collision point before any bump (paper §5.1: a collision placed
+    # further from objects when learning helps). Just above the 0.15 m minimum range, it fires
+    # as an object enters the ring's blind zone, so a wall the arc runs into alongside, unseen
+    # ahead by the specular ring, counts as a collision too. 0 waits for bumps.
+    near_m: float = 0.16
+
+    def __post_init__(self) -> None:
+        check_minutes(self.minutes)
+        if not (math.isfinite(self.learn_speed_mps) and self.learn_speed_mps > 0):
+            raise BadInput(f"--learn-speed {self.learn_speed_mps:g} must be > 0 m/s")
+        if not (math.isfinite(self.near_m) and self.near_m >= 0):
+            raise BadInput(f"--near {self.near_m:g} must be >= 0 m")
+
+    def to_dict(self) -> dict[str, float]:
+        return asdict(self)
+
+
+@dataclass(slots=True)
+class MinuteStats:
+    """Learning progress in one simulated minute."""
+
+    minute: int
+    episodes: int = 0
+    collisions: int = 0
+    exemplars: int = 0
+    delta_v: float = 0.0  # paper eq. 4: mean |change| of the velocity entries per control step
+
+
+@dataclass(slots=True)
+class LearnSummary:
+    episodes: int = 0
+    collisions: int = 0
+    exemplars: int = 0
+    sim_s: float = 0.0
+    minutes: list[MinuteStats] = field(default_factory=list)
+    stopped_by: str | None = None  # what cut learning short (a signal name), if anything
+
+
+# How much nearer than at the episode's start a sonar must read before `near_m` counts: well
+# above the noise (about 1.2 cm close in), so a wall the robot runs beside but does not
+# approach never ends an episode, and one it is leaving behind never does either.
+NEAR_CLOSING_M = 0.05
+# The paper's learner (`--paper`): collision points by bumps only.
+PAPER_NEAR_M = 0.0
+
+
+def least_experienced(experience: np.ndarray, rng: np.random.Generator) -> tuple[int, int]:
+    """(rotation, trajectory) of the least experienced pair; ties drawn by the generator."""
+    flat = experience.ravel()
+    candidates = np.flatnonzero(flat == flat.min())
+    pick = int(candidates[rng.integers(len(candidates))])
+    rotation, trajectory = divmod(pick, experience.shape[1])
+    return rotation, trajectory
+
+
+EpisodeSink = Callable[[Episode], None]
+MinuteSink = Callable[[MinuteStats], None]
+StopCheck = Callable[[], str | None]
+
+
+class ExplorePolicy:
+    """Figure 14 as a policy: face the least experienced of the 112 (rotation, trajectory)
+    pairs, follow it slowly recording every step, end the episode at a collision point or a
+    full circle, hand it on, and after a collision reverse along the path."""
+
+    def __init__(
+        self,
+        robot: RobotConfig,
+        fam: Fam,
+        params: LearnParams,
+        rng: np.random.Generator,
+        true_pose: Callable[[], Pose],
+        on_episode: EpisodeSink,
+    ) -> None:
+        self.robot = robot
+        self.fam = fam
+        self.params = params
+        self.rng = rng
+        # The log keeps the true pose for people to draw; no choice is made by it.
+        self._true_pose = true_pose
+        self._on_episode = on_episode
+        # The sonars facing ahead of the body's middle (sideways ones included).
+        self._ahead = np.array(sonars_within(math.pi / 2, robot.sonar.count))
+        self._queue: list[Command] = []  # a spin to face the choice, or a back-off
+        self._following: Decision | None = None
+        self._last_follow: Command | None = None
+        self._episode = _EpisodeRecord(0, 0, 0)
+        self.episodes = 0
+
+    @property
+    def between_episodes(self) -> bool:
+        """Nothing under way: a good moment to stop."""
+        return self._following is None and not self._queue
+
+    def interrupt(self) -> None:
+        """A reflex moved the robot off the path: the episode under way no longer describes
+        one trajectory, so it is dropped."""
+        self._queue, self._following = [], None
+
+    def decide(self, obs: Observation) -> Decision:
+        if self._queue:
+            return Decision(self._queue.pop(0))
+        following = self._following
+        # An episode is judged once it has recorded a step (a bump while spinning to face
+        # the trajectory is no collision point on it).
+        if following is not None and self._episode.rings and self._episode_over(obs):
+            following = None
+            if self._queue:
+                return Decision(self._queue.pop(0))
+        if following is None:
+            following = self._start(obs)
+            if self._queue:
+                return Decision(self._queue.pop(0))
+        record = self._episode
+        record.rings.append(ring_to_mm(obs.ring_m))
+        record.poses.append(self._true_pose())
+        record.odometry.append(obs.odometry)
+        record.arcs.append(record.arc_m)
+        # Odometry-free arc length: the distance commanded; short and exact (paper §4.1).
+        record.arc_m += following.command.linear_mps * self.robot.control_period_s
+        return following
+
+    def _episode_over(self, obs: Observation) -> bool:
+        """End the episode under way if the last step bumped, came too near or closed a
+        circle; hand it on."""
+        record = self._episode
+        bumped = obs.bumped
+        near = False
+        if not bumped and record.arc_m < self._free_run_m(record.trajectory) - 1e-9:
+            near = bool(record.rings) and self._too_near(
+                mm_to_ring(ring_to_mm(obs.ring_m)), mm_to_ring(record.rings[0])
+            )
+            if not near:
+                return False
+        collided = bumped or near
+        self._on_episode(record.episode(self.robot.sonar.count, collided, bumped, obs.time_s))
+        self.episodes += 1
+        self._following = None
+        if collided and self._last_follow is not None:
+            self._queue = backoff_commands(self._last_follow, self.robot, self.params.reverse_m)
+        return True
+
+    def _start(self, obs: Observation) -> Decision:
+        """Choose the least experienced pair, spin to face it, and set off along it."""
+        ring_m = mm_to_ring(ring_to_mm(obs.ring_m))
+        _, experience = self.fam.perceive(ring_m)
+        rotation, trajectory = least_experienced(experience, self.rng)
+        self._queue = spin_commands(rotation, self.robot)
+        self._episode = _EpisodeRecord(self.episodes, trajectory, rotation)
+        self._last_follow = Command.follow(
+            self.robot.trajectories[trajectory], self._speed(trajectory)
+        )
+        self._following = Decision(self._last_follow, trajectory=trajectory, choice=trajectory)
+        return self._following
+
+    def _too_near(self, ring_m: np.ndarray, start_m: np.ndarray) -> bool:
+        """A sonar ahead reads within near_m, having closed in since the episode started."""
+        ahead = ring_m[self._ahead]
+        closing = ahead < start_m[self._ahead] - NEAR_CLOSING_M
+        return bool((closing & (ahead < self.params.near_m)).any())
+
+    def _free_run_m(self, trajectory: int) -> float:
+        """How far a trajectory goes before it counts as free: a full circle, or a long run."""
+        traj = self.robot.trajectories[trajectory]
+        if traj.curvature_per_m == 0:
+            return self.params.straight_run_m
+        return 2 * math.pi * traj.radius_m
+
+    def _speed(self, trajectory: int) -> float:
+        return min(self.params.learn_speed_mps, self.robot.trajectories[trajectory].v_max_mps)
+
+
+@dataclass(slots=True)
+class _EpisodeRecord:
+    """The episode being recorded, step by step."""
+
+    index: int
+    trajectory: int
+    rotation: int
+    arc_m: float = 0.0
+    rings: list[np.ndarray] = field(default_factory=list)  # uint16 mm
+    poses: list[Pose] = field(default_factory=list)
+    odometry: list[Pose] = field(default_factory=list)
+    arcs: list[float] = field(default_factory=list)
+
+    def episode(self, sonars: int, collided: bool, bumped: bool, time_s: float) -> Episode:
+        return Episode(
+            index=self.index,
+            ring_mm=np.array(self.rings, dtype=np.uint16).reshape(-1, sonars),
+            pose=np.array(self.poses, dtype=np.float64).reshape(-1, 3),
+            odometry=np.array(self.odometry, dtype=np.float64).reshape(-1, 3),
+            arc_m=np.array(self.arcs, dtype=np.float64),
+            trajectory=self.trajectory,
+            rotation=self.rotation,
+            collided=collided,
+            bumped=bumped,
+            end_arc_m=self.arc_m,
+            end_time_s=time_s,
+        )
+
+
+class Learner:
+    """One robot exploring one world, training one FAM, handing each episode to a sink."""
+
+    def __init__(
+        self,
+        world: WorldMap,
+        robot: RobotConfig,
+        fam: Fam,
+        params: LearnParams,
+        train_params: TrainParams,
+        seed: int,
+    ) -> None:
+        sim_seed, choice_seed = np.random.SeedSequence(seed).spawn(2)
+        self.robot = robot
+        self.fam = fam
+        self.params = params
+        self.train_params = train_params
+        self.sim = Simulator(world, robot, np.random.default_rng(sim_seed))
+        self.rng = np.random.default_rng(choice_seed)
+
+    def _velocity_entries(self) -> np.ndarray:
+        tables = range(len(self.fam.config.tables))
+        return np.concatenate([self.fam.velocity_table(t).ravel() for t in tables])
+
+    def run(
+        self,
+        on_episode: EpisodeSink,
+        on_minute: MinuteSink,
+        should_stop: StopCheck = lambda: None,
+    ) -> LearnSummary:
+        """Learn until the simulated minutes are spent or `should_stop` names a reason."""
+        summary = LearnSummary()
+        steps_per_minute = 60.0 / self.robot.control_period_s
+        last = math.ceil(self.params.minutes)  # minutes 0 .. last - 1 are recorded
+        minute = MinuteStats(0)
+
+        def learnt(episode: Episode) -> None:
+            nonlocal minute
+            before = self._velocity_entries()
+            train_episode(self.fam, episode, self.robot, self.train_params)
+            change = float(np.abs(self._velocity_entries() - before).mean())
+            on_episode(episode)
+            # The last minute keeps an episode ending on its closing boundary.
+            while episode.end_time_s >= (minute.minute + 1) * 60.0 and minute.minute + 1 < last:
+                on_minute(minute)
+                summary.minutes.append(minute)
+                minute = MinuteStats(minute.minute + 1)
+            minute.episodes += 1
+            minute.collisions += int(episode.bumped)
+            minute.exemplars += episode.exemplar_count
+            minute.delta_v += change / steps_per_minute
+            summary.episodes += 1
+            summary.collisions += int(episode.bumped)
+            summary.exemplars += episode.exemplar_count
+
+        policy = ExplorePolicy(
+            self.robot, self.fam, self.params, self.rng, lambda: self.sim.pose, learnt
+        )
+
+        def stop() -> bool:
+            if not policy.between_episodes:
+                return False
+            summary.stopped_by = should_stop()
+            return summary.stopped_by is not None
+
+        drive(self.sim, policy, self.params.minutes, on_step=None, stop=stop, measure=False)
+        if summary.stopped_by is None:
+            # The last minute is whole only when time ran out; a cut-short one is partial.
+            while minute.minute < last:
+                on_minute(minute)
+                summary.minutes.append(minute)
+                minute = MinuteStats(minute.minute + 1)
+        summary.sim_s = self.sim.time_s
+        return summary

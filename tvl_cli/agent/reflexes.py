@@ -1,0 +1,268 @@
+"""Every rule beyond the paper, each a named wrapper around any policy.
+
+A reflex sees each observation before the policy it wraps. It may pass the policy advice
+(ways to keep out of the choice, the side a tie goes to) and may take over the command
+itself for a while (backing off). `--reflex NAME[,NAME...]` picks them, `--reflex none` or
+`--paper` runs the policy alone. Whatever the order they are named in, they stack in
+STACK_ORDER, outermost first.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from tvl_cli.agent.motions import BACKOFF_M, backoff_commands
+from tvl_cli.agent.policy import Decision, KeepOut, Observation, Policy
+from tvl_cli.core.angles import wrap_rad
+from tvl_cli.core.behaviours import trajectory_headings
+from tvl_cli.core.command import Command
+from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.contacts import blind_ahead, drives_forward, near_miss_sonars
+from tvl_cli.core.errors import BadInput
+
+# How long a way that met an obstacle stays out of the choice once backed off: time to drive
+# clear of the spot, short enough to try that way again later.
+BLOCKED_S = 2.0
+# Trajectories setting off within this angle of a way that met an obstacle are left out:
+# more than two sonar spacings, so that facing the next sonar but one (exactly 45 degrees
+# round) is never decided by the noise in odometry.
+BLOCKED_HALF_WIDTH_RAD = math.radians(50.0)
+
+
+class Reflex:
+    """A policy wrapped: by default it passes everything through."""
+
+    name = ""
+
+    def __init__(self, inner: Policy, robot: RobotConfig, behaviour: str) -> None:
+        self.inner = inner
+        self.robot = robot
+        self.behaviour = behaviour
+
+    def decide(self, obs: Observation) -> Decision:
+        return self.inner.decide(obs)
+
+    def interrupt(self) -> None:
+        self.inner.interrupt()
+
+
+class _BackOff(Reflex):
+    """Reverses 0.15 m along the arc the robot was driving when `triggered` says so, then
+    hands back to the policy it wraps, which starts afresh."""
+
+    def __init__(self, inner: Policy, robot: RobotConfig, behaviour: str) -> None:
+        super().__init__(inner, robot, behaviour)
+        self._queue: list[Command] = []
+        self._last: Command | None = None  # the last command this reflex let through
+
+    def triggered(self, obs: Observation) -> bool:
+        raise NotImplementedError
+
+    def decide(self, obs: Observation) -> Decision:
+        if not self._queue and drives_forward(self._last) and self.triggered(obs):
+            assert self._last is not None
+            self._queue = backoff_commands(self._last, self.robot, BACKOFF_M)
+            self.inner.interrupt()
+        if self._queue:
+            self._last = self._queue.pop(0)
+            return Decision(self._last, reflex=self.name)
+        decision = self.inner.decide(obs)
+        self._last = decision.command
+        return decision
+
+    def interrupt(self) -> None:
+        self._queue, self._last = [], None
+        super().interrupt()
+
+
+class NearMissBackOff(_BackOff):
+    """An object in the blind zone ahead while driving forward: back off as after a bump.
+
+    The ring cannot range an object inside its 0.15 m minimum, so it cannot tell how close
+    it is; backing off avoids the touch. (Learning's `--near` places a collision point there
+    for the same reason.)
+    """
+
+    name = "near-miss"
+
+    def __init__(self, inner: Policy, robot: RobotConfig, behaviour: str) -> None:
+        super().__init__(inner, robot, behaviour)
+        self._sonars = near_miss_sonars(robot.sonar.count)
+
+    def triggered(self, obs: Observation) -> bool:
+        return blind_ahead(obs.ring_m, self._sonars, self.robot.sonar.min_range_m)
+
+
+class BumpBackOff(_BackOff):
+    """A bump while driving forward: reverse along the arc, as learning does after one.
+
+    Without it a policy that still rates the way ahead fast pushes on into the obstacle.
+    """
+
+    name = "bump"
+
+    def triggered(self, obs: Observation) -> bool:
+        return obs.bumped
+
+
+@dataclass(frozen=True, slots=True)
+class BlockedWay:
+    """The world heading (by odometry) the robot drove when it met an obstacle, kept out
+    of its choices until a time."""
+
+    heading_rad: float
+    until_s: float
+
+
+def keep_out_ways(bearings_rad: list[float]) -> KeepOut:
+    """Advice leaving out every trajectory that sets off within BLOCKED_HALF_WIDTH_RAD of
+    one of the bearings (radians, relative to the heading)."""
+    bearings = np.array(bearings_rad)
+
+    def blocked(set_off_rad: np.ndarray) -> np.ndarray:
+        gaps = np.abs(wrap_rad(set_off_rad[..., None] - bearings))
+        return np.asarray((gaps <= BLOCKED_HALF_WIDTH_RAD).any(axis=-1))
+
+    return blocked
+
+
+class BlockedWays(Reflex):
+    """After a bump or a near miss, the way the robot was driving stays out of every choice
+    until BLOCKED_S after any back-off ends: every trajectory setting off within
+    BLOCKED_HALF_WIDTH_RAD of it, in every rotated view. Several can hold at once.
+
+    A contact is evidence the policy over-rated that way: after backing off the ring reads
+    much the same, and an object it cannot see (a convex corner, a table edge) is still
+    there, so trusting it again would meet it again.
+    """
+
+    name = "blocked-ways"
+
+    def __init__(self, inner: Policy, robot: RobotConfig, behaviour: str) -> None:
+        super().__init__(inner, robot, behaviour)
+        self._sonars = near_miss_sonars(robot.sonar.count)
+        self._ways: list[BlockedWay] = []
+        self._last: Command | None = None
+        self._was_bumped = False
+
+    @property
+    def blocked_ways(self) -> tuple[BlockedWay, ...]:
+        """The ways kept out of the choice, as of the last step."""
+        return tuple(self._ways)
+
+    def _met_obstacle(self, obs: Observation) -> bool:
+        if not drives_forward(self._last):
+            return False
+        bumped = obs.bumped and not self._was_bumped
+        return bumped or blind_ahead(obs.ring_m, self._sonars, self.robot.sonar.min_range_m)
+
+    def decide(self, obs: Observation) -> Decision:
+        now = obs.time_s
+        if self._met_obstacle(obs):
+            self._ways.append(BlockedWay(obs.odometry[2], now + BLOCKED_S))
+        self._was_bumped = obs.bumped
+        self._ways = [w for w in self._ways if now < w.until_s]
+        if self._ways:
+            bearings = [wrap_rad(w.heading_rad - obs.odometry[2]) for w in self._ways]
+            obs = replace(obs, keep_out=keep_out_ways(bearings))
+        decision = self.inner.decide(obs)
+        if decision.command.linear_mps < 0.0 and self._ways:
+            # Timed from the end of the back-off: the way stays blocked while reversing.
+            latest = self._ways[-1]
+            until = now + self.robot.control_period_s + BLOCKED_S
+            self._ways[-1] = BlockedWay(latest.heading_rad, max(latest.until_s, until))
+        self._last = decision.command
+        return decision
+
+    def interrupt(self) -> None:
+        self._last = None
+        super().interrupt()
+
+
+class TieToLastTurn(Reflex):
+    """Ties go to the side the robot last turned to, spin and arc together.
+
+    Without it a tie goes to the policy's own first choice (the left), and a robot that
+    has just turned right away from a wall can turn straight back towards it.
+    """
+
+    name = "tie"
+
+    def __init__(self, inner: Policy, robot: RobotConfig, behaviour: str) -> None:
+        super().__init__(inner, robot, behaviour)
+        curvatures = np.array([t.curvature_per_m for t in robot.trajectories])
+        self._sides = np.sign(trajectory_headings(curvatures, robot.sonar.count)).astype(int)
+        self._side = 1
+
+    def decide(self, obs: Observation) -> Decision:
+        decision = self.inner.decide(replace(obs, tie_side=self._side))
+        side = self._turn_side(decision)
+        if side:
+            self._side = side
+        return decision
+
+    def _turn_side(self, decision: Decision) -> int:
+        if decision.choice >= 0:
+            return int(self._sides[decision.rotation % len(self._sides), decision.choice])
+        command = decision.command
+        return int(np.sign(command.angular_radps)) if command.linear_mps >= 0.0 else 0
+
+
+class WallStart(Reflex):
+    """Until wall following has found its wall, ties turn away from that side, so that the
+    first wall met ahead is left on the side to follow rather than on the other."""
+
+    name = "wall-start"
+
+    def __init__(self, inner: Policy, robot: RobotConfig, behaviour: str) -> None:
+        super().__init__(inner, robot, behaviour)
+        self._side = {"wall-left": 1, "wall-right": -1}.get(behaviour, 0)
+        self._found = False
+
+    def decide(self, obs: Observation) -> Decision:
+        if self._side and not self._found:
+            obs = replace(obs, tie_side=-self._side)
+        decision = self.inner.decide(obs)
+        self._found = self._found or decision.following_wall
+        return decision
+
+
+# Outermost first: blocked ways see every command, back-offs included; ties and the wall
+# start advise the policy directly.
+REFLEXES: dict[str, type[Reflex]] = {
+    "blocked-ways": BlockedWays,
+    "near-miss": NearMissBackOff,
+    "bump": BumpBackOff,
+    "tie": TieToLastTurn,
+    "wall-start": WallStart,
+}
+STACK_ORDER = tuple(REFLEXES)
+ALL = "all"
+NONE = "none"
+
+
+def parse_reflexes(text: str) -> tuple[str, ...]:
+    """`none`, `all`, or NAME[,NAME...] -> the names in stacking order."""
+    if text == NONE:
+        return ()
+    if text == ALL:
+        return STACK_ORDER
+    names = [n.strip() for n in text.split(",") if n.strip()]
+    unknown = [n for n in names if n not in REFLEXES]
+    if unknown or not names:
+        raise BadInput(
+            f"--reflex {text!r}: unknown reflex {', '.join(unknown) or '(none named)'} "
+            f"(choose from {', '.join(STACK_ORDER)}, or all, or none)"
+        )
+    return tuple(n for n in STACK_ORDER if n in names)
+
+
+def wrap(policy: Policy, names: tuple[str, ...], robot: RobotConfig, behaviour: str) -> Policy:
+    """The policy inside the named reflexes, stacked in STACK_ORDER."""
+    for name in reversed(STACK_ORDER):
+        if name in names:
+            policy = REFLEXES[name](policy, robot, behaviour)
+    return policy

@@ -1,0 +1,127 @@
+"""The paper's TVL choice rule as a policy (§2.1–2.2, §4.5): perceive the seven trajectory
+velocities, take the fast one that best fits the behaviour, rotating perception round the
+ring when none is fast ahead, and drive it at its perceived velocity. Nothing else: every
+addition is a reflex (agent.reflexes)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from tvl_cli.agent.motions import spin_commands
+from tvl_cli.agent.policy import Decision, Observation
+from tvl_cli.core.angles import wrap_rad
+from tvl_cli.core.behaviours import (
+    Choice,
+    Context,
+    choose,
+    fast_set,
+    nearest_side,
+    trajectory_headings,
+    wall_seen,
+)
+from tvl_cli.core.command import Command
+from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.fam import Fam
+
+# Trapped (nothing fast in any direction): turn slowly on the spot so the ring sees anew.
+TRAPPED_SPIN_RADPS = 0.3
+# How far trajectories are judged where they set off, for advice that leaves ways out: the
+# stretch in which an obstacle just met lies (the distance the robot backs off).
+SET_OFF_M = 0.15
+
+
+def goal_bearing(odometry: tuple[float, float, float], goal_xy: tuple[float, float]) -> float:
+    """Goal direction relative to the heading, [-pi, pi), from odometry alone."""
+    x, y, theta = odometry
+    return wrap_rad(math.atan2(goal_xy[1] - y, goal_xy[0] - x) - theta)
+
+
+class TvlPolicy:
+    """Drives one behaviour from a FAM's perception."""
+
+    def __init__(self, fam: Fam, robot: RobotConfig, behaviour: str, threshold: float) -> None:
+        self.fam = fam
+        self.robot = robot
+        self.behaviour = behaviour
+        self.threshold = threshold
+        self._v_max = np.array(robot.v_max_mps)
+        curvatures = np.array([t.curvature_per_m for t in robot.trajectories])
+        self._headings = trajectory_headings(curvatures, robot.sonar.count)
+        self._set_off = trajectory_headings(curvatures, robot.sonar.count, SET_OFF_M)
+        self._queue: list[Decision] = []  # the rest of a plan: spin steps, then the trajectory
+        self._wall_side = 0
+        self._trapped = False
+
+    def interrupt(self) -> None:
+        self._queue = []
+
+    def _latch_wall_side(self, ring_m: np.ndarray) -> None:
+        """Wall following keeps to the side its wall was first seen on; straight on till then."""
+        if self._wall_side or not self.behaviour.startswith("wall"):
+            return
+        if self.behaviour == "wall":
+            self._wall_side = nearest_side(ring_m)
+        else:
+            side = 1 if self.behaviour == "wall-left" else -1
+            self._wall_side = side if wall_seen(ring_m, side) else 0
+
+    def decide(self, obs: Observation) -> Decision:
+        if self._queue:
+            return self._queue.pop(0)
+        ring_m = obs.ring_m
+        self._latch_wall_side(ring_m)
+        velocities, _ = self.fam.perceive(ring_m)  # (16, 7) m/s, row k facing sonar k
+        fast = fast_set(velocities, self._v_max, self.threshold)
+        if obs.keep_out is not None:
+            fast &= ~obs.keep_out(self._set_off)
+        bearing = goal_bearing(obs.odometry, obs.goal_xy) if obs.goal_xy else 0.0
+        ctx = Context(ring_m, obs.tie_side, bearing, self._wall_side)
+        choice = choose(velocities, fast, self._v_max, self._headings, self.behaviour, ctx)
+        following = self._wall_side != 0
+        if choice is None:
+            became_trapped = not self._trapped
+            self._trapped = True
+            spin = Command.spin(TRAPPED_SPIN_RADPS * (-1 if obs.tie_side < 0 else 1))
+            return Decision(
+                spin,
+                velocities=velocities[0],
+                fast=fast[0],
+                trapped=became_trapped,
+                following_wall=following,
+            )
+        self._trapped = False
+        return self._plan(choice, velocities, fast, following)
+
+    def _plan(
+        self, choice: Choice, velocities: np.ndarray, fast: np.ndarray, following: bool
+    ) -> Decision:
+        """Spin to face the chosen view, then follow the trajectory: one decision a step."""
+        row = choice.rotation % len(velocities)
+        record = Decision(
+            Command.follow(self.robot.trajectories[choice.trajectory], choice.speed_mps),
+            trajectory=choice.trajectory,
+            choice=choice.trajectory,
+            rotation=choice.rotation,
+            velocities=velocities[row],
+            fast=fast[row],
+            following_wall=following,
+        )
+        spins = [
+            Decision(c, following_wall=following)
+            for c in spin_commands(choice.rotation, self.robot)
+        ]
+        if not spins:
+            return record
+        # The first spin step carries the record of the choice; the trajectory follows them.
+        first = Decision(
+            spins[0].command,
+            choice=choice.trajectory,
+            rotation=choice.rotation,
+            velocities=record.velocities,
+            fast=record.fast,
+            following_wall=following,
+        )
+        self._queue = [*spins[1:], record]
+        return first

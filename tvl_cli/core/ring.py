@@ -1,0 +1,23 @@
+"""Sonar ranges in the form logs and traces keep: uint16 millimetres.
+
+The online FAM must train on mm_to_ring(ring_to_mm(ring)), the values a log keeps, so that
+`tvl train` rebuilds it exactly from the log.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+MM_PER_M = 1000.0
+MM_MAX = np.iinfo(np.uint16).max
+
+
+def ring_to_mm(ring_m: np.ndarray) -> np.ndarray:
+    """Sonar ranges in metres -> uint16 millimetres (nearest), the form the log keeps."""
+    mm = np.rint(np.asarray(ring_m, dtype=np.float64) * MM_PER_M)
+    return np.clip(mm, 0, MM_MAX).astype(np.uint16)
+
+
+def mm_to_ring(ring_mm: np.ndarray) -> np.ndarray:
+    """uint16 millimetres -> float64 metres: the exact values the FAM trains on."""
+    return np.asarray(ring_mm, dtype=np.float64) / MM_PER_M
