@@ -36,9 +36,9 @@ fam_job() { # WORLD SEED
 wall_job() { # WORLD SEED BEHAVIOUR THRESHOLD
     once "$OUT/runs/$3-$1-s$2-t$4.json" \
         "$(params kind tvl world "$1" seed "$2" config "$CONFIG" learn_minutes "$LEARN_MINUTES" \
-            behaviour "$3" threshold "$4" run_minutes "$RUN_MINUTES")" \
+            behaviour "$3" threshold "$4" run_minutes "$RUN_MINUTES" reflexes "$TVL_REFLEX")" \
         "$TVL" run "$OUT/work/$1-$CONFIG-s$2-fam.h5" "$(world "$1")" --behaviour "$3" --threshold "$4" \
-        --minutes "$RUN_MINUTES" --seed "$2" --json
+        --minutes "$RUN_MINUTES" --seed "$2" --reflex "$TVL_REFLEX" --json
 }
 
 fams=() runs=()

@@ -46,17 +46,17 @@ goal_job() { # WORLD SEED CONFIG GOAL_INDEX X,Y
     once "$OUT/runs/goal-$name.json" \
         "$(params kind tvl world "$1" seed "$2" config "$3" learn_minutes "$LEARN_MINUTES" \
             behaviour goal threshold 0.85 goal_index "$4" goal "$5" run_minutes "$RUN_MINUTES" \
-            "${traced[@]}")" \
+            reflexes "$TVL_REFLEX" "${traced[@]}")" \
         "$TVL" run "$OUT/work/$1-$3-s$2-fam.h5" "$(world "$1")" --behaviour goal --goal "$5" \
-        --minutes "$RUN_MINUTES" --seed "$2" "${drawn[@]}" --json
+        --minutes "$RUN_MINUTES" --seed "$2" --reflex "$TVL_REFLEX" "${drawn[@]}" --json
 }
 
 dwa_job() { # WORLD SEED GOAL_INDEX X,Y
     once "$OUT/runs/dwa-$1-s$2-g$3.json" \
         "$(params kind dwa world "$1" seed "$2" behaviour goal goal_index "$3" goal "$4" \
-            run_minutes "$RUN_MINUTES")" \
+            run_minutes "$RUN_MINUTES" reflexes "$BASELINE_REFLEX")" \
         "$TVL" baseline dwa "$(world "$1")" --behaviour goal --goal "$4" \
-        --minutes "$RUN_MINUTES" --seed "$2" --json
+        --minutes "$RUN_MINUTES" --seed "$2" --reflex "$BASELINE_REFLEX" --json
 }
 
 fams=() runs=()

@@ -17,6 +17,11 @@ TVL=${TVL:-tvl}
 # competence" is the first learning minute whose snapshot FAM passes it.
 COMPETENCE_RUN_MINUTES=5
 
+# The reflexes beyond the paper (`tvl run --reflex`) that TVL runs and baseline runs use; each
+# run's JSON line records them. TVL_REFLEX=none runs the paper's choice rule alone.
+TVL_REFLEX=${TVL_REFLEX:-all}
+BASELINE_REFLEX=${BASELINE_REFLEX:-none}
+
 die() {
     echo "${0##*/}: $*" >&2
     exit 2
@@ -225,9 +230,9 @@ snapshot_job() {
         once "$OUT/runs/$behaviour-$name.json" \
             "$(params kind tvl world "$world_name" seed "$seed" config "$config" \
                 learn_config "$log_config" minute "$minute" behaviour "$behaviour" \
-                threshold 0.85 run_minutes "$minutes")" \
+                threshold 0.85 run_minutes "$minutes" reflexes "$TVL_REFLEX")" \
             "$TVL" run "$fam" "$(world "$world_name")" --behaviour "$behaviour" \
-            --minutes "$minutes" --seed "$seed" --json
+            --minutes "$minutes" --seed "$seed" --reflex "$TVL_REFLEX" --json
     done
     rm -f "$fam"
 }
@@ -237,9 +242,10 @@ dwa_job() {
     local minutes
     minutes=$(competence_run_minutes)
     once "$OUT/runs/dwa-$1-s$2.json" \
-        "$(params kind dwa world "$1" seed "$2" behaviour avoid run_minutes "$minutes")" \
+        "$(params kind dwa world "$1" seed "$2" behaviour avoid run_minutes "$minutes" \
+            reflexes "$BASELINE_REFLEX")" \
         "$TVL" baseline dwa "$(world "$1")" --behaviour avoid --minutes "$minutes" \
-        --seed "$2" --json
+        --seed "$2" --reflex "$BASELINE_REFLEX" --json
 }
 
 # qlearn_job WORLD SEED LEARN_MINUTES EVERY: tabular Q-learning beside TVL, its competence
@@ -252,9 +258,10 @@ qlearn_job() {
         recorded=(competence_every "$4")
     fi
     once "$OUT/runs/qlearn-$1-s$2.json" \
-        "$(params kind qlearn world "$1" seed "$2" run_minutes "$minutes" "${recorded[@]}")" \
+        "$(params kind qlearn world "$1" seed "$2" run_minutes "$minutes" "${recorded[@]}" \
+            reflexes "$BASELINE_REFLEX")" \
         "$TVL" baseline qlearn "$(world "$1")" --learn-minutes "$3" --minutes "$minutes" \
-        --seed "$2" "${checks[@]}" --json
+        --seed "$2" "${checks[@]}" --reflex "$BASELINE_REFLEX" --json
 }
 
 # pool JOB...: run each JOB (a command line naming a function of the script) with at most JOBS

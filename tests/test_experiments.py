@@ -14,9 +14,9 @@ from typing import NamedTuple
 import pytest
 from conftest import TVL
 
+from tvl_cli.analysis.results import is_competent, time_to_competence
 from tvl_cli.core.competence import COMPETENCE_RUN_MINUTES
 from tvl_cli.core.metrics import RunMetrics
-from tvl_cli.render.figures import is_competent, time_to_competence
 
 EXPERIMENTS = Path(__file__).resolve().parent.parent / "experiments"
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
@@ -28,6 +28,7 @@ SCRIPTS = {
     "fig22_goal_seeking": ({"tvl", "dwa"}, {"world", "seed", "config", "goal", "goal_index"}),
     "fig24_single_vs_multi": ({"learn", "tvl", "dwa", "qlearn"}, {"world", "config", "minute"}),
     "fig27_lab": ({"learn", "tvl", "dwa"}, {"world", "seed", "config", "minute", "behaviour"}),
+    "ablation": ({"tvl"}, {"world", "seed", "config", "learning", "behaviour", "reflexes"}),
 }
 # `tvl` subcommands that do a run's work; a resumed script must call none of them.
 WORK = {"learn", "train", "run", "replay", "baseline"}

@@ -1,16 +1,9 @@
-"""The experiment figures (paper §5) and their summary tables, from the scripts' JSON lines.
-
-Each line of a results file is one run: its parameters (`kind`: learn, tvl, dwa or qlearn;
-`world`, `seed`, `config`, `minute`, `behaviour`, `threshold`, ...) and what `tvl ... --json`
-printed. Trials are the seeds; figures show their mean, tables their mean and counts.
-"""
+"""The experiment figures (paper §5), drawn from the numbers analysis.results computes out
+of the scripts' JSON lines; each figure also returns its summary table."""
 
 from __future__ import annotations
 
-import json
-import math
 from collections.abc import Callable, Iterable, Sequence
-from dataclasses import fields
 from itertools import pairwise
 from pathlib import Path
 from typing import Any
@@ -21,230 +14,45 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
+from tvl_cli.analysis.results import (
+    ABLATION_HEADER,
+    ABLATION_SETTINGS,
+    COLLISION_PRONE_PER_MIN,
+    METHOD_HEADER,
+    METHOD_NOTE,
+    PAPER_FIG21,
+    PAPER_FIG27,
+    WORLD_ORDER,
+    Row,
+    ablation_rows,
+    competence_note,
+    competence_times,
+    curve,
+    describe_competence,
+    distinct,
+    goal_methods,
+    learning_minutes,
+    markdown,
+    mean,
+    method_rows,
+    number,
+    prone,
+    qlearn_checks,
+    read_results,
+    select,
+    threshold_points,
+)
 from tvl_cli.core import competence
 from tvl_cli.core.errors import BadInput
-from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.io.atomic import atomic_output
 from tvl_cli.io.runfile import read_run
 from tvl_cli.render.plot import draw_world
 from tvl_cli.sim.worldmap import parse_world
 
-Row = dict[str, Any]
-
-# A setting is collision prone above the competence limit (dashed in Figure 21).
-COLLISION_PRONE_PER_MIN = competence.MAX_CONTACTS_PER_MIN
-
-WORLD_ORDER = ("square", "circle", "corridor", "obstacles", "narrow", "lab")
 CONFIG_STYLE = {"single": "#1f77b4", "multi": "#d62728"}
 DWA_COLOUR, QLEARN_COLOUR = "#2ca02c", "#9467bd"
 DPI = 120
 PAPER_COLOUR = "grey"
-# The paper's reported ends (SPEC §10): threshold -> (wall clearance m, mean speed m/s) in
-# wall following (§5.1, Fig. 21), and learning minute -> mean speed m/s in the lab, multi FAM
-# (§5.2, Fig. 27).
-PAPER_FIG21 = {0.65: (0.32, 0.32), 0.95: (0.67, 0.45)}
-PAPER_FIG27 = {0.0: 0.1, 45.0: 0.5}
-
-
-def is_competent(run: Row) -> bool:
-    """Whether an avoid run (its `tvl run --json` keys) passes the competence test."""
-    return competence.is_competent(RunMetrics(**{f.name: run[f.name] for f in fields(RunMetrics)}))
-
-
-def time_to_competence(snapshots: Iterable[Row]) -> float | None:
-    """Time to competence: the first learning minute whose snapshot FAM's avoid run is
-    competent; None if none is."""
-    competent = [row["minute"] for row in snapshots if is_competent(row)]
-    return min(competent) if competent else None
-
-
-# --- reading and summarising -------------------------------------------------------
-
-
-def read_results(path: Path) -> list[Row]:
-    """The runs of a JSON-lines results file; BadInput naming the line that is not one."""
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise BadInput(f"{path}: no such results file") from None
-    except (OSError, UnicodeDecodeError) as error:
-        raise BadInput(f"{path}: cannot read ({error})") from None
-    rows: list[Row] = []
-    for number, line in enumerate(text.splitlines(), start=1):
-        if not line.strip():
-            continue
-        try:
-            row = json.loads(line)
-        except json.JSONDecodeError as error:
-            raise BadInput(f"{path}:{number}:{error.colno}: not JSON ({error.msg})") from None
-        if not isinstance(row, dict) or not isinstance(row.get("kind"), str):
-            raise BadInput(f'{path}:{number}: not a run (an object with a "kind")')
-        rows.append(row)
-    return rows
-
-
-def select(rows: Iterable[Row], **where: Any) -> list[Row]:
-    """The rows whose keys have the given values."""
-    return [row for row in rows if all(row.get(key) == value for key, value in where.items())]
-
-
-def distinct(rows: Iterable[Row], key: str, order: Sequence[Any] = ()) -> list[Any]:
-    """The values of `key` in `order` first, then the others sorted."""
-    present = {row[key] for row in rows if row.get(key) is not None}
-    return [v for v in order if v in present] + sorted(present - set(order))
-
-
-def mean(values: Iterable[float | None]) -> float | None:
-    """The mean of the values that are not None; None if there are none."""
-    known = [v for v in values if v is not None]
-    return sum(known) / len(known) if known else None
-
-
-def curve(rows: Iterable[Row], x: str, y: str) -> tuple[np.ndarray, np.ndarray]:
-    """Mean of `y` over the rows at each value of `x` (trials averaged): (K,), (K,) arrays."""
-    by_x: dict[float, list[float | None]] = {}
-    for row in rows:
-        by_x.setdefault(row[x], []).append(row.get(y))
-    xs = sorted(v for v in by_x if mean(by_x[v]) is not None)
-    return np.array(xs, dtype=float), np.array([mean(by_x[v]) for v in xs], dtype=float)
-
-
-def by_trial(rows: Iterable[Row]) -> dict[int, list[Row]]:
-    trials: dict[int, list[Row]] = {}
-    for row in rows:
-        trials.setdefault(row["seed"], []).append(row)
-    return trials
-
-
-def competence_times(snapshots: Iterable[Row]) -> list[float | None]:
-    """Time to competence of each trial (seed) of a set of snapshot avoid runs."""
-    return [time_to_competence(rows) for _, rows in sorted(by_trial(snapshots).items())]
-
-
-def final_runs(snapshots: Iterable[Row]) -> list[Row]:
-    """Each trial's run with its last snapshot FAM."""
-    return [max(rows, key=lambda r: r["minute"]) for rows in by_trial(snapshots).values()]
-
-
-def describe_competence(times: Sequence[float | None], horizon_min: float | None) -> str:
-    """'7.3 (3/3)': the mean over the trials that became competent, and how many did."""
-    reached = [t for t in times if t is not None]
-    if not times:
-        return "–"
-    if not reached:
-        within = f" {horizon_min:g}" if horizon_min is not None else ""
-        return f"not within{within} min (0/{len(times)})"
-    return f"{sum(reached) / len(reached):.1f} ({len(reached)}/{len(times)})"
-
-
-def number(value: float | None, digits: int = 2) -> str:
-    return "–" if value is None or not math.isfinite(value) else f"{value:.{digits}f}"
-
-
-def markdown(title: str, header: Sequence[str], body: Iterable[Sequence[str]]) -> str:
-    lines = [f"### {title}", "", "| " + " | ".join(header) + " |"]
-    lines.append("|" + "|".join(" --- " for _ in header) + "|")
-    lines += ["| " + " | ".join(cells) + " |" for cells in body]
-    return "\n".join(lines) + "\n"
-
-
-def learning_minutes(rows: Iterable[Row]) -> list[Row]:
-    """The per-minute rows (minute, delta_v, collisions, ...) of every learn record, with its
-    seed, world and config; `minute` becomes the end of that minute (1 for the first)."""
-    return [
-        {**minute, "minute": minute["minute"] + 1, "seed": row["seed"], "world": row["world"]}
-        for row in rows
-        if row["kind"] == "learn"
-        for minute in row.get("minutes", [])
-    ]
-
-
-def method_rows(rows: list[Row], world: str, configs: Sequence[str]) -> list[list[str]]:
-    """Table rows for TVL's configurations, DWA and Q-learning in one world: time to
-    competence, collision rate, speed and clearance of an avoid run, collisions in learning."""
-    table: list[list[str]] = []
-    learnt = learning_minutes(select(rows, world=world))
-    learn_rate = mean(m["collisions"] for m in learnt)
-    horizon = max((m["minute"] for m in learnt), default=None)
-    for config in configs:
-        snapshots = select(rows, kind="tvl", world=world, config=config, behaviour="avoid")
-        if not snapshots:
-            continue
-        last = final_runs(snapshots)
-        table.append(
-            [
-                world,
-                f"TVL {config} FAM",
-                describe_competence(competence_times(snapshots), horizon),
-                number(mean(r["contacts_per_min"] for r in last)),
-                number(mean(r["mean_speed_mps"] for r in last)),
-                number(mean(r["mean_clearance_m"] for r in last)),
-                number(learn_rate),
-            ]
-        )
-    dwa = select(rows, kind="dwa", world=world, behaviour="avoid")
-    if dwa:
-        table.append(
-            [
-                world,
-                "DWA (knows the map)",
-                "no learning",
-                number(mean(r["contacts_per_min"] for r in dwa)),
-                number(mean(r["mean_speed_mps"] for r in dwa)),
-                number(mean(r["mean_clearance_m"] for r in dwa)),
-                "–",
-            ]
-        )
-    qlearn = select(rows, kind="qlearn", world=world)
-    if qlearn:
-        times = [r.get("time_to_competence_min") for r in qlearn]
-        table.append(
-            [
-                world,
-                "Q-learning",
-                describe_competence(times, max(r["learn_minutes"] for r in qlearn)),
-                number(mean(r["contacts_per_min"] for r in qlearn)),
-                number(mean(r["mean_speed_mps"] for r in qlearn)),
-                number(mean(r["mean_clearance_m"] for r in qlearn)),
-                number(mean(r["learn_collisions"] / r["learn_minutes"] for r in qlearn)),
-            ]
-        )
-    return table
-
-
-METHOD_HEADER = (
-    "world",
-    "method",
-    "time to competence, min (trials)",
-    "avoid contacts/min",
-    "avoid speed m/s",
-    "avoid clearance m",
-    "collisions/min learning",
-)
-COMPETENCE_NOTE = (
-    f"Time to competence: the first learning minute after which an avoid run of "
-    f"{competence.COMPETENCE_RUN_MINUTES:g} simulated minutes has at most "
-    f"{competence.MAX_CONTACTS_PER_MIN:g} contacts (collisions and near misses) a minute "
-    f"and a mean speed of at least "
-    f"{competence.MIN_MEAN_SPEED_MPS:g} m/s.\n"
-)
-METHOD_NOTE = (
-    "Avoid columns: the FAM at the end of learning (Q-learning: its greedy policy); "
-    "means over trials.\n"
-)
-
-
-def competence_note(rows: Iterable[Row]) -> str:
-    """The definition, and a warning when the avoid runs were not of the definition's length."""
-    lengths = {r["run_minutes"] for r in rows if r.get("behaviour") == "avoid"}
-    other = sorted(m for m in lengths if m != competence.COMPETENCE_RUN_MINUTES)
-    if not other:
-        return COMPETENCE_NOTE
-    minutes = ", ".join(f"{m:g}" for m in other)
-    return COMPETENCE_NOTE + f"These avoid runs lasted {minutes} min: not a competence result.\n"
-
-
-# --- drawing ----------------------------------------------------------------------
 
 
 def new_figure(width_in: float, height_in: float) -> Figure:
@@ -279,16 +87,6 @@ def collision_axis(ax: Axes) -> None:
     ax.set_yscale("symlog", linthresh=0.1)
     ax.autoscale_view()
     ax.set_ylim(0, 2 * ax.get_ylim()[1])
-
-
-def qlearn_checks(qlearn: Iterable[Row]) -> list[Row]:
-    """Q-learning's competence checks (greedy avoid runs during learning), with their seed and
-    `minute` the learning minutes before the check."""
-    return [
-        {**check, "minute": check["learn_minutes"], "seed": row["seed"]}
-        for row in qlearn
-        for check in row.get("competence_checks", [])
-    ]
 
 
 def baselines_and_limits(hits: Axes, speed: Axes, rows: list[Row], world: str) -> None:
@@ -349,29 +147,6 @@ def figure19(rows: list[Row]) -> tuple[Figure, str]:
 
 
 # --- Figure 21: velocity threshold ---------------------------------------------------
-
-
-def threshold_points(rows: list[Row], world: str) -> list[tuple[float, Row]]:
-    """Per threshold, the means over trials and wall sides of one world's wall runs."""
-    walls = [r for r in select(rows, kind="tvl", world=world) if r["behaviour"].startswith("wall")]
-    points = []
-    for threshold in distinct(walls, "threshold"):
-        runs = select(walls, threshold=threshold)
-        points.append(
-            (
-                threshold,
-                {
-                    key: mean(r[key] for r in runs)
-                    for key in ("mean_wall_clearance_m", "mean_speed_mps", "contacts_per_min")
-                },
-            )
-        )
-    return points
-
-
-def prone(point: Row) -> bool:
-    rate = point["contacts_per_min"]
-    return rate is not None and rate > COLLISION_PRONE_PER_MIN
 
 
 def dashed_where_prone(ax: Axes, points: list[tuple[float, Row]], key: str, colour: str) -> None:
@@ -436,17 +211,6 @@ def figure21(rows: list[Row]) -> tuple[Figure, str]:
 
 
 # --- Figure 22: goal seeking ---------------------------------------------------------
-
-
-def goal_methods(rows: list[Row]) -> list[tuple[str, list[Row]]]:
-    """(label, goal runs) for each TVL configuration and DWA."""
-    goal_runs = select(rows, behaviour="goal")
-    methods = [
-        (f"TVL {config}", select(goal_runs, kind="tvl", config=config))
-        for config in distinct(select(goal_runs, kind="tvl"), "config", ("single", "multi"))
-    ]
-    dwa = select(goal_runs, kind="dwa")
-    return methods + ([("DWA", dwa)] if dwa else [])
 
 
 def draw_paths(ax: Axes, runs: list[Row], base: Path) -> None:
@@ -635,6 +399,43 @@ def figure27(rows: list[Row]) -> tuple[Figure, str]:
     return figure, table + "\n" + "\n".join(times) + "\n\n" + paper + competence_note(rows)
 
 
+def ablation(rows: list[Row]) -> tuple[Figure, str]:
+    """Contacts a minute and speed with each reflex setting, per world and behaviour."""
+    behaviours = distinct(select(rows, kind="tvl"), "behaviour", ("avoid", "wall-left"))
+    worlds = distinct(select(rows, kind="tvl"), "world", WORLD_ORDER)
+    figure = new_figure(4.0 * len(worlds), 3.2 * len(behaviours))
+    grid = figure.subplots(len(behaviours), len(worlds), squeeze=False)
+    settings = list(ABLATION_SETTINGS)
+    x = np.arange(len(settings))
+    width = 0.4
+    for row_axes, behaviour in zip(grid, behaviours, strict=True):
+        for ax, world in zip(row_axes, worlds, strict=True):
+            for offset, config in ((-width / 2, "single"), (width / 2, "multi")):
+                runs = select(rows, kind="tvl", behaviour=behaviour, world=world, config=config)
+                values = [
+                    mean(r["contacts_per_min"] for r in select(runs, reflexes=s)) for s in settings
+                ]
+                heights = [np.nan if v is None else v for v in values]
+                ax.bar(x + offset, heights, width, color=CONFIG_STYLE[config], label=config)
+            competence_limit(ax, COLLISION_PRONE_PER_MIN)
+            collision_axis(ax)
+            ax.set_title(f"{behaviour} in {world}", fontsize=9)
+            ax.set_xticks(x, settings, rotation=45, ha="right", fontsize=7)
+        row_axes[0].set_ylabel("contacts/min")
+    shared_legend(figure, [grid[0][0]])
+    figure.suptitle("Reflex ablation: each reflex alone, all, none, and the paper's method")
+    tables = [
+        markdown(f"{behaviour}: reflex ablation", ABLATION_HEADER, ablation_rows(rows, behaviour))
+        for behaviour in behaviours
+    ]
+    note = (
+        "Reflexes: `none` is the paper's choice rule alone on a FAM learnt with our defaults; "
+        "`paper` is the paper's whole method (its labels, bump-only collision points, no "
+        "reflexes). Contacts are collisions and near misses; means over trials.\n"
+    )
+    return figure, "\n".join(tables) + "\n" + note + competence_note(rows)
+
+
 # --- the registry and the command's entry point ---------------------------------------
 
 FIGURES: dict[str, Callable[[list[Row], Path], tuple[Figure, str]]] = {
@@ -643,6 +444,7 @@ FIGURES: dict[str, Callable[[list[Row], Path], tuple[Figure, str]]] = {
     "fig22": figure22,
     "fig24": lambda rows, _base: figure24(rows),
     "fig27": lambda rows, _base: figure27(rows),
+    "ablation": lambda rows, _base: ablation(rows),
 }
 
 
