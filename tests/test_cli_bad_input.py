@@ -17,7 +17,8 @@ from tvl_cli.core.episode import Episode
 from tvl_cli.core.fam import Fam
 from tvl_cli.io.famfile import write_fam
 from tvl_cli.io.lock import lock_path
-from tvl_cli.io.logfile import LogWriter, read_log
+from tvl_cli.io.logfile import LogWriter
+from tvl_cli.io.logreader import read_log
 
 WORLDS = Path(__file__).resolve().parent.parent / "worlds"
 SQUARE = WORLDS / "square.txt"

@@ -12,7 +12,7 @@ import pytest
 from conftest import TVL
 
 from tvl_cli.io.famfile import read_fam
-from tvl_cli.io.logfile import read_log
+from tvl_cli.io.logreader import read_log
 
 WORLDS = Path(__file__).resolve().parent.parent / "worlds"
 SQUARE = WORLDS / "square.txt"

@@ -104,7 +104,7 @@ def test_tiny_run_draws_a_png_and_a_summary_table(tiny, name):
     out = tiny(name).out
     assert (out / f"{name}.png").read_bytes().startswith(PNG_MAGIC)
     table = (out / "summary.md").read_text()
-    assert table.startswith("### Figure") and "| --- |" in table
+    assert table.startswith("### ") and "| --- |" in table
 
 
 @pytest.mark.parametrize("name", sorted(SCRIPTS))

@@ -22,7 +22,8 @@ from tvl_cli.core.config import (
     sonars_within,
 )
 from tvl_cli.core.errors import BadInput
-from tvl_cli.core.fam import Fam, fam_config_from_json, rule_set_indices, validate_fam_config
+from tvl_cli.core.fam import Fam, rule_set_indices
+from tvl_cli.core.fam_configs import fam_config_from_json, validate_fam_config
 
 NAMES = ALL_TRAJECTORY_NAMES  # T3L T2L T1L T0 T1R T2R T3R
 T1L, T0, T1R = NAMES.index("T1L"), NAMES.index("T0"), NAMES.index("T1R")

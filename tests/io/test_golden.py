@@ -12,7 +12,7 @@ from log_samples import assert_same_episode
 
 from tvl_cli.core.config import SINGLE
 from tvl_cli.io.famfile import read_fam
-from tvl_cli.io.logfile import read_log
+from tvl_cli.io.logreader import read_log
 
 
 def load_golden() -> ModuleType:

@@ -18,7 +18,7 @@ from tvl_cli.commands.learn import LearnResult
 from tvl_cli.commands.replay import Replay
 from tvl_cli.commands.train import TrainSummary
 from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
-from tvl_cli.core.fam import Explanation
+from tvl_cli.core.explain import Explanation
 from tvl_cli.core.metrics import RunMetrics
 
 out = Console(highlight=False)

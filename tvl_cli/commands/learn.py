@@ -16,10 +16,12 @@ from tvl_cli.commands.train import provenance
 from tvl_cli.core.config import BUILTIN_FAM_CONFIGS, FamConfig, RobotConfig, SonarConfig
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
-from tvl_cli.core.fam import Fam, fam_config_from_json
+from tvl_cli.core.fam import Fam
+from tvl_cli.core.fam_configs import fam_config_from_json
 from tvl_cli.core.training import TrainParams
 from tvl_cli.io.famfile import write_fam
-from tvl_cli.io.logfile import STATUS_FINISHED, LogWriter, read_log
+from tvl_cli.io.logfile import STATUS_FINISHED, LogWriter
+from tvl_cli.io.logreader import read_log
 from tvl_cli.sim.worldmap import load_world
 
 

@@ -14,7 +14,7 @@ from tvl_cli.core.config import RobotConfig, SonarConfig
 from tvl_cli.core.errors import BadInput, check_minutes
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.io.famfile import read_fam
-from tvl_cli.io.logfile import file_sha256
+from tvl_cli.io.logreader import file_sha256
 from tvl_cli.io.runfile import write_run
 from tvl_cli.sim.worldmap import WorldMap, check_goal, load_world
 

@@ -15,7 +15,7 @@ from tvl_cli.core.config import FamConfig, RobotConfig
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.training import TrainParams, train_episode
-from tvl_cli.io.logfile import LearningLog, read_log
+from tvl_cli.io.logreader import LearningLog, read_log
 
 
 @dataclass(frozen=True, slots=True)

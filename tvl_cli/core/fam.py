@@ -11,28 +11,25 @@ perceived velocity is the w-weighted average of their V (eq. 3).
 
 from __future__ import annotations
 
-import json
 import math
 from collections.abc import Sequence
-from dataclasses import asdict, dataclass
-from typing import Any
+from dataclasses import dataclass
 
 import numpy as np
 
 from tvl_cli.core.config import (
     SONAR_COUNT,
     FamConfig,
-    FamInput,
     FamTable,
     Partition,
     mirror_sonar,
 )
 from tvl_cli.core.errors import BadInput
-from tvl_cli.core.fuzzy import StackedPartitions, memberships
+from tvl_cli.core.explain import Explanation, FiredRule, reading
+from tvl_cli.core.fam_configs import validate_fam_config
+from tvl_cli.core.fuzzy import StackedPartitions
 
 DEFAULT_INIT_VELOCITY_MPS = 0.1  # paper §3.1: an unknown reading must be perceived as slow
-MAX_INPUTS_PER_TABLE = 10  # 2^10 rules fire per reading; more makes inference crawl
-MAX_ENTRIES = 20_000_000  # rules x trajectories in all: 3 float64 arrays that size, 480 MB
 # Work per chunk, big enough that per-call costs vanish and small enough to bound memory:
 # corners (exemplars x 2^n) fired at once in training, and entries (rings x corners x
 # stored columns) gathered at once in inference.
@@ -43,78 +40,6 @@ INFER_CHUNK_ENTRIES = 2**19
 # leaves its rules and strengths unchanged (the lower corners get strength 0), so tables with
 # fewer inputs can be fired in one array with the widest.
 _PADDING = Partition(("pad-lower", "pad-upper"), (-2.0, -1.0))
-
-
-def validate_fam_config(
-    config: FamConfig, trajectory_names: Sequence[str], source: str = "FAM configuration"
-) -> None:
-    """Raise BadInput naming `source` and the first problem that makes `config` unusable."""
-    known = set(trajectory_names)
-    covered: dict[str, str] = {}
-    if not config.tables:
-        raise BadInput(f"{source}: no tables")
-    if len({t.name for t in config.tables}) != len(config.tables):
-        raise BadInput(f"{source}: table names are not unique")
-    for table in config.tables:
-        where = f"{source}: table {table.name!r}"
-        if not table.inputs:
-            raise BadInput(f"{where}: no inputs")
-        if len(table.inputs) > MAX_INPUTS_PER_TABLE:
-            raise BadInput(f"{where}: {len(table.inputs)} inputs, at most {MAX_INPUTS_PER_TABLE}")
-        if len({i.name for i in table.inputs}) != len(table.inputs):
-            raise BadInput(f"{where}: input names are not unique")
-        for fam_input in table.inputs:
-            _validate_input(fam_input.name, fam_input.sonars, fam_input.partition, where)
-        if not table.trajectories:
-            raise BadInput(f"{where}: no trajectories")
-        for name in table.trajectories:
-            if name not in known:
-                choices = ", ".join(trajectory_names)
-                raise BadInput(f"{where}: unknown trajectory {name!r} (choose from {choices})")
-            if name in covered:
-                raise BadInput(
-                    f"{where}: trajectory {name!r} is already stored by table {covered[name]!r}"
-                )
-            covered[name] = table.name
-    missing = [n for n in trajectory_names if n not in covered]
-    if missing:
-        raise BadInput(f"{source}: no table stores trajectory {', '.join(missing)}")
-    entries = sum(t.rule_count * len(t.trajectories) for t in config.tables)
-    if entries > MAX_ENTRIES:
-        raise BadInput(f"{source}: {entries:,} rule entries, at most {MAX_ENTRIES:,}")
-
-
-def _validate_input(name: str, sonars: tuple[int, ...], partition: Partition, where: str) -> None:
-    where = f"{where} input {name!r}"
-    if not sonars:
-        raise BadInput(f"{where}: no sonars")
-    for s in sonars:
-        if not 0 <= s < SONAR_COUNT:
-            raise BadInput(f"{where}: sonar {s} is outside 0..{SONAR_COUNT - 1}")
-    if len(set(partition.names)) != len(partition.names):
-        raise BadInput(f"{where}: fuzzy-set names are not unique")
-    if not all(np.isfinite(partition.centres_m)):
-        raise BadInput(f"{where}: fuzzy-set centres must be finite")
-
-
-def fam_config_from_json(
-    text: str, trajectory_names: Sequence[str], source: str = "FAM configuration"
-) -> FamConfig:
-    """Parse and validate a user's FAM configuration; BadInput naming `source` if unusable."""
-    try:
-        data = json.loads(text)
-    except json.JSONDecodeError as error:
-        raise BadInput(f"{source}:{error.lineno}:{error.colno}: not JSON: {error.msg}") from None
-    if not isinstance(data, dict):
-        raise BadInput(f"{source}: expected a JSON object with 'name' and 'tables'")
-    try:
-        config = FamConfig.from_dict(data)
-    except KeyError as error:
-        raise BadInput(f"{source}: missing key {error}") from None
-    except (TypeError, ValueError, AttributeError) as error:
-        raise BadInput(f"{source}: {error}") from None
-    validate_fam_config(config, trajectory_names, source)
-    return config
 
 
 def rule_set_indices(table: FamTable, rules: np.ndarray | None = None) -> np.ndarray:
@@ -213,54 +138,6 @@ class _Scratch:
         self.strengths = [np.empty((2 ** (k + 1), tables, count)) for k in range(1, inputs)]
         self.rules = np.empty((corners, tables, count), dtype=np.intp)  # (C, T, N) lookup columns
         self.stored = np.empty((stored_rows, corners, tables, count))  # (2 cols, C, T, N)
-
-
-@dataclass(frozen=True, slots=True)
-class FiredSet:
-    """A fuzzy set with a non-zero membership, and that membership."""
-
-    name: str
-    degree: float
-
-
-@dataclass(frozen=True, slots=True)
-class InputReading:
-    """One input of one table for an explained ring."""
-
-    table: str
-    name: str
-    sonars: tuple[int, ...]
-    value_m: float
-    fired: tuple[FiredSet, ...]
-
-
-@dataclass(frozen=True, slots=True)
-class FiredRule:
-    """A rule with non-zero strength, with what it stores for its table's trajectories."""
-
-    table: str
-    rule: int
-    sets: tuple[int, ...]  # fuzzy-set index of each input
-    set_names: tuple[str, ...]
-    strength: float
-    trajectories: tuple[str, ...]
-    velocities_mps: tuple[float, ...]
-    experience: tuple[float, ...]
-
-
-@dataclass(frozen=True, slots=True)
-class Explanation:
-    """Why a ring is perceived as it is: memberships, fired rules, and the weighted averages."""
-
-    inputs: tuple[InputReading, ...]
-    rules: tuple[FiredRule, ...]
-    trajectories: tuple[str, ...]
-    velocities_mps: tuple[float, ...]
-    experience: tuple[float, ...]
-
-    def to_dict(self) -> dict[str, Any]:
-        """Plain lists, dicts and numbers, as for JSON."""
-        return asdict(self)
 
 
 class Fam:
@@ -521,7 +398,7 @@ class Fam:
         tables = self._config.tables
         return Explanation(
             tuple(
-                _reading(table, fam_input, float(x[k, t, 0]))
+                reading(table, fam_input, float(x[k, t, 0]))
                 for t, table in enumerate(tables)
                 for k, fam_input in enumerate(table.inputs)
             ),
@@ -554,18 +431,3 @@ class Fam:
             )
             for rule, sets, corner in zip(rules, rule_set_indices(table, rules), live, strict=True)
         ]
-
-
-def _reading(table: FamTable, fam_input: FamInput, value_m: float) -> InputReading:
-    """An input's reading and the (at most two) fuzzy sets it fires."""
-    lower, upper = memberships(fam_input.partition, np.array([value_m]))
-    k, degree = int(lower[0]), float(upper[0])
-    names = fam_input.partition.names[k : k + 2]
-    fired = zip(names, (1.0 - degree, degree), strict=True)
-    return InputReading(
-        table.name,
-        fam_input.name,
-        fam_input.sonars,
-        value_m,
-        tuple(FiredSet(name, d) for name, d in fired if d > 0),
-    )

@@ -32,9 +32,7 @@ The online FAM must train on mm_to_ring(ring_to_mm(ring)), the values kept here,
 
 from __future__ import annotations
 
-import hashlib
 import json
-from dataclasses import dataclass
 from pathlib import Path
 from types import TracebackType
 from typing import Any
@@ -43,19 +41,16 @@ import h5py
 import numpy as np
 
 from tvl_cli import __version__
-from tvl_cli.core.config import FamConfig, RobotConfig
+from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.io.atomic import atomic_output
-from tvl_cli.io.lock import WriterLock, writer_pid
+from tvl_cli.io.lock import WriterLock
 from tvl_cli.io.schema import (
     LIBVER,
     LOG_FORMAT,
-    FormatError,
     open_for_appending,
-    open_for_reading,
     read_json_attr,
-    read_str_attr,
     to_json,
     utc_now,
     write_header,
@@ -95,7 +90,7 @@ STATUS_NOT_CLOSED = "interrupted: not closed"  # the writer died without closing
 
 
 # name -> (dtype, units, description) of the per-exemplar datasets, in writing order.
-_EXEMPLAR_DATASETS: dict[str, tuple[str, str, str]] = {
+EXEMPLAR_DATASETS: dict[str, tuple[str, str, str]] = {
     "ring_mm": ("<u2", "mm", "sonar ranges S0..S15, S0 forward, numbered counter-clockwise"),
     "pose": ("<f8", "m, m, rad", "true pose x, y, theta"),
     "odometry": ("<f8", "m, m, rad", "odometry pose x, y, theta"),
@@ -115,7 +110,7 @@ class LogWriter:
         self._file: h5py.File | None = f
         self._group = group
         # Handles looked up once: a lookup by name costs about as much as a small write.
-        self._datasets = {name: group[name] for name in (*_EXEMPLAR_DATASETS, "episodes")}
+        self._datasets = {name: group[name] for name in (*EXEMPLAR_DATASETS, "episodes")}
         self._minutes_dataset = group["minutes"]
         self._episodes = 0
         self._exemplars = 0
@@ -306,7 +301,7 @@ def _new_session(f: h5py.File, robot: RobotConfig) -> h5py.Group:
     sessions = f.require_group(SESSIONS)
     group = sessions.create_group(f"{len(sessions):04d}")
     row_shapes = {"ring_mm": (robot.sonar.count,), "pose": (3,), "odometry": (3,)}
-    for name, (dtype, units, description) in _EXEMPLAR_DATASETS.items():
+    for name, (dtype, units, description) in EXEMPLAR_DATASETS.items():
         row = row_shapes.get(name, ())
         dataset = group.create_dataset(
             name,
@@ -375,168 +370,3 @@ def _append(dataset: h5py.Dataset, values: np.ndarray, start: int) -> None:
         return
     dataset.resize(start + len(values), axis=0)
     dataset[start:] = values
-
-
-@dataclass(frozen=True, slots=True, eq=False)
-class Session:
-    """One learning session as read back: its settings and its whole episodes."""
-
-    name: str  # the group name, e.g. '0000'
-    world_name: str
-    world_text: str
-    seed: int
-    parameters: dict[str, Any]
-    robot_config: RobotConfig
-    fam_config: FamConfig
-    status: str  # 'finished', 'interrupted: SIGINT', 'interrupted: not closed', ...
-    started: str  # UTC ISO 8601
-    ended: str | None
-    tvl_version: str
-    ring_mm: np.ndarray  # (N, sonars) uint16 mm
-    pose: np.ndarray  # (N, 3) true x m, y m, theta rad
-    odometry: np.ndarray  # (N, 3)
-    arc_m: np.ndarray  # (N,) m
-    trajectory: np.ndarray  # (N,) int8
-    rotation: np.ndarray  # (N,) int8
-    episode: np.ndarray  # (N,) int32
-    episode_table: np.ndarray  # (E,) EPISODE_DTYPE
-    minutes: np.ndarray  # (M, 5) float64, MINUTE_COLUMNS
-
-    @property
-    def exemplar_count(self) -> int:
-        return len(self.arc_m)
-
-    def episodes(self) -> list[Episode]:
-        """The session's episodes, whose arrays are views into the session's arrays."""
-        episodes = []
-        for index, row in enumerate(self.episode_table):
-            rows = slice(int(row["first"]), int(row["first"]) + int(row["count"]))
-            episodes.append(
-                Episode(
-                    index=index,
-                    ring_mm=self.ring_mm[rows],
-                    pose=self.pose[rows],
-                    odometry=self.odometry[rows],
-                    arc_m=self.arc_m[rows],
-                    trajectory=int(row["trajectory"]),
-                    rotation=int(row["rotation"]),
-                    collided=bool(row["collided"]),
-                    bumped=bool(row["bumped"]),
-                    end_arc_m=float(row["end_arc_m"]),
-                    end_time_s=float(row["end_time_s"]),
-                )
-            )
-        return episodes
-
-
-@dataclass(frozen=True, slots=True, eq=False)
-class LearningLog:
-    """A whole learning log as read back, with the SHA-256 of the file for provenance."""
-
-    path: Path
-    sha256: str
-    tvl_version: str
-    created: str
-    sessions: tuple[Session, ...]
-
-    @property
-    def exemplar_count(self) -> int:
-        return sum(s.exemplar_count for s in self.sessions)
-
-    def source(self) -> dict[str, Any]:
-        """This log as a FAM file's provenance names it: path, SHA-256 and sessions."""
-        return {
-            "path": str(self.path),
-            "sha256": self.sha256,
-            "sessions": [
-                {
-                    "name": s.name,
-                    "world_name": s.world_name,
-                    "seed": s.seed,
-                    "status": s.status,
-                    "episodes": len(s.episode_table),
-                    "exemplars": s.exemplar_count,
-                }
-                for s in self.sessions
-            ],
-        }
-
-
-def read_log(path: Path | str) -> LearningLog:
-    """Read a learning log; FormatError if it is not a readable tvl-log, BadInput if it holds
-    no exemplars."""
-    path = Path(path)
-    with open_for_reading(path, LOG_FORMAT) as f:
-        try:
-            sessions = tuple(
-                _read_session(group, name, path)
-                for name, group in sorted(f.get(SESSIONS, {}).items())
-            )
-            log = LearningLog(
-                path=path,
-                sha256=file_sha256(path),
-                tvl_version=read_str_attr(f, "tvl_version", path),
-                created=read_str_attr(f, "created", path),
-                sessions=sessions,
-            )
-        except (OSError, KeyError, ValueError, TypeError) as error:
-            raise FormatError(f"{path}: corrupt tvl-log ({error})") from None
-    if log.exemplar_count == 0:
-        raise BadInput(f"{path}: has no exemplars (no finished episode in any session)")
-    return log
-
-
-def _read_session(group: h5py.Group, name: str, path: Path) -> Session:
-    where = f"{path}: session {name}"
-    try:
-        robot = RobotConfig.from_dict(read_json_attr(group, "robot_config", path))
-        fam = FamConfig.from_dict(read_json_attr(group, "fam_config", path))
-    except (KeyError, TypeError, ValueError) as error:
-        raise FormatError(f"{where}: malformed configuration ({error})") from None
-    table = group["episodes"][: int(group.attrs[COMMITTED_EPISODES])]
-    end = int(table["first"][-1] + table["count"][-1]) if len(table) else 0
-    columns = {column: group[column][:end] for column in _EXEMPLAR_DATASETS}
-    if any(len(values) < end for values in columns.values()):
-        raise FormatError(f"{where}: fewer exemplars stored than its episodes list")
-    _check_ranges(columns, robot, where)
-    status = read_str_attr(group, "status", path)
-    if status == STATUS_RUNNING and writer_pid(path) is None:
-        status = STATUS_NOT_CLOSED
-    return Session(
-        name=name,
-        world_name=read_str_attr(group, "world_name", path),
-        world_text=read_str_attr(group, "world_text", path),
-        seed=int(group.attrs["seed"]),
-        parameters=read_json_attr(group, "parameters", path),
-        robot_config=robot,
-        fam_config=fam,
-        status=status,
-        started=read_str_attr(group, "started", path),
-        ended=read_str_attr(group, "ended", path) if "ended" in group.attrs else None,
-        tvl_version=read_str_attr(group, "tvl_version", path),
-        episode_table=table,
-        minutes=group["minutes"][: int(group.attrs[COMMITTED_MINUTES])],
-        **columns,
-    )
-
-
-def _check_ranges(columns: dict[str, np.ndarray], robot: RobotConfig, where: str) -> None:
-    """Indices a trainer would use must be in range, or it would fail far from the cause."""
-    sonars = robot.sonar.count
-    if columns["ring_mm"].shape[1:] != (sonars,):
-        raise FormatError(f"{where}: ring_mm has {columns['ring_mm'].shape[1:]} readings a row")
-    trajectory = columns["trajectory"]
-    if len(trajectory) and not 0 <= trajectory.min() <= trajectory.max() < len(robot.trajectories):
-        raise FormatError(f"{where}: trajectory index out of range")
-    rotation = columns["rotation"]
-    if len(rotation) and not 0 <= rotation.min() <= rotation.max() < sonars:
-        raise FormatError(f"{where}: rotation out of range")
-
-
-def file_sha256(path: Path | str) -> str:
-    """Hex SHA-256 of a file's bytes, read in 1 MiB blocks."""
-    digest = hashlib.sha256()
-    with open(path, "rb") as f:
-        for block in iter(lambda: f.read(1 << 20), b""):
-            digest.update(block)
-    return digest.hexdigest()

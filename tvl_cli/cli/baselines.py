@@ -1,0 +1,101 @@
+"""`tvl baseline`: the DWA and Q-learning, to measure TVL against."""
+
+from __future__ import annotations
+
+from dataclasses import asdict
+from pathlib import Path
+
+import click
+
+from tvl_cli.agent.reflexes import NONE as NO_REFLEXES
+from tvl_cli.baselines.dwa import BEHAVIOURS as DWA_BEHAVIOURS
+from tvl_cli.cli import views
+from tvl_cli.cli.options import (
+    print_json,
+    reflex_options,
+    refuse_existing,
+)
+from tvl_cli.commands.baseline import dwa_session, qlearn_session
+from tvl_cli.commands.run import parse_goal
+
+
+@click.group()
+def baseline() -> None:
+    """Controllers to measure TVL against: DWA and tabular Q-learning."""
+
+
+@baseline.command("dwa")
+@click.argument("world_file", metavar="WORLD", type=click.Path(path_type=Path))
+@click.option("--behaviour", type=click.Choice(DWA_BEHAVIOURS), default="avoid", show_default=True)
+@click.option("--goal", default=None, metavar="X,Y", help="Goal in metres (default: the world's).")
+@click.option("--minutes", type=float, default=5.0, show_default=True, help="Simulated minutes.")
+@click.option("--seed", type=int, default=1, show_default=True)
+@click.option("--png", type=click.Path(path_type=Path), default=None, help="Draw the path.")
+@reflex_options(default=NO_REFLEXES)
+@click.option("--force", is_flag=True, help="Overwrite the --png file.")
+@click.option("--json", "as_json", is_flag=True, help="Print the metrics as JSON.")
+def baseline_dwa(
+    world_file: Path,
+    behaviour: str,
+    goal: str | None,
+    minutes: float,
+    seed: int,
+    png: Path | None,
+    reflexes: tuple[str, ...],
+    force: bool,
+    as_json: bool,
+) -> None:
+    """Drive WORLD with the Dynamic Window Approach, which knows the true obstacles."""
+    if png is not None:
+        refuse_existing(png, force)
+    metrics = dwa_session(
+        world_file, behaviour, parse_goal(goal) if goal else None, minutes, seed, png, reflexes
+    )
+    if as_json:
+        print_json(asdict(metrics))
+    else:
+        views.run_metrics(metrics, reflexes)
+
+
+@baseline.command("qlearn")
+@click.argument("world_file", metavar="WORLD", type=click.Path(path_type=Path))
+@click.option(
+    "--learn-minutes", type=float, default=15.0, show_default=True, help="Simulated minutes."
+)
+@click.option(
+    "--minutes", type=float, default=5.0, show_default=True, help="Greedy run, simulated minutes."
+)
+@click.option("--seed", type=int, default=1, show_default=True)
+@click.option(
+    "--competence-every",
+    type=float,
+    default=None,
+    metavar="K",
+    help="Judge competence with a 5-minute greedy run every K learning minutes.",
+)
+@click.option("--png", type=click.Path(path_type=Path), default=None, help="Draw the greedy run.")
+@reflex_options(default=NO_REFLEXES)
+@click.option("--force", is_flag=True, help="Overwrite the --png file.")
+@click.option("--json", "as_json", is_flag=True, help="Print the metrics as JSON.")
+def baseline_qlearn(
+    world_file: Path,
+    learn_minutes: float,
+    minutes: float,
+    seed: int,
+    competence_every: float | None,
+    png: Path | None,
+    reflexes: tuple[str, ...],
+    force: bool,
+    as_json: bool,
+) -> None:
+    """Learn a Q-table over the single FAM's rules in WORLD, then avoid greedily with it."""
+    if png is not None:
+        refuse_existing(png, force)
+    report = qlearn_session(
+        world_file, learn_minutes, minutes, seed, competence_every, png, reflexes
+    )
+    if as_json:
+        print_json(report.to_dict())
+    else:
+        views.run_metrics(report.result.evaluation, reflexes)
+        click.echo(report.summary())

@@ -1,0 +1,120 @@
+"""`tvl run`, `tvl replay` and `tvl demo`: behaviours, traces and the whole pipeline."""
+
+from __future__ import annotations
+
+from dataclasses import asdict
+from pathlib import Path
+
+import click
+
+from tvl_cli.agent.reflexes import ALL as ALL_REFLEXES
+from tvl_cli.cli import views
+from tvl_cli.cli.options import (
+    print_json,
+    reflex_options,
+    refuse_existing,
+)
+from tvl_cli.commands.demo import run_demo
+from tvl_cli.commands.replay import replay as replay_file
+from tvl_cli.commands.run import RunRequest, parse_goal, run_fam
+from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD
+
+
+@click.command()
+@click.argument("fam", type=click.Path(path_type=Path))
+@click.argument("world_file", metavar="WORLD", type=click.Path(path_type=Path))
+@click.option("--behaviour", type=click.Choice(BEHAVIOUR_NAMES), required=True)
+@click.option(
+    "--threshold",
+    type=float,
+    default=DEFAULT_THRESHOLD,
+    show_default=True,
+    help="A trajectory is fast at this fraction of its maximum, in (0, 1].",
+)
+@click.option("--goal", default=None, metavar="X,Y", help="Goal in metres (default: the world's).")
+@click.option("--minutes", type=float, default=5.0, show_default=True, help="Simulated minutes.")
+@click.option("--seed", type=int, default=1, show_default=True)
+@click.option("--png", type=click.Path(path_type=Path), default=None, help="Draw the path.")
+@click.option(
+    "--log", "trace", type=click.Path(path_type=Path), default=None, help="Write a run trace."
+)
+@reflex_options(default=ALL_REFLEXES)
+@click.option(
+    "--sonar",
+    type=click.Choice(["real", "ideal"]),
+    default=None,
+    help="The sonar model to drive with (default: the one the FAM was learnt with).",
+)
+@click.option("--force", is_flag=True, help="Overwrite the --png and --log files.")
+@click.option("--json", "as_json", is_flag=True, help="Print the metrics as JSON.")
+def run(
+    fam: Path,
+    world_file: Path,
+    behaviour: str,
+    threshold: float,
+    goal: str | None,
+    minutes: float,
+    seed: int,
+    png: Path | None,
+    trace: Path | None,
+    reflexes: tuple[str, ...],
+    sonar: str | None,
+    force: bool,
+    as_json: bool,
+) -> None:
+    """Perform a behaviour in WORLD with a learnt FAM.
+
+    Every rule beyond the paper's method is a reflex: --paper (or --reflex none) runs the
+    paper's method alone."""
+    for output in (png, trace):
+        if output is not None:
+            refuse_existing(output, force)
+    request = RunRequest(
+        fam,
+        world_file,
+        behaviour,
+        threshold,
+        minutes,
+        seed,
+        parse_goal(goal) if goal else None,
+        png,
+        trace,
+        reflexes,
+        sonar,
+    )
+    metrics = run_fam(request)
+    if as_json:
+        print_json(asdict(metrics))
+    else:
+        views.run_metrics(metrics, reflexes)
+
+
+@click.command()
+@click.argument("file", type=click.Path(path_type=Path))
+@click.option("--png", type=click.Path(path_type=Path), default=None, help="Draw the paths.")
+@click.option(
+    "--curves",
+    type=click.Path(path_type=Path),
+    default=None,
+    help="Draw the learning curves (learning logs).",
+)
+@click.option("--force", is_flag=True, help="Overwrite the PNG files.")
+@click.option("--json", "as_json", is_flag=True, help="Print JSON.")
+def replay(file: Path, png: Path | None, curves: Path | None, force: bool, as_json: bool) -> None:
+    """Summarise a learning log or a run trace, and draw it."""
+    for output in (png, curves):
+        if output is not None:
+            refuse_existing(output, force)
+    summary = replay_file(file, png, curves)
+    if as_json:
+        print_json(summary.to_dict())
+    else:
+        views.replay(summary)
+
+
+@click.command()
+@click.argument("directory", default="tvl-demo", type=click.Path(path_type=Path))
+@click.option("--force", is_flag=True, help="Write into a DIRECTORY that is not empty.")
+def demo(directory: Path, force: bool) -> None:
+    """Learn, train, run and draw on a bundled world, in seconds."""
+    views.demo(run_demo(directory, force, views.say))

@@ -1,0 +1,99 @@
+"""`tvl train` and `tvl inspect`: FAM files from logs, and their rules in words."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+
+from tvl_cli.analysis.rules import SORT_KEYS, parse_ring, select_rules
+from tvl_cli.cli import views
+from tvl_cli.cli.options import (
+    print_json,
+    refuse_existing,
+    training_options,
+)
+from tvl_cli.commands.learn import resolve_fam_config
+from tvl_cli.commands.train import train_from_logs
+from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.training import TrainParams
+from tvl_cli.io.famfile import read_fam, write_fam
+
+
+@click.command()
+@click.argument("logs", nargs=-1, required=True, type=click.Path(path_type=Path))
+@click.option("-o", "--output", type=click.Path(path_type=Path), required=True, help="FAM file.")
+@training_options
+@click.option(
+    "--until-minute",
+    type=float,
+    default=None,
+    help="Use only the episodes each session finished by this simulated minute.",
+)
+@click.option("--force", is_flag=True, help="Overwrite OUTPUT.")
+def train(
+    logs: tuple[Path, ...],
+    output: Path,
+    config: str,
+    train_params: TrainParams,
+    until_minute: float | None,
+    force: bool,
+) -> None:
+    """Train a FAM file from learning logs (log replay)."""
+    refuse_existing(output, force)
+    fam_config = resolve_fam_config(config, RobotConfig())
+    with views.progress("training") as bar:
+        summary = train_from_logs(list(logs), fam_config, train_params, bar, until_minute)
+    write_fam(output, summary.fam, robot_config=summary.robot, provenance=summary.provenance)
+    views.train_summary(summary, output)
+
+
+@click.command()
+@click.argument("fam", type=click.Path(path_type=Path))
+@click.option("--trajectory", default=None, help="Only this trajectory's rules, e.g. T1L.")
+@click.option(
+    "--top",
+    type=click.IntRange(min=0),
+    default=20,
+    show_default=True,
+    help="How many rules (0: all).",
+)
+@click.option("--sort", type=click.Choice(SORT_KEYS), default="experience", show_default=True)
+@click.option("--untrained", is_flag=True, help="List the rules no exemplar has reached.")
+@click.option(
+    "--explain",
+    metavar="R0,...,R15",
+    default=None,
+    help="Explain how one ring of 16 ranges (m) is perceived.",
+)
+@click.option("--json", "as_json", is_flag=True, help="Print JSON.")
+def inspect(
+    fam: Path,
+    trajectory: str | None,
+    top: int,
+    sort: str,
+    untrained: bool,
+    explain: str | None,
+    as_json: bool,
+) -> None:
+    """Print a FAM file's rules as a person reads them."""
+    loaded = read_fam(fam)
+    if explain is not None:
+        explanation = loaded.fam.explain(parse_ring(explain, loaded.robot_config.sonar.count))
+        if as_json:
+            print_json(explanation.to_dict())
+        else:
+            views.explanation(explanation)
+        return
+    rules = select_rules(loaded.fam, trajectory, top, sort, untrained)
+    if as_json:
+        print_json(
+            {
+                "config": loaded.fam.config.to_dict(),
+                "provenance": loaded.provenance,
+                "rules": [r.to_dict() for r in rules],
+            }
+        )
+    else:
+        for rule in rules:
+            click.echo(rule.sentence())

@@ -1,0 +1,30 @@
+"""`tvl figure`: one of the paper's figures from an experiment's results."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+
+from tvl_cli.cli.options import (
+    refuse_existing,
+)
+
+
+@click.command()
+@click.argument("name", metavar="NAME")
+@click.argument("results", type=click.Path(path_type=Path))
+@click.option("-o", "--output", type=click.Path(path_type=Path), required=True, help="PNG file.")
+@click.option("--table", type=click.Path(path_type=Path), default=None, help="Markdown file.")
+@click.option("--force", is_flag=True, help="Overwrite the PNG and table files.")
+def figure(name: str, results: Path, output: Path, table: Path | None, force: bool) -> None:
+    """Draw figure NAME (fig19, fig21, fig22, fig24, fig27, ablation) from an experiment's
+    RESULTS (JSON lines) and print its summary table."""
+    from tvl_cli.render.figures import (
+        draw_figure,  # matplotlib is slow to import; only this needs it
+    )
+
+    for path in (output, table):
+        if path is not None:
+            refuse_existing(path, force)
+    click.echo(draw_figure(name, results, output, table), nl=False)

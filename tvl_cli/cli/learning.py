@@ -1,0 +1,108 @@
+"""`tvl learn`: exploratory learning into a log."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import click
+
+from tvl_cli.agent.explore import PAPER_NEAR_M, LearnParams
+from tvl_cli.cli import views
+from tvl_cli.cli.options import (
+    print_json,
+    refuse_beside_paper,
+    refuse_existing,
+    training_options,
+)
+from tvl_cli.commands.learn import LearnRequest, learn_to_log
+from tvl_cli.core.training import TrainParams
+
+DEFAULT_LEARN = LearnParams()
+
+
+@click.command()
+@click.argument("world_file", metavar="WORLD", type=click.Path(path_type=Path))
+@click.option(
+    "--log",
+    type=click.Path(path_type=Path),
+    required=True,
+    help="Learning log to create or add a session to.",
+)
+@click.option(
+    "--minutes",
+    type=float,
+    default=DEFAULT_LEARN.minutes,
+    show_default=True,
+    help="Simulated minutes.",
+)
+@click.option("--seed", type=int, default=1, show_default=True)
+@training_options
+@click.option(
+    "--fam",
+    "fam_out",
+    type=click.Path(path_type=Path),
+    default=None,
+    help="Also write the online FAM here.",
+)
+@click.option(
+    "--learn-speed",
+    type=float,
+    default=DEFAULT_LEARN.learn_speed_mps,
+    show_default=True,
+    help="m/s.",
+)
+@click.option(
+    "--near",
+    type=float,
+    default=DEFAULT_LEARN.near_m,
+    show_default=True,
+    help="m: a sonar ahead closing in this near marks a collision point (0: bumps only).",
+)
+@click.option(
+    "--sonar",
+    type=click.Choice(["real", "ideal"]),
+    default="real",
+    show_default=True,
+    help="ideal: nearest hit at any angle, no noise.",
+)
+@click.option("--force", is_flag=True, help="Overwrite the --fam file.")
+@click.option("--json", "as_json", is_flag=True, help="Print a JSON summary.")
+def learn(
+    world_file: Path,
+    log: Path,
+    minutes: float,
+    seed: int,
+    config: str,
+    fam_out: Path | None,
+    train_params: TrainParams,
+    learn_speed: float,
+    near: float,
+    sonar: str,
+    force: bool,
+    as_json: bool,
+) -> None:
+    """Explore WORLD and learn trajectory velocities, recording every episode in a log."""
+    if fam_out is not None:
+        refuse_existing(fam_out, force)
+    if click.get_current_context().params["paper"]:
+        refuse_beside_paper("--near")
+        near = PAPER_NEAR_M
+    request = LearnRequest(
+        world_file,
+        log,
+        seed,
+        config,
+        LearnParams(minutes=minutes, learn_speed_mps=learn_speed, near_m=near),
+        train_params,
+        fam_out,
+        ideal_sonar=sonar == "ideal",
+    )
+    with views.learning_progress(minutes, quiet=as_json) as (on_minute, on_progress):
+        result = learn_to_log(request, on_minute, on_progress)
+    if as_json:
+        print_json(views.learn_json(result))
+    else:
+        views.learn_summary(result, log)
+    if result.summary.stopped_by:
+        sys.exit(130 if result.summary.stopped_by == "SIGINT" else 143)

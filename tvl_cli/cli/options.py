@@ -1,0 +1,129 @@
+"""Options and checks shared by several commands."""
+
+from __future__ import annotations
+
+import functools
+import json
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import click
+from click.core import ParameterSource
+
+from tvl_cli.agent.reflexes import STACK_ORDER, parse_reflexes
+from tvl_cli.core.errors import BadInput
+from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS
+from tvl_cli.core.labels import (
+    DEFAULT_DECEL_MPS2,
+    DEFAULT_MARGIN_M,
+    PAPER_DECEL_MPS2,
+    PAPER_MARGIN_M,
+)
+from tvl_cli.core.training import TrainParams
+
+
+def refuse_existing(path: Path, force: bool) -> None:
+    """Output files are never overwritten unless the user says --force, and a missing
+    directory is found before any work is done, not after."""
+    if path.exists() and not force:
+        raise BadInput(f"{path}: already exists (use --force to overwrite)")
+    if not path.parent.is_dir():
+        raise BadInput(f"{path}: cannot write, directory {path.parent} does not exist")
+
+
+def training_options(command: Callable[..., None]) -> Callable[..., None]:
+    """--config, --decel, --margin, --no-symmetric and --init-velocity, given to the command
+    as `config` and one `train_params`: learn and train label and train alike."""
+
+    @functools.wraps(command)
+    def with_params(
+        *args: Any,
+        decel: float,
+        margin: float,
+        no_symmetric: bool,
+        init_velocity: float,
+        paper: bool,
+        **kwargs: Any,
+    ) -> None:
+        if paper:
+            refuse_beside_paper("--decel", "--margin")
+            decel, margin = PAPER_DECEL_MPS2, PAPER_MARGIN_M
+        params = TrainParams(decel, margin, not no_symmetric, init_velocity)
+        command(*args, train_params=params, **kwargs)
+
+    options = (
+        click.option(
+            "--config", default="single", show_default=True, help="single, multi or FILE.json."
+        ),
+        click.option(
+            "--paper",
+            is_flag=True,
+            help=f"The paper's method: labels at {PAPER_DECEL_MPS2:g} m/s² with a "
+            f"{PAPER_MARGIN_M:g} m margin (and, learning, collision points by bumps only).",
+        ),
+        click.option(
+            "--decel",
+            type=float,
+            default=DEFAULT_DECEL_MPS2,
+            show_default=True,
+            help="Deceleration of the labels, m/s².",
+        ),
+        click.option(
+            "--margin",
+            type=float,
+            default=DEFAULT_MARGIN_M,
+            show_default=True,
+            help="Stop this far short of a collision point, m.",
+        ),
+        click.option("--no-symmetric", is_flag=True, help="Train each trajectory only on itself."),
+        click.option(
+            "--init-velocity",
+            type=float,
+            default=DEFAULT_INIT_VELOCITY_MPS,
+            show_default=True,
+            help="Every entry's velocity before training, m/s.",
+        ),
+    )
+    for option in reversed(options):
+        with_params = option(with_params)
+    return with_params
+
+
+def refuse_beside_paper(*options: str) -> None:
+    """--paper fixes these options: giving one as well is a contradiction, not a choice."""
+    ctx = click.get_current_context()
+    for option in options:
+        name = option.lstrip("-").replace("-", "_")
+        if ctx.get_parameter_source(name) is ParameterSource.COMMANDLINE:
+            raise BadInput(f"{option} cannot be given with --paper, which fixes it")
+
+
+def reflex_options(default: str) -> Callable[[Callable[..., None]], Callable[..., None]]:
+    """--reflex NAMES and --paper, given to the command as one `reflexes` tuple."""
+
+    def decorate(command: Callable[..., None]) -> Callable[..., None]:
+        @functools.wraps(command)
+        def with_reflexes(*args: Any, reflex: str, paper: bool, **kwargs: Any) -> None:
+            if paper:
+                refuse_beside_paper("--reflex")
+            reflexes = () if paper else parse_reflexes(reflex)
+            command(*args, reflexes=reflexes, **kwargs)
+
+        with_reflexes = click.option(
+            "--paper", is_flag=True, help="The paper's method alone: no reflexes."
+        )(with_reflexes)
+        return click.option(
+            "--reflex",
+            default=default,
+            show_default=True,
+            metavar="NAMES",
+            help=f"Reflexes beyond the paper, comma-separated: {', '.join(STACK_ORDER)}; "
+            "or all, or none.",
+        )(with_reflexes)
+
+    return decorate
+
+
+def print_json(value: object) -> None:
+    click.echo(json.dumps(value, indent=1, allow_nan=False))

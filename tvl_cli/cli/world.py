@@ -1,0 +1,70 @@
+"""`tvl world`: make, check, show and draw worlds."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import click
+
+from tvl_cli.cli.options import (
+    refuse_existing,
+)
+from tvl_cli.io.atomic import atomic_output
+from tvl_cli.sim.worldgen import KINDS, generate_world
+from tvl_cli.sim.worldmap import describe, load_world, world_to_dict
+
+
+@click.group()
+def world() -> None:
+    """Make, check, show and draw text-map worlds."""
+
+
+@world.command("new")
+@click.argument("kind", type=click.Choice(list(KINDS)))
+@click.option("-o", "--output", type=click.Path(path_type=Path), required=True, help="World file.")
+@click.option("--size", type=(float, float), default=None, metavar="W H", help="Metres.")
+@click.option("--seed", type=int, default=1, show_default=True, help="Layout seed (lab).")
+@click.option("--force", is_flag=True, help="Overwrite OUTPUT.")
+def world_new(
+    kind: str, output: Path, size: tuple[float, float] | None, seed: int, force: bool
+) -> None:
+    """Write a generated world of KIND."""
+    width_m, height_m = size if size else (None, None)
+    text = generate_world(kind, width_m, height_m, seed)
+    refuse_existing(output, force)
+    with atomic_output(output) as temporary:
+        temporary.write_text(text, encoding="utf-8")
+
+
+@world.command("show")
+@click.argument("file", type=click.Path(path_type=Path))
+@click.option("--json", "as_json", is_flag=True, help="Print the geometry as JSON.")
+def world_show(file: Path, as_json: bool) -> None:
+    """Print a summary of a world file (or its geometry as JSON)."""
+    loaded = load_world(file)
+    click.echo(json.dumps(world_to_dict(loaded)) if as_json else describe(loaded))
+
+
+@world.command("check")
+@click.argument("file", type=click.Path(path_type=Path))
+def world_check(file: Path) -> None:
+    """Validate a world file (exit 2 naming the problem)."""
+    w = load_world(file)
+    click.echo(
+        f"{file}: ok ({len(w.segments)} segments, {len(w.discs)} discs, "
+        f"{len(w.rings)} rings, {len(w.goals)} goals)"
+    )
+
+
+@world.command("render")
+@click.argument("file", type=click.Path(path_type=Path))
+@click.option("-o", "--output", type=click.Path(path_type=Path), required=True, help="PNG file.")
+@click.option("--force", is_flag=True, help="Overwrite OUTPUT.")
+def world_render(file: Path, output: Path, force: bool) -> None:
+    """Draw a world file as a PNG picture."""
+    from tvl_cli.render.plot import render_world  # matplotlib is slow to import; only this needs it
+
+    loaded = load_world(file)
+    refuse_existing(output, force)
+    render_world(loaded, output)
