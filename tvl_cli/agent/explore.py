@@ -136,18 +136,20 @@ class ExplorePolicy:
         if self._queue:
             return Decision(self._queue.pop(0))
         following = self._following
+        # The log's millimetres, once per step: the online FAM perceives exactly what is logged.
+        ring_mm = ring_to_mm(obs.ring_m)
         # An episode is judged once it has recorded a step (a bump while spinning to face
         # the trajectory is no collision point on it).
-        if following is not None and self._episode.rings and self._episode_over(obs):
+        if following is not None and self._episode.rings and self._episode_over(obs, ring_mm):
             following = None
             if self._queue:
                 return Decision(self._queue.pop(0))
         if following is None:
-            following = self._start(obs)
+            following = self._start(ring_mm)
             if self._queue:
                 return Decision(self._queue.pop(0))
         record = self._episode
-        record.rings.append(ring_to_mm(obs.ring_m))
+        record.rings.append(ring_mm)
         record.poses.append(self._true_pose())
         record.odometry.append(obs.odometry)
         record.arcs.append(record.arc_m)
@@ -155,7 +157,7 @@ class ExplorePolicy:
         record.arc_m += following.command.linear_mps * self.robot.control_period_s
         return following
 
-    def _episode_over(self, obs: Observation) -> bool:
+    def _episode_over(self, obs: Observation, ring_mm: np.ndarray) -> bool:
         """End the episode under way if the last step bumped, came too near or closed a
         circle; hand it on."""
         record = self._episode
@@ -163,7 +165,7 @@ class ExplorePolicy:
         near = False
         if not bumped and record.arc_m < self._free_run_m(record.trajectory) - 1e-9:
             near = bool(record.rings) and self._too_near(
-                mm_to_ring(ring_to_mm(obs.ring_m)), mm_to_ring(record.rings[0])
+                mm_to_ring(ring_mm), mm_to_ring(record.rings[0])
             )
             if not near:
                 return False
@@ -175,10 +177,9 @@ class ExplorePolicy:
             self._queue = backoff_commands(self._last_follow, self.robot, self.params.reverse_m)
         return True
 
-    def _start(self, obs: Observation) -> Decision:
+    def _start(self, ring_mm: np.ndarray) -> Decision:
         """Choose the least experienced pair, spin to face it, and set off along it."""
-        ring_m = mm_to_ring(ring_to_mm(obs.ring_m))
-        _, experience = self.fam.perceive(ring_m)
+        _, experience = self.fam.perceive(mm_to_ring(ring_mm))
         rotation, trajectory = least_experienced(experience, self.rng)
         self._queue = spin_commands(rotation, self.robot)
         self._episode = _EpisodeRecord(self.episodes, trajectory, rotation)

@@ -332,3 +332,29 @@ ABLATION_HEADER = (
     "back-offs/min",
     "competent",
 )
+
+
+def learning_time_rows(
+    snapshots: list[Row], series: Sequence[tuple[str, str]], dwa: list[Row]
+) -> tuple[list[str], list[list[str]]]:
+    """Figure 27's table: per learning minute, each (config, behaviour)'s mean speed and
+    contacts a minute over the trials, then the DWA's avoid run as the last row."""
+
+    def cell(runs: list[Row]) -> str:
+        return (
+            f"{number(mean(r['mean_speed_mps'] for r in runs))}, "
+            f"{number(mean(r['contacts_per_min'] for r in runs))}"
+        )
+
+    header = ["minute"] + [f"{c} {b}: m/s, contacts/min" for c, b in series]
+    body = [
+        [f"{minute:g}"]
+        + [
+            cell(select(snapshots, config=config, behaviour=behaviour, minute=minute))
+            for config, behaviour in series
+        ]
+        for minute in distinct(snapshots, "minute")
+    ]
+    if dwa:
+        body.append(["DWA (avoid)"] + [cell(dwa) if b == "avoid" else "–" for _, b in series])
+    return header, body

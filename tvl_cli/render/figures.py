@@ -32,6 +32,7 @@ from tvl_cli.analysis.results import (
     distinct,
     goal_methods,
     learning_minutes,
+    learning_time_rows,
     markdown,
     mean,
     method_rows,
@@ -365,23 +366,7 @@ def figure27(rows: list[Row]) -> tuple[Figure, str]:
     speed.legend(fontsize=7)
     world = "/".join(distinct(snapshots, "world", WORLD_ORDER))
     figure.suptitle(f"Behaviours in {world} against learning time (mean of trials)")
-    header = ["minute"] + [f"{c} {b}: m/s, coll/min" for c, b in series]
-    body = []
-    for minute in distinct(snapshots, "minute"):
-        cells = [f"{minute:g}"]
-        for config, behaviour in series:
-            runs = select(snapshots, config=config, behaviour=behaviour, minute=minute)
-            cells.append(
-                f"{number(mean(r['mean_speed_mps'] for r in runs))}, "
-                f"{number(mean(r['contacts_per_min'] for r in runs))}"
-            )
-        body.append(cells)
-    if dwa:
-        dwa_cells = (
-            f"{number(mean(r['mean_speed_mps'] for r in dwa))}, "
-            f"{number(mean(r['contacts_per_min'] for r in dwa))}"
-        )
-        body.append(["DWA (avoid)"] + [dwa_cells if b == "avoid" else "–" for _, b in series])
+    header, body = learning_time_rows(snapshots, series, dwa)
     table = markdown(f"Figure 27: behaviours in {world} against learning time", header, body)
     times = [
         f"- {config} FAM: time to competence "

@@ -51,8 +51,13 @@ class Simulator:
     @property
     def pose(self) -> Pose:
         """The true pose."""
+        return self._pose
+
+    def _read_pose(self) -> None:
+        # Read once per step: the loop, the sonar and the odometry all ask for the pose, and
+        # pymunk's accessors cost more than the tuple.
         position = self._body.position
-        return (position.x, position.y, self._body.angle)
+        self._pose = (position.x, position.y, self._body.angle)
 
     @property
     def time_s(self) -> float:
@@ -66,6 +71,7 @@ class Simulator:
         self._body.velocity = (0.0, 0.0)
         self._body.angular_velocity = 0.0
         self._space.reindex_shapes_for_body(self._body)
+        self._read_pose()
         (disc,) = self._body.shapes
         # A placed body may already touch something; learn the contact normals before moving.
         self._contacts = [
@@ -110,6 +116,7 @@ class Simulator:
             touched = touched or bool(self._contacts)
         self.bumped = touched
         self._steps += 1
+        self._read_pose()
         self._update_odometry(before, self.pose)
 
     def _record_contact(self, arbiter: pymunk.Arbiter) -> None:
