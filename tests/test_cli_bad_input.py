@@ -133,12 +133,14 @@ def test_run_refuses_a_threshold_outside_0_1(run_tvl, fam_file, threshold):
 @pytest.mark.parametrize("minutes", ["0", "-3"])
 def test_run_refuses_minutes_that_are_not_positive(run_tvl, fam_file, minutes):
     result = run_tvl("run", fam_file, SQUARE, "--behaviour", "avoid", "--minutes", minutes)
-    _assert_refused(result, "positive number of simulated minutes")
+    _assert_refused(result, "--minutes", "must be more than 0")
 
 
 def test_learn_refuses_negative_minutes(run_tvl, tmp_path):
     log = tmp_path / "log.h5"
-    _assert_refused(run_tvl("learn", SQUARE, "--log", log, "--minutes", "-1"), "positive")
+    _assert_refused(
+        run_tvl("learn", SQUARE, "--log", log, "--minutes", "-1"), "must be more than 0"
+    )
     assert not log.exists()
 
 

@@ -11,6 +11,7 @@ from tvl_cli.agent.reflexes import NONE as NO_REFLEXES
 from tvl_cli.baselines.dwa import BEHAVIOURS as DWA_BEHAVIOURS
 from tvl_cli.cli import views
 from tvl_cli.cli.options import (
+    SEED,
     print_json,
     reflex_options,
     refuse_existing,
@@ -29,7 +30,7 @@ def baseline() -> None:
 @click.option("--behaviour", type=click.Choice(DWA_BEHAVIOURS), default="avoid", show_default=True)
 @click.option("--goal", default=None, metavar="X,Y", help="Goal in metres (default: the world's).")
 @click.option("--minutes", type=float, default=5.0, show_default=True, help="Simulated minutes.")
-@click.option("--seed", type=int, default=1, show_default=True)
+@click.option("--seed", type=SEED, default=1, show_default=True)
 @click.option("--png", type=click.Path(path_type=Path), default=None, help="Draw the path.")
 @reflex_options(default=NO_REFLEXES)
 @click.option("--force", is_flag=True, help="Overwrite the --png file.")
@@ -65,7 +66,7 @@ def baseline_dwa(
 @click.option(
     "--minutes", type=float, default=5.0, show_default=True, help="Greedy run, simulated minutes."
 )
-@click.option("--seed", type=int, default=1, show_default=True)
+@click.option("--seed", type=SEED, default=1, show_default=True)
 @click.option(
     "--competence-every",
     type=float,

@@ -10,6 +10,7 @@ import click
 from tvl_cli.agent.reflexes import ALL as ALL_REFLEXES
 from tvl_cli.cli import views
 from tvl_cli.cli.options import (
+    SEED,
     print_json,
     reflex_options,
     refuse_existing,
@@ -33,7 +34,7 @@ from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD
 )
 @click.option("--goal", default=None, metavar="X,Y", help="Goal in metres (default: the world's).")
 @click.option("--minutes", type=float, default=5.0, show_default=True, help="Simulated minutes.")
-@click.option("--seed", type=int, default=1, show_default=True)
+@click.option("--seed", type=SEED, default=1, show_default=True)
 @click.option("--png", type=click.Path(path_type=Path), default=None, help="Draw the path.")
 @click.option(
     "--log", "trace", type=click.Path(path_type=Path), default=None, help="Write a run trace."

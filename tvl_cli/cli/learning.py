@@ -10,6 +10,7 @@ import click
 from tvl_cli.agent.explore import PAPER_NEAR_M, LearnParams
 from tvl_cli.cli import views
 from tvl_cli.cli.options import (
+    SEED,
     print_json,
     refuse_beside_paper,
     refuse_existing,
@@ -36,7 +37,7 @@ DEFAULT_LEARN = LearnParams()
     show_default=True,
     help="Simulated minutes.",
 )
-@click.option("--seed", type=int, default=1, show_default=True)
+@click.option("--seed", type=SEED, default=1, show_default=True)
 @training_options
 @click.option(
     "--fam",

@@ -81,7 +81,8 @@ class TvlGroup(click.Group):
         except click.UsageError as error:
             # One line like every other bad input; `tvl COMMAND --help` shows the usage.
             command = f" {error.ctx.command_path}" if error.ctx else ""
-            click.echo(f"tvl: error:{command}: {error.format_message()}", err=True)
+            message = " ".join(error.format_message().split())  # click lists choices on lines
+            click.echo(f"tvl: error:{command}: {message}", err=True)
             sys.exit(2)
 
 

@@ -22,6 +22,9 @@ from tvl_cli.core.labels import (
 )
 from tvl_cli.core.training import TrainParams
 
+# Seeds are stored as 64-bit integers in logs and traces, and numpy takes no negative seed.
+SEED = click.IntRange(0, 2**63 - 1)
+
 
 def refuse_existing(path: Path, force: bool) -> None:
     """Output files are never overwritten unless the user says --force, and a missing

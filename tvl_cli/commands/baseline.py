@@ -109,8 +109,7 @@ def qlearn_session(
     """Learn a Q-table in a world file, then run it greedily inside the named reflexes; its
     path drawn to `png`."""
     check_minutes(minutes)
-    if not (math.isfinite(learn_minutes) and learn_minutes >= 0):
-        raise BadInput(f"--learn-minutes {learn_minutes:g} must be 0 or more simulated minutes")
+    check_minutes(learn_minutes, "--learn-minutes", zero_allowed=True)
     if competence_every is not None and not (
         math.isfinite(competence_every) and competence_every > 0
     ):

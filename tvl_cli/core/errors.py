@@ -7,7 +7,18 @@ class BadInput(Exception):
     """Input a user can fix. The message names the file, the line and what is wrong."""
 
 
-def check_minutes(minutes: float) -> None:
-    """Simulated durations the user gives must be positive and finite."""
-    if not (math.isfinite(minutes) and minutes > 0):
-        raise BadInput(f"--minutes {minutes:g} must be a positive number of simulated minutes")
+# A simulated year: beyond any experiment (a day of wall time at 300x), and small enough that
+# a step count is an exact integer and a progress bar's total stays finite.
+MAX_SIMULATED_MINUTES = 525_600.0
+
+
+def check_minutes(minutes: float, option: str = "--minutes", zero_allowed: bool = False) -> None:
+    """Simulated durations the user gives must be positive (or 0 where that means none),
+    finite, and at most a simulated year."""
+    low = minutes >= 0.0 if zero_allowed else minutes > 0.0
+    if not (math.isfinite(minutes) and low and minutes <= MAX_SIMULATED_MINUTES):
+        least = "0 or more" if zero_allowed else "more than 0"
+        raise BadInput(
+            f"{option} {minutes:g} must be {least} and at most {MAX_SIMULATED_MINUTES:g} "
+            "simulated minutes (a year)"
+        )
