@@ -24,11 +24,11 @@ BAD_WORLDS = {  # name -> (file bytes, the error after the file name)
     ),
     "unknown header key": (
         ("colour: red\n" + ROOM).encode(),
-        ":1:1: unknown header key 'colour' (expected one of version name cell disc ring goal)",
+        ":1:1: unknown header key 'colour' (expected one of version name cell disc ring goal wall)",
     ),
     "bad header value": (
         ("cell: big\n" + ROOM).encode(),
-        ":1:7: bad value for 'cell': 'big' (expected a size in metres, > 0)",
+        ":1:7: bad value for 'cell': 'big' (expected a size in metres from 0.01 to 10)",
     ),
     "unsupported version": (
         ("version: 2\n" + ROOM).encode(),
@@ -54,6 +54,45 @@ BAD_WORLDS = {  # name -> (file bytes, the error after the file name)
     "open boundary": (
         (ROOM[:-8] + "###.###\n").encode(),
         ":5:4: open boundary: the robot can leave the world here (walls must enclose the start)",
+    ),
+    "cell too small to make a map of": (
+        ("cell: 1e-6\n" + ROOM).encode(),
+        ":1:7: bad value for 'cell': '1e-6' (expected a size in metres from 0.01 to 10)",
+    ),
+    "cell of infinite metres": (
+        ("cell: 1e309\n" + ROOM).encode(),
+        ":1:7: bad value for 'cell': '1e309' (expected a size in metres from 0.01 to 10)",
+    ),
+    "disc outside the world": (
+        ("disc: 50 50 0.2\n" + ROOM).encode(),
+        ": disc at x 50 y 50 r 0.2 is outside the world (the map is 0..1.75 x 0..1.25 m)",
+    ),
+    "wall with three numbers": (
+        ("wall: 0.3 0.3 1\n" + ROOM).encode(),
+        ":1:7: bad value for 'wall': '0.3 0.3 1' "
+        "(expected x1 y1 x2 y2 [thickness] in metres, two distinct ends, thickness >= 0)",
+    ),
+    "wall of no length": (
+        ("wall: 0.3 0.3 0.3 0.3\n" + ROOM).encode(),
+        ":1:7: bad value for 'wall': '0.3 0.3 0.3 0.3' "
+        "(expected x1 y1 x2 y2 [thickness] in metres, two distinct ends, thickness >= 0)",
+    ),
+    "wall of negative thickness": (
+        ("wall: 0.3 0.3 1 0.3 -0.1\n" + ROOM).encode(),
+        ":1:7: bad value for 'wall': '0.3 0.3 1 0.3 -0.1' "
+        "(expected x1 y1 x2 y2 [thickness] in metres, two distinct ends, thickness >= 0)",
+    ),
+    "wall leaving the world": (
+        ("wall: 0.3 0.3 9 0.3\n" + ROOM).encode(),
+        ":1:7: wall end outside the world (the map is 0..1.75 x 0..1.25 m)",
+    ),
+    "start touching a header wall": (
+        ("wall: 0.5 0.5 1.2 0.5 0.1\n" + ROOM).encode(),
+        f":4:4: the start touches the wall at 1:7 {BODY}",
+    ),
+    "goal inside a thick header wall": (
+        ("wall: 0.3 1 1.4 1 0.2\ngoal: 0.5 1\n" + ROOM).encode(),
+        ":2:7: goal x 0.5 y 1 is inside a wall or pillar",
     ),
     "empty file": (b"", ": file is empty (a world needs a map of # walls and a start)"),
     "non-UTF-8 file": (

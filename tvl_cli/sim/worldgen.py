@@ -9,7 +9,8 @@ from pathlib import Path
 import numpy as np
 
 from tvl_cli.core.errors import BadInput
-from tvl_cli.sim.worldmap import DEFAULT_CELL_M, FORMAT_VERSION, WorldMapError, parse_world
+from tvl_cli.sim.worldheader import DEFAULT_CELL_M, FORMAT_VERSION, WorldMapError
+from tvl_cli.sim.worldmap import parse_world
 
 CELL_M = DEFAULT_CELL_M
 MAX_SIZE_M = 100.0  # 400 x 400 cells: a big hall, still a small file

@@ -3,17 +3,21 @@
 from __future__ import annotations
 
 import math
-import re
 from collections import defaultdict, deque
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 from tvl_cli.core.config import RobotConfig
-from tvl_cli.core.errors import BadInput
-
-Segment = tuple[float, float, float, float]  # x1, y1, x2, y2 in metres
-Circle = tuple[float, float, float]  # x, y, radius in metres
+from tvl_cli.sim.worldheader import (
+    HEADER_LINE,
+    Circle,
+    Header,
+    Segment,
+    Wall,
+    WorldMapError,
+    read_header,
+)
 
 
 @dataclass(frozen=True, slots=True)
@@ -24,7 +28,7 @@ class WorldMap:
     cell_m: float
     width_m: float
     height_m: float
-    segments: tuple[Segment, ...]  # maximal straight wall outlines
+    segments: tuple[Segment, ...]  # maximal straight wall outlines, then the header walls
     discs: tuple[Circle, ...]  # round pillars (solid)
     rings: tuple[Circle, ...]  # circular walls; the robot lives inside
     start: tuple[float, float, float]  # x, y, heading (radians, CCW from +x)
@@ -32,24 +36,10 @@ class WorldMap:
     text: str  # the source, stored in every log so a world travels with its data
 
 
-class WorldMapError(BadInput):
-    """A world file that cannot be read or does not describe a closed world with one start."""
-
-
-FORMAT_VERSION = 1
 MAX_FILE_BYTES = 1 << 20  # 1 MB: far beyond any hand-made map, small enough to read at once
-DEFAULT_CELL_M = 0.25
 WALL, PILLAR, GOAL = "#", "o", "G"
 START_HEADINGS = {">": 0.0, "<": math.pi, "^": math.pi / 2, "v": -math.pi / 2}
 GRID_CHARS = "#.><^vGo"
-HEADER_KEYS = ("version", "name", "cell", "disc", "ring", "goal")
-_NUMBERS = {  # key -> (how many numbers, what they are); the last must be positive but for goals
-    "cell": (1, "a size in metres, > 0"),
-    "disc": (3, "x y r in metres, r > 0"),
-    "ring": (3, "x y r in metres, r > 0"),
-    "goal": (2, "x y in metres"),
-}
-_HEADER_LINE = re.compile(r"\s*([A-Za-z_]\w*)\s*:\s*(.*?)\s*")
 _DIRECTIONS = (
     (0, 1),
     (1, 0),
@@ -79,18 +69,6 @@ def load_world(path: str | Path) -> WorldMap:
     return parse_world(text, str(path))
 
 
-@dataclass(slots=True)
-class _Header:
-    """Header values as read, with the line of each one-off key to name a duplicate."""
-
-    seen: dict[str, int] = field(default_factory=dict)
-    name: str | None = None
-    cell_m: float = DEFAULT_CELL_M
-    discs: list[Circle] = field(default_factory=list)
-    rings: list[Circle] = field(default_factory=list)
-    goals: list[tuple[float, float, str]] = field(default_factory=list)  # x, y, "line:col"
-
-
 @dataclass(frozen=True, slots=True)
 class _Grid:
     """The map characters, top line first; cells past a short line's end are outside."""
@@ -98,6 +76,14 @@ class _Grid:
     rows: tuple[str, ...]
     lines: tuple[int, ...]  # source line number of each row
     cell_m: float
+
+    @property
+    def width_m(self) -> float:
+        return max(len(row) for row in self.rows) * self.cell_m
+
+    @property
+    def height_m(self) -> float:
+        return len(self.rows) * self.cell_m
 
     def inside(self, r: int, c: int) -> bool:
         return 0 <= r < len(self.rows) and 0 <= c < len(self.rows[r])
@@ -123,8 +109,8 @@ def parse_world(text: str, source: str) -> WorldMap:
 
 def check_goal(world: WorldMap, x: float, y: float, where: str) -> None:
     """WorldMapError unless a goal at (x, y) lies in the robot's part of the world."""
-    grid, _ = _split(world.text, world.name)
-    _check_goal(grid, x, y, world.discs, world.width_m, world.height_m, where)
+    grid, header = _split(world.text, world.name)
+    _check_goal(grid, x, y, world.discs, header.walls, where)
     sx, sy, _ = world.start
     for cx, cy, r in world.rings:
         if (math.hypot(sx - cx, sy - cy) < r) != (math.hypot(x - cx, y - cy) < r):
@@ -133,24 +119,24 @@ def check_goal(world: WorldMap, x: float, y: float, where: str) -> None:
             )
 
 
-def _split(text: str, source: str) -> tuple[_Grid, _Header]:
+def _split(text: str, source: str) -> tuple[_Grid, Header]:
     """The header and the grid of a world text, checked for form only."""
     lines = [line.rstrip("\r") for line in text.split("\n")]
     if not any(line.strip() and not line.startswith(";") for line in lines):
         raise WorldMapError(f"{source}: file is empty (a world needs a map of # walls and a start)")
-    header = _Header()
+    header = Header()
     rows: list[str] = []
     row_lines: list[int] = []
     for number, line in enumerate(lines, start=1):
         if line.startswith(";"):
             continue
-        match = _HEADER_LINE.fullmatch(line)
+        match = HEADER_LINE.fullmatch(line)
         if match:
             if rows:
                 raise WorldMapError(
                     f"{source}:{number}:1: header line after the map (put it first)"
                 )
-            _read_header(header, match, f"{source}:{number}", number)
+            read_header(header, match, f"{source}:{number}", number)
         elif rows or line.strip():
             rows.append(line.rstrip())
             row_lines.append(number)
@@ -165,59 +151,7 @@ def _split(text: str, source: str) -> tuple[_Grid, _Header]:
     return _Grid(tuple(rows), tuple(row_lines), header.cell_m), header
 
 
-def _read_header(header: _Header, match: re.Match[str], where: str, number: int) -> None:
-    key, value = match.group(1), match.group(2)
-    value_at = f"{where}:{match.start(2) + 1}"
-    if key not in HEADER_KEYS:
-        raise WorldMapError(
-            f"{where}:{match.start(1) + 1}: unknown header key {key!r} "
-            f"(expected one of {' '.join(HEADER_KEYS)})"
-        )
-    if key in ("version", "name", "cell"):
-        if key in header.seen:
-            raise WorldMapError(
-                f"{where}:1: {key!r} given twice (first on line {header.seen[key]})"
-            )
-        header.seen[key] = number
-    if key == "version":
-        if value != str(FORMAT_VERSION):
-            raise WorldMapError(
-                f"{value_at}: unsupported version {value!r} "
-                f"(this tvl reads version {FORMAT_VERSION})"
-            )
-    elif key == "name":
-        if not value:
-            raise WorldMapError(f"{value_at}: bad value for 'name': it is empty")
-        header.name = value
-    else:
-        numbers = _numbers(key, value, value_at)
-        if key == "cell":
-            header.cell_m = numbers[0]
-        elif key == "goal":
-            header.goals.append((numbers[0], numbers[1], value_at.split(":", 1)[1]))
-        else:
-            (header.discs if key == "disc" else header.rings).append(
-                (numbers[0], numbers[1], numbers[2])
-            )
-
-
-def _numbers(key: str, value: str, value_at: str) -> tuple[float, ...]:
-    """The numbers of a `cell`, `disc`, `ring` or `goal` header; sizes must be positive."""
-    wanted, usage = _NUMBERS[key]
-    try:
-        numbers = tuple(float(part) for part in value.split())
-    except ValueError:
-        numbers = ()
-    if (
-        len(numbers) != wanted
-        or not all(math.isfinite(n) for n in numbers)
-        or (key != "goal" and numbers[-1] <= 0)
-    ):
-        raise WorldMapError(f"{value_at}: bad value for {key!r}: {value!r} (expected {usage})")
-    return numbers
-
-
-def _build(grid: _Grid, header: _Header, text: str, source: str) -> WorldMap:
+def _build(grid: _Grid, header: Header, text: str, source: str) -> WorldMap:
     starts: list[tuple[int, int]] = []
     pillars: list[Circle] = []
     goals = [(x, y, f"{source}:{where}") for x, y, where in header.goals]
@@ -246,25 +180,25 @@ def _build(grid: _Grid, header: _Header, text: str, source: str) -> WorldMap:
         raise WorldMapError(f"{source}: no start (put one of > < ^ v in the map)")
     sr, sc = starts[0]
     discs = (*header.discs, *pillars)
+    width_m, height_m = grid.width_m, grid.height_m
+    _check_inside(header, width_m, height_m, source)
     sx, sy = grid.centre(sr, sc)
     start_at = f"{source}:{grid.where(sr, sc)}"
-    _check_start_clear(grid, sr, sc, discs, header.rings, start_at)
+    _check_start_clear(grid, sr, sc, discs, header, start_at)
     escape = _escape(grid, sr, sc, header.rings)
     if escape is not None:
         raise WorldMapError(
             f"{source}:{grid.where(*escape)}: open boundary: the robot can leave the world here "
             "(walls must enclose the start)"
         )
-    width_m = max(len(row) for row in grid.rows) * grid.cell_m
-    height_m = len(grid.rows) * grid.cell_m
     for x, y, where in goals:
-        _check_goal(grid, x, y, discs, width_m, height_m, where)
+        _check_goal(grid, x, y, discs, header.walls, where)
     return WorldMap(
         name=header.name or Path(source).stem,
         cell_m=grid.cell_m,
         width_m=width_m,
         height_m=height_m,
-        segments=_wall_segments(grid),
+        segments=(*_wall_segments(grid), *(s for w in header.walls for s in w.outline())),
         discs=discs,
         rings=tuple(header.rings),
         start=(sx, sy, START_HEADINGS[grid.rows[sr][sc]]),
@@ -279,10 +213,28 @@ def _distance_to_cell(grid: _Grid, x: float, y: float, r: int, c: int) -> float:
     return math.hypot(max(abs(x - cx) - half, 0.0), max(abs(y - cy) - half, 0.0))
 
 
+def _check_inside(header: Header, width_m: float, height_m: float, source: str) -> None:
+    """Header walls and pillars must stand within the map's extent: the grid encloses the
+    robot's world, and nothing outside it could ever be met."""
+
+    def inside(x: float, y: float) -> bool:
+        return 0.0 <= x <= width_m and 0.0 <= y <= height_m
+
+    extent = f"(the map is 0..{width_m:g} x 0..{height_m:g} m)"
+    for wall in header.walls:
+        if not (inside(wall.x1, wall.y1) and inside(wall.x2, wall.y2)):
+            raise WorldMapError(f"{wall.where}: wall end outside the world {extent}")
+    for x, y, r in header.discs:
+        if not inside(x, y):
+            raise WorldMapError(
+                f"{source}: disc at x {x:g} y {y:g} r {r:g} is outside the world {extent}"
+            )
+
+
 def _check_start_clear(
-    grid: _Grid, sr: int, sc: int, discs: tuple[Circle, ...], rings: list[Circle], start_at: str
+    grid: _Grid, sr: int, sc: int, discs: tuple[Circle, ...], header: Header, start_at: str
 ) -> None:
-    """The robot's body disc at the start must not overlap a wall cell, a disc or a ring."""
+    """The robot's body disc at the start must not overlap a wall, a disc or a ring."""
     radius = RobotConfig().radius_m
     x, y = grid.centre(sr, sc)
     body = f"(the robot is a disc of radius {radius:g} m)"
@@ -301,7 +253,11 @@ def _check_start_clear(
             raise WorldMapError(
                 f"{start_at}: the start overlaps the disc at x {dx:g} y {dy:g} r {dr:g} {body}"
             )
-    for rx, ry, rr in rings:
+    for wall in header.walls:
+        if wall.distance_m(x, y) < radius:
+            line_col = ":".join(wall.where.rsplit(":", 2)[-2:])
+            raise WorldMapError(f"{start_at}: the start touches the wall at {line_col} {body}")
+    for rx, ry, rr in header.rings:
         if abs(math.hypot(x - rx, y - ry) - rr) < radius:
             raise WorldMapError(
                 f"{start_at}: the start touches the ring at x {rx:g} y {ry:g} r {rr:g} {body}"
@@ -342,11 +298,11 @@ def _check_goal(
     x: float,
     y: float,
     discs: tuple[Circle, ...],
-    width_m: float,
-    height_m: float,
+    walls: list[Wall],
     where: str,
 ) -> None:
     """A goal must lie inside the world, outside walls and pillars."""
+    width_m, height_m = grid.width_m, grid.height_m
     if not (0 <= x <= width_m and 0 <= y <= height_m):
         raise WorldMapError(
             f"{where}: goal x {x:g} y {y:g} is outside the world "
@@ -355,7 +311,8 @@ def _check_goal(
     r = min(int((height_m - y) / grid.cell_m), len(grid.rows) - 1)
     c = int(x / grid.cell_m)
     inside_disc = any(math.hypot(x - dx, y - dy) < dr for dx, dy, dr in discs)
-    if not grid.is_open(r, c) or inside_disc:
+    on_wall = any(wall.distance_m(x, y) == 0.0 for wall in walls)
+    if not grid.is_open(r, c) or inside_disc or on_wall:
         raise WorldMapError(f"{where}: goal x {x:g} y {y:g} is inside a wall or pillar")
 
 

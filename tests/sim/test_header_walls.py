@@ -1,0 +1,85 @@
+"""Walls drawn by `wall:` header lines, parsed from text and met by the real sonar and physics."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from tvl_cli.core.command import Command
+from tvl_cli.core.config import RobotConfig, SonarConfig
+from tvl_cli.sim.robot import Simulator
+from tvl_cli.sim.sonar import SonarRing
+from tvl_cli.sim.world import static_geometry
+from tvl_cli.sim.worldmap import WorldMap, parse_world
+
+ROBOT = RobotConfig()
+QUIET = SonarConfig(noise_sigma_m=0.0, noise_fraction=0.0)
+T0 = ROBOT.trajectories[ROBOT.trajectory_index("T0")]
+
+
+def room_with(*walls: str, cols: int = 32, rows: int = 16) -> WorldMap:
+    """An 8 x 4 m walled room (0.25 m cells) with the start at its left, facing +x."""
+    grid = ["#" * cols] + ["#" + "." * (cols - 2) + "#" for _ in range(rows - 2)] + ["#" * cols]
+    middle = rows // 2
+    grid[middle] = "#." + ">" + grid[middle][3:]
+    header = [f"wall: {wall}" for wall in walls]
+    return parse_world("\n".join([*header, *grid, ""]), "walls.txt")
+
+
+# A thin edge across the room at x = 4 m, from y = 1 to y = 3.
+THIN = room_with("4 1 4 3")
+# A 0.4 m thick wall on the same line.
+THICK = room_with("4 1 4 3 0.4")
+
+
+def s0_reading(world: WorldMap, pose: tuple[float, float, float]) -> float:
+    ring = SonarRing(QUIET, ROBOT.radius_m)
+    return float(ring.read(static_geometry(world), pose, np.random.default_rng(0))[0])
+
+
+def test_a_thin_wall_is_one_segment_and_a_thick_one_four() -> None:
+    plain = room_with()
+    assert len(THIN.segments) == len(plain.segments) + 1
+    assert THIN.segments[-1] == (4.0, 1.0, 4.0, 3.0)
+    sides = THICK.segments[-4:]
+    xs = sorted({round(x, 9) for s in sides for x in (s[0], s[2])})
+    assert xs == [3.8, 4.2]
+
+
+@pytest.mark.parametrize(("x", "heading"), [(2.0, 0.0), (6.0, math.pi)])
+def test_the_sonar_hears_a_thin_wall_head_on_from_either_face(x: float, heading: float) -> None:
+    pose = (x, 2.0, heading)
+    assert s0_reading(THIN, pose) == pytest.approx(2.0 - ROBOT.radius_m)
+
+
+def test_the_sonar_hears_the_near_face_of_a_thick_wall() -> None:
+    assert s0_reading(THICK, (2.0, 2.0, 0.0)) == pytest.approx(1.8 - ROBOT.radius_m)
+
+
+def test_a_thin_wall_at_grazing_incidence_returns_no_echo() -> None:
+    # Beam axis 60 degrees off the wall's normal: its nearest ray is 47.5 degrees off, beyond
+    # the specular angle, and nothing else lies within range along it.
+    heading = math.radians(60.0)
+    pose = (4.0 - 1.0 * math.cos(heading), 2.0 - 1.0 * math.sin(heading), heading)
+    reading = s0_reading(THIN, pose)
+    assert reading == QUIET.max_range_m
+    ideal = SonarRing(SonarConfig(ideal=True), ROBOT.radius_m)
+    seen = ideal.read(static_geometry(THIN), pose, np.random.default_rng(0))[0]
+    assert seen < QUIET.max_range_m  # the wall is there: only its angle hides it
+
+
+@pytest.mark.parametrize(("world", "face_x"), [(THIN, 4.0), (THICK, 3.8)])
+def test_driving_into_a_header_wall_bumps_and_never_passes_it(
+    world: WorldMap, face_x: float
+) -> None:
+    sim = Simulator(world, ROBOT, np.random.default_rng(0))
+    sim.place(2.0, 2.0, 0.0)
+    bumped = False
+    for _ in range(100):  # 10 s at 0.6 m/s: far more than the 2 m to the wall
+        sim.step(Command.follow(T0, T0.v_max_mps))
+        bumped = bumped or sim.bumped
+    x, _, _ = sim.pose
+    assert bumped
+    assert x == pytest.approx(face_x - ROBOT.radius_m, abs=0.01)

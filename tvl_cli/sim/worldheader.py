@@ -1,0 +1,156 @@
+"""The header lines of a world file (`key: value`), checked as they are read.
+
+Besides the name, the cell size, pillars, ring walls and goals, a header may draw straight
+walls at any angle: `wall: x1 y1 x2 y2 [thickness]`. A wall with no thickness is a thin edge
+(a table top seen from the side), solid and echoing from both faces; a thick one is a solid
+rectangle centred on the line.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass, field
+
+from tvl_cli.core.errors import BadInput
+
+Segment = tuple[float, float, float, float]  # x1, y1, x2, y2 in metres
+Circle = tuple[float, float, float]  # x, y, radius in metres
+
+
+class WorldMapError(BadInput):
+    """A world file that cannot be read or does not describe a closed world with one start."""
+
+
+FORMAT_VERSION = 1
+DEFAULT_CELL_M = 0.25
+# Cells from a centimetre (finer than any sonar can tell) to 10 m (a hall per character).
+MIN_CELL_M, MAX_CELL_M = 0.01, 10.0
+HEADER_KEYS = ("version", "name", "cell", "disc", "ring", "goal", "wall")
+HEADER_LINE = re.compile(r"\s*([A-Za-z_]\w*)\s*:\s*(.*?)\s*")
+_NUMBERS = {  # key -> (how many numbers, what they are); the last must be positive but for goals
+    "cell": (1, f"a size in metres from {MIN_CELL_M:g} to {MAX_CELL_M:g}"),
+    "disc": (3, "x y r in metres, r > 0"),
+    "ring": (3, "x y r in metres, r > 0"),
+    "goal": (2, "x y in metres"),
+}
+_WALL_USAGE = "x1 y1 x2 y2 [thickness] in metres, two distinct ends, thickness >= 0"
+
+
+@dataclass(frozen=True, slots=True)
+class Wall:
+    """A straight wall from a header line, and where it was written."""
+
+    x1: float
+    y1: float
+    x2: float
+    y2: float
+    thickness_m: float
+    where: str  # "file:line:column" of its numbers
+
+    def outline(self) -> tuple[Segment, ...]:
+        """The segments the robot meets: the line itself when thin, else the four sides of
+        the rectangle, counter-clockwise so that its corners read as convex."""
+        if self.thickness_m == 0.0:
+            return ((self.x1, self.y1, self.x2, self.y2),)
+        length = math.hypot(self.x2 - self.x1, self.y2 - self.y1)
+        half = self.thickness_m / 2.0
+        nx, ny = -(self.y2 - self.y1) / length * half, (self.x2 - self.x1) / length * half
+        corners = [
+            (self.x1 - nx, self.y1 - ny),
+            (self.x2 - nx, self.y2 - ny),
+            (self.x2 + nx, self.y2 + ny),
+            (self.x1 + nx, self.y1 + ny),
+        ]
+        return tuple((*a, *b) for a, b in zip(corners, corners[1:] + corners[:1], strict=True))
+
+    def distance_m(self, x: float, y: float) -> float:
+        """Metres from a point to the wall's solid (0 inside it)."""
+        dx, dy = self.x2 - self.x1, self.y2 - self.y1
+        along = ((x - self.x1) * dx + (y - self.y1) * dy) / (dx * dx + dy * dy)
+        along = min(max(along, 0.0), 1.0)
+        to_line = math.hypot(x - self.x1 - along * dx, y - self.y1 - along * dy)
+        return max(to_line - self.thickness_m / 2.0, 0.0)
+
+
+@dataclass(slots=True)
+class Header:
+    """Header values as read, with the line of each one-off key to name a duplicate."""
+
+    seen: dict[str, int] = field(default_factory=dict)
+    name: str | None = None
+    cell_m: float = DEFAULT_CELL_M
+    discs: list[Circle] = field(default_factory=list)
+    rings: list[Circle] = field(default_factory=list)
+    goals: list[tuple[float, float, str]] = field(default_factory=list)  # x, y, "line:col"
+    walls: list[Wall] = field(default_factory=list)
+
+
+def read_header(header: Header, match: re.Match[str], where: str, number: int) -> None:
+    """Add one `key: value` line (matched by HEADER_LINE) at `where` ("file:line")."""
+    key, value = match.group(1), match.group(2)
+    value_at = f"{where}:{match.start(2) + 1}"
+    if key not in HEADER_KEYS:
+        raise WorldMapError(
+            f"{where}:{match.start(1) + 1}: unknown header key {key!r} "
+            f"(expected one of {' '.join(HEADER_KEYS)})"
+        )
+    if key in ("version", "name", "cell"):
+        if key in header.seen:
+            raise WorldMapError(
+                f"{where}:1: {key!r} given twice (first on line {header.seen[key]})"
+            )
+        header.seen[key] = number
+    if key == "version":
+        if value != str(FORMAT_VERSION):
+            raise WorldMapError(
+                f"{value_at}: unsupported version {value!r} "
+                f"(this tvl reads version {FORMAT_VERSION})"
+            )
+    elif key == "name":
+        if not value:
+            raise WorldMapError(f"{value_at}: bad value for 'name': it is empty")
+        header.name = value
+    elif key == "wall":
+        header.walls.append(_wall(value, value_at))
+    else:
+        numbers = _numbers(key, value, value_at)
+        if key == "cell":
+            header.cell_m = numbers[0]
+        elif key == "goal":
+            header.goals.append((numbers[0], numbers[1], value_at.split(":", 1)[1]))
+        else:
+            (header.discs if key == "disc" else header.rings).append(
+                (numbers[0], numbers[1], numbers[2])
+            )
+
+
+def _floats(value: str) -> tuple[float, ...]:
+    try:
+        numbers = tuple(float(part) for part in value.split())
+    except ValueError:
+        return ()
+    return numbers if all(math.isfinite(n) for n in numbers) else ()
+
+
+def _numbers(key: str, value: str, value_at: str) -> tuple[float, ...]:
+    """The numbers of a `cell`, `disc`, `ring` or `goal` header; sizes must be positive."""
+    wanted, usage = _NUMBERS[key]
+    numbers = _floats(value)
+    if (
+        len(numbers) != wanted
+        or (key != "goal" and numbers[-1] <= 0)
+        or (key == "cell" and not MIN_CELL_M <= numbers[0] <= MAX_CELL_M)
+    ):
+        raise WorldMapError(f"{value_at}: bad value for {key!r}: {value!r} (expected {usage})")
+    return numbers
+
+
+def _wall(value: str, value_at: str) -> Wall:
+    numbers = _floats(value)
+    if len(numbers) == 4:
+        numbers += (0.0,)
+    if len(numbers) != 5 or numbers[4] < 0 or numbers[:2] == numbers[2:4]:
+        raise WorldMapError(f"{value_at}: bad value for 'wall': {value!r} (expected {_WALL_USAGE})")
+    x1, y1, x2, y2, thickness = numbers
+    return Wall(x1, y1, x2, y2, thickness, value_at)
