@@ -8,6 +8,7 @@ from pathlib import Path
 import click
 
 from tvl_cli.cli.options import (
+    SEED,
     refuse_existing,
 )
 from tvl_cli.io.atomic import atomic_output
@@ -24,7 +25,7 @@ def world() -> None:
 @click.argument("kind", type=click.Choice(list(KINDS)))
 @click.option("-o", "--output", type=click.Path(path_type=Path), required=True, help="World file.")
 @click.option("--size", type=(float, float), default=None, metavar="W H", help="Metres.")
-@click.option("--seed", type=int, default=1, show_default=True, help="Layout seed (lab).")
+@click.option("--seed", type=SEED, default=1, show_default=True, help="Layout seed (lab, rooms).")
 @click.option("--force", is_flag=True, help="Overwrite OUTPUT.")
 def world_new(
     kind: str, output: Path, size: tuple[float, float] | None, seed: int, force: bool

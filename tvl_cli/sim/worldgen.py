@@ -9,50 +9,21 @@ from pathlib import Path
 import numpy as np
 
 from tvl_cli.core.errors import BadInput
-from tvl_cli.sim.worldheader import DEFAULT_CELL_M, FORMAT_VERSION, WorldMapError
+from tvl_cli.sim.canvas import CELL_M, Canvas
+from tvl_cli.sim.rooms import ROOMS_DEFAULT_SIZE_M, ROOMS_MIN_SIZE_M, layout_rooms
+from tvl_cli.sim.worldheader import WorldMapError
 from tvl_cli.sim.worldmap import parse_world
 
-CELL_M = DEFAULT_CELL_M
 MAX_SIZE_M = 100.0  # 400 x 400 cells: a big hall, still a small file
 ATTEMPTS = 20  # random layouts drawn before giving up on a size
 BUNDLED_DIR = Path(__file__).resolve().parent.parent / "data"
 
 
-class _Canvas:
-    """A grid of map characters, top row first, with a `#` border; plus extra header lines."""
-
-    def __init__(self, cols: int, rows: int) -> None:
-        self.grid = np.full(
-            (rows, cols), ".", dtype="<U1"
-        )  # (rows, cols) characters, top row first
-        self.grid[[0, -1], :] = "#"
-        self.grid[:, [0, -1]] = "#"
-        self.header: list[str] = []
-
-    @property
-    def rows(self) -> int:
-        return int(self.grid.shape[0])
-
-    @property
-    def cols(self) -> int:
-        return int(self.grid.shape[1])
-
-    def cell(self, x_frac: float, y_frac: float) -> tuple[int, int]:
-        """(row, column) of the cell at a fraction of the width and height from bottom-left."""
-        return self.rows - 1 - int(y_frac * self.rows), int(x_frac * self.cols)
-
-    def centre_m(self, r: int, c: int) -> tuple[float, float]:
-        return (c + 0.5) * CELL_M, (self.rows - r - 0.5) * CELL_M
-
-    def disc(self, x_m: float, y_m: float, r_m: float) -> None:
-        self.header.append(f"disc: {x_m:g} {y_m:g} {r_m:g}")
-
-
-def _square(canvas: _Canvas, rng: np.random.Generator) -> None:
+def _square(canvas: Canvas, rng: np.random.Generator) -> None:
     canvas.grid[canvas.cell(0.5, 0.5)] = ">"
 
 
-def _circle(canvas: _Canvas, rng: np.random.Generator) -> None:
+def _circle(canvas: Canvas, rng: np.random.Generator) -> None:
     width_m, height_m = canvas.cols * CELL_M, canvas.rows * CELL_M
     radius_m = min(width_m, height_m) / 2 - 2 * CELL_M  # a cell of floor between ring and border
     canvas.header.append(f"ring: {width_m / 2:g} {height_m / 2:g} {radius_m:g}")
@@ -62,7 +33,7 @@ def _circle(canvas: _Canvas, rng: np.random.Generator) -> None:
 CORRIDOR_CELLS = round(1.2 / CELL_M)  # a corridor about 1.2 m wide
 
 
-def _corridor(canvas: _Canvas, rng: np.random.Generator) -> None:
+def _corridor(canvas: Canvas, rng: np.random.Generator) -> None:
     k = 1 + CORRIDOR_CELLS
     canvas.grid[k:-k, k:-k] = "#"  # the block the corridor loops around
     canvas.grid[canvas.rows - 2 - CORRIDOR_CELLS // 2, canvas.cols // 2] = ">"
@@ -86,7 +57,7 @@ OBSTACLE_PILLARS = (
 OBSTACLE_GOALS = ((0.85, 0.22), (0.85, 0.78), (0.88, 0.50), (0.70, 0.30))
 
 
-def _obstacles(canvas: _Canvas, rng: np.random.Generator) -> None:
+def _obstacles(canvas: Canvas, rng: np.random.Generator) -> None:
     width_m, height_m = canvas.cols * CELL_M, canvas.rows * CELL_M
     for fx, fy in OBSTACLE_PILLARS:
         canvas.disc(round(fx * width_m, 2), round(fy * height_m, 2), OBSTACLE_RADIUS_M)
@@ -98,7 +69,7 @@ def _obstacles(canvas: _Canvas, rng: np.random.Generator) -> None:
 PASSAGE_CELLS = 3  # 0.75 m: the 0.4 m robot fits with under 0.2 m each side, as in Figure 26b
 
 
-def _narrow(canvas: _Canvas, rng: np.random.Generator) -> None:
+def _narrow(canvas: Canvas, rng: np.random.Generator) -> None:
     """Two rooms joined by a narrow passage through a thick wall, with a goal inside it."""
     left, right = round(0.45 * canvas.cols), round(0.7 * canvas.cols)
     top = canvas.rows // 2 - PASSAGE_CELLS // 2
@@ -114,7 +85,7 @@ LAB_AREA_M2 = 48.0  # furniture counts below are for 8 m x 6 m and scale with th
 STAND_RADIUS_M = 0.05  # lamp and tripod stands: thin poles
 
 
-def _lab(canvas: _Canvas, rng: np.random.Generator) -> None:
+def _lab(canvas: Canvas, rng: np.random.Generator) -> None:
     """A cluttered lab: benches along the walls, desks with thin overhanging table tops,
     pillars and thin stands, with room for the robot to pass between any two of them."""
     taken = np.zeros(canvas.grid.shape, dtype=bool)  # (rows, cols) cells claimed by furniture
@@ -194,7 +165,7 @@ class Kind:
     about: str
     default_size_m: tuple[float, float]
     min_size_m: tuple[float, float]
-    layout: Callable[[_Canvas, np.random.Generator], None]
+    layout: Callable[[Canvas, np.random.Generator], None]
     seeded: bool = False  # only seeded kinds draw from the generator
 
 
@@ -206,6 +177,13 @@ KINDS: dict[str, Kind] = {
     "narrow": Kind("a goal inside a 0.75 m passage", (6.0, 4.0), (4.0, 3.0), _narrow),
     "lab": Kind(
         "benches, desks with thin table tops, pillars, stands", (8.0, 6.0), (5.0, 4.0), _lab, True
+    ),
+    "rooms": Kind(
+        "rooms, doorways and corridors, furnished, with a reachable goal",
+        ROOMS_DEFAULT_SIZE_M,
+        ROOMS_MIN_SIZE_M,
+        layout_rooms,
+        True,
     ),
 }
 
@@ -229,21 +207,9 @@ def generate_world(kind: str, width_m: float | None, height_m: float | None, see
     rng = np.random.default_rng(seed)
     error = ""
     for _ in range(ATTEMPTS if spec.seeded else 1):
-        canvas = _Canvas(cols, rows)
+        canvas = Canvas(cols, rows)
         spec.layout(canvas, rng)
-        text = "\n".join(
-            [
-                f"; {kind}: {spec.about}",
-                f"; made by: {command}",
-                f"version: {FORMAT_VERSION}",
-                f"name: {kind}",
-                f"cell: {CELL_M:g}",
-                *canvas.header,
-                "",
-                *("".join(row) for row in canvas.grid),
-                "",
-            ]
-        )
+        text = canvas.text(kind, spec.about, command)
         try:
             parse_world(text, f"<{kind}>")
         except WorldMapError as problem:  # a random layout may box the start in: draw again

@@ -1,0 +1,264 @@
+"""Generalization: how competent the robot is in generated worlds nobody tuned on.
+
+    python benchmarks/generalization.py [--set test|tuning] [--quick] [--trials 3]
+                                        [--reflex NAMES | --paper] [--workers 2] [--json]
+
+For each world (`tvl world new rooms --seed N`) and trial (seed 1, 2, 3): learn 15 simulated
+minutes from the world's start, exploring with the single FAM; train a single and a multi
+FAM from that one log; run avoid, wall-left, wall-right and goal (to the world's first goal)
+for 5 simulated minutes with each. The DWA's avoid run in each world, knowing the map, is
+the speed reference. A run is competent with at most 0.2 contacts (collisions and near
+misses) a minute at a mean speed of at least 0.3 m/s; a goal run must also reach its goal.
+
+The test worlds are rooms seeds 1001-1020 and are for reporting only: develop and tune on
+`--set tuning` (seeds 1-20). `--quick` takes the first 5 worlds of the set and 2 trials.
+`--paper` runs the paper's whole method (its labels, bump-only collision points, no
+reflexes); `--reflex` picks the reflexes of the behaviour runs (all by default).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import asdict, replace
+from typing import Any
+
+from tvl_cli.agent.behave import behave
+from tvl_cli.agent.explore import PAPER_NEAR_M, Learner, LearnParams
+from tvl_cli.agent.reflexes import ALL, parse_reflexes
+from tvl_cli.baselines.dwa import run_dwa
+from tvl_cli.core import competence
+from tvl_cli.core.config import MULTI, SINGLE, FamConfig, RobotConfig
+from tvl_cli.core.episode import Episode
+from tvl_cli.core.fam import Fam
+from tvl_cli.core.labels import PAPER_DECEL_MPS2, PAPER_MARGIN_M
+from tvl_cli.core.metrics import RunMetrics
+from tvl_cli.core.training import TrainParams, train_episode
+from tvl_cli.sim.worldgen import generate_world
+from tvl_cli.sim.worldmap import WorldMap, parse_world
+
+KIND = "rooms"
+WORLD_SETS = {"test": range(1001, 1021), "tuning": range(1, 21)}
+QUICK_WORLDS, QUICK_TRIALS = 5, 2
+LEARN_MINUTES = 15.0
+RUN_MINUTES = 5.0
+BEHAVIOURS = ("avoid", "wall-left", "wall-right", "goal")
+CONFIGS: dict[str, FamConfig] = {"single": SINGLE, "multi": MULTI}
+# The targets this benchmark is judged against.
+MIN_COMPETENT_SHARE = 0.9
+MIN_GOAL_SHARE = 0.9
+MIN_SPEED_OF_DWA = 0.75
+
+
+def world_of(seed: int) -> WorldMap:
+    return parse_world(generate_world(KIND, None, None, seed), f"{KIND}-s{seed}")
+
+
+def is_competent(metrics: RunMetrics, behaviour: str) -> bool:
+    """The avoid competence test, and for a goal run the goal reached as well."""
+    return competence.is_competent(metrics) and (behaviour != "goal" or metrics.goal_reached)
+
+
+def learn_and_train(
+    world: WorldMap, seed: int, train: TrainParams, explore: LearnParams, robot: RobotConfig
+) -> dict[str, Fam]:
+    """Learn with the single FAM, then train each configuration from the same episodes,
+    as `tvl train LOG --config C` does from the learning log."""
+    names = [t.name for t in robot.trajectories]
+    episodes: list[Episode] = []
+    learner = Learner(
+        world,
+        robot,
+        Fam(SINGLE, names, train.init_velocity_mps),
+        replace(explore, minutes=LEARN_MINUTES),
+        train,
+        seed,
+    )
+    learner.run(episodes.append, lambda _minute: None)
+    fams = {}
+    for name, config in CONFIGS.items():
+        fam = Fam(config, names, train.init_velocity_mps)
+        for episode in episodes:
+            train_episode(fam, episode, robot, train)
+        fams[name] = fam
+    return fams
+
+
+def trial_runs(
+    world_seed: int,
+    trial: int,
+    train: TrainParams,
+    explore: LearnParams,
+    reflexes: tuple[str, ...],
+) -> list[dict[str, Any]]:
+    """Every behaviour run of one trial in one world, as rows."""
+    robot = RobotConfig()
+    world = world_of(world_seed)
+    rows = []
+    for config, fam in learn_and_train(world, trial, train, explore, robot).items():
+        for behaviour in BEHAVIOURS:
+            goal = world.goals[0] if behaviour == "goal" and world.goals else None
+            if behaviour == "goal" and goal is None:
+                continue
+            metrics = behave(
+                world,
+                robot,
+                fam,
+                behaviour,
+                minutes=RUN_MINUTES,
+                seed=trial,
+                goal_xy=goal,
+                reflexes=reflexes,
+            )
+            rows.append(
+                {
+                    "world_seed": world_seed,
+                    "trial": trial,
+                    "config": config,
+                    "behaviour": behaviour,
+                    "competent": is_competent(metrics, behaviour),
+                    **asdict(metrics),
+                }
+            )
+    return rows
+
+
+def dwa_run(world_seed: int) -> dict[str, Any]:
+    """The DWA's avoid run in one world: the same for every trial, since it sees the map."""
+    metrics = run_dwa(world_of(world_seed), RobotConfig(), RUN_MINUTES, seed=1)
+    return {"world_seed": world_seed, "config": "dwa", "behaviour": "avoid", **asdict(metrics)}
+
+
+def _mean(values: list[float]) -> float:
+    return sum(values) / len(values) if values else float("nan")
+
+
+def summarise(rows: list[dict[str, Any]], dwa: list[dict[str, Any]]) -> dict[str, Any]:
+    """Per configuration: competent runs, goals reached, contacts a minute, and avoid speed
+    as a share of the DWA's in the same worlds."""
+    dwa_speed = _mean([r["mean_speed_mps"] for r in dwa])
+    summary: dict[str, Any] = {"dwa_avoid_speed_mps": dwa_speed}
+    for config in CONFIGS:
+        runs = [r for r in rows if r["config"] == config]
+        goals = [r for r in runs if r["behaviour"] == "goal"]
+        avoid = [r for r in runs if r["behaviour"] == "avoid"]
+        summary[config] = {
+            "runs": len(runs),
+            "competent": sum(r["competent"] for r in runs),
+            "competent_by_behaviour": {
+                b: f"{sum(r['competent'] for r in runs if r['behaviour'] == b)}"
+                f"/{sum(r['behaviour'] == b for r in runs)}"
+                for b in BEHAVIOURS
+            },
+            "goal_runs": len(goals),
+            "goals_reached": sum(r["goal_reached"] for r in goals),
+            "contacts_per_min": _mean([r["contacts_per_min"] for r in runs]),
+            "avoid_speed_mps": _mean([r["mean_speed_mps"] for r in avoid]),
+            "avoid_speed_of_dwa": _mean([r["mean_speed_mps"] for r in avoid]) / dwa_speed,
+        }
+    return summary
+
+
+def table(summary: dict[str, Any]) -> str:
+    def share(part: int, whole: int) -> str:
+        return f"{part}/{whole} ({100 * part / whole:.0f} %)" if whole else "–"
+
+    single, multi = summary["single"], summary["multi"]
+    rows = [
+        (
+            "competent runs",
+            share(single["competent"], single["runs"]),
+            share(multi["competent"], multi["runs"]),
+            f">= {MIN_COMPETENT_SHARE:.0%}",
+        ),
+        *(
+            (
+                f"  {b}",
+                single["competent_by_behaviour"][b],
+                multi["competent_by_behaviour"][b],
+                "",
+            )
+            for b in BEHAVIOURS
+        ),
+        (
+            "goals reached",
+            share(single["goals_reached"], single["goal_runs"]),
+            share(multi["goals_reached"], multi["goal_runs"]),
+            f">= {MIN_GOAL_SHARE:.0%}",
+        ),
+        (
+            "contacts/min",
+            f"{single['contacts_per_min']:.2f}",
+            f"{multi['contacts_per_min']:.2f}",
+            "multi <= single",
+        ),
+        (
+            "avoid speed m/s",
+            f"{single['avoid_speed_mps']:.2f}",
+            f"{multi['avoid_speed_mps']:.2f}",
+            f"DWA {summary['dwa_avoid_speed_mps']:.2f}",
+        ),
+        (
+            "avoid speed / DWA's",
+            f"{single['avoid_speed_of_dwa']:.0%}",
+            f"{multi['avoid_speed_of_dwa']:.0%}",
+            f">= {MIN_SPEED_OF_DWA:.0%}",
+        ),
+    ]
+    header = ("figure", "single", "multi", "target")
+    widths = [max(len(r[i]) for r in [header, *rows]) for i in range(4)]
+    lines = []
+    for r in [header, tuple("-" * w for w in widths), *rows]:
+        lines.append("  ".join(cell.ljust(w) for cell, w in zip(r, widths, strict=True)).rstrip())
+    return "\n".join(lines)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--set", choices=sorted(WORLD_SETS), default="test", dest="world_set")
+    parser.add_argument("--quick", action="store_true", help="5 worlds, 2 trials")
+    parser.add_argument("--trials", type=int, default=3)
+    parser.add_argument("--workers", type=int, default=2, help="parallel processes")
+    parser.add_argument("--reflex", default=ALL, help="reflexes of the runs: all, none or names")
+    parser.add_argument(
+        "--paper",
+        action="store_true",
+        help="the paper's method: its labels, bump-only collision points and no reflexes",
+    )
+    parser.add_argument("--json", action="store_true", help="print the figures as JSON")
+    args = parser.parse_args()
+    world_seeds = list(WORLD_SETS[args.world_set])
+    trials = range(1, args.trials + 1)
+    if args.quick:
+        world_seeds, trials = world_seeds[:QUICK_WORLDS], range(1, QUICK_TRIALS + 1)
+    train, explore = TrainParams(), LearnParams()
+    if args.paper:
+        train = TrainParams(decel_mps2=PAPER_DECEL_MPS2, margin_m=PAPER_MARGIN_M)
+        explore = LearnParams(near_m=PAPER_NEAR_M)
+        args.reflex = "none"
+    reflexes = parse_reflexes(args.reflex)
+    started = time.perf_counter()
+    jobs = [(w, t, train, explore, reflexes) for w in world_seeds for t in trials]
+    with ProcessPoolExecutor(max_workers=args.workers) as pool:
+        dwa_jobs = pool.map(dwa_run, world_seeds)
+        per_trial = pool.map(trial_runs, *zip(*jobs, strict=True))
+        rows = [row for trial in per_trial for row in trial]
+        dwa = list(dwa_jobs)
+    summary = summarise(rows, dwa)
+    if args.json:
+        print(json.dumps({"summary": summary, "runs": rows, "dwa": dwa}, indent=2))
+        return
+    method = "the paper's method" if args.paper else f"reflexes {', '.join(reflexes) or 'none'}"
+    print(
+        f"{KIND} worlds {world_seeds[0]}-{world_seeds[-1]} ({args.world_set}, "
+        f"{len(world_seeds)} worlds), trials {trials.start}-{trials.stop - 1}, learning "
+        f"{LEARN_MINUTES:g} min, runs {RUN_MINUTES:g} min, {method} "
+        f"({time.perf_counter() - started:.0f} s)"
+    )
+    print(table(summary))
+
+
+if __name__ == "__main__":
+    main()
