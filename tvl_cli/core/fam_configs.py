@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 
@@ -74,8 +75,11 @@ def fam_config_from_json(
         data = json.loads(text)
     except json.JSONDecodeError as error:
         raise BadInput(f"{source}:{error.lineno}:{error.colno}: not JSON: {error.msg}") from None
+    except RecursionError:
+        raise BadInput(f"{source}: JSON nested too deeply for a FAM configuration") from None
     if not isinstance(data, dict):
         raise BadInput(f"{source}: expected a JSON object with 'name' and 'tables'")
+    _check_schema(data, source)
     try:
         config = FamConfig.from_dict(data)
     except KeyError as error:
@@ -84,3 +88,39 @@ def fam_config_from_json(
         raise BadInput(f"{source}: {error}") from None
     validate_fam_config(config, trajectory_names, source)
     return config
+
+
+# The keys of each level of a FAM configuration; any other is a typo, named rather than ignored.
+_CONFIG_KEYS = ("name", "tables")
+_TABLE_KEYS = ("name", "inputs", "trajectories")
+_INPUT_KEYS = ("name", "sonars", "partition")
+_PARTITION_KEYS = ("names", "centres_m")
+
+
+def _check_schema(data: dict[str, Any], source: str) -> None:
+    """Unknown keys and sonars that are not whole numbers, before anything is converted."""
+    _known_keys(data, _CONFIG_KEYS, source)
+    tables = data.get("tables")
+    for t, table in enumerate(tables if isinstance(tables, list) else []):
+        where = f"{source}: table {t}"
+        if not isinstance(table, dict):
+            raise BadInput(f"{where}: expected an object with {', '.join(_TABLE_KEYS)}")
+        _known_keys(table, _TABLE_KEYS, where)
+        inputs = table.get("inputs")
+        for i, fam_input in enumerate(inputs if isinstance(inputs, list) else []):
+            at = f"{where} input {i}"
+            if not isinstance(fam_input, dict):
+                raise BadInput(f"{at}: expected an object with {', '.join(_INPUT_KEYS)}")
+            _known_keys(fam_input, _INPUT_KEYS, at)
+            if isinstance(fam_input.get("partition"), dict):
+                _known_keys(fam_input["partition"], _PARTITION_KEYS, f"{at} partition")
+            sonars = fam_input.get("sonars")
+            for sonar in sonars if isinstance(sonars, list) else []:
+                if isinstance(sonar, bool) or not isinstance(sonar, int):
+                    raise BadInput(f"{at}: sonar {sonar!r} is not a whole number")
+
+
+def _known_keys(data: dict[str, Any], allowed: tuple[str, ...], where: str) -> None:
+    unknown = [key for key in data if key not in allowed]
+    if unknown:
+        raise BadInput(f"{where}: unknown key {unknown[0]!r} (expected {', '.join(allowed)})")
