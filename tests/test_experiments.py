@@ -204,3 +204,34 @@ def test_figure_refuses_an_unknown_name(run_tvl, tmp_path):
     result = run_tvl("figure", "fig99", results, "-o", tmp_path / "f.png")
     assert result.returncode == 2
     assert "unknown figure 'fig99'" in result.stderr
+
+
+@pytest.mark.parametrize("name", ["fig19", "fig21", "fig22", "fig24", "fig27", "ablation"])
+def test_figure_refuses_results_without_the_runs_it_draws(run_tvl, tmp_path, name):
+    results = tmp_path / "results.jsonl"
+    results.write_text('{"kind": "tvl", "world": "square", "seed": 1}\n')
+    result = run_tvl("figure", name, results, "-o", tmp_path / "f.png")
+    assert result.returncode == 2, result.stderr
+    assert len(result.stderr.splitlines()) == 1
+    assert result.stderr.startswith(f"tvl: error: {results}: ")
+    assert name in result.stderr
+    assert not (tmp_path / "f.png").exists()
+
+
+@pytest.mark.parametrize(
+    ("line", "problem"),
+    [
+        ('{"kind": "tvl", "world": 5}', "'world' is 5, expected text"),
+        ('{"kind": "tvl", "seed": "x"}', "'seed' is 'x', expected a number"),
+        (
+            '{"kind": "tvl", "contacts_per_min": true}',
+            "'contacts_per_min' is True, expected a number",
+        ),
+    ],
+)
+def test_figure_names_the_line_with_a_value_of_the_wrong_type(run_tvl, tmp_path, line, problem):
+    results = tmp_path / "results.jsonl"
+    results.write_text('{"kind": "learn"}\n' + line + "\n")
+    result = run_tvl("figure", "fig27", results, "-o", tmp_path / "f.png")
+    assert result.returncode == 2, result.stderr
+    assert result.stderr == f"tvl: error: {results}:2: {problem}\n"

@@ -12,7 +12,7 @@ from __future__ import annotations
 import json
 import math
 from collections.abc import Iterable, Sequence
-from dataclasses import fields
+from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any
 
@@ -68,8 +68,70 @@ def read_results(path: Path) -> list[Row]:
             raise BadInput(f"{path}:{number}:{error.colno}: not JSON ({error.msg})") from None
         if not isinstance(row, dict) or not isinstance(row.get("kind"), str):
             raise BadInput(f'{path}:{number}: not a run (an object with a "kind")')
+        _check_types(row, f"{path}:{number}")
         rows.append(row)
     return rows
+
+
+_WORDS = ("world", "config", "behaviour", "reflexes", "learning")
+_NUMBERS = (
+    "seed",
+    "minute",
+    "threshold",
+    "learn_minutes",
+    *(f.name for f in fields(RunMetrics) if f.name not in ("goal_reached",)),
+)
+
+
+def _check_types(row: Row, where: str) -> None:
+    """The keys the figures read must hold what they name: text, or a number (or null)."""
+    for key in _WORDS:
+        if key in row and not isinstance(row[key], str):
+            raise BadInput(f"{where}: {key!r} is {row[key]!r}, expected text")
+    for key in _NUMBERS:
+        value = row.get(key)
+        if value is not None and (isinstance(value, bool) or not isinstance(value, int | float)):
+            raise BadInput(f"{where}: {key!r} is {value!r}, expected a number")
+
+
+@dataclass(frozen=True, slots=True)
+class Needs:
+    """What a figure draws from: runs of a kind (with these values), having these keys."""
+
+    what: str
+    where: dict[str, Any]
+    keys: tuple[str, ...]
+
+
+_RUN_KEYS = ("world", "seed", "contacts_per_min", "mean_speed_mps")
+FIGURE_NEEDS: dict[str, tuple[Needs, ...]] = {
+    "fig19": (
+        Needs("learning runs", {"kind": "learn"}, ("world", "seed", "minutes")),
+        Needs("avoid snapshots", {"kind": "tvl", "behaviour": "avoid"}, (*_RUN_KEYS, "minute")),
+    ),
+    "fig21": (Needs("wall runs", {"kind": "tvl"}, (*_RUN_KEYS, "behaviour", "threshold")),),
+    "fig22": (Needs("goal runs", {"behaviour": "goal"}, ("world", "seed", "goal_reached")),),
+    "fig24": (
+        Needs("avoid snapshots", {"kind": "tvl", "behaviour": "avoid"}, (*_RUN_KEYS, "minute")),
+    ),
+    "fig27": (Needs("snapshots", {"kind": "tvl"}, (*_RUN_KEYS, "config", "minute")),),
+    "ablation": (Needs("runs", {"kind": "tvl"}, (*_RUN_KEYS, "config", "reflexes")),),
+}
+
+
+def check_needs(name: str, rows: list[Row], source: str) -> None:
+    """BadInput unless the rows hold the runs figure NAME draws, with the keys it reads."""
+    for needs in FIGURE_NEEDS[name]:
+        runs = select(rows, **needs.where)
+        kinds = ", ".join(f"{k} {v}" for k, v in needs.where.items())
+        if not runs:
+            raise BadInput(f"{source}: no {needs.what} ({kinds}) for {name}")
+        for run in runs:
+            missing = [key for key in needs.keys if key not in run]
+            if missing:
+                raise BadInput(
+                    f"{source}: a run ({kinds}) lacks the key {missing[0]!r} that {name} needs"
+                )
 
 
 def select(rows: Iterable[Row], **where: Any) -> list[Row]:

@@ -25,6 +25,7 @@ from tvl_cli.analysis.results import (
     WORLD_ORDER,
     Row,
     ablation_rows,
+    check_needs,
     competence_note,
     competence_times,
     curve,
@@ -440,6 +441,7 @@ def draw_figure(name: str, results: Path, png: Path, table: Path | None = None) 
     rows = read_results(results)
     if not rows:
         raise BadInput(f"{results}: no runs")
+    check_needs(name, rows, str(results))
     try:
         figure, summary = FIGURES[name](rows, results.parent)
     except KeyError as error:
