@@ -6,6 +6,7 @@ that `tvl --help` starts without numpy, h5py, pymunk or matplotlib.
 
 from __future__ import annotations
 
+import errno
 import importlib
 import sys
 
@@ -50,9 +51,14 @@ COMMANDS: dict[str, tuple[str, str, str]] = {
 }
 
 
+# Failures of the machine rather than of what the user typed: no space, no memory, a broken
+# or read-only disk.
+ENVIRONMENT_ERRNOS = frozenset({errno.ENOSPC, errno.EDQUOT, errno.EIO, errno.ENOMEM, errno.EROFS})
+
+
 class TvlGroup(click.Group):
-    """Loads commands on demand; turns BadInput into one line on stderr and exit 2 (--debug
-    shows the traceback)."""
+    """Loads commands on demand; turns BadInput into one line on stderr and exit 2, and an
+    operating-system error into one line and exit 1 or 2 (--debug shows the traceback)."""
 
     def list_commands(self, ctx: click.Context) -> list[str]:
         return list(COMMANDS)
@@ -78,6 +84,14 @@ class TvlGroup(click.Group):
                 raise
             click.echo(f"tvl: error: {error}", err=True)
             sys.exit(2)
+        except OSError as error:
+            # What the system refused outside any check of ours: the machine's fault (exit 1),
+            # or else a path the user named (exit 2).
+            if ctx.obj and ctx.obj.get("debug"):
+                raise
+            where = f"{error.filename}: " if error.filename else ""
+            click.echo(f"tvl: error: {where}{error.strerror or error}", err=True)
+            sys.exit(1 if error.errno in ENVIRONMENT_ERRNOS else 2)
         except click.UsageError as error:
             # One line like every other bad input; `tvl COMMAND --help` shows the usage.
             command = f" {error.ctx.command_path}" if error.ctx else ""
