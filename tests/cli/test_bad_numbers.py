@@ -85,3 +85,10 @@ def test_run_refuses_a_huge_finite_duration(run_tvl, fam):
 def test_a_missing_choice_is_one_line_listing_the_choices(run_tvl, fam):
     result = run_tvl("run", fam, SQUARE)
     assert_one_line_refusal(result, "--behaviour", "avoid, wall-left")
+
+
+def test_learning_too_short_for_an_episode_keeps_the_log_and_writes_no_fam(run_tvl, tmp_path):
+    log, fam = tmp_path / "log.h5", tmp_path / "fam.h5"
+    result = run_tvl("learn", SQUARE, "--log", log, "--minutes", "0.05", "--fam", fam)
+    assert_one_line_refusal(result, str(fam), "no episode finished", str(log))
+    assert log.exists() and not fam.exists()

@@ -130,6 +130,12 @@ def learn_to_log(
         status = f"interrupted: {summary.stopped_by}" if summary.stopped_by else STATUS_FINISHED
         session = writer.session
         writer.close(status)
+    if request.fam_out is not None and summary.episodes == 0:
+        raise BadInput(
+            f"{request.fam_out}: not written: no episode finished in "
+            f"{request.learn.minutes:g} simulated minutes, so nothing was learnt "
+            f"(the log {request.log} keeps the session; learn for longer)"
+        )
     if request.fam_out is not None:
         # After the writer has closed: the provenance hashes the finished log.
         write_fam(
