@@ -117,3 +117,25 @@ def _can_write(directory: Path) -> bool:
         return False
     (directory / "probe").unlink()
     return True
+
+
+def test_without_overwrite_a_file_written_meanwhile_is_kept_and_ours_refused(
+    tmp_path: Path,
+) -> None:
+    path = tmp_path / "fam.h5"
+    with (
+        pytest.raises(BadInput, match="another process wrote it meanwhile"),
+        atomic_output(path, overwrite=False) as temporary,
+    ):
+        temporary.write_text("ours")
+        path.write_text("theirs")  # a second `tvl train` to the same output finishes first
+    assert path.read_text() == "theirs"
+    assert [p.name for p in tmp_path.iterdir()] == ["fam.h5"]
+
+
+def test_without_overwrite_a_new_file_is_put_in_place(tmp_path: Path) -> None:
+    path = tmp_path / "fam.h5"
+    with atomic_output(path, overwrite=False) as temporary:
+        temporary.write_text("ours")
+    assert path.read_text() == "ours"
+    assert [p.name for p in tmp_path.iterdir()] == ["fam.h5"]

@@ -44,7 +44,13 @@ def train(
     fam_config = resolve_fam_config(config, RobotConfig())
     with views.progress("training") as bar:
         summary = train_from_logs(list(logs), fam_config, train_params, bar, until_minute)
-    write_fam(output, summary.fam, robot_config=summary.robot, provenance=summary.provenance)
+    write_fam(
+        output,
+        summary.fam,
+        robot_config=summary.robot,
+        provenance=summary.provenance,
+        overwrite=force,
+    )
     views.train_summary(summary, output)
 
 

@@ -34,7 +34,7 @@ def world_new(
     width_m, height_m = size if size else (None, None)
     text = generate_world(kind, width_m, height_m, seed)
     refuse_existing(output, force)
-    with atomic_output(output) as temporary:
+    with atomic_output(output, overwrite=force) as temporary:
         temporary.write_text(text, encoding="utf-8")
 
 

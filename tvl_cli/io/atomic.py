@@ -19,9 +19,13 @@ _HOST = socket.gethostname().replace(".", "-").replace("/", "-") or "host"
 
 
 @contextmanager
-def atomic_output(path: Path | str) -> Iterator[Path]:
+def atomic_output(path: Path | str, overwrite: bool = True) -> Iterator[Path]:
     """Yield a temporary path to write; on success it replaces `path`, on any failure
     (including Ctrl-C) it is removed and an existing `path` is left untouched.
+
+    With `overwrite` False, a `path` that appeared while the temporary file was written (a
+    second process writing the same output) is refused, not replaced: the file is put in
+    place with a hard link, which fails if the name is taken.
 
     The temporary file sits in the same directory so the rename never crosses file systems.
     """
@@ -44,10 +48,29 @@ def atomic_output(path: Path | str) -> Iterator[Path]:
         os.chmod(temporary, stat.S_IMODE(path.stat().st_mode))
     try:
         yield temporary
-        os.replace(temporary, path)
+        if overwrite:
+            os.replace(temporary, path)
+        else:
+            _link_new(temporary, path)
     except BaseException:
         temporary.unlink(missing_ok=True)
         raise
+
+
+def _link_new(temporary: Path, path: Path) -> None:
+    """Give the finished file its name only if no other file has taken it."""
+    try:
+        os.link(temporary, path)
+    except FileExistsError:
+        raise BadInput(
+            f"{path}: another process wrote it meanwhile (use --force to overwrite)"
+        ) from None
+    except OSError:  # a file system without hard links: check, then rename
+        if path.exists():
+            raise BadInput(f"{path}: already exists (use --force to overwrite)") from None
+        os.replace(temporary, path)
+        return
+    temporary.unlink()
 
 
 def _remove_abandoned_temporaries(path: Path) -> None:

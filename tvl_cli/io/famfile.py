@@ -56,9 +56,15 @@ class FamFile:
 
 
 def write_fam(
-    path: Path | str, fam: Fam, *, robot_config: RobotConfig, provenance: dict[str, Any]
+    path: Path | str,
+    fam: Fam,
+    *,
+    robot_config: RobotConfig,
+    provenance: dict[str, Any],
+    overwrite: bool = True,
 ) -> None:
-    """Write `fam` to `path` atomically: a failure leaves any existing file untouched."""
+    """Write `fam` to `path` atomically: a failure leaves any existing file untouched, and
+    without `overwrite` a file that appeared meanwhile is refused, not replaced."""
     names = tuple(t.name for t in robot_config.trajectories)
     if fam.trajectory_names != names:
         raise ValueError(f"FAM trajectories {fam.trajectory_names} are not the robot's {names}")
@@ -66,7 +72,10 @@ def write_fam(
         _check_hdf5_name(table.name, "table")
         for fam_input in table.inputs:
             _check_hdf5_name(fam_input.name, "input")
-    with atomic_output(path) as temporary, h5py.File(temporary, "w", libver=LIBVER) as f:
+    with (
+        atomic_output(path, overwrite) as temporary,
+        h5py.File(temporary, "w", libver=LIBVER) as f,
+    ):
         write_header(
             f,
             FAM_FORMAT,
