@@ -138,10 +138,15 @@ class LogWriter:
         f: h5py.File | None = None
         try:
             if created:
-                f = h5py.File(path, "x", libver=LIBVER)
-                write_header(f, LOG_FORMAT)
-            else:
-                f = open_for_appending(path, LOG_FORMAT)
+                # Made whole beside it and linked into place: a kill at any moment leaves no
+                # log or a readable empty one, never a stub every command refuses.
+                with (
+                    atomic_output(path, overwrite=False) as temporary,
+                    h5py.File(temporary, "w", libver=LIBVER) as empty,
+                ):
+                    write_header(empty, LOG_FORMAT)
+            f = open_for_appending(path, LOG_FORMAT)
+            if not created:
                 _refuse_other_robot(f, path, robot_config)
             group = _new_session(f, RobotConfig.from_dict(robot_config))
             group.attrs.update(
