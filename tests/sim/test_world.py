@@ -10,6 +10,7 @@ import pytest
 
 from tvl_cli.core.config import RobotConfig
 from tvl_cli.sim.world import (
+    CORNER_TOLERANCE_M,
     RING_MAX_SAG_M,
     StaticGeometry,
     build_space,
@@ -18,7 +19,8 @@ from tvl_cli.sim.world import (
     skin_m,
     static_geometry,
 )
-from tvl_cli.sim.worldmap import Circle, Segment, WorldMap
+from tvl_cli.sim.worldgen import generate_world
+from tvl_cli.sim.worldmap import Circle, Segment, WorldMap, parse_world
 
 
 def room(
@@ -149,3 +151,32 @@ def test_ring_chords_stay_within_the_allowed_sag() -> None:
             assert math.dist(end, (4, 4)) == pytest.approx(3.5)
         middle = (chord.a + chord.b) / 2
         assert 3.5 - math.dist(middle, (4, 4)) <= RING_MAX_SAG_M
+
+
+def _corner_sides_by_all_pairs(segments: np.ndarray) -> np.ndarray:
+    """The corner rule compared over every pair of endpoints: the obvious quadratic way."""
+    n = len(segments)
+    ends = np.concatenate([segments[:, :2], segments[:, 2:]])
+    far = np.concatenate([segments[:, 2:], segments[:, :2]])
+    owner = np.tile(np.arange(n), 2)
+    delta = segments[:, 2:] - segments[:, :2]
+    sides = np.zeros(2 * n)
+    for here in range(2 * n):
+        for there in range(2 * n):
+            same = np.all(np.abs(ends[here] - ends[there]) <= CORNER_TOLERANCE_M)
+            if sides[here] or not same or owner[here] == owner[there]:
+                continue
+            arm, own = far[there] - ends[there], delta[owner[here]]
+            cross = own[0] * arm[1] - own[1] * arm[0]
+            if abs(cross) > 1e-9 * np.hypot(*own) * np.hypot(*arm):
+                sides[here] = np.sign(cross)
+    return sides.reshape(2, n).T
+
+
+@pytest.mark.parametrize("kind", ["lab", "rooms", "corridor"])
+def test_corner_sides_match_the_all_pairs_rule(kind: str) -> None:
+    world = parse_world(generate_world(kind, None, None, 3), kind)
+    geometry = static_geometry(world)
+    expected = _corner_sides_by_all_pairs(geometry.segments)
+    assert np.array_equal(geometry.corner_sides, expected)
+    assert np.count_nonzero(expected) > 0

@@ -9,6 +9,7 @@ wall segment of radius `skin` stops the body when its true edge reaches the wall
 from __future__ import annotations
 
 import math
+from collections import defaultdict
 from dataclasses import dataclass
 
 import numpy as np
@@ -85,16 +86,31 @@ def _corner_sides(segments: np.ndarray) -> np.ndarray:
     owner = np.tile(np.arange(n), 2)  # (2n,) segment of each endpoint
     delta = segments[:, 2:] - segments[:, :2]  # (n, 2) start -> end
     sides = np.zeros(2 * n)  # (2n,) -1, 0 or +1 for each endpoint
-    same_point = np.all(np.abs(ends[:, None, :] - ends[None, :, :]) <= CORNER_TOLERANCE_M, axis=2)
-    same_point &= owner[:, None] != owner[None, :]
-    for here, there in zip(*np.nonzero(same_point), strict=True):
-        if sides[here]:
-            continue
-        arm = far[there] - ends[there]  # the other wall, leaving the corner
-        own = delta[owner[here]]
-        cross = own[0] * arm[1] - own[1] * arm[0]
-        if abs(cross) > _COLLINEAR_SINE * np.hypot(own[0], own[1]) * np.hypot(arm[0], arm[1]):
-            sides[here] = np.sign(cross)
+    # Endpoints bucketed on a grid of the tolerance, so that each is compared only with those
+    # in its own and the neighbouring buckets: memory and time grow with the walls, not their
+    # square.
+    buckets: dict[tuple[int, int], list[int]] = defaultdict(list)
+    keys = np.floor(ends / CORNER_TOLERANCE_M).astype(np.int64)  # (2n, 2)
+    for index, (kx, ky) in enumerate(keys.tolist()):
+        buckets[kx, ky].append(index)
+    for here, (kx, ky) in enumerate(keys.tolist()):
+        near = sorted(
+            there
+            for dx in (-1, 0, 1)
+            for dy in (-1, 0, 1)
+            for there in buckets.get((kx + dx, ky + dy), ())
+        )
+        for there in near:
+            if owner[there] == owner[here]:
+                continue
+            if np.any(np.abs(ends[there] - ends[here]) > CORNER_TOLERANCE_M):
+                continue
+            arm = far[there] - ends[there]  # the other wall, leaving the corner
+            own = delta[owner[here]]
+            cross = own[0] * arm[1] - own[1] * arm[0]
+            if abs(cross) > _COLLINEAR_SINE * np.hypot(own[0], own[1]) * np.hypot(*arm):
+                sides[here] = np.sign(cross)
+                break
     return np.ascontiguousarray(sides.reshape(2, n).T)  # (n, 2) [start, end]
 
 
