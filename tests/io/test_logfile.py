@@ -26,7 +26,7 @@ from tvl_cli.core.config import SINGLE, RobotConfig
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.ring import mm_to_ring, ring_to_mm
 from tvl_cli.io.famfile import write_fam
-from tvl_cli.io.logfile import MINUTE_COLUMNS
+from tvl_cli.io.loglayout import MINUTE_COLUMNS
 from tvl_cli.io.logreader import read_log
 from tvl_cli.io.schema import FormatError
 

@@ -20,7 +20,8 @@ from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_configs import fam_config_from_json
 from tvl_cli.core.training import TrainParams
 from tvl_cli.io.famfile import write_fam
-from tvl_cli.io.logfile import STATUS_FINISHED, LogWriter
+from tvl_cli.io.logfile import LogWriter
+from tvl_cli.io.loglayout import STATUS_FINISHED
 from tvl_cli.io.logreader import read_log
 from tvl_cli.sim.worldmap import load_world
 

@@ -8,7 +8,7 @@ from typing import Any
 
 from tvl_cli.core.contacts import BUMP, EVENTS, NEAR_MISS, TRAPPED
 from tvl_cli.core.errors import BadInput
-from tvl_cli.io.logfile import MINUTE_COLUMNS
+from tvl_cli.io.loglayout import MINUTE_COLUMNS
 from tvl_cli.io.logreader import LearningLog, read_log
 from tvl_cli.io.runfile import RunTrace, read_run
 from tvl_cli.io.schema import LOG_FORMAT, RUN_FORMAT, file_format

@@ -46,6 +46,18 @@ from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.io.atomic import atomic_output
 from tvl_cli.io.lock import WriterLock
+from tvl_cli.io.loglayout import (
+    COMMITTED_EPISODES,
+    COMMITTED_MINUTES,
+    EPISODE_DTYPE,
+    EXEMPLAR_DATASETS,
+    MINUTE_COLUMNS,
+    MINUTE_UNITS,
+    SESSIONS,
+    STATUS_FINISHED,
+    STATUS_RUNNING,
+    check_log_structure,
+)
 from tvl_cli.io.schema import (
     LIBVER,
     LOG_FORMAT,
@@ -56,49 +68,11 @@ from tvl_cli.io.schema import (
     write_header,
 )
 
-SESSIONS = "sessions"
-
-EPISODE_DTYPE = np.dtype(
-    [
-        ("first", "<i8"),  # index of the episode's first exemplar in the session
-        ("count", "<i4"),  # exemplars in the episode
-        ("trajectory", "i1"),
-        ("rotation", "i1"),
-        ("collided", "?"),  # ended at a collision point: labels brake to it
-        ("bumped", "?"),  # that point was a bump, not one the sonars found too near
-        ("end_time_s", "<f8"),  # simulated time at the end, from the session start
-        ("end_arc_m", "<f8"),  # arc length at the end: the collision point if collided
-    ]
-)
-MINUTE_COLUMNS = ("minute", "episodes", "collisions", "exemplars", "delta_v")
-MINUTE_UNITS = ("min", "", "", "", "m/s per control step")
-
 # Rows per chunk: about 32 KiB of sonar readings, enough for gzip to work with.
 EXEMPLAR_CHUNK_ROWS = 1024
 EPISODE_CHUNK_ROWS = 256
 MINUTE_CHUNK_ROWS = 64
 COMPRESSION: dict[str, Any] = {"compression": "gzip", "compression_opts": 4, "shuffle": True}
-
-# Session attributes counting the rows known to be whole in the file: rows past them may be
-# half written by a killed writer and are ignored.
-COMMITTED_EPISODES = "episodes_written"
-COMMITTED_MINUTES = "minutes_written"
-
-STATUS_RUNNING = "running"
-STATUS_FINISHED = "finished"
-STATUS_NOT_CLOSED = "interrupted: not closed"  # the writer died without closing the session
-
-
-# name -> (dtype, units, description) of the per-exemplar datasets, in writing order.
-EXEMPLAR_DATASETS: dict[str, tuple[str, str, str]] = {
-    "ring_mm": ("<u2", "mm", "sonar ranges S0..S15, S0 forward, numbered counter-clockwise"),
-    "pose": ("<f8", "m, m, rad", "true pose x, y, theta"),
-    "odometry": ("<f8", "m, m, rad", "odometry pose x, y, theta"),
-    "arc_m": ("<f8", "m", "distance along the arc from the episode start"),
-    "trajectory": ("i1", "", "trajectory index, in the order of robot_config trajectories"),
-    "rotation": ("i1", "sonar positions", "foveal rotation chosen, counter-clockwise"),
-    "episode": ("<i4", "", "episode index in this session"),
-}
 
 
 class LogWriter:
@@ -147,6 +121,7 @@ class LogWriter:
                     write_header(empty, LOG_FORMAT)
             f = open_for_appending(path, LOG_FORMAT)
             if not created:
+                check_log_structure(f, path)
                 _refuse_other_robot(f, path, robot_config)
             group = _new_session(f, RobotConfig.from_dict(robot_config))
             group.attrs.update(

@@ -15,13 +15,14 @@ from tvl_cli.core.config import FamConfig, RobotConfig
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.io.lock import writer_pid
-from tvl_cli.io.logfile import (
+from tvl_cli.io.loglayout import (
     COMMITTED_EPISODES,
     COMMITTED_MINUTES,
     EXEMPLAR_DATASETS,
     SESSIONS,
     STATUS_NOT_CLOSED,
     STATUS_RUNNING,
+    check_log_structure,
 )
 from tvl_cli.io.schema import (
     LOG_FORMAT,
@@ -122,6 +123,7 @@ def read_log(path: Path | str) -> LearningLog:
     no exemplars."""
     path = Path(path)
     with open_for_reading(path, LOG_FORMAT) as f:
+        check_log_structure(f, path)
         try:
             sessions = tuple(
                 _read_session(group, name, path)

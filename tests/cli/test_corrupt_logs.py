@@ -1,0 +1,71 @@
+"""Learning logs damaged after they were written: refused on opening, in one line, by both
+`tvl train` and the `tvl learn` that would append to them, and left as they were."""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+from collections.abc import Callable
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pytest
+from conftest import TVL
+from test_bad_numbers import SQUARE, assert_one_line_refusal
+
+
+@pytest.fixture(scope="module")
+def good_log(tmp_path_factory) -> Path:
+    path = tmp_path_factory.mktemp("log") / "log.h5"
+    subprocess.run([TVL, "learn", str(SQUARE), "--log", str(path), "--minutes", "1"], check=True)
+    return path
+
+
+def delete_ring(f: h5py.File) -> None:
+    del f["sessions/0000/ring_mm"]
+
+
+def sessions_as_a_dataset(f: h5py.File) -> None:
+    del f["sessions"]
+    f["sessions"] = np.zeros(3)
+
+
+def negative_episode_count(f: h5py.File) -> None:
+    table = f["sessions/0000/episodes"]
+    row = table[1]
+    row["count"] = -5
+    table[1] = row
+
+
+def float_ring(f: h5py.File) -> None:
+    group = f["sessions/0000"]
+    rings = group["ring_mm"][:].astype(np.float64)
+    rings[0, 0] = np.nan
+    del group["ring_mm"]
+    group["ring_mm"] = rings
+
+
+DAMAGE: dict[str, tuple[Callable[[h5py.File], None], str]] = {
+    "a deleted dataset": (delete_ring, "session 0000: corrupt (no ring_mm dataset)"),
+    "sessions that are not a group": (sessions_as_a_dataset, "/sessions is not a group"),
+    "a negative episode count": (negative_episode_count, "negative counts"),
+    "sonar readings as floats": (float_ring, "ring_mm holds float64"),
+}
+
+
+@pytest.mark.parametrize("case", DAMAGE)
+def test_a_damaged_log_is_refused_by_train_and_by_learn(
+    run_tvl, good_log: Path, tmp_path: Path, case: str
+) -> None:
+    damage, phrase = DAMAGE[case]
+    log = tmp_path / "log.h5"
+    shutil.copy(good_log, log)
+    with h5py.File(log, "r+") as f:
+        damage(f)
+    before = log.read_bytes()
+    assert_one_line_refusal(run_tvl("train", log, "-o", tmp_path / "fam.h5"), str(log), phrase)
+    assert not (tmp_path / "fam.h5").exists()
+    appended = run_tvl("learn", SQUARE, "--log", log, "--minutes", "0.5")
+    assert_one_line_refusal(appended, str(log), phrase)
+    assert log.read_bytes() == before
