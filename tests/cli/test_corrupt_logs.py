@@ -69,3 +69,19 @@ def test_a_damaged_log_is_refused_by_train_and_by_learn(
     appended = run_tvl("learn", SQUARE, "--log", log, "--minutes", "0.5")
     assert_one_line_refusal(appended, str(log), phrase)
     assert log.read_bytes() == before
+
+
+def test_a_run_trace_with_a_flat_pose_is_refused_not_drawn(
+    run_tvl, good_log: Path, tmp_path: Path
+) -> None:
+    fam, trace = tmp_path / "fam.h5", tmp_path / "run.h5"
+    assert run_tvl("train", good_log, "-o", fam).returncode == 0
+    made = run_tvl("run", fam, SQUARE, "--behaviour", "avoid", "--minutes", "0.2", "--log", trace)
+    assert made.returncode == 0, made.stderr
+    with h5py.File(trace, "r+") as f:
+        flat = f["pose"][:].ravel()
+        del f["pose"]
+        f["pose"] = flat
+    result = run_tvl("replay", trace, "--png", tmp_path / "path.png")
+    assert_one_line_refusal(result, str(trace), "pose is")
+    assert not (tmp_path / "path.png").exists()

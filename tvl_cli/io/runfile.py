@@ -133,6 +133,7 @@ def read_run(path: Path | str) -> RunTrace:
             )
         except OSError as error:
             raise FormatError(f"{path}: run trace is corrupt ({error})") from None
+        _check_shapes(arrays, path)
         return RunTrace(
             world_name=read_str_attr(f, "world_name", path),
             world_text=read_str_attr(f, "world_text", path),
@@ -141,3 +142,18 @@ def read_run(path: Path | str) -> RunTrace:
             arrays=arrays,
             reflex_names=reflex_names,
         )
+
+
+# Datasets with a row per step rather than a value: their rows' shapes, when fixed.
+_ROWS = {"pose": (3,), "odometry": (3,), "ring_mm": None, "velocities": None, "fast": None}
+
+
+def _check_shapes(arrays: dict[str, np.ndarray], path: Path | str) -> None:
+    """Every dataset has one entry per step, each of the shape its meaning needs."""
+    steps = len(arrays["pose"]) if arrays["pose"].ndim else 0
+    for name, values in arrays.items():
+        row = _ROWS.get(name, ())
+        wanted = 2 if name in _ROWS else 1
+        if values.ndim != wanted or len(values) != steps or (row and values.shape[1:] != row):
+            shape = "x".join(map(str, values.shape)) or "a scalar"
+            raise FormatError(f"{path}: run trace is corrupt ({name} is {shape}, {steps} steps)")
