@@ -16,6 +16,9 @@ ROOT = Path(__file__).resolve().parents[1]
 ROOM = "#######\n#.....#\n#..>..#\n#.....#\n#######\n"
 RunTvl = Callable[..., subprocess.CompletedProcess[str]]  # the run_tvl fixture
 BODY = "(the robot is a disc of radius 0.2 m)"
+WALL_USAGE = (
+    "(expected x1 y1 x2 y2 [thickness] in metres, ends at least 0.01 m apart, thickness >= 0)"
+)
 
 BAD_WORLDS = {  # name -> (file bytes, the error after the file name)
     "unknown character": (
@@ -65,26 +68,43 @@ BAD_WORLDS = {  # name -> (file bytes, the error after the file name)
     ),
     "disc outside the world": (
         ("disc: 50 50 0.2\n" + ROOM).encode(),
-        ": disc at x 50 y 50 r 0.2 is outside the world (the map is 0..1.75 x 0..1.25 m)",
+        ":1:7: disc at x 50 y 50 r 0.2 is outside the world (the map is 0..1.75 x 0..1.25 m)",
     ),
     "wall with three numbers": (
         ("wall: 0.3 0.3 1\n" + ROOM).encode(),
-        ":1:7: bad value for 'wall': '0.3 0.3 1' "
-        "(expected x1 y1 x2 y2 [thickness] in metres, two distinct ends, thickness >= 0)",
+        f":1:7: bad value for 'wall': '0.3 0.3 1' {WALL_USAGE}",
+    ),
+    "wall with a word for a number": (
+        ("; a table edge\nwall:  0.3 0.3 one 0.3\n" + ROOM).encode(),
+        f":2:8: bad value for 'wall': '0.3 0.3 one 0.3' {WALL_USAGE}",
     ),
     "wall of no length": (
         ("wall: 0.3 0.3 0.3 0.3\n" + ROOM).encode(),
-        ":1:7: bad value for 'wall': '0.3 0.3 0.3 0.3' "
-        "(expected x1 y1 x2 y2 [thickness] in metres, two distinct ends, thickness >= 0)",
+        f":1:7: bad value for 'wall': '0.3 0.3 0.3 0.3' {WALL_USAGE}",
+    ),
+    "wall of a millimetre": (
+        ("wall: 0.3 0.3 0.301 0.3\n" + ROOM).encode(),
+        f":1:7: bad value for 'wall': '0.3 0.3 0.301 0.3' {WALL_USAGE}",
     ),
     "wall of negative thickness": (
         ("wall: 0.3 0.3 1 0.3 -0.1\n" + ROOM).encode(),
-        ":1:7: bad value for 'wall': '0.3 0.3 1 0.3 -0.1' "
-        "(expected x1 y1 x2 y2 [thickness] in metres, two distinct ends, thickness >= 0)",
+        f":1:7: bad value for 'wall': '0.3 0.3 1 0.3 -0.1' {WALL_USAGE}",
+    ),
+    "wall of infinite thickness": (
+        ("wall: 0.3 0.3 1 0.3 inf\n" + ROOM).encode(),
+        f":1:7: bad value for 'wall': '0.3 0.3 1 0.3 inf' {WALL_USAGE}",
+    ),
+    "wall end not a number": (
+        ("wall: 0.3 0.3 nan 0.3\n" + ROOM).encode(),
+        f":1:7: bad value for 'wall': '0.3 0.3 nan 0.3' {WALL_USAGE}",
     ),
     "wall leaving the world": (
         ("wall: 0.3 0.3 9 0.3\n" + ROOM).encode(),
-        ":1:7: wall end outside the world (the map is 0..1.75 x 0..1.25 m)",
+        ":1:7: wall reaches outside the world (the map is 0..1.75 x 0..1.25 m)",
+    ),
+    "thick wall whose side pokes out of the world": (
+        ("cell: 0.25\nwall: 0.3 0.1 1.4 0.1 0.4\n" + ROOM).encode(),
+        ":2:7: wall reaches outside the world (the map is 0..1.75 x 0..1.25 m)",
     ),
     "start touching a header wall": (
         ("wall: 0.5 0.5 1.2 0.5 0.1\n" + ROOM).encode(),
@@ -176,3 +196,26 @@ def test_render_writes_a_png(run_tvl: RunTvl, tmp_path: Path) -> None:
     assert done.returncode == 0, done.stderr
     assert png.read_bytes().startswith(b"\x89PNG\r\n\x1a\n")
     assert run_tvl("world", "render", ROOT / "worlds" / "lab.txt", "-o", png).returncode == 2
+
+
+def test_show_json_lists_header_walls_among_the_segments(run_tvl: RunTvl, tmp_path: Path) -> None:
+    path = tmp_path / "walls.txt"
+    path.write_text("wall: 0.3 0.3 0.6 0.9\nwall: 1.2 0.3 1.2 0.9 0.1\n" + ROOM, encoding="utf-8")
+    geometry = json.loads(run_tvl("world", "show", path, "--json").stdout)
+    assert len(geometry["segments"]) == 4 + 1 + 4  # the room, the thin wall, the thick one
+    assert geometry["segments"][4] == [0.3, 0.3, 0.6, 0.9]
+    thick_xs = {round(x, 9) for segment in geometry["segments"][5:] for x in segment[::2]}
+    assert thick_xs == {1.15, 1.25}
+    summary = run_tvl("world", "show", path).stdout.splitlines()
+    assert "walls     9 segments, 0 rings" in summary
+
+
+def test_new_rooms_writes_the_seeded_world_that_check_accepts(
+    run_tvl: RunTvl, tmp_path: Path
+) -> None:
+    path = tmp_path / "rooms.txt"
+    done = run_tvl("world", "new", "rooms", "--seed", "1003", "-o", path)
+    assert done.returncode == 0, done.stderr
+    assert path.read_text(encoding="utf-8") == generate_world("rooms", None, None, 1003)
+    checked = run_tvl("world", "check", path)
+    assert (checked.returncode, checked.stdout.startswith(f"{path}: ok (")) == (0, True)

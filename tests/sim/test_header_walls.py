@@ -83,3 +83,48 @@ def test_driving_into_a_header_wall_bumps_and_never_passes_it(
     x, _, _ = sim.pose
     assert bumped
     assert x == pytest.approx(face_x - ROBOT.radius_m, abs=0.01)
+
+
+def test_a_thick_slanted_wall_is_a_closed_rectangle_turning_left() -> None:
+    sides = room_with("2 1 5 3 0.3").segments[-4:]
+    lengths = [math.hypot(x2 - x1, y2 - y1) for x1, y1, x2, y2 in sides]
+    assert lengths == pytest.approx([math.sqrt(13), 0.3, math.sqrt(13), 0.3])
+    for (ax, ay, bx, by), (cx, cy, dx, dy) in zip(sides, sides[1:] + sides[:1], strict=True):
+        assert (bx, by) == pytest.approx((cx, cy))
+        assert (bx - ax) * (dy - cy) - (by - ay) * (dx - cx) > 0  # the solid is on the left
+
+
+def test_a_thick_wall_seen_corner_on_returns_no_echo() -> None:
+    # Its faces at 32.5-57.5 degrees to every ray: no specular echo, and a convex corner
+    # sends nothing back either.
+    pose = (3.3, 3.5, -math.pi / 4)
+    assert s0_reading(THICK, pose) == QUIET.max_range_m
+    ideal = SonarRing(SonarConfig(ideal=True), ROBOT.radius_m)
+    seen = ideal.read(static_geometry(THICK), pose, np.random.default_rng(0))[0]
+    assert seen == pytest.approx(math.hypot(0.5, 0.5) - ROBOT.radius_m, abs=0.06)
+
+
+# Two thin edges meeting at (5, 1): the quarter x > 5, y > 1 is inside the corner.
+THIN_L = room_with("5 1 6 1", "5 1 5 2")
+
+
+def test_two_thin_walls_meeting_echo_as_a_corner_from_inside_only() -> None:
+    inside = s0_reading(THIN_L, (5.5, 1.5, -3 * math.pi / 4))
+    assert inside == pytest.approx(math.hypot(0.5, 0.5) - ROBOT.radius_m, abs=0.01)
+    assert s0_reading(THIN_L, (4.5, 0.5, math.pi / 4)) == QUIET.max_range_m
+
+
+@pytest.mark.parametrize("thickness", [0.0, 0.2])
+def test_driving_into_a_slanted_header_wall_bumps_and_stays_on_its_side(thickness: float) -> None:
+    # The wall y = x - 2 runs from the floor's bottom edge to its top edge: no way round it.
+    world = room_with(f"2.25 0.25 5.75 3.75 {thickness:g}")
+    sim = Simulator(world, ROBOT, np.random.default_rng(0))
+    sim.place(2.0, 2.0, 0.0)
+    bumped, nearest = False, math.inf
+    for _ in range(150):
+        sim.step(Command.follow(T0, T0.v_max_mps))
+        bumped = bumped or sim.bumped
+        x, y, _ = sim.pose
+        nearest = min(nearest, (y - x + 2.0) / math.sqrt(2.0))  # metres from the wall's line
+    assert bumped
+    assert nearest == pytest.approx(thickness / 2 + ROBOT.radius_m, abs=0.01)

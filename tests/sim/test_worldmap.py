@@ -166,6 +166,22 @@ def test_goal_inside_a_wall_is_refused() -> None:
         parse_world("goal: 0.1 0.1\n" + ROOM, "g.txt")
 
 
+@pytest.mark.parametrize(
+    ("header", "error"),
+    [
+        ("goal: 9 9", "goal x 9 y 9 is outside the world"),
+        ("disc: 9 9 0.1", "disc at x 9 y 9 r 0.1 is outside the world"),
+        ("wall: 0.3 0.3 9 0.3", "wall reaches outside the world"),
+    ],
+)
+def test_header_errors_name_line_and_column_even_when_the_file_name_has_a_colon(
+    header: str, error: str
+) -> None:
+    with pytest.raises(WorldMapError) as refused:
+        parse_world(f"{header}\n{ROOM}", "at 10:30.txt")
+    assert str(refused.value).startswith(f"at 10:30.txt:1:7: {error}")
+
+
 def test_load_world_reads_a_real_file(tmp_path: Path) -> None:
     path = tmp_path / "room.txt"
     path.write_bytes(

@@ -25,7 +25,13 @@ def world() -> None:
 @click.argument("kind", type=click.Choice(list(KINDS)))
 @click.option("-o", "--output", type=click.Path(path_type=Path), required=True, help="World file.")
 @click.option("--size", type=(float, float), default=None, metavar="W H", help="Metres.")
-@click.option("--seed", type=SEED, default=1, show_default=True, help="Layout seed (lab, rooms).")
+@click.option(
+    "--seed",
+    type=SEED,
+    default=1,
+    show_default=True,
+    help=f"Layout seed ({', '.join(name for name, kind in KINDS.items() if kind.seeded)}).",
+)
 @click.option("--force", is_flag=True, help="Overwrite OUTPUT.")
 def world_new(
     kind: str, output: Path, size: tuple[float, float] | None, seed: int, force: bool

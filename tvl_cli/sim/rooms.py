@@ -40,6 +40,34 @@ GOAL_CLEARANCE_M = 0.3
 # straight one (in grid steps); else it is anywhere in the farthest third of the floor.
 GOAL_MIN_DISTANCE_M = 2.0
 GOAL_MAX_DETOUR = 1.3
+# Cell centres whose clearance is computed at once: the query holds a few (points, walls)
+# arrays, which for every cell of a 100 m hall at once would take gigabytes.
+CLEARANCE_BATCH = 4096
+PIECES = ("pillar", "block", "L wall", "angled wall")
+
+
+@dataclass(frozen=True, slots=True)
+class Doorway:
+    """A gap the generator left in a wall it drew, in cells of the map."""
+
+    down_column: bool  # the wall runs down a column (else along a row)
+    line: int  # the wall's column, or its row
+    first: int  # the first free cell along the wall: a row, or a column
+    cells: int
+
+    @property
+    def width_m(self) -> float:
+        return self.cells * CELL_M
+
+
+@dataclass(frozen=True, slots=True)
+class RoomsPlan:
+    """What the generator drew, so that a world can be checked against what was meant."""
+
+    rooms: int
+    corridor_widths_m: tuple[float, ...]
+    doorways: tuple[Doorway, ...]
+    furniture: tuple[str, ...]  # one of PIECES for each piece placed
 
 
 @dataclass(frozen=True, slots=True)
@@ -60,19 +88,35 @@ class _Region:
         return self.c1 - self.c0 + 1
 
 
-def layout_rooms(canvas: Canvas, rng: np.random.Generator) -> None:
+def layout_rooms(canvas: Canvas, rng: np.random.Generator) -> RoomsPlan:
+    """Draw rooms, furniture, the start and a goal on the canvas; the record of what was drawn."""
     solid = canvas.grid == "#"  # (rows, cols) cells no piece may be put on or next to
-    regions = _cut(canvas, rng, _Region(1, 1, canvas.rows - 2, canvas.cols - 2), solid, 0)
-    for region in regions:
-        _furnish(canvas, rng, region, solid)
+    doorways: list[Doorway] = []
+    corridors: list[int] = []  # widths in cells
+    floor = _Region(1, 1, canvas.rows - 2, canvas.cols - 2)
+    regions = _cut(canvas, rng, floor, solid, 0, doorways, corridors)
+    furniture = [piece for region in regions for piece in _furnish(canvas, rng, region, solid)]
     _place_start(canvas, rng, solid)
     _place_goal(canvas, rng)
+    return RoomsPlan(
+        rooms=len(regions),
+        corridor_widths_m=tuple(cells * CELL_M for cells in corridors),
+        doorways=tuple(doorways),
+        furniture=tuple(furniture),
+    )
 
 
 def _cut(
-    canvas: Canvas, rng: np.random.Generator, region: _Region, solid: np.ndarray, depth: int
+    canvas: Canvas,
+    rng: np.random.Generator,
+    region: _Region,
+    solid: np.ndarray,
+    depth: int,
+    doorways: list[Doorway],
+    corridors: list[int],
 ) -> list[_Region]:
-    """Cut a region into rooms; the rooms, the corridors left out."""
+    """Cut a region into rooms; the rooms, the corridors left out (but added to `corridors`,
+    as every doorway drawn is to `doorways`)."""
     if depth == MAX_CUTS_DEEP or (depth > 0 and rng.random() < 0.25):
         return [region]
     across = region.cols >= region.rows  # a wall down a column when the room is wide
@@ -90,8 +134,9 @@ def _cut(
             break
     else:
         return [region]
-    for line in lines:
-        _draw_wall(canvas, rng, region, line, across, solid)
+    doorways += [_draw_wall(canvas, rng, region, line, across, solid) for line in lines]
+    if corridor:
+        corridors.append(corridor)
     last = lines[-1]
     if across:
         before = _Region(region.r0, region.c0, region.r1, first - 1)
@@ -99,7 +144,9 @@ def _cut(
     else:
         before = _Region(region.r0, region.c0, first - 1, region.c1)
         after = _Region(last + 1, region.c0, region.r1, region.c1)
-    return _cut(canvas, rng, before, solid, depth + 1) + _cut(canvas, rng, after, solid, depth + 1)
+    return _cut(canvas, rng, before, solid, depth + 1, doorways, corridors) + _cut(
+        canvas, rng, after, solid, depth + 1, doorways, corridors
+    )
 
 
 def _wall_fits(region: _Region, line: int, across: bool, solid: np.ndarray) -> bool:
@@ -116,7 +163,7 @@ def _draw_wall(
     line: int,
     across: bool,
     solid: np.ndarray,
-) -> None:
+) -> Doorway:
     """A one-cell wall across the region with a doorway, not at either end."""
     length = region.rows if across else region.cols
     door = int(rng.choice(DOOR_CELLS))
@@ -131,20 +178,28 @@ def _draw_wall(
         cols = np.arange(region.c0, region.c1 + 1)
         canvas.grid[line, cols[cells]] = "#"
         solid[line, cols[cells]] = True
+    return Doorway(across, line, (region.r0 if across else region.c0) + at, door)
 
 
-def _furnish(canvas: Canvas, rng: np.random.Generator, room: _Region, solid: np.ndarray) -> None:
-    """Up to three pieces, each kept KEEP_CLEAR cells from the walls and from each other."""
+def _furnish(
+    canvas: Canvas, rng: np.random.Generator, room: _Region, solid: np.ndarray
+) -> list[str]:
+    """Up to three pieces, each kept KEEP_CLEAR cells from the walls and from each other; the
+    names of those that found room."""
+    placed = []
     for _ in range(int(rng.integers(0, 4))):
         piece = int(rng.integers(4))
         if piece == 0:
-            _pillar(canvas, rng, room, solid)
+            fits = _pillar(canvas, rng, room, solid)
         elif piece == 1:
-            _footprint(canvas, rng, room, solid, _block(rng))
+            fits = _footprint(canvas, rng, room, solid, _block(rng))
         elif piece == 2:
-            _footprint(canvas, rng, room, solid, _l_wall(rng))
+            fits = _footprint(canvas, rng, room, solid, _l_wall(rng))
         else:
-            _angled_wall(canvas, rng, room, solid)
+            fits = _angled_wall(canvas, rng, room, solid)
+        if fits:
+            placed.append(PIECES[piece])
+    return placed
 
 
 def _spot(
@@ -165,13 +220,15 @@ def _spot(
 
 def _footprint(
     canvas: Canvas, rng: np.random.Generator, room: _Region, solid: np.ndarray, shape: np.ndarray
-) -> None:
+) -> bool:
     spot = _spot(rng, room, solid, *shape.shape)
-    if spot is not None:
-        r, c = spot
-        h, w = shape.shape
-        canvas.grid[r : r + h, c : c + w][shape] = "#"
-        solid[r : r + h, c : c + w] = True
+    if spot is None:
+        return False
+    r, c = spot
+    h, w = shape.shape
+    canvas.grid[r : r + h, c : c + w][shape] = "#"
+    solid[r : r + h, c : c + w] = True
+    return True
 
 
 def _block(rng: np.random.Generator) -> np.ndarray:
@@ -188,19 +245,21 @@ def _l_wall(rng: np.random.Generator) -> np.ndarray:
     return np.rot90(shape, int(rng.integers(4)))
 
 
-def _pillar(canvas: Canvas, rng: np.random.Generator, room: _Region, solid: np.ndarray) -> None:
+def _pillar(canvas: Canvas, rng: np.random.Generator, room: _Region, solid: np.ndarray) -> bool:
     radius_m = float(rng.choice(PILLAR_RADII_M))
     cells = 1 + 2 * math.ceil(radius_m / CELL_M - 0.5)  # an odd square covering the disc
     spot = _spot(rng, room, solid, cells, cells)
-    if spot is not None:
-        r, c = spot
-        canvas.disc(*canvas.centre_m(r + cells // 2, c + cells // 2), radius_m)
-        solid[r : r + cells, c : c + cells] = True
+    if spot is None:
+        return False
+    r, c = spot
+    canvas.disc(*canvas.centre_m(r + cells // 2, c + cells // 2), radius_m)
+    solid[r : r + cells, c : c + cells] = True
+    return True
 
 
 def _angled_wall(
     canvas: Canvas, rng: np.random.Generator, room: _Region, solid: np.ndarray
-) -> None:
+) -> bool:
     """A straight wall 0.75 to 1.5 m long at 15 to 75 degrees off the grid, thin like a table
     edge or 0.1 m thick, inside a square of free floor."""
     length_m = float(rng.uniform(0.75, 1.5))
@@ -208,7 +267,7 @@ def _angled_wall(
     cells = math.ceil(length_m / CELL_M)
     spot = _spot(rng, room, solid, cells, cells)
     if spot is None:
-        return
+        return False
     r, c = spot
     x0, y0 = canvas.centre_m(r + cells - 1, c)  # bottom-left cell of the square
     cx, cy = x0 + (cells - 1) * CELL_M / 2, y0 + (cells - 1) * CELL_M / 2
@@ -218,6 +277,7 @@ def _angled_wall(
         f"wall: {cx - dx:.3f} {cy - dy:.3f} {cx + dx:.3f} {cy + dy:.3f} {thickness:g}"
     )
     solid[r : r + cells, c : c + cells] = True
+    return True
 
 
 def _place_start(canvas: Canvas, rng: np.random.Generator, solid: np.ndarray) -> None:
@@ -237,7 +297,13 @@ def _place_goal(canvas: Canvas, rng: np.random.Generator) -> None:
     world = parse_world(canvas.text("rooms", "", ""), "<rooms>")
     rows, cols = canvas.grid.shape
     centres = np.array([canvas.centre_m(r, c) for r in range(rows) for c in range(cols)])
-    clearance = clearances_m(static_geometry(world), centres, RobotConfig().radius_m)
+    geometry, radius_m = static_geometry(world), RobotConfig().radius_m
+    clearance = np.concatenate(
+        [
+            clearances_m(geometry, centres[i : i + CLEARANCE_BATCH], radius_m)
+            for i in range(0, len(centres), CLEARANCE_BATCH)
+        ]
+    )  # (rows * cols,) metres
     passable = (clearance >= PATH_CLEARANCE_M).reshape(rows, cols)
     start = tuple(int(i) for i in np.argwhere(np.isin(canvas.grid, list(">^<v")))[0])
     steps = np.full((rows, cols), -1)

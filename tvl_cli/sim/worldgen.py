@@ -165,7 +165,7 @@ class Kind:
     about: str
     default_size_m: tuple[float, float]
     min_size_m: tuple[float, float]
-    layout: Callable[[Canvas, np.random.Generator], None]
+    layout: Callable[[Canvas, np.random.Generator], object]  # returns its record, if it keeps one
     seeded: bool = False  # only seeded kinds draw from the generator
 
 
@@ -190,6 +190,14 @@ KINDS: dict[str, Kind] = {
 
 def generate_world(kind: str, width_m: float | None, height_m: float | None, seed: int) -> str:
     """The text of a world file of KIND (sizes in metres, rounded to whole cells)."""
+    return draw_world(kind, width_m, height_m, seed)[0]
+
+
+def draw_world(
+    kind: str, width_m: float | None, height_m: float | None, seed: int
+) -> tuple[str, object]:
+    """The text of a world file of KIND, and the layout's own record of what it drew (None
+    for kinds that keep none): a rooms world's RoomsPlan."""
     if kind not in KINDS:
         raise BadInput(f"unknown world kind {kind!r} (choose from {', '.join(KINDS)})")
     spec = KINDS[kind]
@@ -208,14 +216,14 @@ def generate_world(kind: str, width_m: float | None, height_m: float | None, see
     error = ""
     for _ in range(ATTEMPTS if spec.seeded else 1):
         canvas = Canvas(cols, rows)
-        spec.layout(canvas, rng)
-        text = canvas.text(kind, spec.about, command)
         try:
+            record = spec.layout(canvas, rng)
+            text = canvas.text(kind, spec.about, command)
             parse_world(text, f"<{kind}>")
-        except WorldMapError as problem:  # a random layout may box the start in: draw again
+        except WorldMapError as problem:  # a layout may box its start or goal in: draw again
             error = str(problem)
             continue
-        return text
+        return text, record
     raise BadInput(f"cannot make a {kind} world of {width_m:g} x {height_m:g} m ({error})")
 
 

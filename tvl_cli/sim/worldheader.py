@@ -34,7 +34,12 @@ _NUMBERS = {  # key -> (how many numbers, what they are); the last must be posit
     "ring": (3, "x y r in metres, r > 0"),
     "goal": (2, "x y in metres"),
 }
-_WALL_USAGE = "x1 y1 x2 y2 [thickness] in metres, two distinct ends, thickness >= 0"
+# As fine as the finest map: a shorter wall is a slip of the pen, not a shape a sonar could
+# tell from a point.
+MIN_WALL_M = MIN_CELL_M
+_WALL_USAGE = (
+    f"x1 y1 x2 y2 [thickness] in metres, ends at least {MIN_WALL_M:g} m apart, thickness >= 0"
+)
 
 
 @dataclass(frozen=True, slots=True)
@@ -50,7 +55,7 @@ class Wall:
 
     def outline(self) -> tuple[Segment, ...]:
         """The segments the robot meets: the line itself when thin, else the four sides of
-        the rectangle, counter-clockwise so that its corners read as convex."""
+        the rectangle, counter-clockwise: the solid on their left, as on the map's outline."""
         if self.thickness_m == 0.0:
             return ((self.x1, self.y1, self.x2, self.y2),)
         length = math.hypot(self.x2 - self.x1, self.y2 - self.y1)
@@ -75,14 +80,15 @@ class Wall:
 
 @dataclass(slots=True)
 class Header:
-    """Header values as read, with the line of each one-off key to name a duplicate."""
+    """Header values as read, with the line of each one-off key to name a duplicate; `where`
+    is the "file:line:column" of a value, for the checks that need the whole map."""
 
     seen: dict[str, int] = field(default_factory=dict)
     name: str | None = None
     cell_m: float = DEFAULT_CELL_M
-    discs: list[Circle] = field(default_factory=list)
+    discs: list[tuple[float, float, float, str]] = field(default_factory=list)  # x, y, r, where
     rings: list[Circle] = field(default_factory=list)
-    goals: list[tuple[float, float, str]] = field(default_factory=list)  # x, y, "line:col"
+    goals: list[tuple[float, float, str]] = field(default_factory=list)  # x, y, where
     walls: list[Wall] = field(default_factory=list)
 
 
@@ -118,11 +124,11 @@ def read_header(header: Header, match: re.Match[str], where: str, number: int) -
         if key == "cell":
             header.cell_m = numbers[0]
         elif key == "goal":
-            header.goals.append((numbers[0], numbers[1], value_at.split(":", 1)[1]))
+            header.goals.append((numbers[0], numbers[1], value_at))
+        elif key == "disc":
+            header.discs.append((numbers[0], numbers[1], numbers[2], value_at))
         else:
-            (header.discs if key == "disc" else header.rings).append(
-                (numbers[0], numbers[1], numbers[2])
-            )
+            header.rings.append((numbers[0], numbers[1], numbers[2]))
 
 
 def _floats(value: str) -> tuple[float, ...]:
@@ -150,7 +156,11 @@ def _wall(value: str, value_at: str) -> Wall:
     numbers = _floats(value)
     if len(numbers) == 4:
         numbers += (0.0,)
-    if len(numbers) != 5 or numbers[4] < 0 or numbers[:2] == numbers[2:4]:
+    if (
+        len(numbers) != 5
+        or numbers[4] < 0
+        or math.hypot(numbers[2] - numbers[0], numbers[3] - numbers[1]) < MIN_WALL_M
+    ):
         raise WorldMapError(f"{value_at}: bad value for 'wall': {value!r} (expected {_WALL_USAGE})")
     x1, y1, x2, y2, thickness = numbers
     return Wall(x1, y1, x2, y2, thickness, value_at)

@@ -154,7 +154,7 @@ def _split(text: str, source: str) -> tuple[_Grid, Header]:
 def _build(grid: _Grid, header: Header, text: str, source: str) -> WorldMap:
     starts: list[tuple[int, int]] = []
     pillars: list[Circle] = []
-    goals = [(x, y, f"{source}:{where}") for x, y, where in header.goals]
+    goals = list(header.goals)
     half = grid.cell_m / 2
     for r, row in enumerate(grid.rows):
         for c, char in enumerate(row):
@@ -179,9 +179,9 @@ def _build(grid: _Grid, header: Header, text: str, source: str) -> WorldMap:
     if not starts:
         raise WorldMapError(f"{source}: no start (put one of > < ^ v in the map)")
     sr, sc = starts[0]
-    discs = (*header.discs, *pillars)
+    discs = (*((x, y, r) for x, y, r, _ in header.discs), *pillars)
     width_m, height_m = grid.width_m, grid.height_m
-    _check_inside(header, width_m, height_m, source)
+    _check_inside(header, width_m, height_m)
     sx, sy = grid.centre(sr, sc)
     start_at = f"{source}:{grid.where(sr, sc)}"
     _check_start_clear(grid, sr, sc, discs, header, start_at)
@@ -213,21 +213,23 @@ def _distance_to_cell(grid: _Grid, x: float, y: float, r: int, c: int) -> float:
     return math.hypot(max(abs(x - cx) - half, 0.0), max(abs(y - cy) - half, 0.0))
 
 
-def _check_inside(header: Header, width_m: float, height_m: float, source: str) -> None:
+def _check_inside(header: Header, width_m: float, height_m: float) -> None:
     """Header walls and pillars must stand within the map's extent: the grid encloses the
-    robot's world, and nothing outside it could ever be met."""
+    robot's world, and nothing outside it could ever be met. A thick wall's corners count,
+    not only its ends."""
 
     def inside(x: float, y: float) -> bool:
         return 0.0 <= x <= width_m and 0.0 <= y <= height_m
 
     extent = f"(the map is 0..{width_m:g} x 0..{height_m:g} m)"
     for wall in header.walls:
-        if not (inside(wall.x1, wall.y1) and inside(wall.x2, wall.y2)):
-            raise WorldMapError(f"{wall.where}: wall end outside the world {extent}")
-    for x, y, r in header.discs:
+        ends = [end for segment in wall.outline() for end in (segment[:2], segment[2:])]
+        if not all(inside(x, y) for x, y in ends):
+            raise WorldMapError(f"{wall.where}: wall reaches outside the world {extent}")
+    for x, y, r, where in header.discs:
         if not inside(x, y):
             raise WorldMapError(
-                f"{source}: disc at x {x:g} y {y:g} r {r:g} is outside the world {extent}"
+                f"{where}: disc at x {x:g} y {y:g} r {r:g} is outside the world {extent}"
             )
 
 
