@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import errno
 import importlib
+import os
+import re
 import sys
 
 import click
@@ -54,6 +56,8 @@ COMMANDS: dict[str, tuple[str, str, str]] = {
 # Failures of the machine rather than of what the user typed: no space, no memory, a broken
 # or read-only disk.
 ENVIRONMENT_ERRNOS = frozenset({errno.ENOSPC, errno.EDQUOT, errno.EIO, errno.ENOMEM, errno.EROFS})
+# Of those, the ones that stop a write part way: no space, over quota, over the size limit.
+WRITE_ERRNOS = frozenset({errno.ENOSPC, errno.EDQUOT, errno.EFBIG})
 
 
 class TvlGroup(click.Group):
@@ -84,11 +88,20 @@ class TvlGroup(click.Group):
                 raise
             click.echo(f"tvl: error: {error}", err=True)
             sys.exit(2)
-        except OSError as error:
-            # What the system refused outside any check of ours: the machine's fault (exit 1),
-            # or else a path the user named (exit 2).
+        except (OSError, RuntimeError) as error:
             if ctx.obj and ctx.obj.get("debug"):
                 raise
+            refused = _refused_write(error)
+            if refused:
+                # HDF5 cannot close a file it failed to write, and crashes trying at exit: say
+                # so and leave now. What was committed stays readable, as after a kill.
+                click.echo(f"tvl: error: {_file_of(error)}{refused}", err=True)
+                sys.stderr.flush()
+                os._exit(1)
+            if not isinstance(error, OSError):
+                raise
+            # What the system refused outside any check of ours: the machine's fault (exit 1),
+            # or else a path the user named (exit 2).
             where = f"{error.filename}: " if error.filename else ""
             click.echo(f"tvl: error: {where}{error.strerror or error}", err=True)
             sys.exit(1 if error.errno in ENVIRONMENT_ERRNOS else 2)
@@ -98,6 +111,26 @@ class TvlGroup(click.Group):
             message = " ".join(error.format_message().split())  # click lists choices on lines
             click.echo(f"tvl: error:{command}: {message}", err=True)
             sys.exit(2)
+
+
+def _refused_write(error: BaseException) -> str | None:
+    """Why the machine refused a write (no space, over quota, over the file size limit), as
+    the OS or HDF5 (inside its own message) says it; None for any other error."""
+    for cause in (error, error.__cause__, error.__context__):
+        if isinstance(cause, OSError) and cause.errno in WRITE_ERRNOS:
+            return os.strerror(cause.errno)
+        found = re.search(r"errno = (\d+)", str(cause)) if cause is not None else None
+        if found and int(found.group(1)) in WRITE_ERRNOS:
+            return os.strerror(int(found.group(1)))
+    return None
+
+
+def _file_of(error: BaseException) -> str:
+    """The file named in the error, as a prefix; HDF5 gives it as "filename = '...'"."""
+    if isinstance(error, OSError) and error.filename:
+        return f"{error.filename}: "
+    named = re.search(r"filename = '([^']*)'", str(error))
+    return f"{named.group(1)}: " if named else ""
 
 
 @click.group(cls=TvlGroup)

@@ -27,11 +27,10 @@ import numpy as np
 from tvl_cli.core.config import FamConfig, FamTable, RobotConfig
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
-from tvl_cli.io.atomic import atomic_output
 from tvl_cli.io.schema import (
     FAM_FORMAT,
-    LIBVER,
     FormatError,
+    hdf5_output,
     open_for_reading,
     read_json_attr,
     read_str_attr,
@@ -72,10 +71,7 @@ def write_fam(
         _check_hdf5_name(table.name, "table")
         for fam_input in table.inputs:
             _check_hdf5_name(fam_input.name, "input")
-    with (
-        atomic_output(path, overwrite) as temporary,
-        h5py.File(temporary, "w", libver=LIBVER) as f,
-    ):
+    with hdf5_output(path, overwrite) as f:
         write_header(
             f,
             FAM_FORMAT,

@@ -61,6 +61,7 @@ from tvl_cli.io.loglayout import (
 from tvl_cli.io.schema import (
     LIBVER,
     LOG_FORMAT,
+    hdf5_output,
     open_for_appending,
     read_json_attr,
     to_json,
@@ -320,11 +321,7 @@ def _new_session(f: h5py.File, robot: RobotConfig) -> h5py.Group:
 def _compress(path: Path) -> None:
     """Rewrite the log with every session's datasets gzip-compressed, then rename it into
     place; sessions already compressed are copied chunk for chunk, not recompressed."""
-    with (
-        h5py.File(path, "r") as source,
-        atomic_output(path) as temporary,
-        h5py.File(temporary, "w", libver=LIBVER) as target,
-    ):
+    with h5py.File(path, "r") as source, hdf5_output(path) as target:
         target.attrs.update(source.attrs)
         sessions = target.create_group(SESSIONS)
         for name, group in source[SESSIONS].items():

@@ -29,15 +29,13 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import h5py
 import numpy as np
 
 from tvl_cli.core.contacts import EVENTS
-from tvl_cli.io.atomic import atomic_output
 from tvl_cli.io.schema import (
-    LIBVER,
     RUN_FORMAT,
     FormatError,
+    hdf5_output,
     open_for_reading,
     read_json_attr,
     read_str_attr,
@@ -105,7 +103,7 @@ def write_run(
     reflex_names: tuple[str, ...],
 ) -> None:
     """Write a whole run trace atomically; `arrays` holds every dataset above, by name."""
-    with atomic_output(path) as temporary, h5py.File(temporary, "w", libver=LIBVER) as f:
+    with hdf5_output(path) as f:
         write_header(
             f, RUN_FORMAT, parameters=parameters, robot_config=robot_config, metrics=metrics
         )

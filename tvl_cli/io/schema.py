@@ -7,7 +7,10 @@ so a reader can refuse another format or a newer version by name instead of misr
 from __future__ import annotations
 
 import errno
+import io
 import json
+from collections.abc import Iterator
+from contextlib import contextmanager
 from datetime import datetime, timezone
 from pathlib import Path
 from typing import Any
@@ -16,6 +19,7 @@ import h5py
 
 from tvl_cli import __version__
 from tvl_cli.core.errors import BadInput
+from tvl_cli.io.atomic import atomic_output
 from tvl_cli.io.lock import writer_pid
 
 LOG_FORMAT = "tvl-log"
@@ -193,3 +197,20 @@ def _format_of(f: h5py.File, path: Path | str) -> str:
 
 def _is_integer(value: Any) -> bool:
     return hasattr(value, "__index__")
+
+
+@contextmanager
+def hdf5_output(path: Path | str, overwrite: bool = True) -> Iterator[h5py.File]:
+    """An HDF5 file built in memory, then written to `path` whole through `atomic_output`.
+
+    HDF5 cannot close a file it failed to write and crashes trying: a full disk must fail in
+    a plain write instead, which raises OSError (ENOSPC) and leaves no temporary file.
+    """
+    image = io.BytesIO()
+    with h5py.File(image, "w", libver=LIBVER) as f:
+        yield f
+    with atomic_output(path, overwrite) as temporary:
+        try:
+            temporary.write_bytes(image.getbuffer())
+        except OSError as error:
+            raise OSError(error.errno, error.strerror, str(path)) from None
