@@ -1,7 +1,9 @@
-"""`tvl learn` killed as it creates a new log: what it leaves is no log or a readable one."""
+"""`tvl learn` killed at any moment, from the log's creation to its closing compression:
+what it leaves is no log or a readable one, and the next write clears any leftover."""
 
 from __future__ import annotations
 
+import random
 import signal
 import subprocess
 import time
@@ -10,6 +12,9 @@ from pathlib import Path
 import h5py
 from conftest import TVL
 from test_bad_numbers import SQUARE
+
+from tvl_cli.core.errors import BadInput
+from tvl_cli.io.logreader import read_log
 
 
 def test_a_kill_as_the_log_appears_leaves_a_log_the_next_learn_continues(
@@ -32,3 +37,30 @@ def test_a_kill_as_the_log_appears_leaves_a_log_the_next_learn_continues(
             assert f.attrs["format"] == "tvl-log"
         again = run_tvl("learn", SQUARE, "--log", log, "--minutes", "0.5")
         assert again.returncode == 0, again.stderr
+
+
+def test_kills_at_any_moment_leave_a_readable_log_and_no_leftovers_after_the_next_write(
+    run_tvl, tmp_path: Path
+) -> None:
+    # Delays from just after start-up to past the end of learning, when the log is being
+    # compressed and renamed into place; drawn once, from a fixed seed.
+    delays = random.Random(7).sample([0.6, 0.8, 1.0, 1.2, 1.4, 1.6, 1.8, 2.0, 2.3], 6)
+    for attempt, delay in enumerate(delays):
+        log = tmp_path / f"log{attempt}.h5"
+        process = subprocess.Popen(
+            [TVL, "learn", str(SQUARE), "--log", str(log), "--minutes", "3"],
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+        )
+        time.sleep(delay)
+        process.send_signal(signal.SIGKILL)
+        process.wait()
+        if log.exists():
+            try:
+                read_log(log)
+            except BadInput as refusal:  # killed before any episode was committed
+                assert "no exemplars" in str(refusal)
+        again = run_tvl("learn", SQUARE, "--log", log, "--minutes", "0.5")
+        assert again.returncode == 0, again.stderr
+        assert read_log(log).exemplar_count > 0
+        assert [p.name for p in tmp_path.iterdir() if p.name.startswith(f".{log.name}")] == []
