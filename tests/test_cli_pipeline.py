@@ -287,3 +287,17 @@ def test_every_episode_is_counted_in_a_recorded_minute(run_tvl, tmp_path):
     replayed = json.loads(run_tvl("replay", log, "--json").stdout)
     episodes = sum(int(row["episodes"]) for row in replayed["minutes"])
     assert episodes == json.loads(summary.stdout)["episodes"]
+
+
+def test_a_trace_longer_than_a_chunk_holds_every_step_once(run_tvl, learnt, tmp_path):
+    """A trace is written a chunk of steps at a time: the joins lose and repeat nothing."""
+    trace = tmp_path / "run.h5"
+    args = ["run", learnt["online"], SQUARE, "--behaviour", "avoid", "--minutes", "2.5"]
+    result = run_tvl(*args, "--log", trace, "--json")
+    assert result.returncode == 0, result.stderr
+    metrics = json.loads(result.stdout)
+    with h5py.File(trace) as f:
+        assert f["pose"].chunks[0] < len(f["pose"]) == 1500  # more than one chunk
+        assert {len(f[name]) for name in f} == {1500}
+        xy = f["pose"][:, :2]
+    assert np.hypot(*np.diff(xy, axis=0).T).sum() == pytest.approx(metrics["distance_m"], abs=0.05)

@@ -1,6 +1,12 @@
-"""A run's steps as columns: what a run trace (io.runfile) stores, one row per control step."""
+"""A run's steps as columns: what a run trace (io.runfile) stores, one row per control step.
+
+Steps are turned into columns a chunk at a time and handed to sinks (a trace file being
+written, the path of a picture), so a run of any length holds at most one chunk of steps.
+"""
 
 from __future__ import annotations
+
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
@@ -10,52 +16,83 @@ from tvl_cli.core.ring import ring_to_mm
 
 NOT_READ_MM = 0  # ring_mm of a step where no one read the sonars: below any real range
 NO_REFLEX = -1
+# Steps turned into columns at once: about a simulated minute, a few hundred kB of Python
+# objects; large enough that a trace file gets few, well-compressed writes.
+CHUNK_STEPS = 1024
+
+Columns = dict[str, np.ndarray]
+ColumnSink = Callable[[Columns], None]
 
 
 class TraceRecorder:
-    """Collects steps (a drive loop's on_step) and hands them over as arrays."""
+    """Collects steps (a drive loop's on_step) and hands them to `sinks` as columns, a chunk
+    at a time; `close()` hands over the last, partial chunk (possibly empty)."""
 
-    def __init__(self, reflex_names: tuple[str, ...], sonar_count: int) -> None:
+    def __init__(
+        self, reflex_names: tuple[str, ...], sonar_count: int, sinks: Sequence[ColumnSink]
+    ) -> None:
         self.reflex_names = reflex_names
         self._sonars = sonar_count
+        self._sinks = tuple(sinks)
         self._rows: list[Step] = []
 
     def __call__(self, step: Step) -> None:
         self._rows.append(step)
+        if len(self._rows) == CHUNK_STEPS:
+            self._hand_over()
 
-    def arrays(self) -> dict[str, np.ndarray]:
-        """The columns, named as io.runfile stores them."""
-        rows = self._rows
-        n = len(rows)
-        not_read = np.full(self._sonars, np.nan)
-        rings = np.array([s.ring_m if s.ring_m is not None else not_read for s in rows])
-        ring_mm = ring_to_mm(np.nan_to_num(rings.reshape(n, self._sonars), nan=NOT_READ_MM))
-        no_view = np.full(7, np.nan)
-        no_fast = np.zeros(7, dtype=bool)
-        reflex_index = {name: i for i, name in enumerate(self.reflex_names)}
-        bits = {name: 1 << i for i, name in enumerate(EVENTS)}
-        return {
-            "pose": np.array([s.pose for s in rows], dtype=np.float64).reshape(n, 3),
-            "odometry": np.array([s.odometry for s in rows], dtype=np.float64).reshape(n, 3),
-            "ring_mm": ring_mm,
-            "velocities": np.array(
-                [d.velocities if d.velocities is not None else no_view for d in _decisions(rows)]
-            ).reshape(n, 7),
-            "fast": np.array(
-                [d.fast if d.fast is not None else no_fast for d in _decisions(rows)], dtype=bool
-            ).reshape(n, 7),
-            "rotation": np.array([s.decision.rotation for s in rows], dtype=np.int8),
-            "choice": np.array([s.decision.choice for s in rows], dtype=np.int8),
-            "trajectory": np.array([s.decision.trajectory for s in rows], dtype=np.int8),
-            "speed_mps": np.array([s.decision.command.linear_mps for s in rows]),
-            "turn_radps": np.array([s.decision.command.angular_radps for s in rows]),
-            "reflex": np.array(
-                [reflex_index.get(s.decision.reflex, NO_REFLEX) for s in rows], dtype=np.int8
-            ),
-            "events": np.array([sum(bits[e] for e in s.events) for s in rows], dtype=np.uint8),
-            "bumped": np.array([s.bumped for s in rows], dtype=bool),
-        }
+    def close(self) -> None:
+        self._hand_over()
+
+    def _hand_over(self) -> None:
+        columns = step_columns(self._rows, self.reflex_names, self._sonars)
+        self._rows = []
+        for sink in self._sinks:
+            sink(columns)
 
 
-def _decisions(rows: list[Step]) -> list:
-    return [s.decision for s in rows]
+class PathRecorder:
+    """A column sink keeping only what a picture of the run needs: pose, speed, bumps."""
+
+    def __init__(self) -> None:
+        self._chunks: list[Columns] = []
+
+    def __call__(self, columns: Columns) -> None:
+        self._chunks.append({k: columns[k] for k in ("pose", "speed_mps", "bumped")})
+
+    def column(self, name: str) -> np.ndarray:
+        return np.concatenate([chunk[name] for chunk in self._chunks])
+
+
+def step_columns(rows: list[Step], reflex_names: tuple[str, ...], sonars: int) -> Columns:
+    """The steps as columns, named as io.runfile stores them."""
+    n = len(rows)
+    not_read = np.full(sonars, np.nan)
+    rings = np.array([s.ring_m if s.ring_m is not None else not_read for s in rows])
+    ring_mm = ring_to_mm(np.nan_to_num(rings.reshape(n, sonars), nan=NOT_READ_MM))
+    no_view = np.full(7, np.nan)
+    no_fast = np.zeros(7, dtype=bool)
+    reflex_index = {name: i for i, name in enumerate(reflex_names)}
+    bits = {name: 1 << i for i, name in enumerate(EVENTS)}
+    decisions = [s.decision for s in rows]
+    return {
+        "pose": np.array([s.pose for s in rows], dtype=np.float64).reshape(n, 3),
+        "odometry": np.array([s.odometry for s in rows], dtype=np.float64).reshape(n, 3),
+        "ring_mm": ring_mm,
+        "velocities": np.array(
+            [d.velocities if d.velocities is not None else no_view for d in decisions]
+        ).reshape(n, 7),
+        "fast": np.array(
+            [d.fast if d.fast is not None else no_fast for d in decisions], dtype=bool
+        ).reshape(n, 7),
+        "rotation": np.array([d.rotation for d in decisions], dtype=np.int8),
+        "choice": np.array([d.choice for d in decisions], dtype=np.int8),
+        "trajectory": np.array([d.trajectory for d in decisions], dtype=np.int8),
+        "speed_mps": np.array([d.command.linear_mps for d in decisions], dtype=np.float64),
+        "turn_radps": np.array([d.command.angular_radps for d in decisions], dtype=np.float64),
+        "reflex": np.array(
+            [reflex_index.get(d.reflex, NO_REFLEX) for d in decisions], dtype=np.int8
+        ),
+        "events": np.array([sum(bits[e] for e in s.events) for s in rows], dtype=np.uint8),
+        "bumped": np.array([s.bumped for s in rows], dtype=bool),
+    }

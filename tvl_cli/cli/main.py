@@ -127,10 +127,12 @@ def _refused_write(error: BaseException) -> str | None:
 
 def _file_of(error: BaseException) -> str:
     """The file named in the error, as a prefix; HDF5 gives it as "filename = '...'"."""
+    from tvl_cli.io.atomic import output_named_by  # only on an error: keeps start-up quick
+
     if isinstance(error, OSError) and error.filename:
-        return f"{error.filename}: "
+        return f"{output_named_by(str(error.filename))}: "
     named = re.search(r"filename = '([^']*)'", str(error))
-    return f"{named.group(1)}: " if named else ""
+    return f"{output_named_by(named.group(1))}: " if named else ""
 
 
 @click.group(cls=TvlGroup)

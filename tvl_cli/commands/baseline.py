@@ -8,7 +8,7 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
 
-from tvl_cli.agent.trace import TraceRecorder
+from tvl_cli.agent.trace import PathRecorder, TraceRecorder
 from tvl_cli.baselines.dwa import BEHAVIOURS, run_dwa
 from tvl_cli.baselines.qlearning import QLearningResult, learn_and_evaluate
 from tvl_cli.commands.run import resolve_goal
@@ -28,16 +28,21 @@ def _goal(
 
 def _draw(
     world: WorldMap,
-    run: TraceRecorder,
+    path: PathRecorder,
     png: Path,
     title: str,
     goal: tuple[float, float] | None,
 ) -> None:
     from tvl_cli.render.plot import render_path  # matplotlib only when a picture is wanted
 
-    steps = run.arrays()
     render_path(
-        world, steps["pose"], steps["speed_mps"], steps["bumped"], png, title=title, goal=goal
+        world,
+        path.column("pose"),
+        path.column("speed_mps"),
+        path.column("bumped"),
+        png,
+        title=title,
+        goal=goal,
     )
 
 
@@ -55,12 +60,14 @@ def dwa_session(
     world = load_world(world_path)
     goal = _goal(world_path, world, behaviour, goal)
     robot = RobotConfig()
-    steps = TraceRecorder(reflexes, robot.sonar.count)
+    path = PathRecorder()
+    steps = TraceRecorder(reflexes, robot.sonar.count, [path])
     metrics = run_dwa(
         world, robot, minutes, seed, goal, reflexes=reflexes, on_step=steps if png else None
     )
     if png is not None:
-        _draw(world, steps, png, f"DWA {behaviour} in {world.name}", goal)
+        steps.close()
+        _draw(world, path, png, f"DWA {behaviour} in {world.name}", goal)
     return metrics
 
 
@@ -116,7 +123,8 @@ def qlearn_session(
         raise BadInput(f"--competence-every {competence_every:g} must be a positive number")
     world = load_world(world_path)
     robot = RobotConfig()
-    steps = TraceRecorder(reflexes, robot.sonar.count)
+    path = PathRecorder()
+    steps = TraceRecorder(reflexes, robot.sonar.count, [path])
     result = learn_and_evaluate(
         world,
         robot,
@@ -128,6 +136,7 @@ def qlearn_session(
         on_step=steps if png else None,
     )
     if png is not None:
+        steps.close()
         title = f"Q-learning after {learn_minutes:g} min, avoid in {world.name}"
-        _draw(world, steps, png, title, None)
+        _draw(world, path, png, title, None)
     return QLearnReport(result, competence_every is not None)

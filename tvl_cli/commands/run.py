@@ -3,19 +3,20 @@
 from __future__ import annotations
 
 import math
+from contextlib import AbstractContextManager, ExitStack
 from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 
 from tvl_cli.agent.behave import behave
 from tvl_cli.agent.reflexes import STACK_ORDER
-from tvl_cli.agent.trace import TraceRecorder
+from tvl_cli.agent.trace import ColumnSink, PathRecorder, TraceRecorder
 from tvl_cli.core.behaviours import BEHAVIOUR_NAMES
 from tvl_cli.core.config import RobotConfig, SonarConfig
 from tvl_cli.core.errors import BadInput, check_minutes
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.io.famfile import read_fam
 from tvl_cli.io.logreader import file_sha256
-from tvl_cli.io.runfile import write_run
+from tvl_cli.io.runfile import RunTraceWriter, run_trace_output
 from tvl_cli.sim.worldmap import WorldMap, check_goal, load_world
 
 
@@ -91,52 +92,64 @@ def run_fam(request: RunRequest) -> RunMetrics:
     world = load_world(request.world)
     robot = run_robot(fam_file.robot_config, request.sonar, request.fam)
     goal = resolve_goal(request.world, world, request.behaviour, request.goal)
-    recorder = TraceRecorder(request.reflexes, robot.sonar.count)
-    wanted = request.trace is not None or request.png is not None
-    metrics = behave(
-        world,
-        robot,
-        fam_file.fam,
-        request.behaviour,
-        minutes=request.minutes,
-        seed=request.seed,
-        threshold=request.threshold,
-        goal_xy=goal,
-        reflexes=request.reflexes,
-        on_step=recorder if wanted else None,
-    )
-    arrays = recorder.arrays()
-    if request.trace is not None:
-        write_run(
-            request.trace,
-            world_name=world.name,
-            world_text=world.text,
-            parameters={
-                "behaviour": request.behaviour,
-                "threshold": request.threshold,
-                "minutes": request.minutes,
-                "goal": list(goal) if goal else None,
-                "seed": request.seed,
-                "reflexes": list(request.reflexes),
-                "sonar": "ideal" if robot.sonar.ideal else "real",
-                "fam": str(request.fam),
-                "fam_sha256": file_sha256(request.fam),
-            },
-            robot_config=robot.to_dict(),
-            metrics=asdict(metrics),
-            arrays=arrays,
-            reflex_names=request.reflexes,
+    path = PathRecorder()
+    with ExitStack() as outputs:
+        sinks: list[ColumnSink] = [path] if request.png is not None else []
+        trace = None
+        if request.trace is not None:
+            trace = outputs.enter_context(_trace_output(request, world, robot, goal))
+            sinks.append(trace)
+        recorder = TraceRecorder(request.reflexes, robot.sonar.count, sinks)
+        metrics = behave(
+            world,
+            robot,
+            fam_file.fam,
+            request.behaviour,
+            minutes=request.minutes,
+            seed=request.seed,
+            threshold=request.threshold,
+            goal_xy=goal,
+            reflexes=request.reflexes,
+            on_step=recorder if sinks else None,
         )
+        recorder.close()
+        if trace is not None:
+            trace.metrics = asdict(metrics)
     if request.png is not None:
         from tvl_cli.render.plot import render_path  # matplotlib only when a picture is wanted
 
         render_path(
             world,
-            arrays["pose"],
-            arrays["speed_mps"],
-            arrays["bumped"],
+            path.column("pose"),
+            path.column("speed_mps"),
+            path.column("bumped"),
             request.png,
             title=f"{request.behaviour} in {world.name}, threshold {request.threshold:g}",
             goal=goal,
         )
     return metrics
+
+
+def _trace_output(
+    request: RunRequest, world: WorldMap, robot: RobotConfig, goal: tuple[float, float] | None
+) -> AbstractContextManager[RunTraceWriter]:
+    """The run trace file, with the run's parameters; the steps follow as the run goes."""
+    assert request.trace is not None
+    return run_trace_output(
+        request.trace,
+        world_name=world.name,
+        world_text=world.text,
+        parameters={
+            "behaviour": request.behaviour,
+            "threshold": request.threshold,
+            "minutes": request.minutes,
+            "goal": list(goal) if goal else None,
+            "seed": request.seed,
+            "reflexes": list(request.reflexes),
+            "sonar": "ideal" if robot.sonar.ideal else "real",
+            "fam": str(request.fam),
+            "fam_sha256": file_sha256(request.fam),
+        },
+        robot_config=robot.to_dict(),
+        reflex_names=request.reflexes,
+    )

@@ -89,6 +89,18 @@ def _remove_abandoned_temporaries(path: Path) -> None:
             leftover.unlink(missing_ok=True)
 
 
+# A temporary file's name: "." + output name + "." + host + "." + pid + "." + 8 hex + ".tmp".
+_TEMPORARY = re.compile(r"\.(?P<output>.+)\.[^./]+\.\d+\.[0-9a-f]{8}\.tmp")
+
+
+def output_named_by(filename: str) -> str:
+    """The output a temporary file of atomic_output is written for, so that an error met
+    while writing names the file the user asked for; any other name unchanged."""
+    path = Path(filename)
+    found = _TEMPORARY.fullmatch(path.name)
+    return str(path.with_name(found.group("output"))) if found else filename
+
+
 def _running(pid: int) -> bool:
     try:
         os.kill(pid, 0)  # signal 0: only asks whether the process exists

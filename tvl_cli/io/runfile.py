@@ -25,24 +25,30 @@ trajectory, speed_mps and bumped, with velocities facing forward, and is still r
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import h5py
 import numpy as np
 
 from tvl_cli.core.contacts import EVENTS
+from tvl_cli.io.atomic import atomic_output
 from tvl_cli.io.schema import (
+    LIBVER,
     RUN_FORMAT,
     FormatError,
-    hdf5_output,
     open_for_reading,
     read_json_attr,
     read_str_attr,
+    to_json,
     write_header,
 )
 
 _COMPRESSION: dict[str, Any] = {"compression": "gzip", "compression_opts": 4, "shuffle": True}
+_CHUNK_ROWS = 1024  # steps per HDF5 chunk
 # name -> (units, description)
 _DATASETS: dict[str, tuple[str, str]] = {
     "pose": ("m, m, rad", "true pose x, y, theta after each control step"),
@@ -91,30 +97,79 @@ class RunTrace:
         return np.flatnonzero(self.arrays["events"] & (1 << EVENTS.index(event)))
 
 
-def write_run(
+class RunTraceWriter:
+    """Appends a run's steps to a trace file as they come, a chunk of columns at a time."""
+
+    def __init__(self, f: h5py.File, reflex_names: tuple[str, ...]) -> None:
+        self._file = f
+        self._reflex_names = reflex_names
+        self._steps = 0
+        # Held open to the end: a dataset closed mid-run would flush its chunks in h5py's
+        # deallocator, where a failed write can only be printed, not raised.
+        self._datasets: dict[str, h5py.Dataset] = {}
+        self.metrics: dict[str, Any] = {}  # what `tvl run --json` prints, set when the run ends
+
+    def __call__(self, columns: dict[str, np.ndarray]) -> None:
+        """Append the columns (every dataset above, by name, one row per step)."""
+        if not self._datasets:
+            self._create(columns)
+        n = len(columns["pose"])
+        if n:
+            for name, dataset in self._datasets.items():
+                dataset.resize(self._steps + n, axis=0)
+                dataset[self._steps :] = columns[name]
+            self._steps += n
+
+    def _create(self, columns: dict[str, np.ndarray]) -> None:
+        """Resizable datasets shaped and typed like the first columns."""
+        for name, (units, description) in {**_DATASETS, **_DECISION_DATASETS}.items():
+            values = columns[name]
+            dataset = self._datasets[name] = self._file.create_dataset(
+                name,
+                shape=(0, *values.shape[1:]),
+                maxshape=(None, *values.shape[1:]),
+                dtype=values.dtype,
+                chunks=(_CHUNK_ROWS, *values.shape[1:]),
+                **_COMPRESSION,
+            )
+            dataset.attrs.update(units=units, description=description)
+        self._file["reflex"].attrs["names"] = list(self._reflex_names)
+        self._file["events"].attrs["bits"] = list(EVENTS)
+
+
+@contextmanager
+def run_trace_output(
     path: Path | str,
     *,
     world_name: str,
     world_text: str,
     parameters: dict[str, Any],
     robot_config: dict[str, Any],
-    metrics: dict[str, Any],
-    arrays: dict[str, np.ndarray],
     reflex_names: tuple[str, ...],
-) -> None:
-    """Write a whole run trace atomically; `arrays` holds every dataset above, by name."""
-    with hdf5_output(path) as f:
-        write_header(
-            f, RUN_FORMAT, parameters=parameters, robot_config=robot_config, metrics=metrics
-        )
-        f.attrs.update(world_name=world_name, world_text=world_text)
-        for name, (units, description) in {**_DATASETS, **_DECISION_DATASETS}.items():
-            values = arrays[name]
-            chunked = _COMPRESSION if len(values) else {}
-            dataset = f.create_dataset(name, data=values, **chunked)
-            dataset.attrs.update(units=units, description=description)
-        f["reflex"].attrs["names"] = list(reflex_names)
-        f["events"].attrs["bits"] = list(EVENTS)
+) -> Iterator[RunTraceWriter]:
+    """A run trace written while the run goes: yields the writer (a column sink, whose
+    `metrics` the caller sets); the file appears at `path` only when the block ends well.
+
+    Written straight to a temporary file beside `path`, so a run of any length needs no more
+    memory than a chunk. HDF5 cannot close a file it failed to write and crashes trying, so
+    after a failed write the file is left open: the temporary file is removed, the error
+    goes on, and the command line ends the process (cli.main).
+    """
+    with atomic_output(path) as temporary:
+        f = h5py.File(temporary, "w", libver=LIBVER)
+        try:
+            write_header(f, RUN_FORMAT, parameters=parameters, robot_config=robot_config)
+            f.attrs.update(world_name=world_name, world_text=world_text)
+            writer = RunTraceWriter(f, reflex_names)
+            yield writer
+            f.attrs["metrics"] = to_json(writer.metrics)
+            f.flush()
+        except (OSError, RuntimeError):
+            raise  # possibly a failed write: closing could crash
+        except BaseException:
+            f.close()
+            raise
+        f.close()
 
 
 def read_run(path: Path | str) -> RunTrace:
