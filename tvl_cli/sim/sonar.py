@@ -67,6 +67,14 @@ class SonarRing:
         self._cos_specular = math.cos(math.radians(config.specular_max_deg))
         ray_gap = 2.0 * half_cone / (rays - 1) if rays > 1 else 2.0 * half_cone
         self._corner_slope = CORNER_FOOTPRINTS * math.tan(ray_gap / 2.0)
+        # A wall farther than this from the centre can give no echo within range, nor hide
+        # one: a corner echo is at most the corner slope (or its minimum radius) nearer than
+        # the wall it is judged on.
+        self._wall_reach_m = (
+            body_radius_m + (config.max_range_m + CORNER_MIN_RADIUS_M) / (1.0 - self._corner_slope)
+            if self._corner_slope < 1.0
+            else math.inf
+        )
         # A surface this close behind a transducer, along any of its rays, lies inside the body:
         # it can only be an obstacle the body overlaps during a contact, and reads as touching.
         self._behind_m = body_radius_m * math.cos(half_cone)
@@ -83,6 +91,10 @@ class SonarRing:
         """
         cfg = self.config
         rays = self._world_rays(pose)
+        # A pillar's echo comes from its nearest point, up to a diameter nearer than where a
+        # ray meets it: a wall in front of that meeting point still decides the echo.
+        pillar_m = 2.0 * geometry.discs[:, 2].max(initial=0.0)
+        geometry = geometry.segments_near(pose[0], pose[1], self._wall_reach_m + pillar_m)
         with np.errstate(divide="ignore", invalid="ignore"):
             found = []  # (hit, echo) pairs, each (16 * rays,) metres
             if len(geometry.seg_len):

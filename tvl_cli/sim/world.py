@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 from collections import defaultdict
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import pymunk
@@ -33,6 +33,11 @@ CORNER_TOLERANCE_M = 1e-6
 # Two walls meeting at a smaller angle than this (as its sine) are one straight wall.
 _COLLINEAR_SINE = 1e-9
 _ROBOT_MASS_KG = 10.0
+# Walls near the robot are chosen for the squares of this side it stands in, once a square.
+NEAR_TILE_M = 1.0
+# Below this many wall segments, testing every one costs less than choosing the near ones
+# (and every shipped and generated world stays below it, so their readings never change).
+NEAR_MIN_SEGMENTS = 256
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -53,6 +58,48 @@ class StaticGeometry:
     # line it lies on, as the sign of cross(end - start, other wall's direction); 0 when no
     # wall meets it there or the two are collinear. Seen from that side the corner is concave.
     corner_sides: np.ndarray
+    # segments_near's last answer, by tile and reach: a robot stays in a tile for many steps.
+    _near: dict[tuple[int, int, float], StaticGeometry] = field(
+        default_factory=dict, repr=False, compare=False
+    )
+
+    def segments_near(self, x: float, y: float, reach_m: float) -> StaticGeometry:
+        """This geometry keeping only the wall segments that may pass within `reach_m` of
+        (x, y), in their order (so that ties among them are broken as before); the whole of
+        it in a small world. Discs and rings are kept: there are few of them."""
+        if len(self.seg_len) < NEAR_MIN_SEGMENTS:
+            return self
+        tile = (math.floor(x / NEAR_TILE_M), math.floor(y / NEAR_TILE_M), reach_m)
+        found = self._near.get(tile)
+        if found is None:
+            # Segments whose bounding box meets the tile grown by reach_m: a few more than
+            # strictly within reach, never fewer.
+            low = np.array(tile[:2]) * NEAR_TILE_M - reach_m  # (2,) metres
+            high = low + NEAR_TILE_M + 2.0 * reach_m
+            ends = self.seg_ends  # (n, 2, 2) metres
+            keep = np.flatnonzero(
+                np.all(ends.max(axis=1) >= low, axis=1) & np.all(ends.min(axis=1) <= high, axis=1)
+            )
+            found = _some_segments(self, keep)
+            self._near.clear()  # one tile kept: memory stays bounded in a world of any size
+            self._near[tile] = found
+        return found
+
+
+def _some_segments(geometry: StaticGeometry, keep: np.ndarray) -> StaticGeometry:
+    """The geometry with only the segments indexed by keep."""
+    return replace(
+        geometry,
+        segments=geometry.segments[keep],
+        seg_start=np.ascontiguousarray(geometry.seg_start[:, keep]),
+        seg_delta=np.ascontiguousarray(geometry.seg_delta[:, keep]),
+        seg_len=geometry.seg_len[keep],
+        seg_normal=np.ascontiguousarray(geometry.seg_normal[:, keep]),
+        seg_moment=geometry.seg_moment[keep],
+        seg_ends=geometry.seg_ends[keep],
+        corner_sides=geometry.corner_sides[keep],
+        _near={},
+    )
 
 
 def static_geometry(world: WorldMap) -> StaticGeometry:
