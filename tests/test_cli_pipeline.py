@@ -149,6 +149,7 @@ def test_run_prints_the_metrics_json(run_tvl, learnt, tmp_path):
     assert png.stat().st_size > 1000
     replayed = json.loads(run_tvl("replay", trace, "--json").stdout)
     assert replayed["format"] == "tvl-run" and replayed["steps"] == 300
+    assert replayed["minutes"] == 0.5  # the run's length, as asked for
 
 
 @pytest.mark.parametrize("method", [["--paper"], ["--reflex", "none"]])

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -21,10 +21,13 @@ class Replay:
 
     kind: str  # the file format
     facts: list[tuple[str, Any]]
-    minutes: list[dict[str, str | float]] = field(default_factory=list)
+    minutes: list[dict[str, str | float]] | None = None  # a learning log's; None for a run
 
     def to_dict(self) -> dict[str, Any]:
-        return {"format": self.kind, **dict(self.facts), "minutes": self.minutes}
+        """The facts by label; a learning log's per-minute rows under `minutes` (a run's
+        `minutes` is its length, one of its parameters)."""
+        rows = {} if self.minutes is None else {"minutes": self.minutes}
+        return {"format": self.kind, **dict(self.facts), **rows}
 
 
 def _learning(log: LearningLog, png: Path | None, curves: Path | None) -> Replay:
