@@ -235,3 +235,19 @@ def test_figure_names_the_line_with_a_value_of_the_wrong_type(run_tvl, tmp_path,
     result = run_tvl("figure", "fig27", results, "-o", tmp_path / "f.png")
     assert result.returncode == 2, result.stderr
     assert result.stderr == f"tvl: error: {results}:2: {problem}\n"
+
+
+def test_figure_json_names_its_files_and_carries_the_table(tiny, run_tvl, tmp_path):
+    results = tiny("fig21_threshold").out / "results.jsonl"
+    png, table = tmp_path / "f.png", tmp_path / "f.md"
+    result = run_tvl("figure", "fig21", results, "-o", png, "--table", table, "--json")
+    assert result.returncode == 0, result.stderr
+    printed = json.loads(result.stdout)
+    assert printed == {
+        "figure": "fig21",
+        "results": str(results),
+        "output": str(png),
+        "table": str(table),
+        "summary": table.read_text(),
+    }
+    assert png.read_bytes().startswith(PNG_MAGIC)

@@ -116,6 +116,11 @@ def replay(file: Path, png: Path | None, curves: Path | None, force: bool, as_js
 @click.command()
 @click.argument("directory", default="tvl-demo", type=click.Path(path_type=Path))
 @click.option("--force", is_flag=True, help="Write into a DIRECTORY that is not empty.")
-def demo(directory: Path, force: bool) -> None:
+@click.option("--json", "as_json", is_flag=True, help="Print the results as JSON.")
+def demo(directory: Path, force: bool, as_json: bool) -> None:
     """Learn, train, run and draw on a bundled world, in seconds."""
-    views.demo(run_demo(directory, force, views.say))
+    result = run_demo(directory, force, views.say)
+    if as_json:
+        print_json(views.demo_json(result))
+    else:
+        views.demo(result)

@@ -31,6 +31,7 @@ from tvl_cli.io.famfile import read_fam, write_fam
     help="Use only the episodes each session finished by this simulated minute.",
 )
 @click.option("--force", is_flag=True, help="Overwrite OUTPUT.")
+@click.option("--json", "as_json", is_flag=True, help="Print a JSON summary.")
 def train(
     logs: tuple[Path, ...],
     output: Path,
@@ -38,6 +39,7 @@ def train(
     train_params: TrainParams,
     until_minute: float | None,
     force: bool,
+    as_json: bool,
 ) -> None:
     """Train a FAM file from learning logs (log replay)."""
     refuse_existing(output, force)
@@ -51,7 +53,10 @@ def train(
         provenance=summary.provenance,
         overwrite=force,
     )
-    views.train_summary(summary, output)
+    if as_json:
+        print_json(views.train_json(summary, output))
+    else:
+        views.train_summary(summary, output)
 
 
 @click.command()

@@ -7,6 +7,7 @@ from pathlib import Path
 import click
 
 from tvl_cli.cli.options import (
+    print_json,
     refuse_existing,
 )
 
@@ -17,7 +18,10 @@ from tvl_cli.cli.options import (
 @click.option("-o", "--output", type=click.Path(path_type=Path), required=True, help="PNG file.")
 @click.option("--table", type=click.Path(path_type=Path), default=None, help="Markdown file.")
 @click.option("--force", is_flag=True, help="Overwrite the PNG and table files.")
-def figure(name: str, results: Path, output: Path, table: Path | None, force: bool) -> None:
+@click.option("--json", "as_json", is_flag=True, help="Print the files and the table as JSON.")
+def figure(
+    name: str, results: Path, output: Path, table: Path | None, force: bool, as_json: bool
+) -> None:
     """Draw figure NAME (fig19, fig21, fig22, fig24, fig27, ablation) from an experiment's
     RESULTS (JSON lines) and print its summary table."""
     from tvl_cli.render.figures import (
@@ -27,4 +31,16 @@ def figure(name: str, results: Path, output: Path, table: Path | None, force: bo
     for path in (output, table):
         if path is not None:
             refuse_existing(path, force)
-    click.echo(draw_figure(name, results, output, table), nl=False)
+    summary = draw_figure(name, results, output, table)
+    if as_json:
+        print_json(
+            {
+                "figure": name,
+                "results": str(results),
+                "output": str(output),
+                "table": str(table) if table else None,
+                "summary": summary,
+            }
+        )
+    else:
+        click.echo(summary, nl=False)

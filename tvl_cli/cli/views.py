@@ -105,6 +105,18 @@ def learn_summary(result: LearnResult, log: Path) -> None:
     )
 
 
+def train_json(summary: TrainSummary, output: Path) -> dict[str, Any]:
+    return {
+        "output": str(output),
+        "config": summary.fam.config.name,
+        "episodes": summary.episodes,
+        "exemplars": summary.exemplars,
+        "rules_touched": summary.rules_touched,
+        "rules_total": summary.rules_total,
+        "wall_s": summary.wall_s,
+    }
+
+
 def train_summary(summary: TrainSummary, output: Path) -> None:
     table = Table(title=f"trained → {output}", show_header=False)
     table.add_column()
@@ -173,6 +185,18 @@ def replay(summary: Replay) -> None:
     for name, value in summary.facts:
         table.add_row(str(name), str(value))
     out.print(table)
+
+
+def demo_json(result: DemoResult) -> dict[str, Any]:
+    """The learning summary, then each run's metrics as `tvl run --json` prints them."""
+    return {
+        "directory": str(result.directory),
+        "learning": learn_json(result.learning),
+        "runs": [
+            {"config": r.config, "behaviour": r.behaviour, "png": str(r.png), **asdict(r.metrics)}
+            for r in result.rows
+        ],
+    }
 
 
 def demo(result: DemoResult) -> None:

@@ -9,11 +9,12 @@ import click
 
 from tvl_cli.cli.options import (
     SEED,
+    print_json,
     refuse_existing,
 )
 from tvl_cli.io.atomic import atomic_output
 from tvl_cli.sim.worldgen import KINDS, generate_world
-from tvl_cli.sim.worldmap import describe, load_world, world_to_dict
+from tvl_cli.sim.worldmap import WorldMap, describe, load_world, parse_world, world_to_dict
 
 
 @click.group()
@@ -33,8 +34,14 @@ def world() -> None:
     help=f"Layout seed ({', '.join(name for name, kind in KINDS.items() if kind.seeded)}).",
 )
 @click.option("--force", is_flag=True, help="Overwrite OUTPUT.")
+@click.option("--json", "as_json", is_flag=True, help="Print what was written as JSON.")
 def world_new(
-    kind: str, output: Path, size: tuple[float, float] | None, seed: int, force: bool
+    kind: str,
+    output: Path,
+    size: tuple[float, float] | None,
+    seed: int,
+    force: bool,
+    as_json: bool,
 ) -> None:
     """Write a generated world of KIND."""
     width_m, height_m = size if size else (None, None)
@@ -42,6 +49,9 @@ def world_new(
     refuse_existing(output, force)
     with atomic_output(output, overwrite=force) as temporary:
         temporary.write_text(text, encoding="utf-8")
+    if as_json:
+        made = parse_world(text, str(output))
+        print_json({"output": str(output), "kind": kind, "seed": seed, **counts(made)})
 
 
 @world.command("show")
@@ -55,23 +65,37 @@ def world_show(file: Path, as_json: bool) -> None:
 
 @world.command("check")
 @click.argument("file", type=click.Path(path_type=Path))
-def world_check(file: Path) -> None:
+@click.option("--json", "as_json", is_flag=True, help="Print the counts as JSON.")
+def world_check(file: Path, as_json: bool) -> None:
     """Validate a world file (exit 2 naming the problem)."""
-    w = load_world(file)
-    click.echo(
-        f"{file}: ok ({len(w.segments)} segments, {len(w.discs)} discs, "
-        f"{len(w.rings)} rings, {len(w.goals)} goals)"
-    )
+    found = counts(load_world(file))
+    if as_json:
+        print_json({"file": str(file), "ok": True, **found})
+    else:
+        click.echo(f"{file}: ok ({', '.join(f'{n} {what}' for what, n in found.items())})")
 
 
 @world.command("render")
 @click.argument("file", type=click.Path(path_type=Path))
 @click.option("-o", "--output", type=click.Path(path_type=Path), required=True, help="PNG file.")
 @click.option("--force", is_flag=True, help="Overwrite OUTPUT.")
-def world_render(file: Path, output: Path, force: bool) -> None:
+@click.option("--json", "as_json", is_flag=True, help="Print what was drawn as JSON.")
+def world_render(file: Path, output: Path, force: bool, as_json: bool) -> None:
     """Draw a world file as a PNG picture."""
     from tvl_cli.render.plot import render_world  # matplotlib is slow to import; only this needs it
 
     loaded = load_world(file)
     refuse_existing(output, force)
     render_world(loaded, output)
+    if as_json:
+        print_json({"file": str(file), "output": str(output), **counts(loaded)})
+
+
+def counts(world: WorldMap) -> dict[str, int]:
+    """What a world holds, by kind (the keys of `world check --json`)."""
+    return {
+        "segments": len(world.segments),
+        "discs": len(world.discs),
+        "rings": len(world.rings),
+        "goals": len(world.goals),
+    }

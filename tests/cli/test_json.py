@@ -1,0 +1,64 @@
+"""`--json` on every command that reports something: one JSON document on stdout, with the
+keys the README documents, through the real `tvl` process."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+from pathlib import Path
+
+import pytest
+from conftest import TVL
+from test_bad_numbers import SQUARE
+
+COUNTS = {"segments", "discs", "rings", "goals"}
+
+
+def tvl_json(*args: str | Path) -> dict:
+    done = subprocess.run([TVL, *map(str, args), "--json"], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    return json.loads(done.stdout)
+
+
+@pytest.fixture(scope="module")
+def learnt(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    log = tmp_path_factory.mktemp("json") / "log.h5"
+    printed = tvl_json("learn", SQUARE, "--log", log, "--minutes", "1")
+    assert printed["status"] == "finished"
+    return log
+
+
+def test_world_commands_print_what_the_world_holds(tmp_path: Path) -> None:
+    world, png = tmp_path / "rooms.txt", tmp_path / "rooms.png"
+    made = tvl_json("world", "new", "rooms", "--seed", "3", "-o", world)
+    assert made.keys() == {"output", "kind", "seed"} | COUNTS
+    assert (made["output"], made["kind"], made["seed"]) == (str(world), "rooms", 3)
+    assert made["segments"] > 4 and made["goals"] >= 1
+    checked = tvl_json("world", "check", world)
+    assert checked == {"file": str(world), "ok": True, **{k: made[k] for k in COUNTS}}
+    drawn = tvl_json("world", "render", world, "-o", png)
+    assert drawn == {"file": str(world), "output": str(png), **{k: made[k] for k in COUNTS}}
+    assert png.stat().st_size > 1000
+
+
+def test_train_prints_its_summary(learnt: Path, tmp_path: Path) -> None:
+    fam = tmp_path / "fam.h5"
+    printed = tvl_json("train", learnt, "-o", fam, "--config", "multi")
+    assert printed.keys() == {
+        "output", "config", "episodes", "exemplars", "rules_touched", "rules_total", "wall_s"
+    }  # fmt: skip
+    assert (printed["output"], printed["config"]) == (str(fam), "multi")
+    assert 0 < printed["rules_touched"] <= printed["rules_total"] and printed["exemplars"] > 0
+    assert fam.exists()
+
+
+def test_demo_prints_learning_and_every_run(tmp_path: Path) -> None:
+    printed = tvl_json("demo", tmp_path / "demo")
+    assert printed["learning"]["status"] == "finished"
+    runs = printed["runs"]
+    assert [(r["config"], r["behaviour"]) for r in runs] == [
+        ("single", "avoid"), ("single", "wall-left"), ("multi", "avoid"), ("multi", "wall-left")
+    ]  # fmt: skip
+    for run in runs:
+        assert run["contacts"] == run["collisions"] + run["near_misses"]
+        assert Path(run["png"]).exists()
