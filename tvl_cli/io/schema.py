@@ -32,6 +32,11 @@ FORMAT_VERSIONS: dict[str, int] = {LOG_FORMAT: 1, FAM_FORMAT: 1, RUN_FORMAT: 2}
 # HDF5 1.8 object headers: readable by any HDF5 library since 2008, and they allow attributes
 # over 64 KiB (a large world map's text) in dense storage.
 LIBVER = ("v108", "v108")
+# Appending rewrites HDF5's metadata in place, and a kill can cut a write short at a memory
+# page boundary (Linux copies a write into the file a page at a time). With every block the
+# appender allocates starting on a page, a block smaller than a page (a dataset's header, a
+# group's attributes) is written whole or not at all, never torn.
+PAGE_BYTES = 4096
 
 
 class FormatError(BadInput):
@@ -104,7 +109,8 @@ def open_for_reading(path: Path | str, expected_format: str) -> h5py.File:
 
 
 def open_for_appending(path: Path | str, expected_format: str) -> h5py.File:
-    """Open an existing tvl file read-write, with the same checks as open_for_reading."""
+    """Open an existing tvl file read-write, with the same checks as open_for_reading; what
+    is added to it starts on a page (PAGE_BYTES)."""
     return _open_checked(path, expected_format, "r+", LIBVER)
 
 
@@ -126,7 +132,11 @@ def _open_hdf5(path: Path, mode: str, libver: tuple[str, str] | None) -> h5py.Fi
     if not path.exists():
         raise BadInput(f"{path}: no such file")
     try:
-        return h5py.File(path, mode, libver=libver)
+        if mode == "r":
+            return h5py.File(path, mode, libver=libver)
+        return h5py.File(
+            path, mode, libver=libver, alignment_threshold=1, alignment_interval=PAGE_BYTES
+        )
     except OSError as error:
         raise _open_error(path, error) from None
 
