@@ -246,8 +246,13 @@ class Learner:
         params: LearnParams,
         train_params: TrainParams,
         seed: int,
+        seed_stream: int = 0,
     ) -> None:
-        sim_seed, choice_seed = np.random.SeedSequence(seed).spawn(2)
+        # Stream k of a seed is its children 2k and 2k + 1 (what spawn() would hand out
+        # next): a log's second session goes on from its first instead of repeating it.
+        sim_seed, choice_seed = (
+            np.random.SeedSequence(seed, spawn_key=(2 * seed_stream + i,)) for i in (0, 1)
+        )
         self.robot = robot
         self.fam = fam
         self.params = params

@@ -67,6 +67,12 @@ DEFAULT_LEARN = LearnParams()
     show_default=True,
     help="ideal: nearest hit at any angle, no noise.",
 )
+@click.option(
+    "--from-fam",
+    type=click.Path(path_type=Path),
+    default=None,
+    help="Start a new log from this trained FAM (of the same --config).",
+)
 @click.option("--force", is_flag=True, help="Overwrite the --fam file.")
 @click.option("--json", "as_json", is_flag=True, help="Print a JSON summary.")
 def learn(
@@ -80,6 +86,7 @@ def learn(
     learn_speed: float,
     near: float,
     sonar: str,
+    from_fam: Path | None,
     force: bool,
     as_json: bool,
 ) -> None:
@@ -98,6 +105,7 @@ def learn(
         train_params,
         fam_out,
         ideal_sonar=sonar == "ideal",
+        from_fam=from_fam,
     )
     with views.learning_progress(minutes, quiet=as_json) as (on_minute, on_progress):
         result = learn_to_log(request, on_minute, on_progress)

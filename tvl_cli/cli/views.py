@@ -114,6 +114,7 @@ def train_json(summary: TrainSummary, output: Path) -> dict[str, Any]:
         "rules_touched": summary.rules_touched,
         "rules_total": summary.rules_total,
         "wall_s": summary.wall_s,
+        "repeated_sessions": summary.repeated_sessions,
     }
 
 
@@ -127,6 +128,8 @@ def train_summary(summary: TrainSummary, output: Path) -> None:
     table.add_row("rules touched", f"{summary.rules_touched} of {summary.rules_total}")
     table.add_row("rules never touched", str(summary.rules_total - summary.rules_touched))
     table.add_row("time", f"{summary.wall_s:.2f} s")
+    for repeat in summary.repeated_sessions:
+        table.add_row("trained once", repeat)
     out.print(table)
 
 

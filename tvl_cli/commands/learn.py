@@ -10,19 +10,20 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 from types import FrameType
+from typing import Any
 
 from tvl_cli.agent.explore import Learner, LearnParams, LearnSummary, MinuteStats
-from tvl_cli.commands.train import provenance
+from tvl_cli.commands.train import distinct_sessions, provenance, train_on
 from tvl_cli.core.config import BUILTIN_FAM_CONFIGS, FamConfig, RobotConfig, SonarConfig
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_configs import fam_config_from_json
 from tvl_cli.core.training import TrainParams
-from tvl_cli.io.famfile import write_fam
+from tvl_cli.io.famfile import read_fam, write_fam
 from tvl_cli.io.logfile import LogWriter
 from tvl_cli.io.loglayout import STATUS_FINISHED
-from tvl_cli.io.logreader import read_log
+from tvl_cli.io.logreader import file_sha256, read_log
 from tvl_cli.sim.worldmap import load_world
 
 
@@ -52,6 +53,7 @@ class LearnRequest:
     train: TrainParams
     fam_out: Path | None = None
     ideal_sonar: bool = False
+    from_fam: Path | None = None  # start from this trained FAM (a new log only)
 
 
 @dataclass(frozen=True, slots=True)
@@ -96,10 +98,34 @@ def learn_to_log(
     if request.ideal_sonar:
         robot = RobotConfig(sonar=SonarConfig(ideal=True))
     config = resolve_fam_config(request.config, robot)
-    fam = Fam(config, [t.name for t in robot.trajectories], request.train.init_velocity_mps)
-    learner = Learner(world, robot, fam, request.learn, request.train, request.seed)
+    log = read_log(request.log) if request.log.exists() else None
+    earlier = log.sessions if log is not None else []
+    started_from: dict[str, Any] = {}
+    if request.from_fam is not None:
+        if earlier:
+            raise BadInput(
+                f"{request.log}: already holds sessions; --from-fam starts a new log "
+                "(a log goes on from its own sessions)"
+            )
+        fam = _fam_to_start_from(request.from_fam, config, robot)
+        started_from = {"path": str(request.from_fam), "sha256": file_sha256(request.from_fam)}
+    else:
+        fam = Fam(config, [t.name for t in robot.trajectories], request.train.init_velocity_mps)
+        if log is not None:
+            # A log goes on from what its sessions learnt, trained as `tvl train` would.
+            sessions, _ = distinct_sessions([log])
+            train_on(fam, [e for s in sessions for e in s.episodes()], robot, request.train)
+    learner = Learner(
+        world, robot, fam, request.learn, request.train, request.seed, seed_stream=len(earlier)
+    )
     started = time.perf_counter()
-    parameters = {"config": config.name, **request.learn.to_dict(), **request.train.to_dict()}
+    parameters = {
+        "config": config.name,
+        **request.learn.to_dict(),
+        **request.train.to_dict(),
+        "seed_stream": len(earlier),
+        "from_fam": started_from or None,
+    }
     with (
         LogWriter.open(
             request.log,
@@ -112,6 +138,8 @@ def learn_to_log(
         ) as writer,
         _catching_signals() as interrupted,
     ):
+        if writer.session != f"{len(earlier):04d}":
+            raise BadInput(f"{request.log}: another process added a session meanwhile")
 
         def record(episode: Episode) -> None:
             writer.append_episode(episode)
@@ -146,6 +174,20 @@ def learn_to_log(
             provenance={
                 **provenance([read_log(request.log)], request.train, config),
                 "online_session": session,
+                "from_fam": started_from or None,
             },
         )
     return LearnResult(summary, time.perf_counter() - started, status)
+
+
+def _fam_to_start_from(path: Path, config: FamConfig, robot: RobotConfig) -> Fam:
+    """A trained FAM to go on learning into: of this robot and of the configuration asked for."""
+    found = read_fam(path)
+    if found.robot_config != robot:
+        raise BadInput(f"{path}: FAM was learnt by another robot configuration than this one")
+    if found.fam.config != config:
+        raise BadInput(
+            f"{path}: FAM has configuration {found.fam.config.name!r}, not {config.name!r} "
+            "(give --config to match it)"
+        )
+    return found.fam

@@ -2,20 +2,22 @@
 
 from __future__ import annotations
 
+import hashlib
 import math
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from tvl_cli.core.config import FamConfig, RobotConfig
+from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.training import TrainParams, train_episode
-from tvl_cli.io.logreader import LearningLog, read_log
+from tvl_cli.io.logreader import LearningLog, Session, read_log
 
 
 @dataclass(frozen=True, slots=True)
@@ -28,6 +30,7 @@ class TrainSummary:
     rules_touched: int
     rules_total: int
     wall_s: float
+    repeated_sessions: list[str] = field(default_factory=list)  # found again, trained once
 
 
 def common_robot(logs: Sequence[LearningLog]) -> RobotConfig:
@@ -51,6 +54,44 @@ def _refuse_repeated(logs: Sequence[LearningLog]) -> None:
         if log.sha256 in seen:
             raise BadInput(f"{log.path}: the same log as {seen[log.sha256]}, given twice")
         seen[log.sha256] = log.path
+
+
+def distinct_sessions(logs: Sequence[LearningLog]) -> tuple[list[Session], list[str]]:
+    """Every session of the logs in order, but each recorded more than once only the first
+    time (a log copied into another, or one learnt twice from the same seed stream); and
+    the repeats, as "LOG session NAME repeats LOG session NAME"."""
+    first: dict[bytes, str] = {}
+    kept: list[Session] = []
+    repeats: list[str] = []
+    for log in logs:
+        for session in log.sessions:
+            where = f"{log.path} session {session.name}"
+            # Each episode's start, length, trajectory, ending time and place: two sessions
+            # agree on all of them only if one repeats the other.
+            key = hashlib.sha256(session.episode_table.tobytes()).digest()
+            if len(session.episode_table) and key in first:
+                repeats.append(f"{where} repeats {first[key]}")
+                continue
+            first.setdefault(key, where)
+            kept.append(session)
+    return kept, repeats
+
+
+def train_on(
+    fam: Fam,
+    episodes: Sequence[Episode],
+    robot: RobotConfig,
+    params: TrainParams,
+    on_progress: Callable[[int, int], None] = lambda done, total: None,
+) -> int:
+    """Train the FAM on the episodes in order, as the online learner did; the exemplars used."""
+    total = sum(e.exemplar_count for e in episodes)
+    done = 0
+    for episode in episodes:
+        train_episode(fam, episode, robot, params)
+        done += episode.exemplar_count
+        on_progress(done, total)
+    return total
 
 
 def provenance(logs: Sequence[LearningLog], params: TrainParams, config: FamConfig) -> dict:
@@ -95,24 +136,25 @@ def train_from_logs(
     _refuse_repeated(logs)
     robot = common_robot(logs)
     fam = Fam(config, [t.name for t in robot.trajectories], params.init_velocity_mps)
-    episodes = [e for log in logs for s in log.sessions for e in s.episodes()]
+    sessions, repeats = distinct_sessions(logs)
+    episodes = [e for s in sessions for e in s.episodes()]
     if until_minute is not None:
         episodes = [e for e in episodes if e.end_time_s <= until_minute * 60.0]
-    total = sum(e.exemplar_count for e in episodes)
-    done = 0
-    for episode in episodes:
-        train_episode(fam, episode, robot, params)
-        done += episode.exemplar_count
-        on_progress(done, total)
+    total = train_on(fam, episodes, robot, params, on_progress)
     tables = range(len(config.tables))
     touched = sum(int(np.count_nonzero(fam.experience_table(t).sum(axis=1))) for t in tables)
     return TrainSummary(
         fam=fam,
         robot=robot,
-        provenance={**provenance(logs, params, config), "until_minute": until_minute},
+        provenance={
+            **provenance(logs, params, config),
+            "until_minute": until_minute,
+            "repeated_sessions": repeats,
+        },
         exemplars=total,
         episodes=len(episodes),
         rules_touched=touched,
         rules_total=config.rule_count,
         wall_s=time.perf_counter() - started,
+        repeated_sessions=repeats,
     )
