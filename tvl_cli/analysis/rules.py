@@ -6,6 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from tvl_cli.core.config import FamTable
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam, rule_set_indices
 
@@ -75,18 +76,21 @@ def select_rules(
         t, column, _ = where[source[i]]
         table = fam.config.tables[t]
         row = int(rows[i])
-        sets = rule_set_indices(table, np.array(row))
         found.append(
             Rule(
                 table.trajectories[column],
-                tuple(
-                    (f.name, f.partition.names[s]) for f, s in zip(table.inputs, sets, strict=True)
-                ),
+                rule_conditions(table, row),
                 float(fam.velocity_table(t)[row, column]),
                 float(fam.experience_table(t)[row, column]),
             )
         )
     return found
+
+
+def rule_conditions(table: FamTable, row: int) -> tuple[tuple[str, str], ...]:
+    """Rule `row` of a table as (input name, fuzzy-set name) pairs, in input order."""
+    sets = rule_set_indices(table, np.array(row))
+    return tuple((f.name, f.partition.names[s]) for f, s in zip(table.inputs, sets, strict=True))
 
 
 def parse_ring(text: str, sonar_count: int) -> np.ndarray:

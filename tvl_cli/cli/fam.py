@@ -6,6 +6,7 @@ from pathlib import Path
 
 import click
 
+from tvl_cli.analysis.famdiff import DEFAULT_TOLERANCE_MPS, diff_fams
 from tvl_cli.analysis.rules import SORT_KEYS, parse_ring, select_rules
 from tvl_cli.cli import views
 from tvl_cli.cli.options import (
@@ -108,3 +109,30 @@ def inspect(
     else:
         for rule in rules:
             click.echo(rule.sentence())
+
+
+@click.command()
+@click.argument("first", type=click.Path(path_type=Path))
+@click.argument("second", type=click.Path(path_type=Path))
+@click.option(
+    "--tolerance",
+    type=float,
+    default=DEFAULT_TOLERANCE_MPS,
+    show_default=True,
+    help="m/s: velocities closer than this agree.",
+)
+@click.option(
+    "--top",
+    type=click.IntRange(min=0),
+    default=20,
+    show_default=True,
+    help="How many of the rules that differ most to name (0: all).",
+)
+@click.option("--json", "as_json", is_flag=True, help="Print JSON.")
+def diff(first: Path, second: Path, tolerance: float, top: int, as_json: bool) -> None:
+    """Show where two FAM files of one configuration disagree, rule by rule."""
+    difference = diff_fams(read_fam(first).fam, read_fam(second).fam, tolerance, top)
+    if as_json:
+        print_json(difference.to_dict())
+    else:
+        views.fam_difference(difference, first, second)

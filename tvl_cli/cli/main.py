@@ -28,6 +28,11 @@ COMMANDS: dict[str, tuple[str, str, str]] = {
     ),
     "train": ("tvl_cli.cli.fam", "train", "Train a FAM file from learning logs (log replay)."),
     "inspect": ("tvl_cli.cli.fam", "inspect", "Print a FAM file's rules as a person reads them."),
+    "diff": (
+        "tvl_cli.cli.fam",
+        "diff",
+        "Show where two FAM files of one configuration disagree, rule by rule.",
+    ),
     "run": ("tvl_cli.cli.behaving", "run", "Perform a behaviour in WORLD with a learnt FAM."),
     "replay": (
         "tvl_cli.cli.behaving",

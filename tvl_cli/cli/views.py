@@ -13,6 +13,7 @@ from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, T
 from rich.table import Table
 
 from tvl_cli.agent.explore import MinuteStats
+from tvl_cli.analysis.famdiff import FamDifference
 from tvl_cli.commands.demo import DemoResult
 from tvl_cli.commands.learn import LearnResult
 from tvl_cli.commands.replay import Replay
@@ -131,6 +132,17 @@ def train_summary(summary: TrainSummary, output: Path) -> None:
     for repeat in summary.repeated_sessions:
         table.add_row("trained once", repeat)
     out.print(table)
+
+
+def fam_difference(d: FamDifference, first: Path, second: Path) -> None:
+    table = Table(title=f"{first} → {second} ({d.config}, tolerance {d.tolerance_mps:g} m/s)")
+    for column in ("trajectory", "rules differing", "mean |change| m/s"):
+        table.add_column(column, justify="right")
+    for t in d.trajectories:
+        table.add_row(t.trajectory, f"{t.differing} of {t.rules}", f"{t.mean_abs_change_mps:.3f}")
+    out.print(table)
+    for rule in d.largest:
+        out.print(rule.sentence(), highlight=False, markup=False, soft_wrap=True)
 
 
 def explanation(e: Explanation) -> None:

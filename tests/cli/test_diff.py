@@ -1,0 +1,69 @@
+"""`tvl diff`: where two FAMs disagree, through the real `tvl` process."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+from pathlib import Path
+
+import pytest
+from conftest import TVL
+
+from tvl_cli.io.famfile import read_fam
+
+EXAMPLE_LOG = Path(__file__).resolve().parents[2] / "logs" / "square-s1.h5"
+
+
+def tvl(*args: str | Path) -> subprocess.CompletedProcess[str]:
+    return subprocess.run([TVL, *map(str, args)], capture_output=True, text=True, timeout=120)
+
+
+@pytest.fixture(scope="module")
+def fams(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
+    """FAMs from the example log: after 3 minutes, after all 15, and a multi one."""
+    directory = tmp_path_factory.mktemp("diff")
+    made = {
+        "early": ["--until-minute", "3"],
+        "late": [],
+        "multi": ["--config", "multi"],
+    }
+    for name, options in made.items():
+        done = tvl("train", EXAMPLE_LOG, "-o", directory / f"{name}.h5", *options)
+        assert done.returncode == 0, done.stderr
+    return {name: directory / f"{name}.h5" for name in made}
+
+
+def test_a_fam_agrees_with_itself(fams: dict[str, Path]) -> None:
+    printed = json.loads(tvl("diff", fams["late"], fams["late"], "--json").stdout)
+    assert printed["differing"] == 0 and printed["rules_differing_most"] == []
+    assert {t["mean_abs_change"] for t in printed["trajectories"]} == {0.0}
+
+
+def test_more_learning_changes_rules_named_largest_first(fams: dict[str, Path]) -> None:
+    done = tvl("diff", fams["early"], fams["late"], "--json", "--top", "0")
+    assert done.returncode == 0, done.stderr
+    printed = json.loads(done.stdout)
+    named = printed["rules_differing_most"]
+    assert printed["differing"] == len(named) > 0
+    assert printed["differing"] == sum(t["differing"] for t in printed["trajectories"])
+    changes = [abs(rule["change"]) for rule in named]
+    assert changes == sorted(changes, reverse=True) and min(changes) > printed["tolerance"]
+    early, late = read_fam(fams["early"]).fam, read_fam(fams["late"]).fam
+    # The largest change is between the two FAMs' own velocities for that rule.
+    (table,) = early.config.tables
+    column = table.trajectories.index(named[0]["trajectory"])
+    changed = abs(late.velocity_table(0)[:, column] - early.velocity_table(0)[:, column])
+    assert max(changed) == pytest.approx(changes[0])
+    assert named[0]["velocity"][1] - named[0]["velocity"][0] == pytest.approx(named[0]["change"])
+
+
+def test_the_words_name_each_trajectory_and_the_rules(fams: dict[str, Path]) -> None:
+    done = tvl("diff", fams["early"], fams["late"], "--top", "2")
+    assert done.returncode == 0, done.stderr
+    assert "T3L" in done.stdout and done.stdout.count(" m/s (experience ") == 2
+
+
+def test_fams_of_two_configurations_are_refused(fams: dict[str, Path]) -> None:
+    done = tvl("diff", fams["late"], fams["multi"])
+    assert done.returncode == 2 and done.stderr.count("\n") == 1
+    assert "different configurations" in done.stderr
