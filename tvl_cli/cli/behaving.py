@@ -16,6 +16,7 @@ from tvl_cli.cli.options import (
     refuse_existing,
 )
 from tvl_cli.commands.demo import run_demo
+from tvl_cli.commands.explain import EVENT_CHOICES, Moment, explain_run
 from tvl_cli.commands.replay import replay as replay_file
 from tvl_cli.commands.run import RunRequest, parse_goal, run_fam
 from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD
@@ -124,3 +125,39 @@ def demo(directory: Path, force: bool, as_json: bool) -> None:
         print_json(views.demo_json(result))
     else:
         views.demo(result)
+
+
+@click.command()
+@click.argument("trace", metavar="RUN", type=click.Path(path_type=Path))
+@click.option("--step", type=click.IntRange(min=0), default=None, help="The step, 0 the first.")
+@click.option(
+    "--at", "at_s", type=float, default=None, help="Simulated seconds, as replay lists events."
+)
+@click.option("--event", type=click.Choice(EVENT_CHOICES), default=None, help="An event's step.")
+@click.option(
+    "--index", type=click.IntRange(min=1), default=1, show_default=True, help="The K-th event."
+)
+@click.option(
+    "--fam",
+    "fam_path",
+    type=click.Path(path_type=Path),
+    default=None,
+    help="The FAM the run used, if it is no longer where the trace says.",
+)
+@click.option("--json", "as_json", is_flag=True, help="Print JSON.")
+def explain(
+    trace: Path,
+    step: int | None,
+    at_s: float | None,
+    event: str | None,
+    index: int,
+    fam_path: Path | None,
+    as_json: bool,
+) -> None:
+    """Explain one moment of a run trace: what the robot read and perceived, what it chose
+    and why, in the rules of its FAM."""
+    found = explain_run(trace, Moment(step, at_s, event, index), fam_path)
+    if as_json:
+        print_json(found.to_dict())
+    else:
+        views.step_explanation(found)

@@ -39,6 +39,11 @@ COMMANDS: dict[str, tuple[str, str, str]] = {
         "replay",
         "Summarise a learning log or a run trace, and draw it.",
     ),
+    "explain": (
+        "tvl_cli.cli.behaving",
+        "explain",
+        "Explain one moment of a run trace in the rules of its FAM.",
+    ),
     "demo": (
         "tvl_cli.cli.behaving",
         "demo",

@@ -15,6 +15,7 @@ from rich.table import Table
 from tvl_cli.agent.explore import MinuteStats
 from tvl_cli.analysis.famdiff import FamDifference
 from tvl_cli.commands.demo import DemoResult
+from tvl_cli.commands.explain import StepExplanation
 from tvl_cli.commands.learn import LearnResult
 from tvl_cli.commands.replay import Replay
 from tvl_cli.commands.train import TrainSummary
@@ -143,6 +144,29 @@ def fam_difference(d: FamDifference, first: Path, second: Path) -> None:
     out.print(table)
     for rule in d.largest:
         out.print(rule.sentence(), highlight=False, markup=False, soft_wrap=True)
+
+
+def step_explanation(e: StepExplanation) -> None:
+    facts = Table(title=f"step {e.step}, ending at {e.time_s:.1f} s", show_header=False)
+    facts.add_column()
+    facts.add_column()
+    ring = " ".join(f"{r:.2f}" for r in e.ring_m) if e.ring_m else "not read"
+    velocities = " ".join("-" if v is None else f"{v:.2f}" for v in e.velocities_mps)
+    for label, value in (
+        ("ring (m), S0..S15", ring),
+        ("view (rotation)", str(e.rotation)),
+        ("perceived (m/s), T3L..T3R", velocities),
+        ("fast set", ", ".join(e.fast) or "none"),
+        ("policy's choice", e.choice or "none"),
+        ("driven", e.driven or "none (spin, back-off or trapped)"),
+        ("reflex", e.reflex or "none"),
+        ("events", ", ".join(e.events) or "none"),
+    ):
+        facts.add_row(label, value)
+    out.print(facts)
+    if e.why is not None:
+        out.print(f"why, for {' and '.join(e.focus) or 'every trajectory'}:")
+        explanation(e.why)
 
 
 def explanation(e: Explanation) -> None:

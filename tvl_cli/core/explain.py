@@ -73,3 +73,32 @@ def reading(table: FamTable, fam_input: FamInput, value_m: float) -> InputReadin
         value_m,
         tuple(FiredSet(name, d) for name, d in fired if d > 0),
     )
+
+
+def restricted(explanation: Explanation, trajectories: tuple[str, ...]) -> Explanation:
+    """The explanation of only these trajectories: each fired rule keeps what it stores for
+    them, and rules that store none of them are left out."""
+    rules = []
+    for rule in explanation.rules:
+        keep = [i for i, name in enumerate(rule.trajectories) if name in trajectories]
+        if keep:
+            rules.append(
+                FiredRule(
+                    rule.table,
+                    rule.rule,
+                    rule.sets,
+                    rule.set_names,
+                    rule.strength,
+                    tuple(rule.trajectories[i] for i in keep),
+                    tuple(rule.velocities_mps[i] for i in keep),
+                    tuple(rule.experience[i] for i in keep),
+                )
+            )
+    keep = [i for i, name in enumerate(explanation.trajectories) if name in trajectories]
+    return Explanation(
+        explanation.inputs,
+        tuple(rules),
+        tuple(explanation.trajectories[i] for i in keep),
+        tuple(explanation.velocities_mps[i] for i in keep),
+        tuple(explanation.experience[i] for i in keep),
+    )

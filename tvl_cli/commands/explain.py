@@ -1,0 +1,145 @@
+"""`tvl explain`: why a run did what it did at one moment, from its trace and its FAM."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from tvl_cli.core.contacts import BUMP, EVENTS
+from tvl_cli.core.errors import BadInput
+from tvl_cli.core.explain import Explanation, restricted
+from tvl_cli.core.ring import mm_to_ring
+from tvl_cli.io.famfile import read_fam
+from tvl_cli.io.logreader import file_sha256
+from tvl_cli.io.runfile import RunTrace, read_run
+
+# `--event collision` is the bump event under the name a person looks for.
+EVENT_ALIASES = {"collision": BUMP}
+EVENT_CHOICES = (*EVENT_ALIASES, *EVENTS)
+
+
+@dataclass(frozen=True, slots=True)
+class Moment:
+    """Which step to explain: exactly one of these is given."""
+
+    step: int | None = None  # 0 for the first
+    at_s: float | None = None  # simulated seconds, as `tvl replay` lists event times
+    event: str | None = None  # one of EVENT_CHOICES
+    index: int = 1  # the index-th such event, from 1
+
+
+@dataclass(frozen=True, slots=True)
+class StepExplanation:
+    step: int
+    time_s: float  # when the step ended, the time `tvl replay` gives its events
+    ring_m: list[float] | None  # as read before the step; None if nobody read it
+    rotation: int  # the view, in sonar positions counter-clockwise
+    velocities_mps: list[float | None]  # perceived in that view; None where none was
+    fast: list[str]  # the fast set of that view
+    choice: str | None  # the policy's choice
+    driven: str | None  # the trajectory driven; None spinning, reversing or trapped
+    reflex: str | None  # the reflex that overrode the policy
+    events: list[str]  # events the step began
+    focus: tuple[str, ...]  # the trajectories explained: the choice and the best rated
+    why: Explanation | None  # the FAM's view of the ring, for the focus trajectories
+
+    def to_dict(self) -> dict[str, Any]:
+        found = asdict(self)
+        found["focus"] = list(self.focus)
+        return found
+
+
+def explain_run(trace_path: Path, moment: Moment, fam_path: Path | None = None) -> StepExplanation:
+    """Explain one step of a recorded run with the FAM that drove it."""
+    trace = read_run(trace_path)
+    if not trace.has_decisions:
+        raise BadInput(f"{trace_path}: a format_version 1 trace records no decisions to explain")
+    if trace.steps == 0:
+        raise BadInput(f"{trace_path}: the run has no steps")
+    step = _step(trace, trace_path, moment)
+    fam = read_fam(_fam_of(trace, trace_path, fam_path)).fam
+    names = fam.trajectory_names
+    arrays = trace.arrays
+    ring_mm = arrays["ring_mm"][step]
+    read = bool(ring_mm.any())
+    velocities = arrays["velocities"][step]
+    rotation = int(arrays["rotation"][step])
+    choice, driven = _name(names, arrays["choice"][step]), _name(names, arrays["trajectory"][step])
+    rated = np.where(np.isnan(velocities), -np.inf, velocities)
+    best = names[int(np.argmax(rated))] if np.isfinite(rated).any() else None
+    focus = tuple(n for n in names if n in (choice, best))
+    why = None
+    if read:
+        ring = mm_to_ring(ring_mm)
+        # The view of rotation k reads sonar (i + k) mod 16 where view 0 reads sonar i.
+        view = ring.take((np.arange(len(ring)) + rotation) % len(ring))
+        why = restricted(fam.explain(view), focus or names)
+    reflex_index = int(arrays["reflex"][step])
+    return StepExplanation(
+        step=step,
+        time_s=(step + 1) * _period_s(trace),
+        ring_m=[float(r) for r in mm_to_ring(ring_mm)] if read else None,
+        rotation=rotation,
+        velocities_mps=[None if math.isnan(v) else float(v) for v in velocities],
+        fast=[n for n, fast in zip(names, arrays["fast"][step], strict=True) if fast],
+        choice=choice,
+        driven=driven,
+        reflex=trace.reflex_names[reflex_index] if reflex_index >= 0 else None,
+        events=[e for i, e in enumerate(EVENTS) if int(arrays["events"][step]) & (1 << i)],
+        focus=focus,
+        why=why,
+    )
+
+
+def _period_s(trace: RunTrace) -> float:
+    return float(trace.metrics["sim_s"]) / trace.steps
+
+
+def _step(trace: RunTrace, path: Path, moment: Moment) -> int:
+    given = [x for x in (moment.step, moment.at_s, moment.event) if x is not None]
+    if len(given) != 1:
+        raise BadInput("give exactly one of --step, --at and --event")
+    last = trace.steps - 1
+    if moment.step is not None:
+        if not 0 <= moment.step <= last:
+            raise BadInput(f"--step {moment.step}: the run has steps 0 to {last}")
+        return moment.step
+    if moment.at_s is not None:
+        end_s = trace.steps * _period_s(trace)
+        if not (math.isfinite(moment.at_s) and 0 <= moment.at_s <= end_s):
+            raise BadInput(f"--at {moment.at_s:g}: the run lasted {end_s:g} simulated seconds")
+        # The step that ended nearest that moment (replay gives an event's time so).
+        return min(max(round(moment.at_s / _period_s(trace)) - 1, 0), last)
+    assert moment.event is not None
+    event = EVENT_ALIASES.get(moment.event, moment.event)
+    if event not in EVENTS:
+        raise BadInput(f"--event {moment.event!r}: choose from {', '.join(EVENT_CHOICES)}")
+    steps = trace.event_steps(event)
+    if not 1 <= moment.index <= len(steps):
+        raise BadInput(
+            f"{path}: --index {moment.index}: the run has {len(steps)} {moment.event} events"
+        )
+    return int(steps[moment.index - 1])
+
+
+def _fam_of(trace: RunTrace, path: Path, fam_path: Path | None) -> Path:
+    """The FAM the run used: `fam_path`, else the one it names, if it is still that file."""
+    if fam_path is not None:
+        return fam_path
+    named = Path(str(trace.parameters.get("fam", "")))
+    if not named.is_file():
+        raise BadInput(f"{path}: the run's FAM {named} is not there; give it with --fam")
+    if file_sha256(named) != trace.parameters.get("fam_sha256"):
+        raise BadInput(
+            f"{path}: {named} has changed since the run (another SHA-256); give the FAM "
+            "the run used with --fam"
+        )
+    return named
+
+
+def _name(names: tuple[str, ...], index: Any) -> str | None:
+    return names[int(index)] if int(index) >= 0 else None
