@@ -98,7 +98,7 @@ def learn_to_log(
     if request.ideal_sonar:
         robot = RobotConfig(sonar=SonarConfig(ideal=True))
     config = resolve_fam_config(request.config, robot)
-    log = read_log(request.log) if request.log.exists() else None
+    log = read_log(request.log, empty_allowed=True) if request.log.exists() else None
     earlier = log.sessions if log is not None else []
     started_from: dict[str, Any] = {}
     if request.from_fam is not None:

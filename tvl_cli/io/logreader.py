@@ -118,9 +118,10 @@ class LearningLog:
         }
 
 
-def read_log(path: Path | str) -> LearningLog:
+def read_log(path: Path | str, empty_allowed: bool = False) -> LearningLog:
     """Read a learning log; FormatError if it is not a readable tvl-log, BadInput if it holds
-    no exemplars."""
+    no exemplars (unless `empty_allowed`: a log to go on learning into may be one whose
+    first learner was stopped before it finished an episode)."""
     path = Path(path)
     with open_for_reading(path, LOG_FORMAT) as f:
         check_log_structure(f, path)
@@ -138,7 +139,7 @@ def read_log(path: Path | str) -> LearningLog:
             )
         except (OSError, KeyError, ValueError, TypeError) as error:
             raise FormatError(f"{path}: corrupt tvl-log ({error})") from None
-    if log.exemplar_count == 0:
+    if log.exemplar_count == 0 and not empty_allowed:
         raise BadInput(f"{path}: has no exemplars (no finished episode in any session)")
     return log
 
