@@ -52,13 +52,13 @@ class TraceRecorder:
 
 
 class PathRecorder:
-    """A column sink keeping only what a picture of the run needs: pose, speed, bumps."""
+    """A column sink keeping only what a picture of the run needs: pose, speed, events."""
 
     def __init__(self) -> None:
         self._chunks: list[Columns] = []
 
     def __call__(self, columns: Columns) -> None:
-        self._chunks.append({k: columns[k] for k in ("pose", "speed_mps", "bumped")})
+        self._chunks.append({k: columns[k] for k in ("pose", "speed_mps", "events")})
 
     def column(self, name: str) -> np.ndarray:
         return np.concatenate([chunk[name] for chunk in self._chunks])

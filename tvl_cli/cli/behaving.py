@@ -100,14 +100,27 @@ def run(
     default=None,
     help="Draw the learning curves (learning logs).",
 )
+@click.option(
+    "--session",
+    default=None,
+    help="A learning log's session to draw (e.g. 0001); by default every session in the "
+    "last one's world, and the last one's curves.",
+)
 @click.option("--force", is_flag=True, help="Overwrite the PNG files.")
 @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
-def replay(file: Path, png: Path | None, curves: Path | None, force: bool, as_json: bool) -> None:
+def replay(
+    file: Path,
+    png: Path | None,
+    curves: Path | None,
+    session: str | None,
+    force: bool,
+    as_json: bool,
+) -> None:
     """Summarise a learning log or a run trace, and draw it."""
     for output in (png, curves):
         if output is not None:
             refuse_existing(output, force)
-    summary = replay_file(file, png, curves)
+    summary = replay_file(file, png, curves, session)
     if as_json:
         print_json(summary.to_dict())
     else:

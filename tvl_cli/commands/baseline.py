@@ -33,13 +33,14 @@ def _draw(
     title: str,
     goal: tuple[float, float] | None,
 ) -> None:
-    from tvl_cli.render.plot import render_path  # matplotlib only when a picture is wanted
+    # matplotlib only when a picture is wanted
+    from tvl_cli.render.plot import path_marks, render_path
 
     render_path(
         world,
         path.column("pose"),
         path.column("speed_mps"),
-        path.column("bumped"),
+        path_marks(path.column("events")),
         png,
         title=title,
         goal=goal,

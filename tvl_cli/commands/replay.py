@@ -9,7 +9,7 @@ from typing import Any
 from tvl_cli.core.contacts import BUMP, EVENTS, NEAR_MISS, TRAPPED
 from tvl_cli.core.errors import BadInput
 from tvl_cli.io.loglayout import MINUTE_COLUMNS
-from tvl_cli.io.logreader import LearningLog, read_log
+from tvl_cli.io.logreader import LearningLog, Session, read_log
 from tvl_cli.io.runfile import RunTrace, read_run
 from tvl_cli.io.schema import LOG_FORMAT, RUN_FORMAT, file_format
 from tvl_cli.sim.worldmap import parse_world
@@ -30,7 +30,9 @@ class Replay:
         return {"format": self.kind, **dict(self.facts), **rows}
 
 
-def _learning(log: LearningLog, png: Path | None, curves: Path | None) -> Replay:
+def _learning(
+    log: LearningLog, png: Path | None, curves: Path | None, session: str | None
+) -> Replay:
     facts: list[tuple[str, Any]] = [("sessions", len(log.sessions))]
     minutes: list[dict[str, str | float]] = []
     for s in log.sessions:
@@ -49,21 +51,43 @@ def _learning(log: LearningLog, png: Path | None, curves: Path | None) -> Replay
             for row in s.minutes
         ]
     facts.append(("exemplars", log.exemplar_count))
-    last = log.sessions[-1]
+    chosen = _session(log, session)
     if png is not None or curves is not None:
         from tvl_cli.render import plot  # matplotlib only when a picture is wanted
 
         if png is not None:
-            world = parse_world(last.world_text, f"{log.path} session {last.name}")
-            paths = [e.pose for e in last.episodes()]
-            plot.render_paths(world, paths, png, f"learning episodes, session {last.name}")
+            # Every session in the chosen one's world, unless one was asked for.
+            drawn = (
+                [chosen]
+                if session
+                else [s for s in log.sessions if s.world_text == chosen.world_text]
+            )
+            world = parse_world(chosen.world_text, f"{log.path} session {chosen.name}")
+            paths = [e.pose for s in drawn for e in s.episodes()]
+            names = ", ".join(s.name for s in drawn)
+            facts.append(("sessions drawn", names))
+            plot.render_paths(world, paths, png, f"learning episodes, session {names}")
         if curves is not None:
-            if not len(last.minutes):
-                raise BadInput(f"{log.path}: session {last.name} has no whole learning minute")
+            if not len(chosen.minutes):
+                raise BadInput(f"{log.path}: session {chosen.name} has no whole learning minute")
             plot.render_learning_curves(
-                last.minutes, MINUTE_COLUMNS, curves, f"learning in {last.world_name}"
+                chosen.minutes,
+                MINUTE_COLUMNS,
+                curves,
+                f"learning in {chosen.world_name}, session {chosen.name}",
             )
     return Replay(LOG_FORMAT, facts, minutes)
+
+
+def _session(log: LearningLog, name: str | None) -> Session:
+    """The session named (as '0001' or 1), or the last."""
+    if name is None:
+        return log.sessions[-1]
+    for found in log.sessions:
+        if found.name == name or (name.isdigit() and int(found.name) == int(name)):
+            return found
+    names = ", ".join(s.name for s in log.sessions)
+    raise BadInput(f"{log.path}: no session {name!r} (it has {names})")
 
 
 # Events a person looks for first, each listed with the times the steps began them.
@@ -106,7 +130,9 @@ def _run(trace: RunTrace, png: Path | None) -> Replay:
             world,
             trace.arrays["pose"],
             trace.arrays["speed_mps"],
-            trace.arrays["bumped"].astype(bool),
+            plot.path_marks(trace.arrays["events"])
+            if trace.has_decisions
+            else plot.bump_marks(trace.arrays["bumped"]),
             png,
             title=f"{trace.parameters.get('behaviour')} in {trace.world_name}",
             goal=tuple(goal) if goal else None,
@@ -114,13 +140,18 @@ def _run(trace: RunTrace, png: Path | None) -> Replay:
     return Replay(RUN_FORMAT, facts)
 
 
-def replay(path: Path, png: Path | None = None, curves: Path | None = None) -> Replay:
-    """Summarise a learning log or a run trace; draw its paths (and learning curves)."""
+def replay(
+    path: Path, png: Path | None = None, curves: Path | None = None, session: str | None = None
+) -> Replay:
+    """Summarise a learning log or a run trace; draw its paths (and learning curves): a
+    log's sessions in one world, or the one named by `session`."""
     kind = file_format(path)
     if kind == RUN_FORMAT:
         if curves is not None:
             raise BadInput(f"{path}: a run trace has no learning curves (--curves is for logs)")
+        if session is not None:
+            raise BadInput(f"{path}: a run trace has no sessions (--session is for logs)")
         return _run(read_run(path), png)
     if kind == LOG_FORMAT:
-        return _learning(read_log(path), png, curves)
+        return _learning(read_log(path), png, curves, session)
     raise BadInput(f"{path}: is a {kind} file; replay reads tvl-log and tvl-run files")

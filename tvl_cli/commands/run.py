@@ -116,13 +116,14 @@ def run_fam(request: RunRequest) -> RunMetrics:
         if trace is not None:
             trace.metrics = asdict(metrics)
     if request.png is not None:
-        from tvl_cli.render.plot import render_path  # matplotlib only when a picture is wanted
+        # matplotlib only when a picture is wanted
+        from tvl_cli.render.plot import path_marks, render_path
 
         render_path(
             world,
             path.column("pose"),
             path.column("speed_mps"),
-            path.column("bumped"),
+            path_marks(path.column("events")),
             request.png,
             title=f"{request.behaviour} in {world.name}, threshold {request.threshold:g}",
             goal=goal,

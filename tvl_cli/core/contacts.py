@@ -29,6 +29,12 @@ TRAPPED = "trapped"
 EVENTS = (BUMP, NEAR_MISS, BACKOFF, BACKOFF_END, SPIN, TRAPPED)
 
 
+def steps_beginning(events: np.ndarray, event: str) -> np.ndarray:
+    """The indices of the steps that began `event`, from per-step event bits (bit i is
+    EVENTS[i])."""
+    return np.flatnonzero(np.asarray(events) & (1 << EVENTS.index(event)))
+
+
 def near_miss_sonars(sonar_count: int) -> np.ndarray:
     """The sonars whose blind zone counts for a near miss."""
     return np.array(sonars_within(NEAR_MISS_WITHIN_RAD, sonar_count))

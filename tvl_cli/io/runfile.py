@@ -34,7 +34,7 @@ from typing import Any
 import h5py
 import numpy as np
 
-from tvl_cli.core.contacts import EVENTS
+from tvl_cli.core.contacts import EVENTS, steps_beginning
 from tvl_cli.io.atomic import atomic_output
 from tvl_cli.io.schema import (
     LIBVER,
@@ -94,7 +94,7 @@ class RunTrace:
         """The indices of the steps that began `event` (one of core.contacts.EVENTS)."""
         if not self.has_decisions:
             return np.array([], dtype=np.int64)
-        return np.flatnonzero(self.arrays["events"] & (1 << EVENTS.index(event)))
+        return steps_beginning(self.arrays["events"], event)
 
 
 class RunTraceWriter:

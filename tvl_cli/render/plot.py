@@ -15,6 +15,7 @@ from matplotlib.patches import Circle, PathPatch, Rectangle
 from matplotlib.path import Path as DrawPath
 
 from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.contacts import BACKOFF, BUMP, NEAR_MISS, steps_beginning
 from tvl_cli.io.atomic import atomic_output
 from tvl_cli.sim.worldmap import WorldMap
 
@@ -121,16 +122,25 @@ def render_world(world: WorldMap, png_path: str | Path) -> None:
     _save(figure, png_path)
 
 
+# How each event a path marks is drawn: (matplotlib marker, colour, size, legend noun).
+PATH_MARKS: dict[str, tuple[str, str, float, str]] = {
+    BUMP: ("x", "red", 8, "collisions"),
+    NEAR_MISS: ("^", "darkorange", 6, "near misses"),
+    BACKOFF: (".", "purple", 5, "back-offs"),
+}
+
+
 def render_path(
     world: WorldMap,
     poses: Sequence[Sequence[float]] | np.ndarray,
     speeds_mps: Sequence[float] | np.ndarray,
-    bumped: Sequence[bool] | np.ndarray,
+    marks: dict[str, np.ndarray],
     png_path: str | Path,
     title: str,
     goal: tuple[float, float] | None = None,
 ) -> None:
-    """The world with a path coloured by speed and its collisions marked with crosses."""
+    """The world with a path coloured by speed, and the steps where events began (`marks`:
+    step indices by event, of PATH_MARKS) marked where the robot then was."""
     figure, ax = _world_figure(world, extra_width_in=1.2)
     xy = np.asarray(poses, dtype=np.float64).reshape(-1, 3)[:, :2]  # (N, 2) metres
     speed = np.abs(np.asarray(speeds_mps, dtype=np.float64))
@@ -141,22 +151,35 @@ def render_path(
         lines.set_clim(0.0, max(RobotConfig().v_max_mps))
         ax.add_collection(lines)
         figure.colorbar(lines, ax=ax, label="speed (m/s)", shrink=0.8)
-    hits = np.flatnonzero(np.diff(np.asarray(bumped, dtype=np.int8), prepend=0) > 0)
-    if len(hits):
-        ax.plot(
-            xy[hits, 0],
-            xy[hits, 1],
-            "x",
-            color="red",
-            markersize=8,
-            zorder=5,
-            label=f"{len(hits)} collisions",
-        )
+    for event, steps in marks.items():
+        marker, colour, size, noun = PATH_MARKS[event]
+        if len(steps):
+            ax.plot(
+                xy[steps, 0],
+                xy[steps, 1],
+                marker,
+                linestyle="none",
+                color=colour,
+                markersize=size,
+                zorder=5,
+                label=f"{len(steps)} {noun}",
+            )
+    if any(len(steps) for steps in marks.values()):
         ax.legend(loc="upper right", fontsize=8)
     if goal is not None:
         ax.plot(*goal, marker="*", color="crimson", markersize=16, zorder=6)
     ax.set_title(title)
     _save(figure, png_path)
+
+
+def path_marks(events: np.ndarray) -> dict[str, np.ndarray]:
+    """The steps a path picture marks, from per-step event bits."""
+    return {event: steps_beginning(events, event) for event in PATH_MARKS}
+
+
+def bump_marks(bumped: np.ndarray) -> dict[str, np.ndarray]:
+    """The collisions alone, where only the bump sensor was recorded: the steps it closed."""
+    return {BUMP: np.flatnonzero(np.diff(np.asarray(bumped, dtype=np.int8), prepend=0) > 0)}
 
 
 def render_paths(
