@@ -63,3 +63,31 @@ def test_demo_prints_learning_and_every_run(tmp_path: Path) -> None:
     for run in runs:
         assert run["contacts"] == run["collisions"] + run["near_misses"]
         assert Path(run["png"]).exists()
+
+
+def test_csv_rows_of_rules_and_of_run_metrics(learnt: Path, tmp_path: Path) -> None:
+    import csv
+    import io
+
+    fam = tmp_path / "multi.h5"
+    tvl_json("train", learnt, "-o", fam, "--config", "multi")
+    listed = subprocess.run(
+        [TVL, "inspect", str(fam), "--top", "5", "--csv"], capture_output=True, text=True
+    )
+    rows = list(csv.DictReader(io.StringIO(listed.stdout)))
+    assert len(rows) == 5 and {"trajectory", "velocity_mps", "experience"} <= rows[0].keys()
+    # Each table of the multi FAM has its own inputs: a row leaves the others' empty.
+    assert all(0 < sum(bool(v) for v in row.values()) < len(row) for row in rows)
+    ran = subprocess.run(
+        [TVL, "run", str(fam), str(SQUARE), "--behaviour", "avoid", "--minutes", "0.2", "--csv"],
+        capture_output=True,
+        text=True,
+    )
+    (row,) = csv.DictReader(io.StringIO(ran.stdout))
+    assert float(row["sim_s"]) == 12.0 and row["mean_wall_clearance_m"] == ""
+    both = subprocess.run(
+        [TVL, "run", str(fam), str(SQUARE), "--behaviour", "avoid", "--csv", "--json"],
+        capture_output=True,
+        text=True,
+    )
+    assert both.returncode == 2 and "give --json or --csv, not both" in both.stderr

@@ -28,6 +28,15 @@ class Rule:
             "experience": self.experience,
         }
 
+    def to_row(self) -> dict[str, object]:
+        """One flat row: the trajectory, each input's fuzzy set, the velocity, the experience."""
+        return {
+            "trajectory": self.trajectory,
+            **dict(self.conditions),
+            "velocity_mps": self.velocity_mps,
+            "experience": self.experience,
+        }
+
     def sentence(self) -> str:
         conditions = " AND ".join(f"{name} is {label}" for name, label in self.conditions)
         return (

@@ -11,8 +11,10 @@ from tvl_cli.agent.reflexes import ALL as ALL_REFLEXES
 from tvl_cli.cli import views
 from tvl_cli.cli.options import (
     SEED,
+    print_csv,
     print_json,
     reflex_options,
+    refuse_both_formats,
     refuse_existing,
 )
 from tvl_cli.commands.demo import run_demo
@@ -49,6 +51,7 @@ from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD
 )
 @click.option("--force", is_flag=True, help="Overwrite the --png and --log files.")
 @click.option("--json", "as_json", is_flag=True, help="Print the metrics as JSON.")
+@click.option("--csv", "as_csv", is_flag=True, help="Print the metrics as a CSV row.")
 def run(
     fam: Path,
     world_file: Path,
@@ -63,11 +66,13 @@ def run(
     sonar: str | None,
     force: bool,
     as_json: bool,
+    as_csv: bool,
 ) -> None:
     """Perform a behaviour in WORLD with a learnt FAM.
 
     Every rule beyond the paper's method is a reflex: --paper (or --reflex none) runs the
     paper's method alone."""
+    refuse_both_formats(as_json, as_csv)
     for output in (png, trace):
         if output is not None:
             refuse_existing(output, force)
@@ -87,6 +92,8 @@ def run(
     metrics = run_fam(request)
     if as_json:
         print_json(asdict(metrics))
+    elif as_csv:
+        print_csv([asdict(metrics)])
     else:
         views.run_metrics(metrics, reflexes)
 

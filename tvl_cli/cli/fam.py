@@ -10,7 +10,9 @@ from tvl_cli.analysis.famdiff import DEFAULT_TOLERANCE_MPS, diff_fams
 from tvl_cli.analysis.rules import SORT_KEYS, parse_ring, select_rules
 from tvl_cli.cli import views
 from tvl_cli.cli.options import (
+    print_csv,
     print_json,
+    refuse_both_formats,
     refuse_existing,
     training_options,
 )
@@ -79,6 +81,7 @@ def train(
     help="Explain how one ring of 16 ranges (m) is perceived.",
 )
 @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
+@click.option("--csv", "as_csv", is_flag=True, help="Print the rules as CSV, a row each.")
 def inspect(
     fam: Path,
     trajectory: str | None,
@@ -87,8 +90,12 @@ def inspect(
     untrained: bool,
     explain: str | None,
     as_json: bool,
+    as_csv: bool,
 ) -> None:
     """Print a FAM file's rules as a person reads them."""
+    refuse_both_formats(as_json, as_csv)
+    if explain is not None and as_csv:
+        raise click.UsageError("--csv lists rules; --explain prints in words or --json")
     loaded = read_fam(fam)
     if explain is not None:
         explanation = loaded.fam.explain(parse_ring(explain, loaded.robot_config.sonar.count))
@@ -106,6 +113,8 @@ def inspect(
                 "rules": [r.to_dict() for r in rules],
             }
         )
+    elif as_csv:
+        print_csv([rule.to_row() for rule in rules])
     else:
         for rule in rules:
             click.echo(rule.sentence())

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import csv
 import functools
+import io
 import json
 from collections.abc import Callable
 from pathlib import Path
@@ -130,3 +132,21 @@ def reflex_options(default: str) -> Callable[[Callable[..., None]], Callable[...
 
 def print_json(value: object) -> None:
     click.echo(json.dumps(value, indent=1, allow_nan=False))
+
+
+def print_csv(rows: list[dict[str, object]]) -> None:
+    """Rows as CSV on stdout under a header of every key, in the order keys first appear;
+    a key a row lacks (another table's input) and None are left empty."""
+    if not rows:
+        return
+    out = io.StringIO()
+    columns = list(dict.fromkeys(key for row in rows for key in row))
+    writer = csv.DictWriter(out, fieldnames=columns, lineterminator="\n")
+    writer.writeheader()
+    writer.writerows(rows)
+    click.echo(out.getvalue(), nl=False)
+
+
+def refuse_both_formats(as_json: bool, as_csv: bool) -> None:
+    if as_json and as_csv:
+        raise click.UsageError("give --json or --csv, not both")
