@@ -70,6 +70,18 @@ BAD_WORLDS = {  # name -> (file bytes, the error after the file name)
         ("disc: 50 50 0.2\n" + ROOM).encode(),
         ":1:7: disc at x 50 y 50 r 0.2 is outside the world (the map is 0..1.75 x 0..1.25 m)",
     ),
+    "ring wider than the world": (
+        ("ring: 1 1 1e300\n" + ROOM).encode(),
+        ":1:7: ring at x 1 y 1 r 1e+300 reaches outside the world (the map is 0..1.75 x 0..1.25 m)",
+    ),
+    "ring outside the world": (
+        ("ring: 50 50 2\n" + ROOM).encode(),
+        ":1:7: ring at x 50 y 50 r 2 reaches outside the world (the map is 0..1.75 x 0..1.25 m)",
+    ),
+    "ring of no size": (
+        ("ring: 1 1 1e-300\n" + ROOM).encode(),
+        ":1:7: bad value for 'ring': '1 1 1e-300' (expected x y r in metres, r >= 0.01)",
+    ),
     "wall with three numbers": (
         ("wall: 0.3 0.3 1\n" + ROOM).encode(),
         f":1:7: bad value for 'wall': '0.3 0.3 1' {WALL_USAGE}",

@@ -26,17 +26,17 @@ FORMAT_VERSION = 1
 DEFAULT_CELL_M = 0.25
 # Cells from a centimetre (finer than any sonar can tell) to 10 m (a hall per character).
 MIN_CELL_M, MAX_CELL_M = 0.01, 10.0
+# As fine as the finest map: a shorter wall is a slip of the pen, not a shape a sonar could
+# tell from a point.
+MIN_WALL_M = MIN_CELL_M
 HEADER_KEYS = ("version", "name", "cell", "disc", "ring", "goal", "wall")
 HEADER_LINE = re.compile(r"\s*([A-Za-z_]\w*)\s*:\s*(.*?)\s*")
 _NUMBERS = {  # key -> (how many numbers, what they are); the last must be positive but for goals
     "cell": (1, f"a size in metres from {MIN_CELL_M:g} to {MAX_CELL_M:g}"),
     "disc": (3, "x y r in metres, r > 0"),
-    "ring": (3, "x y r in metres, r > 0"),
+    "ring": (3, f"x y r in metres, r >= {MIN_WALL_M:g}"),
     "goal": (2, "x y in metres"),
 }
-# As fine as the finest map: a shorter wall is a slip of the pen, not a shape a sonar could
-# tell from a point.
-MIN_WALL_M = MIN_CELL_M
 _WALL_USAGE = (
     f"x1 y1 x2 y2 [thickness] in metres, ends at least {MIN_WALL_M:g} m apart, thickness >= 0"
 )
@@ -87,7 +87,7 @@ class Header:
     name: str | None = None
     cell_m: float = DEFAULT_CELL_M
     discs: list[tuple[float, float, float, str]] = field(default_factory=list)  # x, y, r, where
-    rings: list[Circle] = field(default_factory=list)
+    rings: list[tuple[float, float, float, str]] = field(default_factory=list)  # x, y, r, where
     goals: list[tuple[float, float, str]] = field(default_factory=list)  # x, y, where
     walls: list[Wall] = field(default_factory=list)
 
@@ -128,7 +128,7 @@ def read_header(header: Header, match: re.Match[str], where: str, number: int) -
         elif key == "disc":
             header.discs.append((numbers[0], numbers[1], numbers[2], value_at))
         else:
-            header.rings.append((numbers[0], numbers[1], numbers[2]))
+            header.rings.append((numbers[0], numbers[1], numbers[2], value_at))
 
 
 def _floats(value: str) -> tuple[float, ...]:
@@ -146,6 +146,8 @@ def _numbers(key: str, value: str, value_at: str) -> tuple[float, ...]:
     if (
         len(numbers) != wanted
         or (key != "goal" and numbers[-1] <= 0)
+        # A ring is a wall bent round: no shorter across than the shortest straight wall.
+        or (key == "ring" and numbers[-1] < MIN_WALL_M)
         or (key == "cell" and not MIN_CELL_M <= numbers[0] <= MAX_CELL_M)
     ):
         raise WorldMapError(f"{value_at}: bad value for {key!r}: {value!r} (expected {usage})")

@@ -185,7 +185,8 @@ def _build(grid: _Grid, header: Header, text: str, source: str) -> WorldMap:
     sx, sy = grid.centre(sr, sc)
     start_at = f"{source}:{grid.where(sr, sc)}"
     _check_start_clear(grid, sr, sc, discs, header, start_at)
-    escape = _escape(grid, sr, sc, header.rings)
+    rings = tuple((x, y, r) for x, y, r, _ in header.rings)
+    escape = _escape(grid, sr, sc, rings)
     if escape is not None:
         raise WorldMapError(
             f"{source}:{grid.where(*escape)}: open boundary: the robot can leave the world here "
@@ -200,7 +201,7 @@ def _build(grid: _Grid, header: Header, text: str, source: str) -> WorldMap:
         height_m=height_m,
         segments=(*_wall_segments(grid), *(s for w in header.walls for s in w.outline())),
         discs=discs,
-        rings=tuple(header.rings),
+        rings=rings,
         start=(sx, sy, START_HEADINGS[grid.rows[sr][sc]]),
         goals=tuple((x, y) for x, y, _ in goals),
         text=text,
@@ -231,6 +232,11 @@ def _check_inside(header: Header, width_m: float, height_m: float) -> None:
             raise WorldMapError(
                 f"{where}: disc at x {x:g} y {y:g} r {r:g} is outside the world {extent}"
             )
+    for x, y, r, where in header.rings:
+        if not (inside(x - r, y - r) and inside(x + r, y + r)):
+            raise WorldMapError(
+                f"{where}: ring at x {x:g} y {y:g} r {r:g} reaches outside the world {extent}"
+            )
 
 
 def _check_start_clear(
@@ -259,14 +265,16 @@ def _check_start_clear(
         if wall.distance_m(x, y) < radius:
             line_col = ":".join(wall.where.rsplit(":", 2)[-2:])
             raise WorldMapError(f"{start_at}: the start touches the wall at {line_col} {body}")
-    for rx, ry, rr in header.rings:
+    for rx, ry, rr, _ in header.rings:
         if abs(math.hypot(x - rx, y - ry) - rr) < radius:
             raise WorldMapError(
                 f"{start_at}: the start touches the ring at x {rx:g} y {ry:g} r {rr:g} {body}"
             )
 
 
-def _escape(grid: _Grid, sr: int, sc: int, rings: list[Circle]) -> tuple[int, int] | None:
+def _escape(
+    grid: _Grid, sr: int, sc: int, rings: tuple[Circle, ...]
+) -> tuple[int, int] | None:
     """Flood the open cells from the start; the first cell that leads off the map, or None.
 
     Ring walls block a step whose two cell centres lie on opposite sides of the circle.
