@@ -56,6 +56,15 @@ def test_qlearn_without_competence_checks_prints_only_the_learning_keys(run_tvl:
     assert set(json.loads(done.stdout)) == RUN_KEYS | {"learn_minutes", "learn_collisions"}
 
 
+def test_qlearn_without_learning_runs_the_untrained_table(run_tvl: Tvl) -> None:
+    done = run_tvl(
+        "baseline", "qlearn", SQUARE, "--learn-minutes", "0", "--minutes", "0.1", "--json"
+    )
+    assert done.returncode == 0, done.stderr
+    report = json.loads(done.stdout)
+    assert (report["learn_minutes"], report["learn_collisions"], report["sim_s"]) == (0, 0, 6.0)
+
+
 def test_bad_options_are_one_line_errors(run_tvl: Tvl) -> None:
     for args, message in (
         (("dwa", SQUARE, "--minutes", "-1"), "--minutes -1"),

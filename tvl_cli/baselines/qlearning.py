@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from itertools import pairwise
 
 import numpy as np
 
@@ -185,7 +186,7 @@ def learn_and_evaluate(
     stretches = math.ceil(learn_minutes / stretch - 1e-9) if learn_minutes > 0 else 0
     # Rounded so that 3 x 0.1 minutes reads 0.3, not 0.30000000000000004.
     ends = [min(round(k * stretch, 9), learn_minutes) for k in range(1, stretches + 1)]
-    for start, end in zip([0.0, *ends[:-1]], ends, strict=True):
+    for start, end in pairwise([0.0, *ends]):
         learner.train(end - start)
         if competence_every is not None and not any(c.competent for c in checks):
             run = learner.evaluate(COMPETENCE_RUN_MINUTES, seed, reflexes)
