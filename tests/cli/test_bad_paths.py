@@ -13,3 +13,36 @@ def test_demo_under_a_file_is_one_line_naming_the_path(run_tvl, tmp_path: Path) 
     result = run_tvl("demo", a_file / "demo")
     assert_one_line_refusal(result, str(a_file / "demo"), "Not a directory")
     assert a_file.read_text() == "keep me"
+
+
+def test_an_output_named_like_an_input_or_another_output_is_refused(
+    run_tvl, tmp_path: Path
+) -> None:
+    from test_bad_numbers import SQUARE
+
+    log, fam, out = tmp_path / "log.h5", tmp_path / "fam.h5", tmp_path / "out"
+    assert run_tvl("learn", SQUARE, "--log", log, "--minutes", "0.5", "--fam", fam).returncode == 0
+    kept = {path: path.read_bytes() for path in (log, fam)}
+    avoid = ["run", fam, SQUARE, "--behaviour", "avoid"]
+    for args, message in (
+        (["train", log, "-o", log, "--force"], "given as both -o and LOG 1"),
+        (["learn", SQUARE, "--log", out, "--fam", out], "given as both --fam and --log"),
+        ([*avoid, "--log", fam, "--force"], "given as both --log and FAM"),
+        ([*avoid, "--png", out, "--log", out], "given as both --png and --log"),
+        (["replay", log, "--png", out, "--curves", out], "given as both --png and --curves"),
+        (["world", "render", SQUARE, "-o", SQUARE, "--force"], "given as both -o and FILE"),
+    ):
+        result = run_tvl(*args)
+        assert_one_line_refusal(result, "", message)
+    assert {path: path.read_bytes() for path in (log, fam)} == kept
+    assert not out.exists()
+
+
+def test_a_special_file_is_never_replaced_even_with_force(run_tvl, tmp_path: Path) -> None:
+    import os
+
+    pipe = tmp_path / "pipe"
+    os.mkfifo(pipe)
+    result = run_tvl("world", "new", "square", "-o", pipe, "--force")
+    assert_one_line_refusal(result, str(pipe), "is a device or other special file")
+    assert pipe.is_fifo()

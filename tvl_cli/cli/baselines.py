@@ -15,6 +15,7 @@ from tvl_cli.cli.options import (
     print_json,
     reflex_options,
     refuse_existing,
+    refuse_shared_paths,
 )
 from tvl_cli.commands.baseline import dwa_session, qlearn_session
 from tvl_cli.commands.run import parse_goal
@@ -47,6 +48,7 @@ def baseline_dwa(
     as_json: bool,
 ) -> None:
     """Drive WORLD with the Dynamic Window Approach, which knows the true obstacles."""
+    refuse_shared_paths({"--png": png}, {"WORLD": world_file})
     if png is not None:
         refuse_existing(png, force)
     metrics = dwa_session(
@@ -90,6 +92,7 @@ def baseline_qlearn(
     as_json: bool,
 ) -> None:
     """Learn a Q-table over the single FAM's rules in WORLD, then avoid greedily with it."""
+    refuse_shared_paths({"--png": png}, {"WORLD": world_file})
     if png is not None:
         refuse_existing(png, force)
     report = qlearn_session(

@@ -16,6 +16,7 @@ from tvl_cli.cli.options import (
     reflex_options,
     refuse_both_formats,
     refuse_existing,
+    refuse_shared_paths,
 )
 from tvl_cli.commands.demo import run_demo
 from tvl_cli.commands.explain import EVENT_CHOICES, Moment, explain_run
@@ -73,6 +74,7 @@ def run(
     Every rule beyond the paper's method is a reflex: --paper (or --reflex none) runs the
     paper's method alone."""
     refuse_both_formats(as_json, as_csv)
+    refuse_shared_paths({"--png": png, "--log": trace}, {"FAM": fam, "WORLD": world_file})
     for output in (png, trace):
         if output is not None:
             refuse_existing(output, force)
@@ -124,6 +126,7 @@ def replay(
     as_json: bool,
 ) -> None:
     """Summarise a learning log or a run trace, and draw it."""
+    refuse_shared_paths({"--png": png, "--curves": curves}, {"FILE": file})
     for output in (png, curves):
         if output is not None:
             refuse_existing(output, force)

@@ -14,6 +14,7 @@ from tvl_cli.cli.options import (
     print_json,
     refuse_both_formats,
     refuse_existing,
+    refuse_shared_paths,
     training_options,
 )
 from tvl_cli.commands.learn import resolve_fam_config
@@ -45,6 +46,7 @@ def train(
     as_json: bool,
 ) -> None:
     """Train a FAM file from learning logs (log replay)."""
+    refuse_shared_paths({"-o": output}, {f"LOG {i + 1}": log for i, log in enumerate(logs)})
     refuse_existing(output, force)
     fam_config = resolve_fam_config(config, RobotConfig())
     with views.progress("training") as bar:

@@ -9,6 +9,7 @@ import click
 from tvl_cli.cli.options import (
     print_json,
     refuse_existing,
+    refuse_shared_paths,
 )
 
 
@@ -28,6 +29,7 @@ def figure(
         draw_figure,  # matplotlib is slow to import; only this needs it
     )
 
+    refuse_shared_paths({"-o": output, "--table": table}, {"RESULTS": results})
     for path in (output, table):
         if path is not None:
             refuse_existing(path, force)

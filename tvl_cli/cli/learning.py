@@ -14,6 +14,7 @@ from tvl_cli.cli.options import (
     print_json,
     refuse_beside_paper,
     refuse_existing,
+    refuse_shared_paths,
     training_options,
 )
 from tvl_cli.commands.learn import LearnRequest, learn_to_log
@@ -91,6 +92,9 @@ def learn(
     as_json: bool,
 ) -> None:
     """Explore WORLD and learn trajectory velocities, recording every episode in a log."""
+    refuse_shared_paths(
+        {"--fam": fam_out}, {"--log": log, "WORLD": world_file, "--from-fam": from_fam}
+    )
     if fam_out is not None:
         refuse_existing(fam_out, force)
     if click.get_current_context().params["paper"]:

@@ -23,6 +23,7 @@ from tvl_cli.core.labels import (
     PAPER_MARGIN_M,
 )
 from tvl_cli.core.training import TrainParams
+from tvl_cli.io.atomic import refuse_non_file
 
 # Seeds are stored as 64-bit integers in logs and traces, and numpy takes no negative seed.
 SEED = click.IntRange(0, 2**63 - 1)
@@ -31,10 +32,27 @@ SEED = click.IntRange(0, 2**63 - 1)
 def refuse_existing(path: Path, force: bool) -> None:
     """Output files are never overwritten unless the user says --force, and a missing
     directory is found before any work is done, not after."""
+    refuse_non_file(path)
     if path.exists() and not force:
         raise BadInput(f"{path}: already exists (use --force to overwrite)")
     if not path.parent.is_dir():
         raise BadInput(f"{path}: cannot write, directory {path.parent} does not exist")
+
+
+def refuse_shared_paths(
+    outputs: dict[str, Path | None], inputs: dict[str, Path | None] | None = None
+) -> None:
+    """Each output a file of its own: not another output (one would silently replace the
+    other), nor an input (which --force would destroy). Keys name the options, as
+    "--log"."""
+    named = [(o, p) for o, p in outputs.items() if p is not None]
+    given = [*named, *((i, p) for i, p in (inputs or {}).items() if p is not None)]
+    for index, (option, path) in enumerate(named):
+        for other, other_path in given[index + 1 :]:
+            if path.resolve() == other_path.resolve():
+                raise BadInput(
+                    f"{path}: given as both {option} and {other}; each needs its own file"
+                )
 
 
 def training_options(command: Callable[..., None]) -> Callable[..., None]:

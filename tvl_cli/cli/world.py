@@ -11,6 +11,7 @@ from tvl_cli.cli.options import (
     SEED,
     print_json,
     refuse_existing,
+    refuse_shared_paths,
 )
 from tvl_cli.io.atomic import atomic_output
 from tvl_cli.sim.worldgen import KINDS, generate_world
@@ -84,6 +85,7 @@ def world_render(file: Path, output: Path, force: bool, as_json: bool) -> None:
     """Draw a world file as a PNG picture."""
     from tvl_cli.render.plot import render_world  # matplotlib is slow to import; only this needs it
 
+    refuse_shared_paths({"-o": output}, {"FILE": file})
     loaded = load_world(file)
     refuse_existing(output, force)
     render_world(loaded, output)

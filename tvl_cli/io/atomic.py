@@ -32,8 +32,7 @@ def atomic_output(path: Path | str, overwrite: bool = True) -> Iterator[Path]:
     path = Path(path)
     if not path.parent.is_dir():
         raise BadInput(f"{path}: cannot write, directory {path.parent} does not exist")
-    if path.is_dir():
-        raise BadInput(f"{path}: is a directory, not a file")
+    refuse_non_file(path)
     _remove_abandoned_temporaries(path)
     temporary = path.with_name(f".{path.name}.{_HOST}.{os.getpid()}.{secrets.token_hex(4)}.tmp")
     try:
@@ -55,6 +54,15 @@ def atomic_output(path: Path | str, overwrite: bool = True) -> Iterator[Path]:
     except BaseException:
         temporary.unlink(missing_ok=True)
         raise
+
+
+def refuse_non_file(path: Path) -> None:
+    """An output name taken by a directory or a device (/dev/full, a pipe) is refused, even
+    with --force: replacing it would destroy what is there, not a file of ours."""
+    if path.is_dir():
+        raise BadInput(f"{path}: is a directory, not a file")
+    if path.exists() and not path.is_file():
+        raise BadInput(f"{path}: is a device or other special file, not a file to write")
 
 
 def _link_new(temporary: Path, path: Path) -> None:
