@@ -92,3 +92,10 @@ def test_learning_too_short_for_an_episode_keeps_the_log_and_writes_no_fam(run_t
     result = run_tvl("learn", SQUARE, "--log", log, "--minutes", "0.05", "--fam", fam)
     assert_one_line_refusal(result, str(fam), "no episode finished", str(log))
     assert log.exists() and not fam.exists()
+
+
+@pytest.mark.parametrize("command", [["run", "FAM"], ["baseline", "dwa"]])
+def test_a_run_shorter_than_one_control_step_is_refused(run_tvl, fam: Path, command) -> None:
+    args = [fam if part == "FAM" else part for part in command]
+    result = run_tvl(*args, SQUARE, "--behaviour", "avoid", "--minutes", "1e-9")
+    assert_one_line_refusal(result, "--minutes 1e-09 is shorter than one control step (0.1 s)")

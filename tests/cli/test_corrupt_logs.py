@@ -46,7 +46,45 @@ def float_ring(f: h5py.File) -> None:
     group["ring_mm"] = rings
 
 
+def replace(f: h5py.File, name: str, values: np.ndarray) -> None:
+    del f[name]
+    f[name] = values
+
+
+def nan_pose(f: h5py.File) -> None:
+    pose = f["sessions/0000/pose"][:]
+    pose[3, 0] = np.nan
+    replace(f, "sessions/0000/pose", pose)
+
+
+def flat_pose(f: h5py.File) -> None:
+    replace(f, "sessions/0000/pose", f["sessions/0000/pose"][:].ravel())
+
+
+def infinite_episode_end(f: h5py.File) -> None:
+    table = f["sessions/0000/episodes"]
+    row = table[0]
+    row["end_arc_m"] = np.inf
+    table[0] = row
+
+
+def narrow_minutes(f: h5py.File) -> None:
+    group = f["sessions/0000"]
+    replace(f, "sessions/0000/minutes", group["minutes"][:, :2].copy())
+
+
+def robot_without_size(f: h5py.File) -> None:
+    group = f["sessions/0000"]
+    text = group.attrs["robot_config"]
+    group.attrs["robot_config"] = text.replace('"radius_m": 0.2', '"radius_m": NaN')
+
+
 DAMAGE: dict[str, tuple[Callable[[h5py.File], None], str]] = {
+    "a NaN in the poses": (nan_pose, "pose holds a value that is not a finite number"),
+    "poses as one flat row": (flat_pose, "pose rows hold"),
+    "an infinite episode end": (infinite_episode_end, "episodes end_arc_m holds a value"),
+    "minutes of two columns": (narrow_minutes, "minutes rows hold (2,) values, not 5"),
+    "a robot of no size": (robot_without_size, "robot radius_m is nan, not a positive number"),
     "a deleted dataset": (delete_ring, "session 0000: corrupt (no ring_mm dataset)"),
     "sessions that are not a group": (sessions_as_a_dataset, "/sessions is not a group"),
     "a negative episode count": (negative_episode_count, "negative counts"),
@@ -85,3 +123,52 @@ def test_a_run_trace_with_a_flat_pose_is_refused_not_drawn(
     result = run_tvl("replay", trace, "--png", tmp_path / "path.png")
     assert_one_line_refusal(result, str(trace), "pose is")
     assert not (tmp_path / "path.png").exists()
+
+
+def _trace(run_tvl, log: Path, directory: Path) -> Path:
+    fam, trace = directory / "fam.h5", directory / "run.h5"
+    assert run_tvl("train", log, "-o", fam).returncode == 0
+    made = run_tvl("run", fam, SQUARE, "--behaviour", "avoid", "--minutes", "0.2", "--log", trace)
+    assert made.returncode == 0, made.stderr
+    return trace
+
+
+@pytest.mark.parametrize(
+    "damage, phrase",
+    [
+        (lambda f: f["pose"].__setitem__((5, 1), np.inf), "pose holds a value that is not finite"),
+        (
+            lambda f: f.attrs.__setitem__("metrics", '{"distance_m": Infinity}'),
+            "metric distance_m is inf",
+        ),
+        (lambda f: f.attrs.__setitem__("parameters", "[1, 2]"), "parameters is not a JSON object"),
+    ],
+)
+def test_a_run_trace_with_impossible_values_is_refused(
+    run_tvl, good_log: Path, tmp_path: Path, damage, phrase: str
+) -> None:
+    trace = _trace(run_tvl, good_log, tmp_path)
+    with h5py.File(trace, "r+") as f:
+        damage(f)
+    for args in (["--json"], ["--png", tmp_path / "path.png"]):
+        assert_one_line_refusal(run_tvl("replay", trace, *args), str(trace), phrase)
+    assert not (tmp_path / "path.png").exists()
+
+
+@pytest.mark.parametrize(
+    "velocities, phrase",
+    [
+        (lambda v: v - 5.0, "holds speeds outside 0 to each trajectory's maximum"),
+        (lambda v: v * 1e300, "holds speeds outside 0 to each trajectory's maximum"),
+        (lambda v: (v * 10).astype(np.int8), "holds int8, not floats"),
+    ],
+)
+def test_a_fam_with_velocities_it_could_not_have_learnt_is_refused(
+    run_tvl, good_log: Path, tmp_path: Path, velocities, phrase: str
+) -> None:
+    fam = tmp_path / "fam.h5"
+    assert run_tvl("train", good_log, "-o", fam).returncode == 0
+    with h5py.File(fam, "r+") as f:
+        replace(f, "fams/all/velocity", velocities(f["fams/all/velocity"][()]))
+    for args in (["inspect", fam], ["run", fam, SQUARE, "--behaviour", "avoid"]):
+        assert_one_line_refusal(run_tvl(*args), str(fam), phrase)

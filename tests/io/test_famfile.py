@@ -35,7 +35,10 @@ def trained(config: FamConfig, seed: int = 0, count: int = 2000) -> Fam:
     rng = np.random.default_rng(seed)
     fam = Fam(config, NAMES, init_velocity_mps=0.2)
     rings = rng.uniform(0.15, 4.0, (count, 16))  # (count, 16) m
-    fam.train(rings, rng.integers(0, 7, count), rng.uniform(0.0, 0.6, count))
+    trajectories = rng.integers(0, 7, count)
+    # Labels as learning makes them: from standing still to each trajectory's top speed.
+    top = np.array(ROBOT.v_max_mps)[trajectories]
+    fam.train(rings, trajectories, rng.uniform(0.0, 1.0, count) * top)
     return fam
 
 

@@ -13,7 +13,7 @@ from tvl_cli.baselines.dwa import BEHAVIOURS, run_dwa
 from tvl_cli.baselines.qlearning import QLearningResult, learn_and_evaluate
 from tvl_cli.commands.run import resolve_goal
 from tvl_cli.core.config import RobotConfig
-from tvl_cli.core.errors import BadInput, check_minutes
+from tvl_cli.core.errors import BadInput, check_minutes, check_run_minutes
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.sim.worldmap import WorldMap, load_world
 
@@ -57,7 +57,7 @@ def dwa_session(
     reflexes: tuple[str, ...] = (),
 ) -> RunMetrics:
     """One DWA run in a world file inside the named reflexes; the path drawn to `png`."""
-    check_minutes(minutes)
+    check_run_minutes(minutes, RobotConfig().control_period_s)
     world = load_world(world_path)
     goal = _goal(world_path, world, behaviour, goal)
     robot = RobotConfig()
@@ -116,7 +116,7 @@ def qlearn_session(
 ) -> QLearnReport:
     """Learn a Q-table in a world file, then run it greedily inside the named reflexes; its
     path drawn to `png`."""
-    check_minutes(minutes)
+    check_run_minutes(minutes, RobotConfig().control_period_s)
     check_minutes(learn_minutes, "--learn-minutes", zero_allowed=True)
     if competence_every is not None and not (
         math.isfinite(competence_every) and competence_every > 0

@@ -12,7 +12,7 @@ from tvl_cli.agent.reflexes import STACK_ORDER
 from tvl_cli.agent.trace import ColumnSink, PathRecorder, TraceRecorder
 from tvl_cli.core.behaviours import BEHAVIOUR_NAMES
 from tvl_cli.core.config import RobotConfig, SonarConfig
-from tvl_cli.core.errors import BadInput, check_minutes
+from tvl_cli.core.errors import BadInput, check_run_minutes
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.io.famfile import read_fam
 from tvl_cli.io.logreader import file_sha256
@@ -87,7 +87,7 @@ def run_fam(request: RunRequest) -> RunMetrics:
     if request.behaviour not in BEHAVIOUR_NAMES:
         raise BadInput(f"unknown behaviour {request.behaviour!r}")
     check_threshold(request.threshold)
-    check_minutes(request.minutes)
+    check_run_minutes(request.minutes, RobotConfig().control_period_s)
     fam_file = read_fam(request.fam)
     world = load_world(request.world)
     robot = run_robot(fam_file.robot_config, request.sonar, request.fam)

@@ -87,10 +87,45 @@ class RobotConfig:
 
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> RobotConfig:
+        """Build from a file's JSON; ValueError (or KeyError, TypeError) if it does not
+        describe a robot that could move and sense."""
         fields = dict(data)
         fields["trajectories"] = tuple(Trajectory(**t) for t in data["trajectories"])
         fields["sonar"] = SonarConfig(**data["sonar"])
-        return cls(**fields)
+        robot = cls(**fields)
+        _check_physical(robot)
+        return robot
+
+
+def _check_physical(robot: RobotConfig) -> None:
+    """Sizes, times and speeds a robot can have: finite, positive where nothing else works."""
+    sonar = robot.sonar
+    positive = {
+        "radius_m": robot.radius_m,
+        "control_period_s": robot.control_period_s,
+        "physics_substeps": robot.physics_substeps,
+        "spin_rate_radps": robot.spin_rate_radps,
+        "sonar.count": sonar.count,
+        "sonar.min_range_m": sonar.min_range_m,
+        "sonar.cone_deg": sonar.cone_deg,
+        "sonar.rays_per_beam": sonar.rays_per_beam,
+        **{f"{t.name}.v_max_mps": t.v_max_mps for t in robot.trajectories},
+    }
+    for name, value in positive.items():
+        if not (isinstance(value, int | float) and math.isfinite(value) and value > 0):
+            raise ValueError(f"robot {name} is {value!r}, not a positive number")
+    others = {
+        "odometry_noise_fraction": robot.odometry_noise_fraction,
+        "sonar.noise_sigma_m": sonar.noise_sigma_m,
+        "sonar.noise_fraction": sonar.noise_fraction,
+        "sonar.specular_max_deg": sonar.specular_max_deg,
+        **{f"{t.name}.curvature_per_m": t.curvature_per_m for t in robot.trajectories},
+    }
+    for name, value in others.items():
+        if not (isinstance(value, int | float) and math.isfinite(value)):
+            raise ValueError(f"robot {name} is {value!r}, not a number")
+    if not sonar.max_range_m > sonar.min_range_m or not math.isfinite(sonar.max_range_m):
+        raise ValueError(f"robot sonar ranges {sonar.min_range_m!r} to {sonar.max_range_m!r}")
 
 
 # Fuzzy-set names by partition size: very near .. very far.

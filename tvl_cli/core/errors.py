@@ -22,3 +22,12 @@ def check_minutes(minutes: float, option: str = "--minutes", zero_allowed: bool 
             f"{option} {minutes:g} must be {least} and at most {MAX_SIMULATED_MINUTES:g} "
             "simulated minutes (a year)"
         )
+
+
+def check_run_minutes(minutes: float, control_period_s: float, option: str = "--minutes") -> None:
+    """A run lasts at least one control step: a shorter one has nothing to measure."""
+    check_minutes(minutes, option)
+    if minutes * 60.0 < control_period_s:
+        raise BadInput(
+            f"{option} {minutes:g} is shorter than one control step ({control_period_s:g} s)"
+        )

@@ -149,6 +149,9 @@ def read_fam(path: Path | str) -> FamFile:
             raise FormatError(f"{path}: corrupt tvl-fam ({error})") from None
 
 
+_ROUNDING_MPS = 1e-9  # an average of labels at a maximum may round a few ulps above it
+
+
 def _read(f: h5py.File, path: Path) -> FamFile:
     config = FamConfig.from_dict(read_json_attr(f, "config", path))
     robot = RobotConfig.from_dict(read_json_attr(f, "robot_config", path))
@@ -165,7 +168,18 @@ def _read(f: h5py.File, path: Path) -> FamFile:
                     f"{path}: {group.name}/{name} has shape {values.shape}, "
                     f"the configuration says {shape}"
                 )
+            if values.dtype.kind != "f":
+                raise FormatError(f"{path}: {group.name}/{name} holds {values.dtype}, not floats")
             arrays.append(values.reshape(rows))
+        # A learnt velocity is an average of labels, each between 0 and the trajectory's
+        # maximum (give or take the rounding of the average): anything else was not learnt.
+        top = np.array(
+            [robot.trajectories[robot.trajectory_index(n)].v_max_mps for n in table.trajectories]
+        )
+        if not ((velocities[-1] >= 0) & (velocities[-1] <= top + _ROUNDING_MPS)).all():
+            raise FormatError(
+                f"{path}: {group.name}/velocity holds speeds outside 0 to each trajectory's maximum"
+            )
     fam = Fam.from_tables(
         config,
         [t.name for t in robot.trajectories],

@@ -19,6 +19,7 @@ from tvl_cli.io.loglayout import (
     COMMITTED_EPISODES,
     COMMITTED_MINUTES,
     EXEMPLAR_DATASETS,
+    MINUTE_COLUMNS,
     SESSIONS,
     STATUS_NOT_CLOSED,
     STATUS_RUNNING,
@@ -156,7 +157,9 @@ def _read_session(group: h5py.Group, name: str, path: Path) -> Session:
     columns = {column: group[column][:end] for column in EXEMPLAR_DATASETS}
     if any(len(values) < end for values in columns.values()):
         raise FormatError(f"{where}: fewer exemplars stored than its episodes list")
+    minutes = group["minutes"][: int(group.attrs[COMMITTED_MINUTES])]
     _check_ranges(columns, robot, where)
+    _check_values(columns, table, minutes, where)
     status = read_str_attr(group, "status", path)
     if status == STATUS_RUNNING and writer_pid(path) is None:
         status = STATUS_NOT_CLOSED
@@ -173,7 +176,7 @@ def _read_session(group: h5py.Group, name: str, path: Path) -> Session:
         ended=read_str_attr(group, "ended", path) if "ended" in group.attrs else None,
         tvl_version=read_str_attr(group, "tvl_version", path),
         episode_table=table,
-        minutes=group["minutes"][: int(group.attrs[COMMITTED_MINUTES])],
+        minutes=minutes,
         **columns,
     )
 
@@ -189,6 +192,37 @@ def _check_ranges(columns: dict[str, np.ndarray], robot: RobotConfig, where: str
     rotation = columns["rotation"]
     if len(rotation) and not 0 <= rotation.min() <= rotation.max() < sonars:
         raise FormatError(f"{where}: rotation out of range")
+
+
+# Rows of more than one number, and how many numbers each holds.
+_ROW_WIDTHS = {"pose": 3, "odometry": 3}
+
+
+def _check_values(
+    columns: dict[str, np.ndarray], table: np.ndarray, minutes: np.ndarray, where: str
+) -> None:
+    """Every row the shape its meaning needs, and every measurement a finite number: a NaN
+    would train into every rule it touched, and a picture would silently leave it out."""
+    for name, width in _ROW_WIDTHS.items():
+        if columns[name].ndim != 2 or columns[name].shape[1] != width:
+            raise FormatError(f"{where}: {name} rows hold {columns[name].shape[1:]}, not {width}")
+    if columns["arc_m"].ndim != 1:
+        raise FormatError(f"{where}: arc_m holds rows, not one distance a step")
+    if minutes.ndim != 2 or minutes.shape[1] != len(MINUTE_COLUMNS):
+        raise FormatError(
+            f"{where}: minutes rows hold {minutes.shape[1:]} values, not {len(MINUTE_COLUMNS)}"
+        )
+    measured = {
+        "pose": columns["pose"],
+        "odometry": columns["odometry"],
+        "arc_m": columns["arc_m"],
+        "episodes end_time_s": table["end_time_s"],
+        "episodes end_arc_m": table["end_arc_m"],
+        "minutes": minutes,
+    }
+    for name, values in measured.items():
+        if not np.isfinite(values).all():
+            raise FormatError(f"{where}: {name} holds a value that is not a finite number")
 
 
 def file_sha256(path: Path | str) -> str:

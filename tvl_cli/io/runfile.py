@@ -187,11 +187,14 @@ def read_run(path: Path | str) -> RunTrace:
         except OSError as error:
             raise FormatError(f"{path}: run trace is corrupt ({error})") from None
         _check_shapes(arrays, path)
+        _check_finite(arrays, path)
+        parameters, metrics = (read_json_attr(f, name, path) for name in ("parameters", "metrics"))
+        _check_records(parameters, metrics, path)
         return RunTrace(
             world_name=read_str_attr(f, "world_name", path),
             world_text=read_str_attr(f, "world_text", path),
-            parameters=read_json_attr(f, "parameters", path),
-            metrics=read_json_attr(f, "metrics", path),
+            parameters=parameters,
+            metrics=metrics,
             arrays=arrays,
             reflex_names=reflex_names,
         )
@@ -210,3 +213,25 @@ def _check_shapes(arrays: dict[str, np.ndarray], path: Path | str) -> None:
         if values.ndim != wanted or len(values) != steps or (row and values.shape[1:] != row):
             shape = "x".join(map(str, values.shape)) or "a scalar"
             raise FormatError(f"{path}: run trace is corrupt ({name} is {shape}, {steps} steps)")
+
+
+# Measurements every step has; velocities may be NaN where no view was perceived.
+_MEASURED = ("pose", "odometry", "speed_mps", "turn_radps")
+
+
+def _check_finite(arrays: dict[str, np.ndarray], path: Path | str) -> None:
+    """A NaN or infinite pose would be drawn as a path cut short or through a wall."""
+    for name in _MEASURED:
+        if name in arrays and not np.isfinite(arrays[name]).all():
+            raise FormatError(f"{path}: run trace's {name} holds a value that is not finite")
+
+
+def _check_records(parameters: Any, metrics: Any, path: Path | str) -> None:
+    """The run's parameters and metrics are JSON objects, the metrics' numbers finite (so
+    that `tvl replay --json` can print them)."""
+    for name, record in (("parameters", parameters), ("metrics", metrics)):
+        if not isinstance(record, dict):
+            raise FormatError(f"{path}: run trace's {name} is not a JSON object")
+    for key, value in metrics.items():
+        if isinstance(value, float) and not np.isfinite(value):
+            raise FormatError(f"{path}: run trace's metric {key} is {value}, not a finite number")
