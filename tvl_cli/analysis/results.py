@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import json
 import math
+import sys
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, fields
 from pathlib import Path
@@ -19,6 +20,7 @@ from typing import Any
 import numpy as np
 
 from tvl_cli.core import competence
+from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, is_threshold
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.metrics import RunMetrics
 
@@ -28,6 +30,11 @@ Row = dict[str, Any]
 COLLISION_PRONE_PER_MIN = competence.MAX_CONTACTS_PER_MIN
 
 WORLD_ORDER = ("square", "circle", "corridor", "obstacles", "narrow", "lab")
+# The ablation's settings in table order: the policy alone, each reflex alone, all of them,
+# and the paper's whole method (its labels and collision points too).
+ABLATION_SETTINGS = (
+    "none", "blocked-ways", "near-miss", "bump", "tie", "wall-start", "all", "paper",
+)  # fmt: skip
 # The paper's reported ends (SPEC §10): threshold -> (wall clearance m, mean speed m/s) in
 # wall following (§5.1, Fig. 21), and learning minute -> mean speed m/s in the lab, multi FAM
 # (§5.2, Fig. 27).
@@ -50,80 +57,161 @@ def time_to_competence(snapshots: Iterable[Row]) -> float | None:
 # --- reading and summarising -------------------------------------------------------
 
 
-def read_results(path: Path) -> list[Row]:
-    """The runs of a JSON-lines results file; BadInput naming the line that is not one."""
+def read_results(path: Path) -> dict[int, Row]:
+    """The runs of a JSON-lines results file by line number; BadInput naming the line that is
+    not one."""
     try:
         text = path.read_text(encoding="utf-8")
     except FileNotFoundError:
         raise BadInput(f"{path}: no such results file") from None
     except (OSError, UnicodeDecodeError) as error:
         raise BadInput(f"{path}: cannot read ({error})") from None
-    rows: list[Row] = []
+    rows: dict[int, Row] = {}
     for number, line in enumerate(text.splitlines(), start=1):
         if not line.strip():
             continue
+        where = f"{path}:{number}"
         try:
             row = json.loads(line)
         except json.JSONDecodeError as error:
-            raise BadInput(f"{path}:{number}:{error.colno}: not JSON ({error.msg})") from None
+            raise BadInput(f"{where}:{error.colno}: not JSON ({error.msg})") from None
+        except RecursionError:
+            raise BadInput(f"{where}: JSON nested too deeply for a run") from None
+        except ValueError:  # the one other refusal of json: int() of too many digits
+            limit = sys.get_int_max_str_digits()
+            raise BadInput(f"{where}: a whole number of more than {limit} digits") from None
         if not isinstance(row, dict) or not isinstance(row.get("kind"), str):
-            raise BadInput(f'{path}:{number}: not a run (an object with a "kind")')
-        _check_types(row, f"{path}:{number}")
-        rows.append(row)
+            raise BadInput(f'{where}: not a run (an object with a "kind")')
+        _check_types(row, where)
+        rows[number] = row
     return rows
 
 
-_WORDS = ("world", "config", "behaviour", "reflexes", "learning")
+# The keys the figures read, by what they must hold. Parameters and measures are numbers
+# (finite: json reads NaN and Infinity, which would show as "–"); only the measures a run may
+# not have taken can be null. `minutes` (a learn run's) and `competence_checks` (Q-learning's)
+# are lists of objects whose keys are checked as a run's are.
+_WORDS = ("world", "config", "behaviour", "reflexes", "learning", "goal")
 _NUMBERS = (
     "seed",
     "minute",
     "threshold",
     "learn_minutes",
-    *(f.name for f in fields(RunMetrics) if f.name not in ("goal_reached",)),
+    "run_minutes",
+    "goal_index",
+    "delta_v",
+    "learn_collisions",
+    *(f.name for f in fields(RunMetrics) if f.name != "goal_reached"),
 )
+_MAYBE_TAKEN = ("mean_wall_clearance_m", "time_to_goal_s", "time_to_competence_min")
+_FLAGS = ("goal_reached",)
+_LISTS = ("minutes", "competence_checks")
 
 
 def _check_types(row: Row, where: str) -> None:
-    """The keys the figures read must hold what they name: text, or a number (or null)."""
+    """BadInput naming the first key a figure reads that does not hold what it names."""
     for key in _WORDS:
         if key in row and not isinstance(row[key], str):
             raise BadInput(f"{where}: {key!r} is {row[key]!r}, expected text")
-    for key in _NUMBERS:
+    for key in (*_NUMBERS, *_MAYBE_TAKEN):
         value = row.get(key)
-        if value is not None and (isinstance(value, bool) or not isinstance(value, int | float)):
+        if key not in row or (value is None and key in _MAYBE_TAKEN):
+            continue
+        if (
+            isinstance(value, bool)
+            or not isinstance(value, int | float)
+            or not math.isfinite(value)
+        ):
             raise BadInput(f"{where}: {key!r} is {value!r}, expected a number")
+    for key in _FLAGS:
+        if key in row and not isinstance(row[key], bool):
+            raise BadInput(f"{where}: {key!r} is {row[key]!r}, expected true or false")
+    if "threshold" in row and not is_threshold(row["threshold"]):
+        raise BadInput(f"{where}: 'threshold' is {row['threshold']!r}, outside (0, 1]")
+    for key in _LISTS:
+        items = row.get(key, [])
+        if not isinstance(items, list):
+            raise BadInput(f"{where}: {key!r} is {items!r}, expected a list of objects")
+        for index, item in enumerate(items, start=1):
+            at = f"{where}: {key!r} item {index}"
+            if not isinstance(item, dict):
+                raise BadInput(f"{at} is {item!r}, expected an object")
+            _check_types(item, at)
 
 
 @dataclass(frozen=True, slots=True)
 class Needs:
-    """What a figure draws from: runs of a kind (with these values), having these keys."""
+    """What a figure draws from: runs of a kind (with these values; a tuple: any of them),
+    having these keys, and for each key it plots a value (not null, not empty) in at least one
+    of them, else its panel would be empty."""
 
     what: str
     where: dict[str, Any]
     keys: tuple[str, ...]
+    plotted: tuple[str, ...]
 
 
 _RUN_KEYS = ("world", "seed", "contacts_per_min", "mean_speed_mps")
+_PLOTTED = ("contacts_per_min", "mean_speed_mps")
+WALL_BEHAVIOURS = tuple(name for name in BEHAVIOUR_NAMES if name.startswith("wall"))
 FIGURE_NEEDS: dict[str, tuple[Needs, ...]] = {
     "fig19": (
-        Needs("learning runs", {"kind": "learn"}, ("world", "seed", "minutes")),
-        Needs("avoid snapshots", {"kind": "tvl", "behaviour": "avoid"}, (*_RUN_KEYS, "minute")),
+        Needs("learning runs", {"kind": "learn"}, ("world", "seed", "minutes"), ("minutes",)),
+        Needs(
+            "avoid snapshots",
+            {"kind": "tvl", "behaviour": "avoid"},
+            (*_RUN_KEYS, "minute"),
+            _PLOTTED,
+        ),
     ),
-    "fig21": (Needs("wall runs", {"kind": "tvl"}, (*_RUN_KEYS, "behaviour", "threshold")),),
-    "fig22": (Needs("goal runs", {"behaviour": "goal"}, ("world", "seed", "goal_reached")),),
+    "fig21": (
+        Needs(
+            "wall runs",
+            {"kind": "tvl", "behaviour": WALL_BEHAVIOURS},
+            (*_RUN_KEYS, "threshold", "mean_wall_clearance_m"),
+            ("mean_wall_clearance_m", "mean_speed_mps"),
+        ),
+    ),
+    "fig22": (Needs("goal runs", {"behaviour": "goal"}, ("world", "seed", "goal_reached"), ()),),
     "fig24": (
-        Needs("avoid snapshots", {"kind": "tvl", "behaviour": "avoid"}, (*_RUN_KEYS, "minute")),
+        Needs(
+            "avoid snapshots",
+            {"kind": "tvl", "behaviour": "avoid"},
+            (*_RUN_KEYS, "minute"),
+            _PLOTTED,
+        ),
     ),
-    "fig27": (Needs("snapshots", {"kind": "tvl"}, (*_RUN_KEYS, "config", "minute")),),
-    "ablation": (Needs("runs", {"kind": "tvl"}, (*_RUN_KEYS, "config", "reflexes")),),
+    "fig27": (Needs("snapshots", {"kind": "tvl"}, (*_RUN_KEYS, "config", "minute"), _PLOTTED),),
+    "ablation": (
+        Needs(
+            "runs",
+            {"kind": "tvl", "reflexes": ABLATION_SETTINGS},
+            (*_RUN_KEYS, "config"),
+            ("contacts_per_min",),
+        ),
+    ),
 }
+# Each experiment script marks its TVL runs with a key no other one records: the learning
+# `minute` of a snapshot FAM, the ablation's `learning`, fig22's `goal_index`; fig21's
+# threshold runs have none. A figure refuses the TVL runs of another experiment, which it
+# would otherwise average in silently (the ablation would average over fig21's thresholds).
+FIGURE_MARKS: dict[str, str | None] = {
+    "fig19": "minute",
+    "fig21": None,
+    "fig22": "goal_index",
+    "fig24": "minute",
+    "fig27": "minute",
+    "ablation": "learning",
+}
+_MARKS = tuple(dict.fromkeys(mark for mark in FIGURE_MARKS.values() if mark))
 
 
-def check_needs(name: str, rows: list[Row], source: str) -> None:
-    """BadInput unless the rows hold the runs figure NAME draws, with the keys it reads."""
+def check_needs(name: str, rows: dict[int, Row], source: str) -> None:
+    """BadInput unless the rows (by line number) hold the runs figure NAME draws, with the keys
+    it reads and something to plot, and no TVL run of another experiment."""
     for needs in FIGURE_NEEDS[name]:
-        runs = select(rows, **needs.where)
-        kinds = ", ".join(f"{k} {v}" for k, v in needs.where.items())
+        runs = select(rows.values(), **needs.where)
+        kinds = ", ".join(f"{k} {_alternatives(v)}" for k, v in needs.where.items())
         if not runs:
             raise BadInput(f"{source}: no {needs.what} ({kinds}) for {name}")
         for run in runs:
@@ -132,11 +220,30 @@ def check_needs(name: str, rows: list[Row], source: str) -> None:
                 raise BadInput(
                     f"{source}: a run ({kinds}) lacks the key {missing[0]!r} that {name} needs"
                 )
+        for key in needs.plotted:
+            if not any(run[key] not in (None, []) for run in runs):
+                raise BadInput(f"{source}: no {needs.what} ({kinds}) with a {key!r} for {name}")
+    own = FIGURE_MARKS[name]
+    for number, row in rows.items():
+        marks = [mark for mark in _MARKS if mark in row]
+        if row["kind"] == "tvl" and marks != ([own] if own else []):
+            mark = next((m for m in marks if m != own), None)
+            owners = ", ".join(figure for figure, m in FIGURE_MARKS.items() if m == mark)
+            has = f"with {mark!r}" if mark else f"without {own!r}"
+            raise BadInput(f"{source}:{number}: a TVL run {has} is from {owners}, not {name}")
+
+
+def _alternatives(value: Any) -> str:
+    return "/".join(map(str, value)) if isinstance(value, tuple) else str(value)
 
 
 def select(rows: Iterable[Row], **where: Any) -> list[Row]:
-    """The rows whose keys have the given values."""
-    return [row for row in rows if all(row.get(key) == value for key, value in where.items())]
+    """The rows whose keys have the given values (a tuple: any of its values)."""
+    return [row for row in rows if all(_is(row.get(key), value) for key, value in where.items())]
+
+
+def _is(value: Any, wanted: Any) -> bool:
+    return value in wanted if isinstance(wanted, tuple) else value == wanted
 
 
 def distinct(rows: Iterable[Row], key: str, order: Sequence[Any] = ()) -> list[Any]:
@@ -307,7 +414,7 @@ def qlearn_checks(qlearn: Iterable[Row]) -> list[Row]:
 
 def threshold_points(rows: list[Row], world: str) -> list[tuple[float, Row]]:
     """Per threshold, the means over trials and wall sides of one world's wall runs."""
-    walls = [r for r in select(rows, kind="tvl", world=world) if r["behaviour"].startswith("wall")]
+    walls = select(rows, kind="tvl", world=world, behaviour=WALL_BEHAVIOURS)
     points = []
     for threshold in distinct(walls, "threshold"):
         runs = select(walls, threshold=threshold)
@@ -337,13 +444,6 @@ def goal_methods(rows: list[Row]) -> list[tuple[str, list[Row]]]:
     ]
     dwa = select(goal_runs, kind="dwa")
     return methods + ([("DWA", dwa)] if dwa else [])
-
-
-# The ablation's settings in table order: the policy alone, each reflex alone, all of them,
-# and the paper's whole method (its labels and collision points too).
-ABLATION_SETTINGS = (
-    "none", "blocked-ways", "near-miss", "bump", "tie", "wall-start", "all", "paper",
-)  # fmt: skip
 
 
 def per_min(runs: list[Row], key: str) -> float | None:

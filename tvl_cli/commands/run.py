@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 from contextlib import AbstractContextManager, ExitStack
 from dataclasses import asdict, dataclass, replace
 from pathlib import Path
@@ -10,7 +9,7 @@ from pathlib import Path
 from tvl_cli.agent.behave import behave
 from tvl_cli.agent.reflexes import STACK_ORDER
 from tvl_cli.agent.trace import ColumnSink, PathRecorder, TraceRecorder
-from tvl_cli.core.behaviours import BEHAVIOUR_NAMES
+from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, is_threshold
 from tvl_cli.core.config import RobotConfig, SonarConfig
 from tvl_cli.core.errors import BadInput, check_run_minutes
 from tvl_cli.core.metrics import RunMetrics
@@ -36,7 +35,7 @@ class RunRequest:
 
 
 def check_threshold(threshold: float) -> None:
-    if not (math.isfinite(threshold) and 0 < threshold <= 1):
+    if not is_threshold(threshold):
         raise BadInput(f"--threshold {threshold:g} is outside (0, 1]")
 
 

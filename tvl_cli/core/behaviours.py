@@ -21,6 +21,13 @@ from tvl_cli.core.angles import wrap_rad
 LOOKAHEAD_M = 0.5
 # The paper's default: fast means at least 85 % of a trajectory's maximum velocity.
 DEFAULT_THRESHOLD = 0.85
+
+
+def is_threshold(value: float) -> bool:
+    """A threshold is a fraction of each trajectory's maximum velocity, in (0, 1]."""
+    return math.isfinite(value) and 0 < value <= 1
+
+
 # A reading this short on one side means a wall to follow on that side.
 WALL_SEEN_M = 1.0
 # Each side front to back, mirror images, so that equal readings pick the same sonar on both.

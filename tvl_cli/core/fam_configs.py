@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 import json
+import sys
 from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
 
-from tvl_cli.core.config import SONAR_COUNT, FamConfig, Partition
+from tvl_cli.core.config import SONAR_COUNT, FamConfig, Partition, SonarConfig
 from tvl_cli.core.errors import BadInput
 
 MAX_INPUTS_PER_TABLE = 10  # 2^10 rules fire per reading; more makes inference crawl
@@ -72,11 +73,14 @@ def fam_config_from_json(
 ) -> FamConfig:
     """Parse and validate a user's FAM configuration; BadInput naming `source` if unusable."""
     try:
-        data = json.loads(text)
+        data = json.loads(text, object_pairs_hook=lambda pairs: _unique_keys(pairs, source))
     except json.JSONDecodeError as error:
         raise BadInput(f"{source}:{error.lineno}:{error.colno}: not JSON: {error.msg}") from None
     except RecursionError:
         raise BadInput(f"{source}: JSON nested too deeply for a FAM configuration") from None
+    except ValueError:  # the one other refusal of json: int() of too many digits
+        limit = sys.get_int_max_str_digits()
+        raise BadInput(f"{source}: a whole number of more than {limit} digits") from None
     if not isinstance(data, dict):
         raise BadInput(f"{source}: expected a JSON object with 'name' and 'tables'")
     _check_schema(data, source)
@@ -97,30 +101,75 @@ _INPUT_KEYS = ("name", "sonars", "partition")
 _PARTITION_KEYS = ("names", "centres_m")
 
 
+# A reading is at most the sonar's range, so a fuzzy set centred beyond it (or below 0 m) is
+# one no reading could ever be in the middle of.
+MAX_CENTRE_M = SonarConfig().max_range_m
+
+
 def _check_schema(data: dict[str, Any], source: str) -> None:
-    """Unknown keys and sonars that are not whole numbers, before anything is converted."""
+    """Unknown keys, names that are not text, sonars that are not whole numbers and centres
+    outside the sonar's range, before anything is converted (which would make 5 into "5")."""
     _known_keys(data, _CONFIG_KEYS, source)
+    _text(data, "name", source)
     tables = data.get("tables")
     for t, table in enumerate(tables if isinstance(tables, list) else []):
         where = f"{source}: table {t}"
         if not isinstance(table, dict):
             raise BadInput(f"{where}: expected an object with {', '.join(_TABLE_KEYS)}")
         _known_keys(table, _TABLE_KEYS, where)
+        _text(table, "name", where)
+        _texts(table, "trajectories", where)
         inputs = table.get("inputs")
         for i, fam_input in enumerate(inputs if isinstance(inputs, list) else []):
             at = f"{where} input {i}"
             if not isinstance(fam_input, dict):
                 raise BadInput(f"{at}: expected an object with {', '.join(_INPUT_KEYS)}")
             _known_keys(fam_input, _INPUT_KEYS, at)
+            _text(fam_input, "name", at)
             if isinstance(fam_input.get("partition"), dict):
-                _known_keys(fam_input["partition"], _PARTITION_KEYS, f"{at} partition")
+                _check_partition(fam_input["partition"], f"{at} partition")
             sonars = fam_input.get("sonars")
             for sonar in sonars if isinstance(sonars, list) else []:
                 if isinstance(sonar, bool) or not isinstance(sonar, int):
                     raise BadInput(f"{at}: sonar {sonar!r} is not a whole number")
 
 
+def _check_partition(partition: dict[str, Any], where: str) -> None:
+    _known_keys(partition, _PARTITION_KEYS, where)
+    _texts(partition, "names", where)
+    centres = partition.get("centres_m")
+    for centre in centres if isinstance(centres, list) else []:
+        number = isinstance(centre, int | float) and not isinstance(centre, bool)
+        if not (number and 0 <= centre <= MAX_CENTRE_M):
+            raise BadInput(
+                f"{where}: centre {centre!r} is outside the sonar's range, 0 to {MAX_CENTRE_M:g} m"
+            )
+
+
 def _known_keys(data: dict[str, Any], allowed: tuple[str, ...], where: str) -> None:
     unknown = [key for key in data if key not in allowed]
     if unknown:
         raise BadInput(f"{where}: unknown key {unknown[0]!r} (expected {', '.join(allowed)})")
+
+
+def _text(data: dict[str, Any], key: str, where: str) -> None:
+    if key in data and not isinstance(data[key], str):
+        raise BadInput(f"{where}: {key!r} is {data[key]!r}, expected text")
+
+
+def _texts(data: dict[str, Any], key: str, where: str) -> None:
+    values = data.get(key)
+    for value in values if isinstance(values, list) else []:
+        if not isinstance(value, str):
+            raise BadInput(f"{where}: {key!r} holds {value!r}, expected text")
+
+
+def _unique_keys(pairs: list[tuple[str, Any]], source: str) -> dict[str, Any]:
+    """A JSON object's keys and values; BadInput on a key given twice (json keeps the last,
+    so the first would be ignored without a word)."""
+    data: dict[str, Any] = {}
+    for key, value in pairs:
+        if key in data:
+            raise BadInput(f"{source}: the key {key!r} appears twice in one object")
+        data[key] = value
+    return data

@@ -438,12 +438,12 @@ def draw_figure(name: str, results: Path, png: Path, table: Path | None = None) 
     """Draw figure NAME from a results file into PNG; return (and write) its markdown table."""
     if name not in FIGURES:
         raise BadInput(f"unknown figure {name!r} (choose from {', '.join(FIGURES)})")
-    rows = read_results(results)
-    if not rows:
+    by_line = read_results(results)
+    if not by_line:
         raise BadInput(f"{results}: no runs")
-    check_needs(name, rows, str(results))
+    check_needs(name, by_line, str(results))
     try:
-        figure, summary = FIGURES[name](rows, results.parent)
+        figure, summary = FIGURES[name](list(by_line.values()), results.parent)
     except KeyError as error:
         raise BadInput(f"{results}: a run lacks the key {error} that {name} needs") from None
     with atomic_output(png) as temporary:

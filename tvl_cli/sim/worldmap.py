@@ -272,9 +272,7 @@ def _check_start_clear(
             )
 
 
-def _escape(
-    grid: _Grid, sr: int, sc: int, rings: tuple[Circle, ...]
-) -> tuple[int, int] | None:
+def _escape(grid: _Grid, sr: int, sc: int, rings: tuple[Circle, ...]) -> tuple[int, int] | None:
     """Flood the open cells from the start; the first cell that leads off the map, or None.
 
     Ring walls block a step whose two cell centres lie on opposite sides of the circle.
