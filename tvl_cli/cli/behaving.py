@@ -177,8 +177,9 @@ def explain(
     fam_path: Path | None,
     as_json: bool,
 ) -> None:
-    """Explain one moment of a run trace: what the robot read and perceived, what it chose
-    and why, in the rules of its FAM."""
+    """Explain one moment of a run trace in the rules of its FAM.
+
+    What the robot read and perceived, what it chose and why."""
     found = explain_run(trace, Moment(step, at_s, event, index), fam_path)
     if as_json:
         print_json(found.to_dict())
