@@ -85,3 +85,20 @@ def test_learning_onto_a_full_disk_keeps_the_committed_episodes(small_disk: Path
     assert [p.name for p in small_disk.iterdir()] == ["lab.h5"]
     with h5py.File(log, "r") as f:
         assert f["sessions/0000"].attrs["episodes_written"] > 20
+
+
+def test_a_new_log_with_no_room_for_its_first_session_leaves_nothing(small_disk: Path) -> None:
+    filler = small_disk / "filler"
+    filler.write_bytes(bytes(1_000_000 - 20_000))  # leaves a few pages free
+    log = small_disk / "lab.h5"
+    result = subprocess.run(
+        [TVL, "learn", str(LAB), "--log", str(log), "--minutes", "1"],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert (result.returncode, result.stderr) == (
+        1,
+        f"tvl: error: {log}: No space left on device\n",
+    )
+    assert [p.name for p in small_disk.iterdir()] == ["filler"]  # no stub, no lock

@@ -32,6 +32,7 @@ The online FAM must train on mm_to_ring(ring_to_mm(ring)), the values kept here,
 
 from __future__ import annotations
 
+import contextlib
 import json
 from pathlib import Path
 from types import TracebackType
@@ -139,11 +140,14 @@ class LogWriter:
             group.attrs.update({COMMITTED_EPISODES: np.int64(0), COMMITTED_MINUTES: np.int64(0)})
             f.flush()
         except BaseException:
-            if f is not None:
-                f.close()
+            # Cleared first: HDF5 may fail again closing a file it could not write (a full
+            # disk), and a log this call made holds nothing yet.
             if created:
                 path.unlink(missing_ok=True)
             lock.release()
+            if f is not None:
+                with contextlib.suppress(OSError, RuntimeError):
+                    f.close()
             raise
         return cls(path, lock, f, group)
 
