@@ -20,6 +20,7 @@ from tvl_cli.cli.options import (
 )
 from tvl_cli.commands.demo import run_demo
 from tvl_cli.commands.explain import EVENT_CHOICES, Moment, explain_run
+from tvl_cli.commands.replay import Animation
 from tvl_cli.commands.replay import replay as replay_file
 from tvl_cli.commands.run import RunRequest, parse_goal, run_fam
 from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD
@@ -115,22 +116,45 @@ def run(
     help="A learning log's session to draw (e.g. 0001); by default every session in the "
     "last one's world, and the last one's curves.",
 )
-@click.option("--force", is_flag=True, help="Overwrite the PNG files.")
+@click.option(
+    "--gif",
+    type=click.Path(path_type=Path),
+    default=None,
+    help="Animate a run: robot, sonar rays and perceived velocities.",
+)
+@click.option("--from", "from_s", type=float, default=None, help="--gif from this second.")
+@click.option("--to", "to_s", type=float, default=None, help="--gif to this second.")
+@click.option(
+    "--every",
+    type=click.IntRange(min=1),
+    default=None,
+    help="--gif: a frame every N steps (default: at most 200 frames).",
+)
+@click.option(
+    "--fps", type=click.IntRange(1, 50), default=10, show_default=True, help="--gif frames/s."
+)
+@click.option("--force", is_flag=True, help="Overwrite the PNG and GIF files.")
 @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
 def replay(
     file: Path,
     png: Path | None,
     curves: Path | None,
     session: str | None,
+    gif: Path | None,
+    from_s: float | None,
+    to_s: float | None,
+    every: int | None,
+    fps: int,
     force: bool,
     as_json: bool,
 ) -> None:
     """Summarise a learning log or a run trace, and draw it."""
-    refuse_shared_paths({"--png": png, "--curves": curves}, {"FILE": file})
-    for output in (png, curves):
+    refuse_shared_paths({"--png": png, "--curves": curves, "--gif": gif}, {"FILE": file})
+    for output in (png, curves, gif):
         if output is not None:
             refuse_existing(output, force)
-    summary = replay_file(file, png, curves, session)
+    animation = Animation(gif, from_s, to_s, every, fps) if gif is not None else None
+    summary = replay_file(file, png, curves, session, animation)
     if as_json:
         print_json(summary.to_dict())
     else:

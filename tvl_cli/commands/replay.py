@@ -140,18 +140,43 @@ def _run(trace: RunTrace, png: Path | None) -> Replay:
     return Replay(RUN_FORMAT, facts)
 
 
+@dataclass(frozen=True, slots=True)
+class Animation:
+    """A GIF of a run trace to write: where, which window of it, how fast."""
+
+    gif: Path
+    from_s: float | None = None
+    to_s: float | None = None
+    every: int | None = None
+    fps: int = 10
+
+
 def replay(
-    path: Path, png: Path | None = None, curves: Path | None = None, session: str | None = None
+    path: Path,
+    png: Path | None = None,
+    curves: Path | None = None,
+    session: str | None = None,
+    animation: Animation | None = None,
 ) -> Replay:
     """Summarise a learning log or a run trace; draw its paths (and learning curves): a
-    log's sessions in one world, or the one named by `session`."""
+    log's sessions in one world, or the one named by `session`; animate a run."""
     kind = file_format(path)
     if kind == RUN_FORMAT:
         if curves is not None:
             raise BadInput(f"{path}: a run trace has no learning curves (--curves is for logs)")
         if session is not None:
             raise BadInput(f"{path}: a run trace has no sessions (--session is for logs)")
-        return _run(read_run(path), png)
+        trace = read_run(path)
+        summary = _run(trace, png)
+        if animation is not None:
+            from tvl_cli.render.animate import Window, animate_run  # matplotlib: only here
+
+            window = Window(animation.from_s, animation.to_s, animation.every)
+            frames = animate_run(trace, animation.gif, window, animation.fps)
+            summary.facts.append(("gif frames", frames))
+        return summary
+    if animation is not None:
+        raise BadInput(f"{path}: only a run trace is animated (--gif is for runs)")
     if kind == LOG_FORMAT:
         return _learning(read_log(path), png, curves, session)
     raise BadInput(f"{path}: is a {kind} file; replay reads tvl-log and tvl-run files")

@@ -27,7 +27,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from contextlib import contextmanager
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -80,6 +80,7 @@ class RunTrace:
     metrics: dict[str, Any]
     arrays: dict[str, np.ndarray]  # the datasets above, by name
     reflex_names: tuple[str, ...] = ()
+    robot_config: dict[str, Any] = field(default_factory=dict)  # RobotConfig.to_dict()
 
     @property
     def steps(self) -> int:
@@ -197,6 +198,7 @@ def read_run(path: Path | str) -> RunTrace:
             metrics=metrics,
             arrays=arrays,
             reflex_names=reflex_names,
+            robot_config=read_json_attr(f, "robot_config", path),
         )
 
 

@@ -1,0 +1,38 @@
+"""`tvl replay RUN --gif`: an animated replay, read back with Pillow."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+from pathlib import Path
+
+from conftest import TVL
+from PIL import Image
+from test_bad_numbers import SQUARE, assert_one_line_refusal
+
+from tvl_cli.render.animate import DPI, FIGURE_SIZE_IN
+
+EXAMPLE_LOG = Path(__file__).resolve().parents[2] / "logs" / "square-s1.h5"
+
+
+def tvl(*args: str | Path) -> subprocess.CompletedProcess[str]:
+    return subprocess.run([TVL, *map(str, args)], capture_output=True, text=True, timeout=300)
+
+
+def test_a_window_of_a_run_becomes_a_gif_of_its_frames(tmp_path: Path) -> None:
+    fam, trace, gif = tmp_path / "fam.h5", tmp_path / "run.h5", tmp_path / "run.gif"
+    assert tvl("train", EXAMPLE_LOG, "-o", fam).returncode == 0
+    ran = tvl("run", fam, SQUARE, "--behaviour", "avoid", "--minutes", "0.2", "--log", trace)
+    assert ran.returncode == 0, ran.stderr
+    # Steps 20 to 79 (seconds 2 to 8 at 10 steps a second), every third: 20 frames.
+    done = tvl("replay", trace, "--gif", gif, "--from", "2", "--to", "8", "--every", "3", "--json")
+    assert done.returncode == 0, done.stderr
+    assert json.loads(done.stdout)["gif frames"] == 20
+    with Image.open(gif) as image:
+        assert image.format == "GIF" and image.n_frames == 20
+        assert image.size == tuple(round(side * DPI) for side in FIGURE_SIZE_IN)
+    backward = tvl("replay", trace, "--gif", tmp_path / "b.gif", "--from", "8", "--to", "2")
+    assert_one_line_refusal(backward, "an empty or backward window")
+    log = tvl("replay", EXAMPLE_LOG, "--gif", tmp_path / "log.gif")
+    assert_one_line_refusal(log, "only a run trace is animated")
+    assert not (tmp_path / "b.gif").exists() and not (tmp_path / "log.gif").exists()
