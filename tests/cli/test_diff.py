@@ -67,3 +67,16 @@ def test_fams_of_two_configurations_are_refused(fams: dict[str, Path]) -> None:
     done = tvl("diff", fams["late"], fams["multi"])
     assert done.returncode == 2 and done.stderr.count("\n") == 1
     assert "different configurations" in done.stderr
+
+
+def test_inspect_draws_the_learnt_velocity_over_two_inputs(
+    fams: dict[str, Path], tmp_path: Path
+) -> None:
+    png = tmp_path / "surface.png"
+    done = tvl("inspect", fams["late"], "--png", png, "--over", "front,front-right", "--fix",
+               "front-left=0.6", "--top", "1")  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    assert png.read_bytes().startswith(b"\x89PNG")
+    bad = tvl("inspect", fams["late"], "--png", tmp_path / "x.png", "--fix", "front-left=near")
+    assert bad.returncode == 2 and "expected INPUT=METRES" in bad.stderr
+    assert not (tmp_path / "x.png").exists()

@@ -8,6 +8,7 @@ import click
 
 from tvl_cli.analysis.famdiff import DEFAULT_TOLERANCE_MPS, diff_fams
 from tvl_cli.analysis.rules import SORT_KEYS, parse_ring, select_rules
+from tvl_cli.analysis.surface import velocity_surfaces
 from tvl_cli.cli import views
 from tvl_cli.cli.options import (
     print_csv,
@@ -20,8 +21,9 @@ from tvl_cli.cli.options import (
 from tvl_cli.commands.learn import resolve_fam_config
 from tvl_cli.commands.train import train_from_logs
 from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.errors import BadInput
 from tvl_cli.core.training import TrainParams
-from tvl_cli.io.famfile import read_fam, write_fam
+from tvl_cli.io.famfile import FamFile, read_fam, write_fam
 
 
 @click.command()
@@ -84,6 +86,20 @@ def train(
 )
 @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
 @click.option("--csv", "as_csv", is_flag=True, help="Print the rules as CSV, a row each.")
+@click.option(
+    "--png",
+    type=click.Path(path_type=Path),
+    default=None,
+    help="Draw the learnt velocity over the two inputs of --over, a panel per trajectory.",
+)
+@click.option("--over", default="front,front-left", show_default=True, metavar="A,B")
+@click.option(
+    "--fix",
+    multiple=True,
+    metavar="INPUT=METRES",
+    help="Hold another input at a range for --png (default: open space); repeatable.",
+)
+@click.option("--force", is_flag=True, help="Overwrite the --png file.")
 def inspect(
     fam: Path,
     trajectory: str | None,
@@ -93,12 +109,20 @@ def inspect(
     explain: str | None,
     as_json: bool,
     as_csv: bool,
+    png: Path | None,
+    over: str,
+    fix: tuple[str, ...],
+    force: bool,
 ) -> None:
     """Print a FAM file's rules as a person reads them."""
     refuse_both_formats(as_json, as_csv)
     if explain is not None and as_csv:
         raise click.UsageError("--csv lists rules; --explain prints in words or --json")
     loaded = read_fam(fam)
+    if png is not None:
+        refuse_shared_paths({"--png": png}, {"FAM": fam})
+        refuse_existing(png, force)
+        draw_surfaces(loaded, png, over, fix)
     if explain is not None:
         explanation = loaded.fam.explain(parse_ring(explain, loaded.robot_config.sonar.count))
         if as_json:
@@ -147,3 +171,27 @@ def diff(first: Path, second: Path, tolerance: float, top: int, as_json: bool) -
         print_json(difference.to_dict())
     else:
         views.fam_difference(difference, first, second)
+
+
+def draw_surfaces(loaded: FamFile, png: Path, over: str, fix: tuple[str, ...]) -> None:
+    """`inspect --png`: the learnt velocity over two inputs, the others held."""
+    from tvl_cli.render.plot import render_surfaces  # matplotlib only when a picture is wanted
+
+    names = tuple(part.strip() for part in over.split(","))
+    if len(names) != 2:
+        raise BadInput(f"--over {over!r}: two input names, e.g. front,front-left")
+    fixed: dict[str, float] = {}
+    for given in fix:
+        name, _, metres = given.partition("=")
+        try:
+            fixed[name.strip()] = float(metres)
+        except ValueError:
+            raise BadInput(
+                f"--fix {given!r}: expected INPUT=METRES, e.g. front-right=0.5"
+            ) from None
+    sonar = loaded.robot_config.sonar
+    surfaces = velocity_surfaces(
+        loaded.fam, (names[0], names[1]), fixed, sonar.min_range_m, sonar.max_range_m, sonar.count
+    )
+    held = ", ".join(f"{n} {v:g} m" for n, v in fixed.items()) or "the rest open"
+    render_surfaces(surfaces, png, f"{loaded.fam.config.name} FAM, {held}")

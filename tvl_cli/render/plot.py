@@ -14,6 +14,7 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Circle, PathPatch, Rectangle
 from matplotlib.path import Path as DrawPath
 
+from tvl_cli.analysis.surface import Surface
 from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.contacts import BACKOFF, BUMP, NEAR_MISS, steps_beginning
 from tvl_cli.io.atomic import atomic_output
@@ -210,4 +211,30 @@ def render_learning_curves(
         ax.grid(alpha=0.3)
     ax.set_xlabel("learning minute")
     figure.suptitle(title)
+    _save(figure, png_path)
+
+
+def render_surfaces(surfaces: Sequence[Surface], png_path: str | Path, title: str) -> None:
+    """One panel per trajectory: its learnt velocity over two inputs, on one colour scale."""
+    columns = min(len(surfaces), 4)
+    rows = math.ceil(len(surfaces) / columns)
+    figure = Figure(figsize=(3.0 * columns + 1.0, 2.8 * rows + 0.6), layout="constrained")
+    FigureCanvasAgg(figure)
+    axes = figure.subplots(rows, columns, squeeze=False)
+    top = max(float(s.velocity_mps.max()) for s in surfaces) or 1.0
+    mesh = None
+    for ax, surface in zip(axes.flat, surfaces, strict=False):
+        ranges = surface.ranges_m
+        mesh = ax.pcolormesh(
+            ranges, ranges, surface.velocity_mps, vmin=0.0, vmax=top, cmap="viridis"
+        )
+        ax.set_title(surface.trajectory, fontsize=10)
+        ax.set_xlabel(f"{surface.over[0]} (m)", fontsize=8)
+        ax.set_ylabel(f"{surface.over[1]} (m)", fontsize=8)
+        ax.set_aspect("equal")
+    for ax in list(axes.flat)[len(surfaces) :]:
+        ax.set_visible(False)
+    assert mesh is not None
+    figure.colorbar(mesh, ax=axes, label="learnt velocity (m/s)", shrink=0.8)
+    figure.suptitle(title, fontsize=10)
     _save(figure, png_path)

@@ -1,0 +1,64 @@
+"""The learnt velocity over two inputs: what `tvl inspect --png` draws."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from tvl_cli.analysis.surface import GRID_POINTS, velocity_surfaces
+from tvl_cli.core.config import MULTI, SINGLE, RobotConfig
+from tvl_cli.core.errors import BadInput
+from tvl_cli.core.fam import Fam
+
+ROBOT = RobotConfig()
+SONAR = ROBOT.sonar
+NAMES = [t.name for t in ROBOT.trajectories]
+
+
+def trained(config) -> Fam:
+    rng = np.random.default_rng(3)
+    fam = Fam(config, NAMES)
+    rings = rng.uniform(0.15, 4.0, (3000, 16))
+    trajectories = rng.integers(0, 7, 3000)
+    fam.train(
+        rings, trajectories, rng.uniform(0, 1, 3000) * np.array(ROBOT.v_max_mps)[trajectories]
+    )
+    return fam
+
+
+def surfaces(fam: Fam, over, fixed=None):
+    return velocity_surfaces(
+        fam, over, fixed or {}, SONAR.min_range_m, SONAR.max_range_m, SONAR.count
+    )
+
+
+def test_each_point_is_what_the_fam_perceives_of_such_a_ring() -> None:
+    fam = trained(SINGLE)
+    found = surfaces(fam, ("front", "front-left"), {"front-right": 0.5})
+    assert [s.trajectory for s in found] == NAMES
+    surface = found[3]  # T0
+    assert surface.velocity_mps.shape == (GRID_POINTS, GRID_POINTS)
+    i, j = 7, 41  # a point: front-left at ranges_m[i], front at ranges_m[j]
+    ring = np.full(16, SONAR.max_range_m)
+    ring[[15, 0, 1]] = surface.ranges_m[j]  # front
+    ring[[2, 3, 4]] = surface.ranges_m[i]  # front-left
+    ring[[12, 13, 14]] = 0.5  # front-right, held
+    assert surface.velocity_mps[i, j] == pytest.approx(fam.velocities(ring)[3], abs=1e-12)
+
+
+def test_a_multi_fam_draws_the_trajectories_whose_tables_read_both_inputs() -> None:
+    found = surfaces(trained(MULTI), ("S0", "S1"))
+    assert [s.trajectory for s in found] == ["T2L", "T1L", "T0", "T1R"]
+
+
+@pytest.mark.parametrize(
+    "over, fixed, message",
+    [
+        (("front", "left"), {}, "no table of the FAM has the inputs left"),
+        (("front", "front"), {}, "two different inputs"),
+        (("front", "front-left"), {"rear-left": 9.0}, "--fix rear-left=9: outside"),
+    ],
+)
+def test_inputs_it_cannot_draw_are_refused(over, fixed, message) -> None:
+    with pytest.raises(BadInput, match=message):
+        surfaces(trained(SINGLE), over, fixed)
