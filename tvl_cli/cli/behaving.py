@@ -92,7 +92,8 @@ def run(
         reflexes,
         sonar,
     )
-    metrics = run_fam(request)
+    with views.run_progress(minutes) as on_progress:
+        metrics = run_fam(request, on_progress)
     if as_json:
         print_json(asdict(metrics))
     elif as_csv:

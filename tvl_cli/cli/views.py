@@ -53,6 +53,14 @@ def progress(description: str) -> Iterator[Callable[[int, int], None]]:
 
 
 @contextmanager
+def run_progress(minutes: float) -> Iterator[Callable[[float], None]]:
+    """A bar over a run's simulated time, fed with the seconds done."""
+    with _bar("running") as bar:
+        task = bar.add_task("running", total=minutes * 60.0)
+        yield lambda sim_s: bar.update(task, completed=sim_s)
+
+
+@contextmanager
 def learning_progress(
     minutes: float, quiet: bool
 ) -> Iterator[tuple[Callable[[MinuteStats], None], Callable[[float], None]]]:

@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from contextlib import AbstractContextManager, ExitStack
 from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 
 from tvl_cli.agent.behave import behave
+from tvl_cli.agent.drive import Step, StepSink
 from tvl_cli.agent.reflexes import STACK_ORDER
 from tvl_cli.agent.trace import ColumnSink, PathRecorder, TraceRecorder
 from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, is_threshold
@@ -81,8 +83,13 @@ def run_robot(learnt_by: RobotConfig, sonar: str | None, fam_path: Path) -> Robo
     return robot
 
 
-def run_fam(request: RunRequest) -> RunMetrics:
-    """Run one behaviour with a learnt FAM; write the trace and picture if asked."""
+# Steps between reports of progress: ten a simulated minute, a few a second of wall time.
+PROGRESS_EVERY_STEPS = 60
+
+
+def run_fam(request: RunRequest, on_progress: Callable[[float], None] | None = None) -> RunMetrics:
+    """Run one behaviour with a learnt FAM; write the trace and picture if asked, and report
+    the simulated seconds done to `on_progress` as the run goes."""
     if request.behaviour not in BEHAVIOUR_NAMES:
         raise BadInput(f"unknown behaviour {request.behaviour!r}")
     check_threshold(request.threshold)
@@ -99,6 +106,7 @@ def run_fam(request: RunRequest) -> RunMetrics:
             trace = outputs.enter_context(_trace_output(request, world, robot, goal))
             sinks.append(trace)
         recorder = TraceRecorder(request.reflexes, robot.sonar.count, sinks)
+        on_step = _with_progress(recorder if sinks else None, on_progress)
         metrics = behave(
             world,
             robot,
@@ -109,7 +117,7 @@ def run_fam(request: RunRequest) -> RunMetrics:
             threshold=request.threshold,
             goal_xy=goal,
             reflexes=request.reflexes,
-            on_step=recorder if sinks else None,
+            on_step=on_step,
         )
         recorder.close()
         if trace is not None:
@@ -153,3 +161,23 @@ def _trace_output(
         robot_config=robot.to_dict(),
         reflex_names=request.reflexes,
     )
+
+
+def _with_progress(
+    on_step: StepSink | None, on_progress: Callable[[float], None] | None
+) -> StepSink | None:
+    """The step sink, also reporting progress every PROGRESS_EVERY_STEPS steps if asked."""
+    if on_progress is None:
+        return on_step
+    report = on_progress
+    count = 0
+
+    def both(step: Step) -> None:
+        nonlocal count
+        if on_step is not None:
+            on_step(step)
+        count += 1
+        if count % PROGRESS_EVERY_STEPS == 0:
+            report(step.time_s)
+
+    return both
