@@ -2,11 +2,15 @@
 
 from __future__ import annotations
 
+import math
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import asdict
 from pathlib import Path
 
 import click
 
+from tvl_cli.agent.drive import StepSink
 from tvl_cli.agent.reflexes import ALL as ALL_REFLEXES
 from tvl_cli.cli import views
 from tvl_cli.cli.options import (
@@ -22,8 +26,11 @@ from tvl_cli.commands.demo import run_demo
 from tvl_cli.commands.explain import EVENT_CHOICES, Moment, explain_run
 from tvl_cli.commands.replay import Animation
 from tvl_cli.commands.replay import replay as replay_file
-from tvl_cli.commands.run import RunRequest, parse_goal, run_fam
+from tvl_cli.commands.run import RunRequest, parse_goal, resolve_goal, run_fam
 from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD
+from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.errors import BadInput
+from tvl_cli.sim.worldmap import load_world
 
 
 @click.command()
@@ -54,6 +61,13 @@ from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD
 @click.option("--force", is_flag=True, help="Overwrite the --png and --log files.")
 @click.option("--json", "as_json", is_flag=True, help="Print the metrics as JSON.")
 @click.option("--csv", "as_csv", is_flag=True, help="Print the metrics as a CSV row.")
+@click.option("--live", is_flag=True, help="Draw the run in the terminal as it goes.")
+@click.option(
+    "--pace",
+    type=float,
+    default=None,
+    help="--live: simulated seconds a wall second (default: flat out).",
+)
 def run(
     fam: Path,
     world_file: Path,
@@ -69,6 +83,8 @@ def run(
     force: bool,
     as_json: bool,
     as_csv: bool,
+    live: bool,
+    pace: float | None,
 ) -> None:
     """Perform a behaviour in WORLD with a learnt FAM.
 
@@ -92,8 +108,8 @@ def run(
         reflexes,
         sonar,
     )
-    with views.run_progress(minutes) as on_progress:
-        metrics = run_fam(request, on_progress)
+    with _watching(request, live, pace) as watch:
+        metrics = run_fam(request, watch)
     if as_json:
         print_json(asdict(metrics))
     elif as_csv:
@@ -210,3 +226,23 @@ def explain(
         print_json(found.to_dict())
     else:
         views.step_explanation(found)
+
+
+@contextmanager
+def _watching(request: RunRequest, live: bool, pace: float | None) -> Iterator[StepSink]:
+    """What shows the run as it goes: the live view on a terminal that asked for it, else
+    a progress bar (itself shown only on a terminal)."""
+    if pace is not None and not (math.isfinite(pace) and pace > 0):
+        raise BadInput(f"--pace {pace:g} must be a positive number of simulated seconds")
+    if not (live and views.out.is_terminal):
+        with views.run_progress(request.minutes) as bar:
+            yield bar
+        return
+    from tvl_cli.cli.live import LiveView, live_view
+
+    world = load_world(request.world)
+    robot = RobotConfig()
+    goal = resolve_goal(request.world, world, request.behaviour, request.goal)
+    view = LiveView(world, robot, request.threshold, goal, pace)
+    with live_view(view, views.out) as watch:
+        yield watch

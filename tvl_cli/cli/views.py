@@ -12,6 +12,7 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
+from tvl_cli.agent.drive import Step, StepSink
 from tvl_cli.agent.explore import MinuteStats
 from tvl_cli.analysis.famdiff import FamDifference
 from tvl_cli.commands.demo import DemoResult
@@ -52,12 +53,24 @@ def progress(description: str) -> Iterator[Callable[[int, int], None]]:
         yield lambda done, total: bar.update(task, completed=done, total=total)
 
 
+# Steps between updates of a run's bar: a few a second of wall time.
+PROGRESS_EVERY_STEPS = 60
+
+
 @contextmanager
-def run_progress(minutes: float) -> Iterator[Callable[[float], None]]:
-    """A bar over a run's simulated time, fed with the seconds done."""
+def run_progress(minutes: float) -> Iterator[StepSink]:
+    """A bar over a run's simulated time, fed with its steps."""
     with _bar("running") as bar:
         task = bar.add_task("running", total=minutes * 60.0)
-        yield lambda sim_s: bar.update(task, completed=sim_s)
+        steps = 0
+
+        def on_step(step: Step) -> None:
+            nonlocal steps
+            steps += 1
+            if steps % PROGRESS_EVERY_STEPS == 0:
+                bar.update(task, completed=step.time_s)
+
+        yield on_step
 
 
 @contextmanager

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from contextlib import AbstractContextManager, ExitStack
 from dataclasses import asdict, dataclass, replace
 from pathlib import Path
@@ -83,13 +82,9 @@ def run_robot(learnt_by: RobotConfig, sonar: str | None, fam_path: Path) -> Robo
     return robot
 
 
-# Steps between reports of progress: ten a simulated minute, a few a second of wall time.
-PROGRESS_EVERY_STEPS = 60
-
-
-def run_fam(request: RunRequest, on_progress: Callable[[float], None] | None = None) -> RunMetrics:
-    """Run one behaviour with a learnt FAM; write the trace and picture if asked, and report
-    the simulated seconds done to `on_progress` as the run goes."""
+def run_fam(request: RunRequest, watch: StepSink | None = None) -> RunMetrics:
+    """Run one behaviour with a learnt FAM; write the trace and picture if asked, and show
+    each step to `watch` (a progress bar, a live view) as the run goes."""
     if request.behaviour not in BEHAVIOUR_NAMES:
         raise BadInput(f"unknown behaviour {request.behaviour!r}")
     check_threshold(request.threshold)
@@ -106,7 +101,7 @@ def run_fam(request: RunRequest, on_progress: Callable[[float], None] | None = N
             trace = outputs.enter_context(_trace_output(request, world, robot, goal))
             sinks.append(trace)
         recorder = TraceRecorder(request.reflexes, robot.sonar.count, sinks)
-        on_step = _with_progress(recorder if sinks else None, on_progress)
+        on_step = _both(recorder if sinks else None, watch)
         metrics = behave(
             world,
             robot,
@@ -163,21 +158,14 @@ def _trace_output(
     )
 
 
-def _with_progress(
-    on_step: StepSink | None, on_progress: Callable[[float], None] | None
-) -> StepSink | None:
-    """The step sink, also reporting progress every PROGRESS_EVERY_STEPS steps if asked."""
-    if on_progress is None:
-        return on_step
-    report = on_progress
-    count = 0
+def _both(first: StepSink | None, second: StepSink | None) -> StepSink | None:
+    """One step sink feeding both, or whichever there is."""
+    if first is None or second is None:
+        return first or second
+    both = (first, second)
 
-    def both(step: Step) -> None:
-        nonlocal count
-        if on_step is not None:
-            on_step(step)
-        count += 1
-        if count % PROGRESS_EVERY_STEPS == 0:
-            report(step.time_s)
+    def each(step: Step) -> None:
+        for sink in both:
+            sink(step)
 
-    return both
+    return each

@@ -1,0 +1,60 @@
+"""`tvl run --live`: the view drawn into rich's recording console, and its fallback."""
+
+from __future__ import annotations
+
+import subprocess
+from pathlib import Path
+
+import pytest
+from conftest import TVL
+from rich.console import Console
+
+from tvl_cli.cli.live import ARROWS, LiveView
+from tvl_cli.commands.run import RunRequest, run_fam
+from tvl_cli.commands.train import train_from_logs
+from tvl_cli.core.config import SINGLE, RobotConfig
+from tvl_cli.core.training import TrainParams
+from tvl_cli.io.famfile import write_fam
+from tvl_cli.sim.worldmap import load_world
+
+ROOT = Path(__file__).resolve().parents[2]
+LAB = ROOT / "worlds" / "lab.txt"
+
+
+@pytest.fixture(scope="module")
+def fam(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    trained = train_from_logs([ROOT / "logs" / "lab-s1.h5"], SINGLE, TrainParams())
+    path = tmp_path_factory.mktemp("live") / "fam.h5"
+    write_fam(path, trained.fam, robot_config=trained.robot, provenance=trained.provenance)
+    return path
+
+
+def test_the_view_fits_a_small_terminal_and_shows_the_run(fam: Path) -> None:
+    view = LiveView(load_world(LAB), RobotConfig(), 0.85, None, pace=None)
+    metrics = run_fam(RunRequest(fam, LAB, "avoid", 0.85, 0.5, seed=1), view)
+    console = Console(record=True, width=80, height=24, color_system=None)
+    console.print(view.panel())
+    lines = console.export_text().rstrip("\n").splitlines()
+    assert len(lines) <= 24 and max(len(line) for line in lines) <= 80
+    text = "\n".join(lines)
+    assert sum(text.count(arrow) for arrow in ARROWS) == 1  # the robot, once
+    assert "#" in text and "·" in text  # walls and the path so far
+    for name in ("T3L", "T0", "T3R"):
+        assert name in text
+    assert f"bumps {metrics.collisions}  near misses {metrics.near_misses}" in text
+    assert f"t {metrics.sim_s - 0.1:6.1f} s" in text  # the last step began 0.1 s before the end
+
+
+def test_live_without_a_terminal_falls_back_to_the_plain_output(fam: Path) -> None:
+    done = subprocess.run(
+        [TVL, "run", str(fam), str(LAB), "--behaviour", "avoid", "--minutes", "0.2", "--live",
+         "--json"],
+        capture_output=True, text=True, timeout=120,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.lstrip().startswith("{") and done.stderr == ""
+    paced = subprocess.run(
+        [TVL, "run", str(fam), str(LAB), "--behaviour", "avoid", "--live", "--pace", "0"],
+        capture_output=True, text=True, timeout=120,
+    )  # fmt: skip
+    assert paced.returncode == 2 and "--pace 0 must be a positive number" in paced.stderr
