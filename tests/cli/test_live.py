@@ -58,3 +58,26 @@ def test_live_without_a_terminal_falls_back_to_the_plain_output(fam: Path) -> No
         capture_output=True, text=True, timeout=120,
     )  # fmt: skip
     assert paced.returncode == 2 and "--pace 0 must be a positive number" in paced.stderr
+
+
+def test_learning_shows_the_trajectory_followed_and_the_last_minute(tmp_path: Path) -> None:
+    from tvl_cli.agent.explore import LearnParams
+    from tvl_cli.commands.learn import LearnRequest, learn_to_log
+
+    view = LiveView(load_world(LAB), RobotConfig(), 0.85, None, pace=None)
+    view.caption = "minute 1: 3 episodes, 0 collisions"
+    request = LearnRequest(
+        LAB, tmp_path / "log.h5", 1, "single", LearnParams(minutes=0.3), TrainParams()
+    )
+    learn_to_log(request, watch=view)
+    console = Console(record=True, width=80, height=24, color_system=None)
+    console.print(view.panel())
+    text = console.export_text()
+    assert "minute 1: 3 episodes, 0 collisions" in text
+    assert "no velocities perceived" in text
+    done = subprocess.run(
+        [TVL, "learn", str(LAB), "--log", str(tmp_path / "log2.h5"), "--minutes", "0.2",
+         "--live", "--json"],
+        capture_output=True, text=True, timeout=120,
+    )  # fmt: skip
+    assert done.returncode == 0 and done.stdout.lstrip().startswith("{"), done.stderr

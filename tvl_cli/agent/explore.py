@@ -10,7 +10,7 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-from tvl_cli.agent.drive import drive
+from tvl_cli.agent.drive import StepSink, drive
 from tvl_cli.agent.motions import BACKOFF_M, backoff_commands, spin_commands
 from tvl_cli.agent.policy import Decision, Observation, Pose
 from tvl_cli.core.command import Command
@@ -269,8 +269,10 @@ class Learner:
         on_episode: EpisodeSink,
         on_minute: MinuteSink,
         should_stop: StopCheck = lambda: None,
+        on_step: StepSink | None = None,
     ) -> LearnSummary:
-        """Learn until the simulated minutes are spent or `should_stop` names a reason."""
+        """Learn until the simulated minutes are spent or `should_stop` names a reason; each
+        step shown to `on_step` if given (a live view)."""
         summary = LearnSummary()
         steps_per_minute = 60.0 / self.robot.control_period_s
         last = math.ceil(self.params.minutes)  # minutes 0 .. last - 1 are recorded
@@ -305,7 +307,7 @@ class Learner:
             summary.stopped_by = should_stop()
             return summary.stopped_by is not None
 
-        drive(self.sim, policy, self.params.minutes, on_step=None, stop=stop, measure=False)
+        drive(self.sim, policy, self.params.minutes, on_step=on_step, stop=stop, measure=False)
         if summary.stopped_by is None:
             # The last minute is whole only when time ran out; a cut-short one is partial.
             while minute.minute < last:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import asdict
@@ -15,6 +14,7 @@ from tvl_cli.agent.reflexes import ALL as ALL_REFLEXES
 from tvl_cli.cli import views
 from tvl_cli.cli.options import (
     SEED,
+    check_pace,
     print_csv,
     print_json,
     reflex_options,
@@ -29,7 +29,6 @@ from tvl_cli.commands.replay import replay as replay_file
 from tvl_cli.commands.run import RunRequest, parse_goal, resolve_goal, run_fam
 from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD
 from tvl_cli.core.config import RobotConfig
-from tvl_cli.core.errors import BadInput
 from tvl_cli.sim.worldmap import load_world
 
 
@@ -232,8 +231,7 @@ def explain(
 def _watching(request: RunRequest, live: bool, pace: float | None) -> Iterator[StepSink]:
     """What shows the run as it goes: the live view on a terminal that asked for it, else
     a progress bar (itself shown only on a terminal)."""
-    if pace is not None and not (math.isfinite(pace) and pace > 0):
-        raise BadInput(f"--pace {pace:g} must be a positive number of simulated seconds")
+    check_pace(pace)
     if not (live and views.out.is_terminal):
         with views.run_progress(request.minutes) as bar:
             yield bar

@@ -7,18 +7,22 @@ from pathlib import Path
 
 import click
 
-from tvl_cli.agent.explore import PAPER_NEAR_M, LearnParams
+from tvl_cli.agent.explore import PAPER_NEAR_M, LearnParams, MinuteStats
 from tvl_cli.cli import views
 from tvl_cli.cli.options import (
     SEED,
+    check_pace,
     print_json,
     refuse_beside_paper,
     refuse_existing,
     refuse_shared_paths,
     training_options,
 )
-from tvl_cli.commands.learn import LearnRequest, learn_to_log
+from tvl_cli.commands.learn import LearnRequest, LearnResult, learn_to_log
+from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
+from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.training import TrainParams
+from tvl_cli.sim.worldmap import load_world
 
 DEFAULT_LEARN = LearnParams()
 
@@ -76,6 +80,13 @@ DEFAULT_LEARN = LearnParams()
 )
 @click.option("--force", is_flag=True, help="Overwrite the --fam file.")
 @click.option("--json", "as_json", is_flag=True, help="Print a JSON summary.")
+@click.option("--live", is_flag=True, help="Draw the learning in the terminal as it goes.")
+@click.option(
+    "--pace",
+    type=float,
+    default=None,
+    help="--live: simulated seconds a wall second (default: flat out).",
+)
 def learn(
     world_file: Path,
     log: Path,
@@ -90,6 +101,8 @@ def learn(
     from_fam: Path | None,
     force: bool,
     as_json: bool,
+    live: bool,
+    pace: float | None,
 ) -> None:
     """Explore WORLD and learn trajectory velocities, recording every episode in a log."""
     refuse_shared_paths(
@@ -111,11 +124,30 @@ def learn(
         ideal_sonar=sonar == "ideal",
         from_fam=from_fam,
     )
-    with views.learning_progress(minutes, quiet=as_json) as (on_minute, on_progress):
-        result = learn_to_log(request, on_minute, on_progress)
+    check_pace(pace)
+    if live and views.out.is_terminal:
+        result = _learn_live(request, pace)
+    else:
+        with views.learning_progress(minutes, quiet=as_json) as (on_minute, on_progress):
+            result = learn_to_log(request, on_minute, on_progress)
     if as_json:
         print_json(views.learn_json(result))
     else:
         views.learn_summary(result, log)
     if result.summary.stopped_by:
         sys.exit(130 if result.summary.stopped_by == "SIGINT" else 143)
+
+
+def _learn_live(request: LearnRequest, pace: float | None) -> LearnResult:
+    """Learn with the live view: the robot exploring, and the last whole minute's counts."""
+    from tvl_cli.cli.live import LiveView, live_view
+
+    view = LiveView(load_world(request.world), RobotConfig(), DEFAULT_THRESHOLD, None, pace)
+
+    def on_minute(stats: MinuteStats) -> None:
+        view.caption = (
+            f"minute {stats.minute + 1}: {stats.episodes} episodes, {stats.collisions} collisions"
+        )
+
+    with live_view(view, views.out) as watch:
+        return learn_to_log(request, on_minute, watch=watch)

@@ -51,6 +51,7 @@ class LiveView:
         self.step: Step | None = None
         self.counts = {BUMP: 0, NEAR_MISS: 0}
         self.distance_m = 0.0
+        self.caption = ""  # a line of the caller's: while learning, the last minute's counts
         self._started = time.monotonic()
 
     def __call__(self, step: Step) -> None:
@@ -70,7 +71,7 @@ class LiveView:
 
     def panel(self) -> Table:
         layout = Table.grid(padding=(0, 1))
-        layout.add_column(width=MAP_COLUMNS)
+        layout.add_column(width=self.columns)
         layout.add_column()
         layout.add_row(self._map(), Group(*self._side()))
         return layout
@@ -112,10 +113,12 @@ class LiveView:
         if step is None:
             return [Text("starting")]
         lines = [Text(f"t {step.time_s:6.1f} s   view {step.decision.rotation:2d}", style="bold")]
+        if self.caption:
+            lines.append(Text(self.caption))
         ring = step.ring_m
-        if ring is not None:
-            lines.append(Text("ring " + " ".join(f"{r:.1f}" for r in ring[:8])))
-            lines.append(Text("     " + " ".join(f"{r:.1f}" for r in ring[8:])))
+        if ring is not None:  # S0..S7, then S8..S15, in metres
+            lines.append(Text(" ".join(f"{r:.1f}" for r in ring[:8])))
+            lines.append(Text(" ".join(f"{r:.1f}" for r in ring[8:])))
         lines.extend(self._bars(step))
         acted = step.decision.reflex or ("trapped" if step.decision.trapped else "policy")
         lines.append(Text(f"acting: {acted}  {' '.join(step.events)}"))
@@ -132,10 +135,14 @@ class LiveView:
     def _bars(self, step: Step) -> list[Text]:
         """A bar per trajectory: perceived velocity, '|' at the threshold, '*' driven."""
         velocities, fast = step.decision.velocities, step.decision.fast
+        if velocities is None:  # nothing perceived: exploring, spinning or backing off
+            driven = step.decision.trajectory
+            name = self.robot.trajectories[driven].name if driven >= 0 else "none"
+            return [Text(f"following {name}, no velocities perceived")]
         lines = []
         for j, trajectory in enumerate(self.robot.trajectories):
             top = trajectory.v_max_mps
-            v = 0.0 if velocities is None or np.isnan(velocities[j]) else float(velocities[j])
+            v = 0.0 if np.isnan(velocities[j]) else float(velocities[j])
             filled = round(BAR_WIDTH * v / top)
             mark = round(BAR_WIDTH * self.threshold)
             bar = "".join(

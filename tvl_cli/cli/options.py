@@ -6,6 +6,7 @@ import csv
 import functools
 import io
 import json
+import math
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -163,6 +164,12 @@ def print_csv(rows: list[dict[str, object]]) -> None:
     writer.writeheader()
     writer.writerows(rows)
     click.echo(out.getvalue(), nl=False)
+
+
+def check_pace(pace: float | None) -> None:
+    """`--pace` of a live view: simulated seconds a wall second, or None for flat out."""
+    if pace is not None and not (math.isfinite(pace) and pace > 0):
+        raise BadInput(f"--pace {pace:g} must be a positive number of simulated seconds")
 
 
 def refuse_both_formats(as_json: bool, as_csv: bool) -> None:

@@ -12,6 +12,7 @@ from pathlib import Path
 from types import FrameType
 from typing import Any
 
+from tvl_cli.agent.drive import StepSink
 from tvl_cli.agent.explore import Learner, LearnParams, LearnSummary, MinuteStats
 from tvl_cli.commands.train import distinct_sessions, provenance, train_on
 from tvl_cli.core.config import BUILTIN_FAM_CONFIGS, FamConfig, RobotConfig, SonarConfig
@@ -91,8 +92,10 @@ def learn_to_log(
     request: LearnRequest,
     on_minute: Callable[[MinuteStats], None] = lambda m: None,
     on_progress: Callable[[float], None] = lambda sim_s: None,
+    watch: StepSink | None = None,
 ) -> LearnResult:
-    """Explore the world, appending each whole episode to a new session of the log."""
+    """Explore the world, appending each whole episode to a new session of the log; each
+    step shown to `watch` if given (a live view)."""
     world = load_world(request.world)
     robot = RobotConfig()
     if request.ideal_sonar:
@@ -155,7 +158,7 @@ def learn_to_log(
             )
             on_minute(stats)
 
-        summary = learner.run(record, minute, interrupted.reason)
+        summary = learner.run(record, minute, interrupted.reason, watch)
         status = f"interrupted: {summary.stopped_by}" if summary.stopped_by else STATUS_FINISHED
         session = writer.session
         writer.close(status)
