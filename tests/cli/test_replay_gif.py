@@ -33,6 +33,20 @@ def test_a_window_of_a_run_becomes_a_gif_of_its_frames(tmp_path: Path) -> None:
         assert image.size == tuple(round(side * DPI) for side in FIGURE_SIZE_IN)
     backward = tvl("replay", trace, "--gif", tmp_path / "b.gif", "--from", "8", "--to", "2")
     assert_one_line_refusal(backward, "an empty or backward window")
-    log = tvl("replay", EXAMPLE_LOG, "--gif", tmp_path / "log.gif")
-    assert_one_line_refusal(log, "only a run trace is animated")
-    assert not (tmp_path / "b.gif").exists() and not (tmp_path / "log.gif").exists()
+    assert not (tmp_path / "b.gif").exists()
+
+
+def test_a_learning_session_becomes_a_gif_of_its_episodes(tmp_path: Path) -> None:
+    from tvl_cli.io.logreader import read_log
+
+    gif = tmp_path / "log.gif"
+    done = tvl("replay", EXAMPLE_LOG, "--gif", gif, "--to", "20", "--every", "4", "--json")
+    assert done.returncode == 0, done.stderr
+    (session,) = read_log(EXAMPLE_LOG).sessions
+    exemplars = sum(e.exemplar_count for e in session.episodes() if e.end_time_s <= 20)
+    frames = json.loads(done.stdout)["gif frames"]
+    assert frames == -(-exemplars // 4) > 0  # every fourth exemplar of those episodes
+    with Image.open(gif) as image:
+        assert image.n_frames == frames
+    none = tvl("replay", EXAMPLE_LOG, "--gif", tmp_path / "none.gif", "--from", "1", "--to", "2")
+    assert_one_line_refusal(none, "no episode of session 0000 ended in that window")

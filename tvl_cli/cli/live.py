@@ -136,8 +136,8 @@ class LiveView:
         """A bar per trajectory: perceived velocity, '|' at the threshold, '*' driven."""
         velocities, fast = step.decision.velocities, step.decision.fast
         if velocities is None:  # nothing perceived: exploring, spinning or backing off
-            driven = step.decision.trajectory
-            name = self.robot.trajectories[driven].name if driven >= 0 else "none"
+            followed = step.decision.trajectory
+            name = self.robot.trajectories[followed].name if followed >= 0 else "none"
             return [Text(f"following {name}, no velocities perceived")]
         lines = []
         for j, trajectory in enumerate(self.robot.trajectories):

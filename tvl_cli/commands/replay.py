@@ -175,8 +175,16 @@ def replay(
             frames = animate_run(trace, animation.gif, window, animation.fps)
             summary.facts.append(("gif frames", frames))
         return summary
-    if animation is not None:
-        raise BadInput(f"{path}: only a run trace is animated (--gif is for runs)")
+
     if kind == LOG_FORMAT:
-        return _learning(read_log(path), png, curves, session)
+        log = read_log(path)
+        summary = _learning(log, png, curves, session)
+        if animation is not None:
+            from tvl_cli.render.animate import Window, animate_session  # matplotlib: only here
+
+            window = Window(animation.from_s, animation.to_s, animation.every)
+            chosen = _session(log, session)
+            frames = animate_session(chosen, animation.gif, window, animation.fps)
+            summary.facts.append(("gif frames", frames))
+        return summary
     raise BadInput(f"{path}: is a {kind} file; replay reads tvl-log and tvl-run files")

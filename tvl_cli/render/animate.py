@@ -1,11 +1,12 @@
-"""Animated replays of a run trace: the robot, its sonar ring and what it perceived, frame by
-frame, as a GIF written by matplotlib's Pillow writer."""
+"""Animated replays, as GIFs written by matplotlib's Pillow writer: a run trace (the robot,
+its sonar ring and what it perceived) or a learning session (each episode's trajectory and
+the velocity labels learning drew from it)."""
 
 from __future__ import annotations
 
 import math
 import tempfile
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from pathlib import Path
 
 import numpy as np
@@ -14,12 +15,16 @@ from matplotlib.artist import Artist
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.collections import LineCollection
 from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
 from matplotlib.patches import Circle
 
 from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.contacts import EVENTS
+from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
+from tvl_cli.core.training import TrainParams, episode_labels
 from tvl_cli.io.atomic import atomic_output
+from tvl_cli.io.logreader import Session
 from tvl_cli.io.runfile import RunTrace
 from tvl_cli.render.plot import ROBOT_COLOUR, draw_world
 from tvl_cli.sim.worldmap import parse_world
@@ -41,6 +46,9 @@ class Window:
     to_s: float | None = None
     every: int | None = None
 
+    def holds(self, time_s: float) -> bool:
+        return (self.from_s or 0.0) <= time_s <= (math.inf if self.to_s is None else self.to_s)
+
     def steps(self, trace: RunTrace) -> np.ndarray:
         period_s = float(trace.metrics["sim_s"]) / trace.steps
         end_s = trace.steps * period_s
@@ -61,16 +69,66 @@ def animate_run(trace: RunTrace, gif: Path, window: Window, fps: int = DEFAULT_F
     if trace.steps == 0:
         raise BadInput(f"{gif}: the run has no steps")
     steps = window.steps(trace)
-    robot = RobotConfig.from_dict(trace.robot_config)
-    frame = _Frame(trace, robot)
-    animation = FuncAnimation(frame.figure, frame.draw, frames=steps.tolist(), blit=False)
+    frame = _Frame(trace, RobotConfig.from_dict(trace.robot_config))
+    _save(FuncAnimation(frame.figure, frame.draw, frames=steps.tolist()), gif, fps)
+    return len(steps)
+
+
+def animate_session(session: Session, gif: Path, window: Window, fps: int = DEFAULT_FPS) -> int:
+    """Write a learning session's episodes that ended within the window as a GIF, a frame
+    per exemplar (or every `window.every`-th); the number of frames."""
+    episodes = [e for e in session.episodes() if window.holds(e.end_time_s)]
+    if not episodes:
+        raise BadInput(f"{gif}: no episode of session {session.name} ended in that window")
+    exemplars = [(e, i) for e in episodes for i in range(e.exemplar_count)]
+    every = window.every or max(1, math.ceil(len(exemplars) / DEFAULT_MAX_FRAMES))
+    frame = _EpisodeFrame(session)
+    _save(FuncAnimation(frame.figure, frame.draw, frames=exemplars[::every]), gif, fps)
+    return len(exemplars[::every])
+
+
+def _save(animation: FuncAnimation, gif: Path, fps: int) -> None:
     # Pillow names the format by the file's extension, and the file being written has a
     # temporary name: it is made under its own name in a scratch folder, then copied.
     with tempfile.TemporaryDirectory() as scratch, atomic_output(gif) as temporary:
         made = Path(scratch) / "replay.gif"
         animation.save(made, writer=PillowWriter(fps=fps), dpi=DPI)
         temporary.write_bytes(made.read_bytes())
-    return len(steps)
+
+
+def _rays(ring_mm: np.ndarray, pose: np.ndarray, robot: RobotConfig) -> tuple[list, list]:
+    """Each transducer's reading as a line from the body's edge to its echo, and its colour."""
+    x, y, theta = pose
+    count = len(ring_mm)
+    angles = theta + 2.0 * math.pi * np.arange(count) / count
+    unit = np.stack([np.cos(angles), np.sin(angles)], axis=1)  # (16, 2)
+    start = np.array([x, y]) + robot.radius_m * unit
+    ranges = ring_mm / 1000.0  # metres; 0 where nobody read the ring
+    end = start + ranges[:, None] * unit
+    heard = ranges < robot.sonar.max_range_m
+    return list(np.stack([start, end], axis=1)), [
+        RAY_COLOUR if h else NO_ECHO_COLOUR for h in heard
+    ]
+
+
+def _world_axes(figure: Figure, world_text: str, name: str, robot: RobotConfig) -> tuple:
+    """The world, the robot's body, heading, trail and rays on the left; the right axes."""
+    world_ax, side_ax = figure.subplots(1, 2, gridspec_kw={"width_ratios": (1.6, 1.0)})
+    draw_world(world_ax, parse_world(world_text, name))
+    (trail,) = world_ax.plot([], [], color=ROBOT_COLOUR, linewidth=1.0, alpha=0.6)
+    body = Circle((0, 0), robot.radius_m, color=ROBOT_COLOUR, alpha=0.5, zorder=6)
+    world_ax.add_patch(body)
+    (heading,) = world_ax.plot([], [], color="black", linewidth=1.5, zorder=7)
+    rays = LineCollection([], linewidths=0.8, zorder=5)
+    world_ax.add_collection(rays)
+    return world_ax, side_ax, trail, body, heading, rays
+
+
+def _place(body: Circle, heading: Line2D, pose: np.ndarray, robot: RobotConfig) -> None:
+    x, y, theta = pose
+    body.center = (x, y)
+    reach = 1.5 * robot.radius_m
+    heading.set_data([x, x + reach * math.cos(theta)], [y, y + reach * math.sin(theta)])
 
 
 class _Frame:
@@ -82,16 +140,9 @@ class _Frame:
         self.threshold = float(trace.parameters.get("threshold", 0.0))
         self.figure = Figure(figsize=FIGURE_SIZE_IN)
         FigureCanvasAgg(self.figure)
-        world_ax, self.bars_ax = self.figure.subplots(
-            1, 2, gridspec_kw={"width_ratios": (1.6, 1.0)}
+        world_ax, self.bars_ax, self.trail, self.body, self.heading, self.rays = _world_axes(
+            self.figure, trace.world_text, trace.world_name, robot
         )
-        draw_world(world_ax, parse_world(trace.world_text, trace.world_name))
-        (self.trail,) = world_ax.plot([], [], color=ROBOT_COLOUR, linewidth=1.0, alpha=0.6)
-        self.body = Circle((0, 0), robot.radius_m, color=ROBOT_COLOUR, alpha=0.5, zorder=6)
-        world_ax.add_patch(self.body)
-        (self.heading,) = world_ax.plot([], [], color="black", linewidth=1.5, zorder=7)
-        self.rays = LineCollection([], linewidths=0.8, zorder=5)
-        world_ax.add_collection(self.rays)
         self.title = world_ax.set_title("", fontsize=9)
         names = [t.name for t in robot.trajectories]
         top = np.array(robot.v_max_mps)
@@ -113,12 +164,11 @@ class _Frame:
 
     def draw(self, step: int) -> list[Artist]:
         arrays = self.trace.arrays
-        x, y, theta = arrays["pose"][step]
         self.trail.set_data(arrays["pose"][: step + 1, 0], arrays["pose"][: step + 1, 1])
-        self.body.center = (x, y)
-        reach = 1.5 * self.robot.radius_m
-        self.heading.set_data([x, x + reach * math.cos(theta)], [y, y + reach * math.sin(theta)])
-        self._draw_rays(arrays["ring_mm"][step], x, y, theta)
+        _place(self.body, self.heading, arrays["pose"][step], self.robot)
+        segments, colours = _rays(arrays["ring_mm"][step], arrays["pose"][step], self.robot)
+        self.rays.set_segments(segments)
+        self.rays.set_color(colours)
         velocities = np.nan_to_num(arrays["velocities"][step], nan=0.0)
         fast, chosen = arrays["fast"][step], int(arrays["trajectory"][step])
         for j, bar in enumerate(self.bars):
@@ -133,14 +183,42 @@ class _Frame:
         self.bars_title.set_text(f"view {int(arrays['rotation'][step])}, driven by {driver}")
         return [self.trail, self.body, self.heading, self.rays, *self.bars]
 
-    def _draw_rays(self, ring_mm: np.ndarray, x: float, y: float, theta: float) -> None:
-        """Each transducer's reading as a line from the body's edge to its echo."""
-        count = len(ring_mm)
-        angles = theta + 2.0 * math.pi * np.arange(count) / count
-        unit = np.stack([np.cos(angles), np.sin(angles)], axis=1)  # (16, 2)
-        start = np.array([x, y]) + self.robot.radius_m * unit
-        ranges = ring_mm / 1000.0  # metres; 0 where nobody read the ring
-        end = start + ranges[:, None] * unit
-        self.rays.set_segments(list(np.stack([start, end], axis=1)))
-        heard = ranges < self.robot.sonar.max_range_m
-        self.rays.set_color([RAY_COLOUR if h else NO_ECHO_COLOUR for h in heard])
+
+class _EpisodeFrame:
+    """A learning session's frame: the episode's path so far, and the velocity labels
+    learning drew along it (what it taught the FAM), the current exemplar marked."""
+
+    def __init__(self, session: Session) -> None:
+        self.robot = session.robot_config
+        known = {f.name for f in fields(TrainParams)}
+        self.params = TrainParams(**{k: v for k, v in session.parameters.items() if k in known})
+        self.figure = Figure(figsize=FIGURE_SIZE_IN)
+        FigureCanvasAgg(self.figure)
+        world_ax, self.labels_ax, self.trail, self.body, self.heading, self.rays = _world_axes(
+            self.figure, session.world_text, session.world_name, self.robot
+        )
+        self.title = world_ax.set_title("", fontsize=9)
+        (self.curve,) = self.labels_ax.plot([], [], color=FAST_COLOUR)
+        (self.marker,) = self.labels_ax.plot([], [], "o", color="black")
+        self.labels_ax.set_xlabel("distance along the trajectory (m)")
+        self.labels_ax.set_ylabel("velocity label (m/s)")
+        self.labels_ax.set_ylim(0.0, 1.05 * max(self.robot.v_max_mps))
+        self.labels_title = self.labels_ax.set_title("", fontsize=9)
+        self.figure.tight_layout(rect=(0.0, 0.0, 1.0, 0.95))  # room for the titles
+
+    def draw(self, exemplar: tuple[Episode, int]) -> list[Artist]:
+        episode, i = exemplar
+        self.trail.set_data(episode.pose[: i + 1, 0], episode.pose[: i + 1, 1])
+        _place(self.body, self.heading, episode.pose[i], self.robot)
+        segments, colours = _rays(episode.ring_mm[i], episode.pose[i], self.robot)
+        self.rays.set_segments(segments)
+        self.rays.set_color(colours)
+        labels = episode_labels(episode, self.robot, self.params)
+        self.curve.set_data(episode.arc_m, labels)
+        self.marker.set_data([episode.arc_m[i]], [labels[i]])
+        self.labels_ax.set_xlim(0.0, max(float(episode.arc_m[-1]), 0.1))
+        name = self.robot.trajectories[episode.trajectory].name
+        ending = "a bump" if episode.bumped else "a near collision" if episode.collided else "free"
+        self.title.set_text(f"episode {episode.index}: learning {name}, ended {ending}")
+        self.labels_title.set_text(f"ends at {episode.end_time_s:.1f} s")
+        return [self.trail, self.body, self.heading, self.rays, self.curve, self.marker]
