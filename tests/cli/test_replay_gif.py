@@ -27,7 +27,7 @@ def test_a_window_of_a_run_becomes_a_gif_of_its_frames(tmp_path: Path) -> None:
     # Steps 20 to 79 (seconds 2 to 8 at 10 steps a second), every third: 20 frames.
     done = tvl("replay", trace, "--gif", gif, "--from", "2", "--to", "8", "--every", "3", "--json")
     assert done.returncode == 0, done.stderr
-    assert json.loads(done.stdout)["gif frames"] == 20
+    assert json.loads(done.stdout)["animation frames"] == 20
     with Image.open(gif) as image:
         assert image.format == "GIF" and image.n_frames == 20
         assert image.size == tuple(round(side * DPI) for side in FIGURE_SIZE_IN)
@@ -44,9 +44,23 @@ def test_a_learning_session_becomes_a_gif_of_its_episodes(tmp_path: Path) -> Non
     assert done.returncode == 0, done.stderr
     (session,) = read_log(EXAMPLE_LOG).sessions
     exemplars = sum(e.exemplar_count for e in session.episodes() if e.end_time_s <= 20)
-    frames = json.loads(done.stdout)["gif frames"]
+    frames = json.loads(done.stdout)["animation frames"]
     assert frames == -(-exemplars // 4) > 0  # every fourth exemplar of those episodes
     with Image.open(gif) as image:
         assert image.n_frames == frames
     none = tvl("replay", EXAMPLE_LOG, "--gif", tmp_path / "none.gif", "--from", "1", "--to", "2")
     assert_one_line_refusal(none, "no episode of session 0000 ended in that window")
+
+
+def test_a_video_without_ffmpeg_is_one_line_and_leaves_nothing(tmp_path: Path) -> None:
+    from matplotlib.animation import FFMpegWriter
+
+    video = tmp_path / "log.mp4"
+    done = tvl("replay", EXAMPLE_LOG, "--mp4", video, "--to", "20", "--json")
+    if FFMpegWriter.isAvailable():
+        assert done.returncode == 0 and video.read_bytes()[4:8] == b"ftyp", done.stderr
+    else:
+        assert_one_line_refusal(done, "an MP4 needs ffmpeg, which is not installed")
+        assert not video.exists()
+    both = tvl("replay", EXAMPLE_LOG, "--mp4", video, "--gif", tmp_path / "x.gif")
+    assert_one_line_refusal(both, "give --gif or --mp4, not both")

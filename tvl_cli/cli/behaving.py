@@ -138,6 +138,12 @@ def run(
     default=None,
     help="Animate a run: robot, sonar rays and perceived velocities.",
 )
+@click.option(
+    "--mp4",
+    type=click.Path(path_type=Path),
+    default=None,
+    help="As --gif, as an MP4 video (needs ffmpeg).",
+)
 @click.option("--from", "from_s", type=float, default=None, help="--gif from this second.")
 @click.option("--to", "to_s", type=float, default=None, help="--gif to this second.")
 @click.option(
@@ -147,7 +153,11 @@ def run(
     help="--gif: a frame every N steps (default: at most 200 frames).",
 )
 @click.option(
-    "--fps", type=click.IntRange(1, 50), default=10, show_default=True, help="--gif frames/s."
+    "--fps",
+    type=click.IntRange(1, 50),
+    default=10,
+    show_default=True,
+    help="--gif, --mp4 frames/s.",
 )
 @click.option("--force", is_flag=True, help="Overwrite the PNG and GIF files.")
 @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
@@ -157,6 +167,7 @@ def replay(
     curves: Path | None,
     session: str | None,
     gif: Path | None,
+    mp4: Path | None,
     from_s: float | None,
     to_s: float | None,
     every: int | None,
@@ -165,11 +176,19 @@ def replay(
     as_json: bool,
 ) -> None:
     """Summarise a learning log or a run trace, and draw it."""
-    refuse_shared_paths({"--png": png, "--curves": curves, "--gif": gif}, {"FILE": file})
-    for output in (png, curves, gif):
+    outputs = {"--png": png, "--curves": curves, "--gif": gif, "--mp4": mp4}
+    refuse_shared_paths(outputs, {"FILE": file})
+    if gif is not None and mp4 is not None:
+        raise click.UsageError("give --gif or --mp4, not both")
+    for output in outputs.values():
         if output is not None:
             refuse_existing(output, force)
-    animation = Animation(gif, from_s, to_s, every, fps) if gif is not None else None
+    moving = gif or mp4
+    animation = (
+        Animation(moving, from_s, to_s, every, fps, video=mp4 is not None)
+        if moving is not None
+        else None
+    )
     summary = replay_file(file, png, curves, session, animation)
     if as_json:
         print_json(summary.to_dict())

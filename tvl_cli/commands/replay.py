@@ -142,13 +142,14 @@ def _run(trace: RunTrace, png: Path | None) -> Replay:
 
 @dataclass(frozen=True, slots=True)
 class Animation:
-    """A GIF of a run trace to write: where, which window of it, how fast."""
+    """An animation to write (a GIF, or an MP4 by its suffix): where, which window, how fast."""
 
-    gif: Path
+    out: Path
     from_s: float | None = None
     to_s: float | None = None
     every: int | None = None
     fps: int = 10
+    video: bool = False  # an MP4 rather than a GIF
 
 
 def replay(
@@ -172,8 +173,8 @@ def replay(
             from tvl_cli.render.animate import Window, animate_run  # matplotlib: only here
 
             window = Window(animation.from_s, animation.to_s, animation.every)
-            frames = animate_run(trace, animation.gif, window, animation.fps)
-            summary.facts.append(("gif frames", frames))
+            frames = animate_run(trace, animation.out, window, animation.fps, animation.video)
+            summary.facts.append(("animation frames", frames))
         return summary
 
     if kind == LOG_FORMAT:
@@ -184,7 +185,7 @@ def replay(
 
             window = Window(animation.from_s, animation.to_s, animation.every)
             chosen = _session(log, session)
-            frames = animate_session(chosen, animation.gif, window, animation.fps)
-            summary.facts.append(("gif frames", frames))
+            frames = animate_session(chosen, animation.out, window, animation.fps, animation.video)
+            summary.facts.append(("animation frames", frames))
         return summary
     raise BadInput(f"{path}: is a {kind} file; replay reads tvl-log and tvl-run files")

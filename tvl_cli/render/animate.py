@@ -10,7 +10,7 @@ from dataclasses import dataclass, fields
 from pathlib import Path
 
 import numpy as np
-from matplotlib.animation import FuncAnimation, PillowWriter
+from matplotlib.animation import FFMpegWriter, FuncAnimation, PillowWriter
 from matplotlib.artist import Artist
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.collections import LineCollection
@@ -62,37 +62,48 @@ class Window:
         return np.arange(first, last, every)
 
 
-def animate_run(trace: RunTrace, gif: Path, window: Window, fps: int = DEFAULT_FPS) -> int:
-    """Write the window of the run as a GIF; the number of frames."""
+def animate_run(
+    trace: RunTrace, gif: Path, window: Window, fps: int = DEFAULT_FPS, video: bool = False
+) -> int:
+    """Write the window of the run as a GIF (or an MP4 video); the number of frames."""
     if not trace.has_decisions:
         raise BadInput(f"{gif}: a format_version 1 trace records no perceptions to animate")
     if trace.steps == 0:
         raise BadInput(f"{gif}: the run has no steps")
     steps = window.steps(trace)
     frame = _Frame(trace, RobotConfig.from_dict(trace.robot_config))
-    _save(FuncAnimation(frame.figure, frame.draw, frames=steps.tolist()), gif, fps)
+    _save(FuncAnimation(frame.figure, frame.draw, frames=steps.tolist()), gif, fps, video)
     return len(steps)
 
 
-def animate_session(session: Session, gif: Path, window: Window, fps: int = DEFAULT_FPS) -> int:
-    """Write a learning session's episodes that ended within the window as a GIF, a frame
-    per exemplar (or every `window.every`-th); the number of frames."""
+def animate_session(
+    session: Session, gif: Path, window: Window, fps: int = DEFAULT_FPS, video: bool = False
+) -> int:
+    """Write a learning session's episodes that ended within the window as a GIF (or an MP4
+    video), a frame per exemplar (or every `window.every`-th); the number of frames."""
     episodes = [e for e in session.episodes() if window.holds(e.end_time_s)]
     if not episodes:
         raise BadInput(f"{gif}: no episode of session {session.name} ended in that window")
     exemplars = [(e, i) for e in episodes for i in range(e.exemplar_count)]
     every = window.every or max(1, math.ceil(len(exemplars) / DEFAULT_MAX_FRAMES))
     frame = _EpisodeFrame(session)
-    _save(FuncAnimation(frame.figure, frame.draw, frames=exemplars[::every]), gif, fps)
+    _save(FuncAnimation(frame.figure, frame.draw, frames=exemplars[::every]), gif, fps, video)
     return len(exemplars[::every])
 
 
-def _save(animation: FuncAnimation, gif: Path, fps: int) -> None:
-    # Pillow names the format by the file's extension, and the file being written has a
+def _save(animation: FuncAnimation, out: Path, fps: int, video: bool) -> None:
+    """A GIF (Pillow) or, where ffmpeg is installed, an MP4 video."""
+    if video:
+        if not FFMpegWriter.isAvailable():
+            raise BadInput(f"{out}: an MP4 needs ffmpeg, which is not installed (use --gif)")
+        writer: FFMpegWriter | PillowWriter = FFMpegWriter(fps=fps)
+    else:
+        writer = PillowWriter(fps=fps)
+    # The writers name the format by the file's extension, and the file being written has a
     # temporary name: it is made under its own name in a scratch folder, then copied.
-    with tempfile.TemporaryDirectory() as scratch, atomic_output(gif) as temporary:
-        made = Path(scratch) / "replay.gif"
-        animation.save(made, writer=PillowWriter(fps=fps), dpi=DPI)
+    with tempfile.TemporaryDirectory() as scratch, atomic_output(out) as temporary:
+        made = Path(scratch) / ("replay.mp4" if video else "replay.gif")
+        animation.save(made, writer=writer, dpi=DPI)
         temporary.write_bytes(made.read_bytes())
 
 
