@@ -56,7 +56,7 @@ def test_a_video_without_ffmpeg_is_one_line_and_leaves_nothing(tmp_path: Path) -
     from matplotlib.animation import FFMpegWriter
 
     video = tmp_path / "log.mp4"
-    done = tvl("replay", EXAMPLE_LOG, "--mp4", video, "--to", "20", "--json")
+    done = tvl("replay", EXAMPLE_LOG, "--mp4", video, "--to", "10", "--json")
     if FFMpegWriter.isAvailable():
         assert done.returncode == 0 and video.read_bytes()[4:8] == b"ftyp", done.stderr
     else:

@@ -70,9 +70,10 @@ def animate_run(
         raise BadInput(f"{gif}: a format_version 1 trace records no perceptions to animate")
     if trace.steps == 0:
         raise BadInput(f"{gif}: the run has no steps")
+    writer = _writer(gif, fps, video)
     steps = window.steps(trace)
     frame = _Frame(trace, RobotConfig.from_dict(trace.robot_config))
-    _save(FuncAnimation(frame.figure, frame.draw, frames=steps.tolist()), gif, fps, video)
+    _save(FuncAnimation(frame.figure, frame.draw, frames=steps.tolist()), gif, writer, video)
     return len(steps)
 
 
@@ -81,24 +82,31 @@ def animate_session(
 ) -> int:
     """Write a learning session's episodes that ended within the window as a GIF (or an MP4
     video), a frame per exemplar (or every `window.every`-th); the number of frames."""
+    writer = _writer(gif, fps, video)
     episodes = [e for e in session.episodes() if window.holds(e.end_time_s)]
     if not episodes:
         raise BadInput(f"{gif}: no episode of session {session.name} ended in that window")
     exemplars = [(e, i) for e in episodes for i in range(e.exemplar_count)]
     every = window.every or max(1, math.ceil(len(exemplars) / DEFAULT_MAX_FRAMES))
     frame = _EpisodeFrame(session)
-    _save(FuncAnimation(frame.figure, frame.draw, frames=exemplars[::every]), gif, fps, video)
+    animation = FuncAnimation(frame.figure, frame.draw, frames=exemplars[::every])
+    _save(animation, gif, writer, video)
     return len(exemplars[::every])
 
 
-def _save(animation: FuncAnimation, out: Path, fps: int, video: bool) -> None:
-    """A GIF (Pillow) or, where ffmpeg is installed, an MP4 video."""
-    if video:
-        if not FFMpegWriter.isAvailable():
-            raise BadInput(f"{out}: an MP4 needs ffmpeg, which is not installed (use --gif)")
-        writer: FFMpegWriter | PillowWriter = FFMpegWriter(fps=fps)
-    else:
-        writer = PillowWriter(fps=fps)
+def _writer(out: Path, fps: int, video: bool) -> FFMpegWriter | PillowWriter:
+    """Pillow for a GIF; ffmpeg for an MP4 video, where it is installed. Asked before any
+    frame is drawn."""
+    if not video:
+        return PillowWriter(fps=fps)
+    if not FFMpegWriter.isAvailable():
+        raise BadInput(f"{out}: an MP4 needs ffmpeg, which is not installed (use --gif)")
+    return FFMpegWriter(fps=fps)
+
+
+def _save(
+    animation: FuncAnimation, out: Path, writer: FFMpegWriter | PillowWriter, video: bool
+) -> None:
     # The writers name the format by the file's extension, and the file being written has a
     # temporary name: it is made under its own name in a scratch folder, then copied.
     with tempfile.TemporaryDirectory() as scratch, atomic_output(out) as temporary:
