@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import json
 import math
-import sys
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, fields
 from pathlib import Path
@@ -19,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from tvl_cli.core import competence
+from tvl_cli.core import competence, jsontext
 from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, is_threshold
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.metrics import RunMetrics
@@ -72,14 +71,9 @@ def read_results(path: Path) -> dict[int, Row]:
             continue
         where = f"{path}:{number}"
         try:
-            row = json.loads(line)
+            row = jsontext.loads(line, where, "a run")
         except json.JSONDecodeError as error:
             raise BadInput(f"{where}:{error.colno}: not JSON ({error.msg})") from None
-        except RecursionError:
-            raise BadInput(f"{where}: JSON nested too deeply for a run") from None
-        except ValueError:  # the one other refusal of json: int() of too many digits
-            limit = sys.get_int_max_str_digits()
-            raise BadInput(f"{where}: a whole number of more than {limit} digits") from None
         if not isinstance(row, dict) or not isinstance(row.get("kind"), str):
             raise BadInput(f'{where}: not a run (an object with a "kind")')
         _check_types(row, where)

@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 import json
-import sys
 from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
 
+from tvl_cli.core import jsontext
 from tvl_cli.core.config import SONAR_COUNT, FamConfig, Partition, SonarConfig
 from tvl_cli.core.errors import BadInput
 
@@ -73,14 +73,14 @@ def fam_config_from_json(
 ) -> FamConfig:
     """Parse and validate a user's FAM configuration; BadInput naming `source` if unusable."""
     try:
-        data = json.loads(text, object_pairs_hook=lambda pairs: _unique_keys(pairs, source))
+        data = jsontext.loads(
+            text,
+            source,
+            "a FAM configuration",
+            object_pairs_hook=lambda pairs: _unique_keys(pairs, source),
+        )
     except json.JSONDecodeError as error:
         raise BadInput(f"{source}:{error.lineno}:{error.colno}: not JSON: {error.msg}") from None
-    except RecursionError:
-        raise BadInput(f"{source}: JSON nested too deeply for a FAM configuration") from None
-    except ValueError:  # the one other refusal of json: int() of too many digits
-        limit = sys.get_int_max_str_digits()
-        raise BadInput(f"{source}: a whole number of more than {limit} digits") from None
     if not isinstance(data, dict):
         raise BadInput(f"{source}: expected a JSON object with 'name' and 'tables'")
     _check_schema(data, source)
