@@ -14,7 +14,7 @@ from tvl_cli.agent.reflexes import ALL as ALL_REFLEXES
 from tvl_cli.cli import views
 from tvl_cli.cli.options import (
     SEED,
-    check_pace,
+    live_options,
     print_csv,
     print_json,
     reflex_options,
@@ -60,13 +60,7 @@ from tvl_cli.sim.worldmap import load_world
 @click.option("--force", is_flag=True, help="Overwrite the --png and --log files.")
 @click.option("--json", "as_json", is_flag=True, help="Print the metrics as JSON.")
 @click.option("--csv", "as_csv", is_flag=True, help="Print the metrics as a CSV row.")
-@click.option("--live", is_flag=True, help="Draw the run in the terminal as it goes.")
-@click.option(
-    "--pace",
-    type=float,
-    default=None,
-    help="--live: simulated seconds a wall second (default: flat out).",
-)
+@live_options("run")
 def run(
     fam: Path,
     world_file: Path,
@@ -250,7 +244,6 @@ def explain(
 def _watching(request: RunRequest, live: bool, pace: float | None) -> Iterator[StepSink]:
     """What shows the run as it goes: the live view on a terminal that asked for it, else
     a progress bar (itself shown only on a terminal)."""
-    check_pace(pace)
     if not (live and views.out.is_terminal):
         with views.run_progress(request.minutes) as bar:
             yield bar

@@ -11,7 +11,7 @@ from tvl_cli.agent.explore import PAPER_NEAR_M, LearnParams, MinuteStats
 from tvl_cli.cli import views
 from tvl_cli.cli.options import (
     SEED,
-    check_pace,
+    live_options,
     print_json,
     refuse_beside_paper,
     refuse_existing,
@@ -80,13 +80,7 @@ DEFAULT_LEARN = LearnParams()
 )
 @click.option("--force", is_flag=True, help="Overwrite the --fam file.")
 @click.option("--json", "as_json", is_flag=True, help="Print a JSON summary.")
-@click.option("--live", is_flag=True, help="Draw the learning in the terminal as it goes.")
-@click.option(
-    "--pace",
-    type=float,
-    default=None,
-    help="--live: simulated seconds a wall second (default: flat out).",
-)
+@live_options("learning")
 def learn(
     world_file: Path,
     log: Path,
@@ -124,7 +118,6 @@ def learn(
         ideal_sonar=sonar == "ideal",
         from_fam=from_fam,
     )
-    check_pace(pace)
     if live and views.out.is_terminal:
         result = _learn_live(request, pace)
     else:

@@ -166,10 +166,27 @@ def print_csv(rows: list[dict[str, object]]) -> None:
     click.echo(out.getvalue(), nl=False)
 
 
-def check_pace(pace: float | None) -> None:
-    """`--pace` of a live view: simulated seconds a wall second, or None for flat out."""
-    if pace is not None and not (math.isfinite(pace) and pace > 0):
-        raise BadInput(f"--pace {pace:g} must be a positive number of simulated seconds")
+def live_options(what: str) -> Callable[[Callable[..., None]], Callable[..., None]]:
+    """--live (draw `what` in the terminal as it goes) and its --pace, checked on parsing."""
+
+    def checked_pace(ctx: click.Context, param: click.Parameter, pace: float | None) -> Any:
+        if pace is not None and not (math.isfinite(pace) and pace > 0):
+            raise BadInput(f"--pace {pace:g} must be a positive number of simulated seconds")
+        return pace
+
+    def decorate(command: Callable[..., None]) -> Callable[..., None]:
+        command = click.option(
+            "--pace",
+            type=float,
+            default=None,
+            callback=checked_pace,
+            help="--live: simulated seconds a wall second (default: flat out).",
+        )(command)
+        return click.option(
+            "--live", is_flag=True, help=f"Draw the {what} in the terminal as it goes."
+        )(command)
+
+    return decorate
 
 
 def refuse_both_formats(as_json: bool, as_csv: bool) -> None:
