@@ -73,8 +73,8 @@ def explain_run(trace_path: Path, moment: Moment, fam_path: Path | None = None) 
     best = names[int(np.argmax(rated))] if np.isfinite(rated).any() else None
     focus = tuple(n for n in names if n in (choice, best))
     why = None
+    ring = mm_to_ring(ring_mm)
     if read:
-        ring = mm_to_ring(ring_mm)
         # The view of rotation k reads sonar (i + k) mod 16 where view 0 reads sonar i.
         view = ring.take((np.arange(len(ring)) + rotation) % len(ring))
         why = restricted(fam.explain(view), focus or names)
@@ -82,7 +82,7 @@ def explain_run(trace_path: Path, moment: Moment, fam_path: Path | None = None) 
     return StepExplanation(
         step=step,
         time_s=(step + 1) * _period_s(trace),
-        ring_m=[float(r) for r in mm_to_ring(ring_mm)] if read else None,
+        ring_m=[float(r) for r in ring] if read else None,
         rotation=rotation,
         velocities_mps=[None if math.isnan(v) else float(v) for v in velocities],
         fast=[n for n, fast in zip(names, arrays["fast"][step], strict=True) if fast],

@@ -93,7 +93,7 @@ class SonarRing:
         rays = self._world_rays(pose)
         # A pillar's echo comes from its nearest point, up to a diameter nearer than where a
         # ray meets it: a wall in front of that meeting point still decides the echo.
-        pillar_m = 2.0 * geometry.discs[:, 2].max(initial=0.0)
+        pillar_m = 2.0 * geometry.max_disc_radius_m
         geometry = geometry.segments_near(pose[0], pose[1], self._wall_reach_m + pillar_m)
         with np.errstate(divide="ignore", invalid="ignore"):
             found = []  # (hit, echo) pairs, each (16 * rays,) metres

@@ -58,6 +58,7 @@ class StaticGeometry:
     # line it lies on, as the sign of cross(end - start, other wall's direction); 0 when no
     # wall meets it there or the two are collinear. Seen from that side the corner is concave.
     corner_sides: np.ndarray
+    max_disc_radius_m: float  # 0 without discs
     # segments_near's last answer, by tile and reach: a robot stays in a tile for many steps.
     _near: dict[tuple[int, int, float], StaticGeometry] = field(
         default_factory=dict, repr=False, compare=False
@@ -105,11 +106,12 @@ def _some_segments(geometry: StaticGeometry, keep: np.ndarray) -> StaticGeometry
 def static_geometry(world: WorldMap) -> StaticGeometry:
     """The arrays the sonar and clearance queries read; computed once per world."""
     segments = np.asarray(world.segments, dtype=np.float64).reshape(-1, 4)
+    discs = np.asarray(world.discs, dtype=np.float64).reshape(-1, 3)
     start = np.ascontiguousarray(segments[:, :2].T)  # (2, n) metres
     delta = np.ascontiguousarray((segments[:, 2:] - segments[:, :2]).T)  # (2, n) metres
     return StaticGeometry(
         segments=segments,
-        discs=np.asarray(world.discs, dtype=np.float64).reshape(-1, 3),
+        discs=discs,
         rings=np.asarray(world.rings, dtype=np.float64).reshape(-1, 3),
         seg_start=start,
         seg_delta=delta,
@@ -118,6 +120,7 @@ def static_geometry(world: WorldMap) -> StaticGeometry:
         seg_moment=start[0] * delta[1] - start[1] * delta[0],
         seg_ends=segments.reshape(-1, 2, 2),
         corner_sides=_corner_sides(segments),
+        max_disc_radius_m=float(discs[:, 2].max(initial=0.0)),
     )
 
 
