@@ -2,6 +2,8 @@
 
     python benchmarks/generalization.py [--set test|tuning] [--quick] [--trials 3]
                                         [--reflex NAMES | --paper] [--workers 2] [--json]
+                                        [--config NAME=FILE.json ...] [--near M]
+                                        [--sonar real|edges|ideal]
 
 For each world (`tvl world new rooms --seed N`) and trial (seed 1, 2, 3): learn 15 simulated
 minutes from the world's start, exploring with the single FAM; train a single and a multi
@@ -13,7 +15,11 @@ misses) a minute at a mean speed of at least 0.3 m/s; a goal run must also reach
 The test worlds are rooms seeds 1001-1020 and are for reporting only: develop and tune on
 `--set tuning` (seeds 1-20). `--quick` takes the first 5 worlds of the set and 2 trials.
 `--paper` runs the paper's whole method (its labels, bump-only collision points, no
-reflexes); `--reflex` picks the reflexes of the behaviour runs (all by default).
+reflexes); `--reflex` picks the reflexes of the behaviour runs (all by default). `--config
+NAME=FILE.json` (repeatable) adds a configuration of your own (from `tvl design`, say),
+trained from the same log as the others. `--near M` sets the learner's sonar collision point
+(`tvl learn --near`) and `--sonar MODEL` the sonar of learning and runs (`--sonar`), for
+measuring those levers.
 """
 
 from __future__ import annotations
@@ -29,9 +35,11 @@ from tvl_cli.agent.behave import behave
 from tvl_cli.agent.explore import PAPER_NEAR_M, Learner, LearnParams
 from tvl_cli.agent.reflexes import ALL, parse_reflexes
 from tvl_cli.baselines.dwa import run_dwa
+from tvl_cli.commands.learn import resolve_fam_config
 from tvl_cli.core import competence
-from tvl_cli.core.config import MULTI, SINGLE, FamConfig, RobotConfig
+from tvl_cli.core.config import MULTI, SINGLE, SONAR_MODELS, FamConfig, RobotConfig
 from tvl_cli.core.episode import Episode
+from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.labels import PAPER_DECEL_MPS2, PAPER_MARGIN_M
 from tvl_cli.core.metrics import RunMetrics
@@ -62,7 +70,12 @@ def is_competent(metrics: RunMetrics, behaviour: str) -> bool:
 
 
 def learn_and_train(
-    world: WorldMap, seed: int, train: TrainParams, explore: LearnParams, robot: RobotConfig
+    world: WorldMap,
+    seed: int,
+    train: TrainParams,
+    explore: LearnParams,
+    robot: RobotConfig,
+    configs: dict[str, FamConfig],
 ) -> dict[str, Fam]:
     """Learn with the single FAM, then train each configuration from the same episodes,
     as `tvl train LOG --config C` does from the learning log."""
@@ -78,7 +91,7 @@ def learn_and_train(
     )
     learner.run(episodes.append, lambda _minute: None)
     fams = {}
-    for name, config in CONFIGS.items():
+    for name, config in configs.items():
         fam = Fam(config, names, train.init_velocity_mps)
         for episode in episodes:
             train_episode(fam, episode, robot, train)
@@ -92,12 +105,13 @@ def trial_runs(
     train: TrainParams,
     explore: LearnParams,
     reflexes: tuple[str, ...],
+    configs: dict[str, FamConfig],
+    robot: RobotConfig,
 ) -> list[dict[str, Any]]:
     """Every behaviour run of one trial in one world, as rows."""
-    robot = RobotConfig()
     world = world_of(world_seed)
     rows = []
-    for config, fam in learn_and_train(world, trial, train, explore, robot).items():
+    for config, fam in learn_and_train(world, trial, train, explore, robot, configs).items():
         for behaviour in BEHAVIOURS:
             goal = world.goals[0] if behaviour == "goal" and world.goals else None
             if behaviour == "goal" and goal is None:
@@ -135,12 +149,14 @@ def _mean(values: list[float]) -> float:
     return sum(values) / len(values) if values else float("nan")
 
 
-def summarise(rows: list[dict[str, Any]], dwa: list[dict[str, Any]]) -> dict[str, Any]:
+def summarise(
+    rows: list[dict[str, Any]], dwa: list[dict[str, Any]], configs: dict[str, FamConfig]
+) -> dict[str, Any]:
     """Per configuration: competent runs, goals reached, contacts a minute, and avoid speed
     as a share of the DWA's in the same worlds."""
     dwa_speed = _mean([r["mean_speed_mps"] for r in dwa])
     summary: dict[str, Any] = {"dwa_avoid_speed_mps": dwa_speed}
-    for config in CONFIGS:
+    for config in configs:
         runs = [r for r in rows if r["config"] == config]
         goals = [r for r in runs if r["behaviour"] == "goal"]
         avoid = [r for r in runs if r["behaviour"] == "avoid"]
@@ -161,54 +177,41 @@ def summarise(rows: list[dict[str, Any]], dwa: list[dict[str, Any]]) -> dict[str
     return summary
 
 
-def table(summary: dict[str, Any]) -> str:
+def table(summary: dict[str, Any], configs: dict[str, FamConfig]) -> str:
     def share(part: int, whole: int) -> str:
         return f"{part}/{whole} ({100 * part / whole:.0f} %)" if whole else "–"
 
-    single, multi = summary["single"], summary["multi"]
+    columns = [summary[name] for name in configs]
     rows = [
         (
             "competent runs",
-            share(single["competent"], single["runs"]),
-            share(multi["competent"], multi["runs"]),
+            *(share(c["competent"], c["runs"]) for c in columns),
             f">= {MIN_COMPETENT_SHARE:.0%}",
         ),
-        *(
-            (
-                f"  {b}",
-                single["competent_by_behaviour"][b],
-                multi["competent_by_behaviour"][b],
-                "",
-            )
-            for b in BEHAVIOURS
-        ),
+        *((f"  {b}", *(c["competent_by_behaviour"][b] for c in columns), "") for b in BEHAVIOURS),
         (
             "goals reached",
-            share(single["goals_reached"], single["goal_runs"]),
-            share(multi["goals_reached"], multi["goal_runs"]),
+            *(share(c["goals_reached"], c["goal_runs"]) for c in columns),
             f">= {MIN_GOAL_SHARE:.0%}",
         ),
         (
             "contacts/min",
-            f"{single['contacts_per_min']:.2f}",
-            f"{multi['contacts_per_min']:.2f}",
+            *(f"{c['contacts_per_min']:.2f}" for c in columns),
             "multi <= single",
         ),
         (
             "avoid speed m/s",
-            f"{single['avoid_speed_mps']:.2f}",
-            f"{multi['avoid_speed_mps']:.2f}",
+            *(f"{c['avoid_speed_mps']:.2f}" for c in columns),
             f"DWA {summary['dwa_avoid_speed_mps']:.2f}",
         ),
         (
             "avoid speed / DWA's",
-            f"{single['avoid_speed_of_dwa']:.0%}",
-            f"{multi['avoid_speed_of_dwa']:.0%}",
+            *(f"{c['avoid_speed_of_dwa']:.0%}" for c in columns),
             f">= {MIN_SPEED_OF_DWA:.0%}",
         ),
     ]
-    header = ("figure", "single", "multi", "target")
-    widths = [max(len(r[i]) for r in [header, *rows]) for i in range(4)]
+    header = ("figure", *configs, "target")
+    widths = [max(len(r[i]) for r in [header, *rows]) for i in range(len(header))]
     lines = []
     for r in [header, tuple("-" * w for w in widths), *rows]:
         lines.append("  ".join(cell.ljust(w) for cell, w in zip(r, widths, strict=True)).rstrip())
@@ -227,26 +230,52 @@ def main() -> None:
         action="store_true",
         help="the paper's method: its labels, bump-only collision points and no reflexes",
     )
+    parser.add_argument(
+        "--near",
+        type=float,
+        default=LearnParams().near_m,
+        help="metres: a sonar ahead reading this close marks a collision point while learning",
+    )
+    parser.add_argument(
+        "--sonar", choices=list(SONAR_MODELS), default="real", help="the sonar model throughout"
+    )
     parser.add_argument("--json", action="store_true", help="print the figures as JSON")
+    parser.add_argument(
+        "--config",
+        action="append",
+        default=[],
+        metavar="NAME=FILE.json",
+        help="also train this FAM configuration from each log (repeatable)",
+    )
     args = parser.parse_args()
+    configs = dict(CONFIGS)
+    for given in args.config:
+        name, _, path = given.partition("=")
+        if not name or not path or name in configs:
+            parser.error(f"--config {given!r}: expected a new NAME=FILE.json")
+        try:
+            configs[name] = resolve_fam_config(path, RobotConfig())
+        except BadInput as error:
+            parser.error(str(error))
     world_seeds = list(WORLD_SETS[args.world_set])
     trials = range(1, args.trials + 1)
     if args.quick:
         world_seeds, trials = world_seeds[:QUICK_WORLDS], range(1, QUICK_TRIALS + 1)
-    train, explore = TrainParams(), LearnParams()
+    train, explore = TrainParams(), LearnParams(near_m=args.near)
     if args.paper:
         train = TrainParams(decel_mps2=PAPER_DECEL_MPS2, margin_m=PAPER_MARGIN_M)
         explore = LearnParams(near_m=PAPER_NEAR_M)
         args.reflex = "none"
     reflexes = parse_reflexes(args.reflex)
     started = time.perf_counter()
-    jobs = [(w, t, train, explore, reflexes) for w in world_seeds for t in trials]
+    robot = RobotConfig(sonar=SONAR_MODELS[args.sonar])
+    jobs = [(w, t, train, explore, reflexes, configs, robot) for w in world_seeds for t in trials]
     with ProcessPoolExecutor(max_workers=args.workers) as pool:
         dwa_jobs = pool.map(dwa_run, world_seeds)
         per_trial = pool.map(trial_runs, *zip(*jobs, strict=True))
         rows = [row for trial in per_trial for row in trial]
         dwa = list(dwa_jobs)
-    summary = summarise(rows, dwa)
+    summary = summarise(rows, dwa, configs)
     if args.json:
         print(json.dumps({"summary": summary, "runs": rows, "dwa": dwa}, indent=2))
         return
@@ -254,10 +283,11 @@ def main() -> None:
     print(
         f"{KIND} worlds {world_seeds[0]}-{world_seeds[-1]} ({args.world_set}, "
         f"{len(world_seeds)} worlds), trials {trials.start}-{trials.stop - 1}, learning "
-        f"{LEARN_MINUTES:g} min, runs {RUN_MINUTES:g} min, {method} "
+        f"{LEARN_MINUTES:g} min (near {explore.near_m:g} m), runs {RUN_MINUTES:g} min, "
+        f"{args.sonar} sonar, {method} "
         f"({time.perf_counter() - started:.0f} s)"
     )
-    print(table(summary))
+    print(table(summary, configs))
 
 
 if __name__ == "__main__":

@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 from conftest import TVL
 
+from tvl_cli.core.config import EDGE_ECHO_RANGE_M
 from tvl_cli.io.famfile import read_fam
 from tvl_cli.io.logreader import read_log
 
@@ -142,7 +143,7 @@ def test_run_prints_the_metrics_json(run_tvl, learnt, tmp_path):
         "sim_s", "distance_m", "mean_speed_mps", "mean_drive_speed_mps", "collisions",
         "near_misses", "contacts", "contacts_per_min", "collisions_per_min", "backoffs",
         "spins", "trapped", "mean_clearance_m", "mean_wall_clearance_m", "goal_reached",
-        "time_to_goal_s",
+        "time_to_goal_s", "minutes",
     }  # fmt: skip
     assert metrics["contacts"] == metrics["collisions"] + metrics["near_misses"]
     assert metrics["sim_s"] == pytest.approx(30.0)
@@ -203,6 +204,20 @@ def test_an_ideal_sonar_fam_runs_with_the_ideal_sonar(run_tvl, tmp_path):
     assert replayed["sonar"] == "ideal"
     real = run_tvl(*args[:-2], "--sonar", "real", "--log", tmp_path / "real.h5")
     assert real.returncode == 0, real.stderr
+
+
+def test_an_edges_sonar_fam_runs_with_edge_echoes_and_keeps_them_in_its_robot(run_tvl, tmp_path):
+    log, fam = tmp_path / "log.h5", tmp_path / "fam.h5"
+    learn = run_tvl("learn", SQUARE, "--log", log, "--minutes", "1", "--sonar", "edges")
+    assert learn.returncode == 0, learn.stderr
+    assert run_tvl("train", log, "-o", fam).returncode == 0
+    assert read_fam(fam).robot_config.sonar.edge_echo_range_m == EDGE_ECHO_RANGE_M
+    for sonar, expected in ((None, "edges"), ("ideal", "ideal")):
+        trace = tmp_path / f"{expected}.h5"
+        args = ["run", fam, SQUARE, "--behaviour", "avoid", "--minutes", "0.2", "--log", trace]
+        ran = run_tvl(*args, *(["--sonar", sonar] if sonar else []))
+        assert ran.returncode == 0, ran.stderr
+        assert json.loads(run_tvl("replay", trace, "--json").stdout)["sonar"] == expected
 
 
 def test_same_seed_gives_identical_logs_and_run_json(run_tvl, tmp_path):

@@ -27,11 +27,20 @@ BAD_WORLDS = {  # name -> (file bytes, the error after the file name)
     ),
     "unknown header key": (
         ("colour: red\n" + ROOM).encode(),
-        ":1:1: unknown header key 'colour' (expected one of version name cell disc ring goal wall)",
+        ":1:1: unknown header key 'colour' "
+        "(expected one of version name cell roughness disc ring goal wall)",
     ),
     "bad header value": (
         ("cell: big\n" + ROOM).encode(),
         ":1:7: bad value for 'cell': 'big' (expected a size in metres from 0.01 to 10)",
+    ),
+    "roughness above 1": (
+        ("roughness: 1.5\n" + ROOM).encode(),
+        ":1:12: bad value for 'roughness': '1.5' (expected a fraction from 0 (smooth) to 1)",
+    ),
+    "roughness given twice": (
+        ("roughness: 0.1\nroughness: 0.2\n" + ROOM).encode(),
+        ":2:1: 'roughness' given twice (first on line 1)",
     ),
     "unsupported version": (
         ("version: 2\n" + ROOM).encode(),

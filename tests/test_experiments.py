@@ -29,6 +29,8 @@ SCRIPTS = {
     "fig24_single_vs_multi": ({"learn", "tvl", "dwa", "qlearn"}, {"world", "config", "minute"}),
     "fig27_lab": ({"learn", "tvl", "dwa"}, {"world", "seed", "config", "minute", "behaviour"}),
     "ablation": ({"tvl"}, {"world", "seed", "config", "learning", "behaviour", "reflexes"}),
+    "online": ({"tvl"}, {"world", "seed", "start_minutes", "threshold", "online", "minutes"}),
+    "exploration": ({"learn", "tvl"}, {"world", "seed", "explore", "learnt_minutes"}),
 }
 # `tvl` subcommands that do a run's work; a resumed script must call none of them.
 WORK = {"learn", "train", "run", "replay", "baseline"}

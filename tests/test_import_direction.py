@@ -1,5 +1,7 @@
 """Imports point one way: cli -> commands -> (render, analysis, io) -> baselines -> agent ->
-sim -> core. Checked over every import statement in the package, function-level ones too."""
+sim -> core, and the Gymnasium environment (gym, an optional extra) sits beside commands,
+imported by nothing. Checked over every import statement in the package, function-level ones
+too."""
 
 from __future__ import annotations
 
@@ -24,6 +26,7 @@ ALLOWED: dict[str, set[str]] = {
     "render": {"core", "sim", "analysis", "io"},
     "commands": {"core", "sim", "agent", "baselines", "io", "analysis", "render"},
     "cli": {"core", "sim", "agent", "baselines", "io", "analysis", "render", "commands"},
+    "gym": {"core", "sim", "agent", "baselines", "io", "render"},
 }
 # Libraries a room must not load: the paper's core is numpy and the standard library, and the
 # run loop never pulls in files, the terminal or drawing.
@@ -34,7 +37,10 @@ BANNED: dict[str, set[str]] = {
     "baselines": {"h5py", "click", "rich", "matplotlib"},
     "io": {"pymunk", "click", "rich", "matplotlib"},
     "analysis": {"h5py", "pymunk", "click", "rich", "matplotlib"},
+    "gym": {"click", "rich"},
 }
+# Only the optional extra's room may load Gymnasium: tvl works without it installed.
+OPTIONAL: dict[str, str] = {"gymnasium": "gym"}
 
 
 def _imports(path: Path) -> list[str]:
@@ -71,7 +77,7 @@ def test_imports_point_one_way(room: str, path: Path) -> None:
             target = parts[1]
             if target != room and target not in ALLOWED[room]:
                 wrong.append(name)
-        elif parts[0] in BANNED.get(room, set()):
+        elif parts[0] in BANNED.get(room, set()) or OPTIONAL.get(parts[0], room) != room:
             wrong.append(name)
     assert not wrong, f"{path.relative_to(PACKAGE)} ({room}) imports {wrong}"
 

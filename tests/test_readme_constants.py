@@ -6,9 +6,10 @@ import math
 from pathlib import Path
 
 from tvl_cli.agent.motions import BACKOFF_M
+from tvl_cli.agent.novelty import BLOCKED_BEYOND_STOP_M, NOVELTY_BIN_M, NOVELTY_LOOKAHEAD_M
 from tvl_cli.agent.reflexes import BLOCKED_HALF_WIDTH_RAD, BLOCKED_S, REFLEXES
 from tvl_cli.core.behaviours import LOOKAHEAD_M
-from tvl_cli.core.config import SonarConfig
+from tvl_cli.core.config import EDGE_ECHO_RANGE_M, SonarConfig
 from tvl_cli.core.contacts import NEAR_MISS_WITHIN_RAD
 from tvl_cli.core.labels import PAPER_DECEL_MPS2, PAPER_MARGIN_M
 
@@ -45,3 +46,16 @@ def test_near_misses_are_quoted_with_their_angle_and_blind_zone() -> None:
 def test_the_paper_labels_and_the_lookahead_are_quoted_as_they_are() -> None:
     assert f"deceleration\n  {PAPER_DECEL_MPS2:g} m/s², margin {PAPER_MARGIN_M:g} m" in README
     assert f"judged {LOOKAHEAD_M:g} m along itself" in README
+
+
+def test_the_edge_echo_range_is_quoted_as_it_is() -> None:
+    section = README.split("### What real sonars hear beyond the specular rule")[1]
+    assert f"within {EDGE_ECHO_RANGE_M:.1f} m (a quarter of the maximum range)" in section
+    assert SonarConfig().max_range_m / 4 == EDGE_ECHO_RANGE_M
+
+
+def test_the_novelty_rule_is_quoted_as_it_is() -> None:
+    section = README.split("**Where to learn next (`--explore`).**")[1].split("**Coverage.**")[0]
+    assert f"in {NOVELTY_BIN_M:g} m square bins" in section
+    assert f"in the next {NOVELTY_LOOKAHEAD_M:g} m" in section
+    assert f"`--near` and {BLOCKED_BEYOND_STOP_M * 100:g} cm" in " ".join(section.split())

@@ -90,6 +90,64 @@ def test_convex_corner_seen_the_same_way_gives_no_echo() -> None:
     assert read(IDEAL, geometry, pose)[0] == pytest.approx(math.hypot(1.5, 1.5) - RADIUS)
 
 
+def test_convex_corner_echoes_within_the_edge_echo_range() -> None:
+    geometry = static_geometry(room(8, 8, walls=square_block(3, 3, 1), outline=False))
+    corner_m = math.hypot(1.5, 1.5) - RADIUS
+    pose = (1.5, 1.5, math.radians(45))
+    near = dataclasses.replace(QUIET, edge_echo_range_m=corner_m + 0.01)
+    far = dataclasses.replace(QUIET, edge_echo_range_m=corner_m - 0.01)
+    assert read(near, geometry, pose)[0] == pytest.approx(corner_m)
+    assert read(far, geometry, pose)[0] == 4.0
+
+
+def test_a_thin_walls_end_is_an_edge() -> None:
+    # A thin wall along y = 2 from x = 2 rightwards, its free end met at 60 degrees off its
+    # normal: an edge, heard only with edge echoes.
+    geometry = static_geometry(room(8, 8, walls=((2.0, 2.0, 6.0, 2.0),), outline=False))
+    heading = math.radians(30.0)
+    end = np.array([2.0, 2.0])
+    transducer = end - 0.8 * np.array([math.cos(heading), math.sin(heading)])
+    pose = (*(transducer - RADIUS * np.array([math.cos(heading), math.sin(heading)])), heading)
+    assert read(QUIET, geometry, pose)[0] == 4.0
+    edges = dataclasses.replace(QUIET, edge_echo_range_m=1.0)
+    assert read(edges, geometry, pose)[0] == pytest.approx(0.8, abs=1e-9)
+
+
+def test_smooth_wall_at_a_grazing_angle_stays_silent_with_edge_echoes() -> None:
+    # Figure 12 of the paper: only the ends of a wall are edges, not its flat middle.
+    edges = dataclasses.replace(QUIET, edge_echo_range_m=4.0)
+    assert read(edges, LONG_WALL, facing_wall(1.0, 60.0))[0] == 4.0
+
+
+def rough_wall(roughness: float) -> StaticGeometry:
+    return dataclasses.replace(LONG_WALL, roughness=roughness)
+
+
+def test_rough_wall_echoes_at_a_grazing_angle_within_its_diffuse_range() -> None:
+    # 60 degrees off the normal the nearest ray meets the wall 47.5 degrees off it, at
+    # 1 / cos(47.5) = 1.48 m; roughness 0.2 hears it to 4 sqrt(0.2 cos 47.5) = 1.47 m.
+    hit_m = 1.0 / math.cos(math.radians(47.5))
+    diffuse_m = 4.0 * math.sqrt(0.2 * math.cos(math.radians(47.5)))
+    assert diffuse_m < hit_m < 4.0 * math.sqrt(0.3 * math.cos(math.radians(47.5)))
+    assert read(QUIET, rough_wall(0.2), facing_wall(1.0, 60.0))[0] == 4.0
+    assert read(QUIET, rough_wall(0.3), facing_wall(1.0, 60.0))[0] == pytest.approx(hit_m)
+
+
+def test_a_rough_wall_reads_as_a_smooth_one_square_on() -> None:
+    pose = facing_wall(2.0, 0.0)
+    assert read(QUIET, rough_wall(1.0), pose)[0] == read(QUIET, LONG_WALL, pose)[0]
+
+
+def test_a_rough_ring_wall_echoes_at_a_grazing_angle() -> None:
+    # Inside a ring of radius 2 near its edge, looking along it: the ray meets the ring
+    # far off its normal, silent when smooth.
+    world = room(10, 10, rings=((5.0, 5.0, 2.0),), outline=False)
+    pose = (5.0, 3.4, 0.0)
+    smooth = read(QUIET, static_geometry(world), pose)[0]
+    rough = read(QUIET, dataclasses.replace(static_geometry(world), roughness=1.0), pose)[0]
+    assert rough < smooth
+
+
 def test_corner_off_the_beam_axis_still_echoes() -> None:
     # The corner lies between two rays of the beam, 10 degrees off its axis.
     geometry = static_geometry(room(6, 6))

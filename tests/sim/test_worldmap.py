@@ -86,6 +86,11 @@ def test_header_sets_name_cell_and_goals() -> None:
     assert world.goals == ((1.2, 1.3),)
 
 
+def test_walls_are_smooth_unless_the_header_gives_a_roughness() -> None:
+    assert parse_world(ROOM, "r.txt").roughness == 0.0
+    assert parse_world("roughness: 0.25\n" + ROOM, "r.txt").roughness == 0.25
+
+
 def test_name_defaults_to_the_file_stem() -> None:
     assert parse_world(ROOM, "worlds/my-room.txt").name == "my-room"
 

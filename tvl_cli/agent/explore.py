@@ -12,7 +12,16 @@ import numpy as np
 
 from tvl_cli.agent.drive import StepSink, drive
 from tvl_cli.agent.motions import BACKOFF_M, backoff_commands, spin_commands
+from tvl_cli.agent.novelty import (
+    EXPLORE_RULES,
+    LEAST_EXPERIENCE,
+    NOVELTY,
+    RANDOM,
+    Places,
+    random_pair,
+)
 from tvl_cli.agent.policy import Decision, Observation, Pose
+from tvl_cli.agent.recording import EpisodeRecord
 from tvl_cli.core.command import Command
 from tvl_cli.core.config import RobotConfig, sonars_within
 from tvl_cli.core.episode import Episode
@@ -38,6 +47,7 @@ class LearnParams:
     # as an object enters the ring's blind zone, so a wall the arc runs into alongside, unseen
     # ahead by the specular ring, counts as a collision too. 0 waits for bumps.
     near_m: float = 0.16
+    explore: str = LEAST_EXPERIENCE  # one of EXPLORE_RULES
 
     def __post_init__(self) -> None:
         check_minutes(self.minutes)
@@ -45,8 +55,10 @@ class LearnParams:
             raise BadInput(f"--learn-speed {self.learn_speed_mps:g} must be > 0 m/s")
         if not (math.isfinite(self.near_m) and self.near_m >= 0):
             raise BadInput(f"--near {self.near_m:g} must be >= 0 m")
+        if self.explore not in EXPLORE_RULES:
+            raise BadInput(f"--explore {self.explore}: choose {', '.join(EXPLORE_RULES)}")
 
-    def to_dict(self) -> dict[str, float]:
+    def to_dict(self) -> dict[str, float | str]:
         return asdict(self)
 
 
@@ -95,8 +107,9 @@ StopCheck = Callable[[], str | None]
 
 class ExplorePolicy:
     """Figure 14 as a policy: face the least experienced of the 112 (rotation, trajectory)
-    pairs, follow it slowly recording every step, end the episode at a collision point or a
-    full circle, hand it on, and after a collision reverse along the path."""
+    pairs (or another, by `params.explore`), follow it slowly recording every step, end the
+    episode at a collision point or a full circle, hand it on, and after a collision reverse
+    along the path."""
 
     def __init__(
         self,
@@ -119,8 +132,10 @@ class ExplorePolicy:
         self._queue: list[Command] = []  # a spin to face the choice, or a back-off
         self._following: Decision | None = None
         self._last_follow: Command | None = None
-        self._episode = _EpisodeRecord(0, 0, 0)
+        self._episode = EpisodeRecord(0, 0)
         self.episodes = 0
+        # Where the robot has been, for the novelty rule.
+        self.places = Places(robot, params.near_m) if params.explore == NOVELTY else None
 
     @property
     def between_episodes(self) -> bool:
@@ -133,6 +148,8 @@ class ExplorePolicy:
         self._queue, self._following = [], None
 
     def decide(self, obs: Observation) -> Decision:
+        if self.places is not None:
+            self.places.visit(obs.odometry)
         if self._queue:
             return Decision(self._queue.pop(0))
         following = self._following
@@ -145,14 +162,11 @@ class ExplorePolicy:
             if self._queue:
                 return Decision(self._queue.pop(0))
         if following is None:
-            following = self._start(ring_mm)
+            following = self._start(ring_mm, obs.odometry)
             if self._queue:
                 return Decision(self._queue.pop(0))
         record = self._episode
-        record.rings.append(ring_mm)
-        record.poses.append(self._true_pose())
-        record.odometry.append(obs.odometry)
-        record.arcs.append(record.arc_m)
+        record.record(ring_mm, self._true_pose(), obs.odometry)
         # Odometry-free arc length: the distance commanded; short and exact (paper §4.1).
         record.arc_m += following.command.linear_mps * self.robot.control_period_s
         return following
@@ -170,24 +184,47 @@ class ExplorePolicy:
             if not near:
                 return False
         collided = bumped or near
-        self._on_episode(record.episode(self.robot.sonar.count, collided, bumped, obs.time_s))
+        self._on_episode(
+            record.episode(
+                self.episodes,
+                self.robot.sonar.count,
+                collided=collided,
+                bumped=bumped,
+                end_arc_m=record.arc_m,
+                end_time_s=obs.time_s,
+            )
+        )
         self.episodes += 1
         self._following = None
         if collided and self._last_follow is not None:
             self._queue = backoff_commands(self._last_follow, self.robot, self.params.reverse_m)
         return True
 
-    def _start(self, ring_mm: np.ndarray) -> Decision:
-        """Choose the least experienced pair, spin to face it, and set off along it."""
-        _, experience = self.fam.perceive(mm_to_ring(ring_mm))
-        rotation, trajectory = least_experienced(experience, self.rng)
+    def _start(self, ring_mm: np.ndarray, odometry: Pose) -> Decision:
+        """Choose a pair, spin to face it, and set off along it."""
+        rotation, trajectory = self.choose(mm_to_ring(ring_mm), odometry)
         self._queue = spin_commands(rotation, self.robot)
-        self._episode = _EpisodeRecord(self.episodes, trajectory, rotation)
+        self._episode = EpisodeRecord(trajectory, rotation)
         self._last_follow = Command.follow(
             self.robot.trajectories[trajectory], self._speed(trajectory)
         )
         self._following = Decision(self._last_follow, trajectory=trajectory, choice=trajectory)
         return self._following
+
+    def choose(self, ring_m: np.ndarray, odometry: Pose) -> tuple[int, int]:
+        """The (rotation, trajectory) pair to set off along next, by the explore rule, seeing
+        `ring_m` (16,) metres at `odometry`."""
+        _, experience = self.fam.perceive(ring_m)
+        if self.params.explore == RANDOM:
+            return random_pair(experience.shape, self.rng)
+        if self.places is None:
+            return least_experienced(experience, self.rng)
+        new = self.places.leading_to_new(ring_m, odometry)
+        if new.any():  # else nothing new is in reach, and experience alone decides
+            experience = np.where(new, experience, np.inf)
+        rotation, trajectory = least_experienced(experience, self.rng)
+        self.places.aim(rotation, trajectory)
+        return rotation, trajectory
 
     def _too_near(self, ring_m: np.ndarray, start_m: np.ndarray) -> bool:
         """A sonar ahead reads within near_m, having closed in since the episode started."""
@@ -204,35 +241,6 @@ class ExplorePolicy:
 
     def _speed(self, trajectory: int) -> float:
         return min(self.params.learn_speed_mps, self.robot.trajectories[trajectory].v_max_mps)
-
-
-@dataclass(slots=True)
-class _EpisodeRecord:
-    """The episode being recorded, step by step."""
-
-    index: int
-    trajectory: int
-    rotation: int
-    arc_m: float = 0.0
-    rings: list[np.ndarray] = field(default_factory=list)  # uint16 mm
-    poses: list[Pose] = field(default_factory=list)
-    odometry: list[Pose] = field(default_factory=list)
-    arcs: list[float] = field(default_factory=list)
-
-    def episode(self, sonars: int, collided: bool, bumped: bool, time_s: float) -> Episode:
-        return Episode(
-            index=self.index,
-            ring_mm=np.array(self.rings, dtype=np.uint16).reshape(-1, sonars),
-            pose=np.array(self.poses, dtype=np.float64).reshape(-1, 3),
-            odometry=np.array(self.odometry, dtype=np.float64).reshape(-1, 3),
-            arc_m=np.array(self.arcs, dtype=np.float64),
-            trajectory=self.trajectory,
-            rotation=self.rotation,
-            collided=collided,
-            bumped=bumped,
-            end_arc_m=self.arc_m,
-            end_time_s=time_s,
-        )
 
 
 class Learner:
@@ -283,12 +291,14 @@ class Learner:
             before = self._velocity_entries()
             train_episode(self.fam, episode, self.robot, self.train_params)
             change = float(np.abs(self._velocity_entries() - before).mean())
-            on_episode(episode)
-            # The last minute keeps an episode ending on its closing boundary.
+            # Minutes this episode ended after are closed before it is handed on, so a sink
+            # sees each minute when it has seen exactly the episodes counted by then. The last
+            # minute keeps an episode ending on its closing boundary.
             while episode.end_time_s >= (minute.minute + 1) * 60.0 and minute.minute + 1 < last:
                 on_minute(minute)
                 summary.minutes.append(minute)
                 minute = MinuteStats(minute.minute + 1)
+            on_episode(episode)
             minute.episodes += 1
             minute.collisions += int(episode.bumped)
             minute.exemplars += episode.exemplar_count

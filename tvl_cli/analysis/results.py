@@ -34,6 +34,8 @@ WORLD_ORDER = ("square", "circle", "corridor", "obstacles", "narrow", "lab")
 ABLATION_SETTINGS = (
     "none", "blocked-ways", "near-miss", "bump", "tie", "wall-start", "all", "paper",
 )  # fmt: skip
+# The online experiment's runs: the FAM fixed, or learning while behaving (`tvl run --learn`).
+ONLINE_SETTINGS = ("fixed", "learns")
 # The paper's reported ends (SPEC §10): threshold -> (wall clearance m, mean speed m/s) in
 # wall following (§5.1, Fig. 21), and learning minute -> mean speed m/s in the lab, multi FAM
 # (§5.2, Fig. 27).
@@ -85,10 +87,23 @@ def read_results(path: Path) -> dict[int, Row]:
 # (finite: json reads NaN and Infinity, which would show as "–"); only the measures a run may
 # not have taken can be null. `minutes` (a learn run's) and `competence_checks` (Q-learning's)
 # are lists of objects whose keys are checked as a run's are.
-_WORDS = ("world", "config", "behaviour", "reflexes", "learning", "goal")
+_WORDS = (
+    "world",
+    "config",
+    "behaviour",
+    "reflexes",
+    "learning",
+    "goal",
+    "online",
+    "explore",
+    "collision_points",
+)
 _NUMBERS = (
     "seed",
     "minute",
+    "start_minutes",
+    "learnt_minutes",
+    "coverage",
     "threshold",
     "learn_minutes",
     "run_minutes",
@@ -98,6 +113,8 @@ _NUMBERS = (
     *(f.name for f in fields(RunMetrics) if f.name != "goal_reached"),
 )
 _MAYBE_TAKEN = ("mean_wall_clearance_m", "time_to_goal_s", "time_to_competence_min")
+# A `tvl sweep` row records a goal for every run, null for those that seek none.
+_MAYBE_NAMED = ("goal",)
 _FLAGS = ("goal_reached",)
 _LISTS = ("minutes", "competence_checks")
 
@@ -106,6 +123,8 @@ def _check_types(row: Row, where: str) -> None:
     """BadInput naming the first key a figure reads that does not hold what it names."""
     for key in _WORDS:
         if key in row and not isinstance(row[key], str):
+            if row[key] is None and key in _MAYBE_NAMED:
+                continue
             raise BadInput(f"{where}: {key!r} is {row[key]!r}, expected text")
     for key in (*_NUMBERS, *_MAYBE_TAKEN):
         value = row.get(key)
@@ -184,9 +203,33 @@ FIGURE_NEEDS: dict[str, tuple[Needs, ...]] = {
             ("contacts_per_min",),
         ),
     ),
+    "online": (
+        Needs(
+            "behaving runs",
+            {"kind": "tvl", "online": ONLINE_SETTINGS},
+            (*_RUN_KEYS, "start_minutes", "threshold", "minutes"),
+            ("minutes",),
+        ),
+    ),
+    "exploration": (
+        Needs(
+            "learning runs",
+            {"kind": "learn"},
+            ("world", "seed", "explore", "collision_points", "minutes"),
+            ("minutes",),
+        ),
+        Needs(
+            "avoid snapshots",
+            {"kind": "tvl", "behaviour": "avoid"},
+            (*_RUN_KEYS, "explore", "learnt_minutes"),
+            _PLOTTED,
+        ),
+    ),
 }
 # Each experiment script marks its TVL runs with a key no other one records: the learning
-# `minute` of a snapshot FAM, the ablation's `learning`, fig22's `goal_index`; fig21's
+# `minute` of a snapshot FAM, the ablation's `learning`, fig22's `goal_index`, the online
+# experiment's `start_minutes` (of exploration before behaving), the exploration
+# experiment's `explore` (the rule that chose where to learn); fig21's
 # threshold runs have none. A figure refuses the TVL runs of another experiment, which it
 # would otherwise average in silently (the ablation would average over fig21's thresholds).
 FIGURE_MARKS: dict[str, str | None] = {
@@ -196,6 +239,8 @@ FIGURE_MARKS: dict[str, str | None] = {
     "fig24": "minute",
     "fig27": "minute",
     "ablation": "learning",
+    "online": "start_minutes",
+    "exploration": "explore",
 }
 _MARKS = tuple(dict.fromkeys(mark for mark in FIGURE_MARKS.values() if mark))
 
@@ -514,3 +559,61 @@ def learning_time_rows(
     if dwa:
         body.append(["DWA (avoid)"] + [cell(dwa) if b == "avoid" else "–" for _, b in series])
     return header, body
+
+
+def minute_rates(run: Row) -> list[float]:
+    """A run's contacts a minute in each of its simulated minutes (`tvl run --json`'s
+    `minutes`; a last, partial minute counted at its own length)."""
+    return [m["contacts"] * 60.0 / m["sim_s"] for m in run["minutes"] if m["sim_s"]]
+
+
+def online_conditions(rows: Iterable[Row]) -> list[tuple[float, float]]:
+    """(exploration minutes before behaving, threshold) of the online experiment's runs."""
+    runs = select(rows, kind="tvl", online=ONLINE_SETTINGS)
+    return [
+        (start, threshold)
+        for start in distinct(runs, "start_minutes")
+        for threshold in distinct(select(runs, start_minutes=start), "threshold")
+    ]
+
+
+def online_rows(rows: list[Row]) -> list[list[str]]:
+    """Per start, threshold and setting: contacts a minute in the runs' first and last
+    minutes and over the whole run, speed, and the episodes learnt while behaving."""
+    table = []
+    for start, threshold in online_conditions(rows):
+        for setting in ONLINE_SETTINGS:
+            runs = select(
+                rows, kind="tvl", online=setting, start_minutes=start, threshold=threshold
+            )
+            if not runs:
+                continue
+            rates = [minute_rates(r) for r in runs]
+            learnt = [r["learnt"]["episodes"] for r in runs if "learnt" in r]
+            table.append(
+                [
+                    f"{start:g}",
+                    f"{threshold:g}",
+                    setting,
+                    number(mean(r[0] for r in rates if r)),
+                    number(mean(r[-1] for r in rates if r)),
+                    number(mean(r["contacts_per_min"] for r in runs)),
+                    number(mean(r["mean_speed_mps"] for r in runs)),
+                    f"{mean(learnt):.0f}" if learnt else "–",
+                    str(len(runs)),
+                ]
+            )
+    return table
+
+
+ONLINE_HEADER = (
+    "explored, min",
+    "threshold",
+    "FAM",
+    "first minute contacts/min",
+    "last minute contacts/min",
+    "whole run contacts/min",
+    "speed m/s",
+    "episodes learnt",
+    "runs",
+)

@@ -42,6 +42,12 @@ def forward_travel_m(before: Pose, after: Pose) -> float:
     return (after[0] - before[0]) * math.cos(mid) + (after[1] - before[1]) * math.sin(mid)
 
 
+def step_reward(before: Pose, after: Pose, bumped: bool, params: QParams = DEFAULT_Q) -> float:
+    """The reward of one action: metres moved forward by odometry, less the collision penalty
+    if it bumped."""
+    return forward_travel_m(before, after) - (params.collision_penalty if bumped else 0.0)
+
+
 class QPolicy:
     """Drives by a Q-table: epsilon-greedy and updating it while learning, greedy otherwise."""
 
@@ -77,7 +83,7 @@ class QPolicy:
         state = self.states.one(obs.ring_m)
         if self._pending is not None and self.rng is not None:
             last_state, action, odometry = self._pending
-            reward = forward_travel_m(odometry, obs.odometry)
+            reward = step_reward(odometry, obs.odometry, False, self.params)
             q_update(self.q, last_state, action, reward, state, self.params)
         if self.rng is None:
             action = greedy(self.q[state], self._order)
@@ -88,7 +94,7 @@ class QPolicy:
 
     def _end_episode(self, obs: Observation, state: int, action: int, odometry: Pose) -> None:
         """Punish the action that bumped, with nothing after it, and back off along the arc."""
-        reward = forward_travel_m(odometry, obs.odometry) - self.params.collision_penalty
+        reward = step_reward(odometry, obs.odometry, True, self.params)
         q_update(self.q, state, action, reward, None, self.params)
         self._pending = None
         last = self._actions[action]

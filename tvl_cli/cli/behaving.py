@@ -26,9 +26,16 @@ from tvl_cli.commands.demo import run_demo
 from tvl_cli.commands.explain import EVENT_CHOICES, Moment, explain_run
 from tvl_cli.commands.replay import Animation
 from tvl_cli.commands.replay import replay as replay_file
-from tvl_cli.commands.run import RunRequest, parse_goal, resolve_goal, run_fam
+from tvl_cli.commands.run import (
+    DEFAULT_RUN_MINUTES,
+    OnlineLearning,
+    RunRequest,
+    parse_goal,
+    resolve_goal,
+    run_behaviour,
+)
 from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD
-from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.config import SONAR_MODELS, RobotConfig
 from tvl_cli.sim.worldmap import load_world
 
 
@@ -44,7 +51,13 @@ from tvl_cli.sim.worldmap import load_world
     help="A trajectory is fast at this fraction of its maximum, in (0, 1].",
 )
 @click.option("--goal", default=None, metavar="X,Y", help="Goal in metres (default: the world's).")
-@click.option("--minutes", type=float, default=5.0, show_default=True, help="Simulated minutes.")
+@click.option(
+    "--minutes",
+    type=float,
+    default=DEFAULT_RUN_MINUTES,
+    show_default=True,
+    help="Simulated minutes.",
+)
 @click.option("--seed", type=SEED, default=1, show_default=True)
 @click.option("--png", type=click.Path(path_type=Path), default=None, help="Draw the path.")
 @click.option(
@@ -53,9 +66,19 @@ from tvl_cli.sim.worldmap import load_world
 @reflex_options(default=ALL_REFLEXES)
 @click.option(
     "--sonar",
-    type=click.Choice(["real", "ideal"]),
+    type=click.Choice(list(SONAR_MODELS)),
     default=None,
     help="The sonar model to drive with (default: the one the FAM was learnt with).",
+)
+@click.option(
+    "--learn",
+    "learn_log",
+    is_flag=False,
+    flag_value="",
+    default=None,
+    metavar="[LOG]",
+    help="Learn while behaving: train the FAM on what the run meets and append it to LOG as "
+    "a behaving session; without LOG (--learn last, or before another option), in memory.",
 )
 @click.option("--force", is_flag=True, help="Overwrite the --png and --log files.")
 @click.option("--json", "as_json", is_flag=True, help="Print the metrics as JSON.")
@@ -73,6 +96,7 @@ def run(
     trace: Path | None,
     reflexes: tuple[str, ...],
     sonar: str | None,
+    learn_log: str | None,
     force: bool,
     as_json: bool,
     as_csv: bool,
@@ -84,7 +108,12 @@ def run(
     Every rule beyond the paper's method is a reflex: --paper (or --reflex none) runs the
     paper's method alone."""
     refuse_both_formats(as_json, as_csv)
-    refuse_shared_paths({"--png": png, "--log": trace}, {"FAM": fam, "WORLD": world_file})
+    # click hands an empty string for --learn given without a LOG.
+    learning = None if learn_log is None else OnlineLearning(Path(learn_log) if learn_log else None)
+    refuse_shared_paths(
+        {"--png": png, "--log": trace, "--learn": learning.log if learning else None},
+        {"FAM": fam, "WORLD": world_file},
+    )
     for output in (png, trace):
         if output is not None:
             refuse_existing(output, force)
@@ -100,15 +129,17 @@ def run(
         trace,
         reflexes,
         sonar,
+        learning,
     )
     with _watching(request, live, pace) as watch:
-        metrics = run_fam(request, watch)
+        result = run_behaviour(request, watch)
     if as_json:
-        print_json(asdict(metrics))
+        print_json(result.to_dict())
     elif as_csv:
-        print_csv([asdict(metrics)])
+        print_csv([asdict(result.metrics)])
     else:
-        views.run_metrics(metrics, reflexes)
+        views.run_metrics(result.metrics, reflexes)
+        views.run_learning(result, learning.log if learning else None)
 
 
 @click.command()

@@ -23,8 +23,8 @@ from tvl_cli.cli.options import (
 def figure(
     name: str, results: Path, output: Path, table: Path | None, force: bool, as_json: bool
 ) -> None:
-    """Draw figure NAME (fig19, fig21, fig22, fig24, fig27, ablation) from an experiment's
-    RESULTS (JSON lines) and print its summary table."""
+    """Draw figure NAME (fig19, fig21, fig22, fig24, fig27, ablation, online, exploration)
+    from an experiment's RESULTS (JSON lines) and print its summary table."""
     from tvl_cli.render.figures import (
         draw_figure,  # matplotlib is slow to import; only this needs it
     )

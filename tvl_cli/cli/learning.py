@@ -8,6 +8,7 @@ from pathlib import Path
 import click
 
 from tvl_cli.agent.explore import PAPER_NEAR_M, LearnParams, MinuteStats
+from tvl_cli.agent.novelty import EXPLORE_RULES
 from tvl_cli.cli import views
 from tvl_cli.cli.options import (
     SEED,
@@ -20,7 +21,7 @@ from tvl_cli.cli.options import (
 )
 from tvl_cli.commands.learn import LearnRequest, LearnResult, learn_to_log
 from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
-from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.config import EDGE_ECHO_RANGE_M, SONAR_MODELS, RobotConfig
 from tvl_cli.core.training import TrainParams
 from tvl_cli.sim.worldmap import load_world
 
@@ -66,11 +67,20 @@ DEFAULT_LEARN = LearnParams()
     help="m: a sonar ahead closing in this near marks a collision point (0: bumps only).",
 )
 @click.option(
+    "--explore",
+    type=click.Choice(EXPLORE_RULES),
+    default=DEFAULT_LEARN.explore,
+    show_default=True,
+    help="Which pair to follow next: the least experienced (the paper's rule), the least "
+    "experienced of those leading to places the odometry has not been, or a random one.",
+)
+@click.option(
     "--sonar",
-    type=click.Choice(["real", "ideal"]),
+    type=click.Choice(list(SONAR_MODELS)),
     default="real",
     show_default=True,
-    help="ideal: nearest hit at any angle, no noise.",
+    help=f"edges: convex edges echo within {EDGE_ECHO_RANGE_M:g} m; ideal: nearest hit at "
+    "any angle, no noise.",
 )
 @click.option(
     "--from-fam",
@@ -91,6 +101,7 @@ def learn(
     train_params: TrainParams,
     learn_speed: float,
     near: float,
+    explore: str,
     sonar: str,
     from_fam: Path | None,
     force: bool,
@@ -105,17 +116,17 @@ def learn(
     if fam_out is not None:
         refuse_existing(fam_out, force)
     if click.get_current_context().params["paper"]:
-        refuse_beside_paper("--near")
+        refuse_beside_paper("--near", "--explore")
         near = PAPER_NEAR_M
     request = LearnRequest(
         world_file,
         log,
         seed,
         config,
-        LearnParams(minutes=minutes, learn_speed_mps=learn_speed, near_m=near),
+        LearnParams(minutes=minutes, learn_speed_mps=learn_speed, near_m=near, explore=explore),
         train_params,
         fam_out,
-        ideal_sonar=sonar == "ideal",
+        sonar=sonar,
         from_fam=from_fam,
     )
     if live and views.out.is_terminal:

@@ -33,6 +33,11 @@ COMMANDS: dict[str, tuple[str, str, str]] = {
         "diff",
         "Show where two FAM files of one configuration disagree, rule by rule.",
     ),
+    "design": (
+        "tvl_cli.cli.design",
+        "design",
+        "Choose each FAM table's sonars and fuzzy sets from learning logs.",
+    ),
     "run": ("tvl_cli.cli.behaving", "run", "Perform a behaviour in WORLD with a learnt FAM."),
     "replay": (
         "tvl_cli.cli.behaving",
@@ -54,11 +59,16 @@ COMMANDS: dict[str, tuple[str, str, str]] = {
         "baseline",
         "Controllers to measure TVL against: DWA and tabular Q-learning.",
     ),
+    "sweep": (
+        "tvl_cli.cli.sweep",
+        "sweep",
+        "Learn, train and run every combination of a grid's settings into one results table.",
+    ),
     "figure": (
         "tvl_cli.cli.figure",
         "figure",
-        "Draw figure NAME (fig19, fig21, fig22, fig24, fig27, ablation) from an experiment's "
-        "RESULTS (JSON lines) and print its summary table.",
+        "Draw figure NAME (fig19, fig21, fig22, fig24, fig27, ablation, online, exploration) "
+        "from an experiment's RESULTS (JSON lines) and print its summary table.",
     ),
 }
 

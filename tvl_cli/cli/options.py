@@ -2,9 +2,7 @@
 
 from __future__ import annotations
 
-import csv
 import functools
-import io
 import json
 import math
 from collections.abc import Callable
@@ -15,7 +13,7 @@ import click
 from click.core import ParameterSource
 
 from tvl_cli.agent.reflexes import STACK_ORDER, parse_reflexes
-from tvl_cli.core.errors import BadInput
+from tvl_cli.core.errors import MAX_SEED, BadInput
 from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS
 from tvl_cli.core.labels import (
     DEFAULT_DECEL_MPS2,
@@ -25,9 +23,9 @@ from tvl_cli.core.labels import (
 )
 from tvl_cli.core.training import TrainParams
 from tvl_cli.io.atomic import refuse_non_file
+from tvl_cli.io.table import csv_text
 
-# Seeds are stored as 64-bit integers in logs and traces, and numpy takes no negative seed.
-SEED = click.IntRange(0, 2**63 - 1)
+SEED = click.IntRange(0, MAX_SEED)
 
 
 def refuse_existing(path: Path, force: bool) -> None:
@@ -84,7 +82,8 @@ def training_options(command: Callable[..., None]) -> Callable[..., None]:
             "--paper",
             is_flag=True,
             help=f"The paper's method: labels at {PAPER_DECEL_MPS2:g} m/s² with a "
-            f"{PAPER_MARGIN_M:g} m margin (and, learning, collision points by bumps only).",
+            f"{PAPER_MARGIN_M:g} m margin (and, learning, collision points by bumps only and "
+            "the least experienced choice).",
         ),
         click.option(
             "--decel",
@@ -154,16 +153,8 @@ def print_json(value: object) -> None:
 
 
 def print_csv(rows: list[dict[str, object]]) -> None:
-    """Rows as CSV on stdout under a header of every key, in the order keys first appear;
-    a key a row lacks (another table's input) and None are left empty."""
-    if not rows:
-        return
-    out = io.StringIO()
-    columns = list(dict.fromkeys(key for row in rows for key in row))
-    writer = csv.DictWriter(out, fieldnames=columns, lineterminator="\n")
-    writer.writeheader()
-    writer.writerows(rows)
-    click.echo(out.getvalue(), nl=False)
+    """Rows as CSV on stdout, as `csv_text` writes them."""
+    click.echo(csv_text(rows), nl=False)
 
 
 def live_options(what: str) -> Callable[[Callable[..., None]], Callable[..., None]]:

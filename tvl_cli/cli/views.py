@@ -19,6 +19,8 @@ from tvl_cli.commands.demo import DemoResult
 from tvl_cli.commands.explain import StepExplanation
 from tvl_cli.commands.learn import LearnResult
 from tvl_cli.commands.replay import Replay
+from tvl_cli.commands.run import RunResult
+from tvl_cli.commands.sweep import TABLE_CSV, SweepResult
 from tvl_cli.commands.train import TrainSummary
 from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
 from tvl_cli.core.explain import Explanation
@@ -46,10 +48,10 @@ def _bar(description: str) -> Progress:
 
 
 @contextmanager
-def progress(description: str) -> Iterator[Callable[[int, int], None]]:
-    """A progress bar fed with (done, total)."""
+def progress(description: str, quiet: bool = False) -> Iterator[Callable[[int, int], None]]:
+    """A progress bar fed with (done, total); none when `quiet`."""
     with _bar(description) as bar:
-        task = bar.add_task(description, total=None)
+        task = bar.add_task(description, total=None, visible=not quiet)
         yield lambda done, total: bar.update(task, completed=done, total=total)
 
 
@@ -103,28 +105,42 @@ def learn_json(result: LearnResult) -> dict[str, Any]:
         "collisions": s.collisions,
         "exemplars": s.exemplars,
         "sim_minutes": s.sim_s / 60.0,
+        "coverage": result.coverage,
         "wall_s": result.wall_s,
         "status": result.status,
+        "minutes": [
+            {**asdict(m), "coverage": c}
+            for m, c in zip(s.minutes, result.minute_coverage, strict=True)
+        ],
     }
 
 
 def learn_summary(result: LearnResult, log: Path) -> None:
     s = result.summary
     table = Table(title=f"learning → {log} ({result.status})", show_header=True)
-    for column in ("minute", "episodes", "collisions", "exemplars", "ΔV (m/s per step)"):
+    for column in (
+        "minute",
+        "episodes",
+        "collisions",
+        "exemplars",
+        "ΔV (m/s per step)",
+        "coverage",
+    ):
         table.add_column(column, justify="right")
-    for m in s.minutes:
+    for m, coverage in zip(s.minutes, result.minute_coverage, strict=True):
         table.add_row(
             str(m.minute + 1),
             str(m.episodes),
             str(m.collisions),
             str(m.exemplars),
             f"{m.delta_v:.2e}",
+            f"{coverage:.0%}",
         )
     out.print(table)
     out.print(
         f"{s.episodes} episodes, {s.collisions} collisions, {s.exemplars} exemplars in "
-        f"{s.sim_s / 60:.1f} simulated minutes ({result.wall_s:.1f} s)"
+        f"{s.sim_s / 60:.1f} simulated minutes, coverage {result.coverage:.0%} "
+        f"({result.wall_s:.1f} s)"
     )
 
 
@@ -238,6 +254,19 @@ def run_metrics(metrics: RunMetrics, reflexes: tuple[str, ...] | None = None) ->
         out.print(f"reflexes: {', '.join(reflexes) or 'none (the paper method)'}")
 
 
+def run_learning(result: RunResult, log: Path | None) -> None:
+    """What a --learn run learnt, and where it went."""
+    learnt = result.learnt
+    if learnt is None:
+        return
+    endings = ", ".join(f"{count} {how}" for how, count in learnt.endings.items())
+    where = f"{log} session {result.session}" if log is not None else "the FAM in memory only"
+    out.print(
+        f"learnt while behaving: {learnt.episodes} episodes (collision points: {endings}), "
+        f"{learnt.exemplars} exemplars → {where}"
+    )
+
+
 def replay(summary: Replay) -> None:
     table = Table(title=summary.kind, show_header=False)
     table.add_column()
@@ -284,3 +313,20 @@ def demo(result: DemoResult) -> None:
             str(row.png),
         )
     out.print(table)
+
+
+def sweep_json(result: SweepResult) -> dict[str, Any]:
+    return {
+        "out": str(result.out),
+        "cells": result.cells,
+        "done": result.done,
+        "skipped": result.skipped,
+        "files": [str(path) for path in result.files],
+    }
+
+
+def sweep(result: SweepResult) -> None:
+    out.print(
+        f"{result.cells} cells: {result.done} run now, {result.skipped} done before; "
+        f"the table is {result.out / TABLE_CSV}"
+    )

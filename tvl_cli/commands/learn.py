@@ -4,6 +4,7 @@ surviving Ctrl-C and SIGTERM with every finished episode kept."""
 from __future__ import annotations
 
 import signal
+import threading
 import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
@@ -14,8 +15,9 @@ from typing import Any
 
 from tvl_cli.agent.drive import StepSink
 from tvl_cli.agent.explore import Learner, LearnParams, LearnSummary, MinuteStats
+from tvl_cli.analysis.coverage import CoverageTracker, Floor, grid_over, reachable_floor
 from tvl_cli.commands.train import distinct_sessions, provenance, train_on
-from tvl_cli.core.config import BUILTIN_FAM_CONFIGS, FamConfig, RobotConfig, SonarConfig
+from tvl_cli.core.config import BUILTIN_FAM_CONFIGS, SONAR_MODELS, FamConfig, RobotConfig
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
@@ -25,7 +27,8 @@ from tvl_cli.io.famfile import read_fam, write_fam
 from tvl_cli.io.logfile import LogWriter
 from tvl_cli.io.loglayout import STATUS_FINISHED
 from tvl_cli.io.logreader import file_sha256, read_log
-from tvl_cli.sim.worldmap import load_world
+from tvl_cli.sim.world import clearances_m, static_geometry
+from tvl_cli.sim.worldmap import WorldMap, load_world
 
 
 def resolve_fam_config(spec: str, robot: RobotConfig) -> FamConfig:
@@ -53,7 +56,7 @@ class LearnRequest:
     learn: LearnParams
     train: TrainParams
     fam_out: Path | None = None
-    ideal_sonar: bool = False
+    sonar: str = "real"  # one of SONAR_MODELS
     from_fam: Path | None = None  # start from this trained FAM (a new log only)
 
 
@@ -62,6 +65,16 @@ class LearnResult:
     summary: LearnSummary
     wall_s: float
     status: str
+    minute_coverage: list[float]  # at the end of each of summary.minutes
+    coverage: float  # after every episode of the session
+
+
+def world_floor(world: WorldMap, robot: RobotConfig) -> Floor:
+    """The cells of the world a body of the robot's radius can reach from the start."""
+    grid = grid_over(world.width_m, world.height_m, world.cell_m)
+    lattice = grid.lattice_xy()  # (2R - 1, 2C - 1, 2) metres
+    clearance = clearances_m(static_geometry(world), lattice.reshape(-1, 2), robot.radius_m)
+    return reachable_floor(grid, clearance.reshape(lattice.shape[:2]), world.start[:2])
 
 
 class _Interrupted:
@@ -80,6 +93,11 @@ class _Interrupted:
 @contextmanager
 def _catching_signals() -> Iterator[_Interrupted]:
     interrupted = _Interrupted()
+    if threading.current_thread() is not threading.main_thread():
+        # Only the main thread may set handlers (a Dask worker learns in a thread of its
+        # own); there the process's own handling of signals stands.
+        yield interrupted
+        return
     previous = {s: signal.signal(s, interrupted) for s in (signal.SIGINT, signal.SIGTERM)}
     try:
         yield interrupted
@@ -97,9 +115,7 @@ def learn_to_log(
     """Explore the world, appending each whole episode to a new session of the log; each
     step shown to `watch` if given (a live view)."""
     world = load_world(request.world)
-    robot = RobotConfig()
-    if request.ideal_sonar:
-        robot = RobotConfig(sonar=SonarConfig(ideal=True))
+    robot = RobotConfig(sonar=SONAR_MODELS[request.sonar])
     config = resolve_fam_config(request.config, robot)
     log = read_log(request.log, empty_allowed=True) if request.log.exists() else None
     earlier = log.sessions if log is not None else []
@@ -144,8 +160,12 @@ def learn_to_log(
         if writer.session != f"{len(earlier):04d}":
             raise BadInput(f"{request.log}: another process added a session meanwhile")
 
+        coverage = CoverageTracker(world_floor(world, robot))
+        minute_coverage: list[float] = []
+
         def record(episode: Episode) -> None:
             writer.append_episode(episode)
+            coverage.add(episode.pose)
             on_progress(episode.end_time_s)
 
         def minute(stats: MinuteStats) -> None:
@@ -156,6 +176,7 @@ def learn_to_log(
                 exemplars=stats.exemplars,
                 delta_v=stats.delta_v,
             )
+            minute_coverage.append(coverage.fraction)
             on_minute(stats)
 
         summary = learner.run(record, minute, interrupted.reason, watch)
@@ -180,7 +201,9 @@ def learn_to_log(
                 "from_fam": started_from or None,
             },
         )
-    return LearnResult(summary, time.perf_counter() - started, status)
+    return LearnResult(
+        summary, time.perf_counter() - started, status, minute_coverage, coverage.fraction
+    )
 
 
 def _fam_to_start_from(path: Path, config: FamConfig, robot: RobotConfig) -> Fam:

@@ -6,9 +6,12 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from tvl_cli.agent.novelty import explore_rule
+from tvl_cli.analysis.coverage import coverage_by_minute, coverage_of
+from tvl_cli.commands.learn import world_floor
 from tvl_cli.core.contacts import BUMP, EVENTS, NEAR_MISS, TRAPPED
 from tvl_cli.core.errors import BadInput
-from tvl_cli.io.loglayout import MINUTE_COLUMNS
+from tvl_cli.io.loglayout import KIND_LEARNING, MINUTE_COLUMNS
 from tvl_cli.io.logreader import LearningLog, Session, read_log
 from tvl_cli.io.runfile import RunTrace, read_run
 from tvl_cli.io.schema import LOG_FORMAT, RUN_FORMAT, file_format
@@ -35,20 +38,33 @@ def _learning(
 ) -> Replay:
     facts: list[tuple[str, Any]] = [("sessions", len(log.sessions))]
     minutes: list[dict[str, str | float]] = []
+    coverage: dict[str, list[float]] = {}  # by session: at the end of each whole minute
     for s in log.sessions:
         collisions = int(s.episode_table["bumped"].sum())
         sim_s = float(s.episode_table["end_time_s"][-1]) if len(s.episode_table) else 0.0
+        floor = world_floor(
+            parse_world(s.world_text, f"{log.path} session {s.name}"), s.robot_config
+        )
+        exemplars = s.minutes[:, MINUTE_COLUMNS.index("exemplars")]
+        coverage[s.name] = coverage_by_minute(floor, s.pose, exemplars)
+        whole = coverage_of(floor, s.pose)
+        explore = f"explore {explore_rule(s.parameters)}, " if s.kind == KIND_LEARNING else ""
         facts.append(
             (
                 f"session {s.name}",
-                f"{s.world_name}, seed {s.seed}, {s.status}: {len(s.episode_table)} episodes, "
-                f"{collisions} collisions, {s.exemplar_count} exemplars, "
-                f"{sim_s / 60:.1f} simulated min",
+                f"{s.world_name}, seed {s.seed}, {explore}{s.status}: "
+                f"{len(s.episode_table)} episodes, {collisions} collisions, "
+                f"{s.exemplar_count} exemplars, {sim_s / 60:.1f} simulated min, "
+                f"coverage {whole:.0%}",
             )
         )
         minutes += [
-            {"session": s.name, **dict(zip(MINUTE_COLUMNS, map(float, row), strict=True))}
-            for row in s.minutes
+            {
+                "session": s.name,
+                **dict(zip(MINUTE_COLUMNS, map(float, row), strict=True)),
+                "coverage": fraction,
+            }
+            for row, fraction in zip(s.minutes, coverage[s.name], strict=True)
         ]
     facts.append(("exemplars", log.exemplar_count))
     chosen = _session(log, session)
@@ -73,6 +89,7 @@ def _learning(
             plot.render_learning_curves(
                 chosen.minutes,
                 MINUTE_COLUMNS,
+                coverage[chosen.name],
                 curves,
                 f"learning in {chosen.world_name}, session {chosen.name}",
             )

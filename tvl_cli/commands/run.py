@@ -3,21 +3,36 @@
 from __future__ import annotations
 
 from contextlib import AbstractContextManager, ExitStack
-from dataclasses import asdict, dataclass, replace
+from dataclasses import asdict, dataclass, fields, replace
 from pathlib import Path
+from typing import Any
 
 from tvl_cli.agent.behave import behave
 from tvl_cli.agent.drive import Step, StepSink
+from tvl_cli.agent.online import ECHO_AFTER_S, ECHO_BEFORE_S, OnlineLearner, OnlineSummary
 from tvl_cli.agent.reflexes import STACK_ORDER
 from tvl_cli.agent.trace import ColumnSink, PathRecorder, TraceRecorder
 from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, is_threshold
-from tvl_cli.core.config import RobotConfig, SonarConfig
+from tvl_cli.core.config import SONAR_MODELS, RobotConfig, sonar_model_name
 from tvl_cli.core.errors import BadInput, check_run_minutes
-from tvl_cli.core.metrics import RunMetrics
-from tvl_cli.io.famfile import read_fam
+from tvl_cli.core.metrics import MinuteContacts, MinuteTally, RunMetrics
+from tvl_cli.core.training import TrainParams
+from tvl_cli.io.famfile import FamFile, read_fam
+from tvl_cli.io.logfile import LogWriter
+from tvl_cli.io.loglayout import KIND_BEHAVING
 from tvl_cli.io.logreader import file_sha256
 from tvl_cli.io.runfile import RunTraceWriter, run_trace_output
 from tvl_cli.sim.worldmap import WorldMap, check_goal, load_world
+
+DEFAULT_RUN_MINUTES = 5.0
+
+
+@dataclass(frozen=True, slots=True)
+class OnlineLearning:
+    """`tvl run --learn [LOG]`: train the FAM on what the run meets, appending each episode
+    to a `behaving` session of LOG; without a LOG, in memory only."""
+
+    log: Path | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -32,7 +47,25 @@ class RunRequest:
     png: Path | None = None
     trace: Path | None = None
     reflexes: tuple[str, ...] = STACK_ORDER
-    sonar: str | None = None  # "real" or "ideal"; None: the sonar the FAM was learnt with
+    sonar: str | None = None  # one of SONAR_MODELS; None: the sonar the FAM was learnt with
+    learn: OnlineLearning | None = None  # learn while behaving (`--learn`)
+
+
+@dataclass(frozen=True, slots=True)
+class RunResult:
+    metrics: RunMetrics
+    minutes: list[MinuteContacts]
+    learnt: OnlineSummary | None = None  # with --learn
+    session: str | None = None  # the session appended to the log, with --learn LOG
+
+    def to_dict(self) -> dict[str, Any]:
+        """`tvl run --json`: the metrics, the contacts of each simulated minute, and with
+        --learn what the run learnt and the log session it went to."""
+        printed = {**asdict(self.metrics), "minutes": [asdict(m) for m in self.minutes]}
+        if self.learnt is not None:
+            # Not "learning": results files mark the ablation's runs with that key.
+            printed["learnt"] = {**asdict(self.learnt), "session": self.session}
+        return printed
 
 
 def check_threshold(threshold: float) -> None:
@@ -70,9 +103,11 @@ def run_robot(learnt_by: RobotConfig, sonar: str | None, fam_path: Path) -> Robo
     """The robot a FAM drives: this simulator's, with the sonar model the FAM was learnt with
     (or the one asked for). Refused if the FAM's robot differs in anything else: other
     sonars or trajectories mean other rules."""
-    ideal = learnt_by.sonar.ideal if sonar is None else sonar == "ideal"
-    robot = RobotConfig(sonar=SonarConfig(ideal=ideal))
-    ours, theirs = robot.to_dict(), replace(learnt_by, sonar=robot.sonar).to_dict()
+    name = sonar_model_name(learnt_by.sonar) if sonar is None else sonar
+    robot = RobotConfig(sonar=SONAR_MODELS[name or "real"])
+    # A FAM learnt with a sonar of no known model differs in its sonar.
+    theirs_robot = learnt_by if name is None else replace(learnt_by, sonar=robot.sonar)
+    ours, theirs = robot.to_dict(), theirs_robot.to_dict()
     differences = sorted(key for key in ours if ours[key] != theirs.get(key))
     if differences:
         raise BadInput(
@@ -83,8 +118,14 @@ def run_robot(learnt_by: RobotConfig, sonar: str | None, fam_path: Path) -> Robo
 
 
 def run_fam(request: RunRequest, watch: StepSink | None = None) -> RunMetrics:
-    """Run one behaviour with a learnt FAM; write the trace and picture if asked, and show
-    each step to `watch` (a progress bar, a live view) as the run goes."""
+    """The metrics of `run_behaviour`."""
+    return run_behaviour(request, watch).metrics
+
+
+def run_behaviour(request: RunRequest, watch: StepSink | None = None) -> RunResult:
+    """Run one behaviour with a learnt FAM; write the trace and picture if asked, show each
+    step to `watch` (a progress bar, a live view) as the run goes, and with `request.learn`
+    train the FAM on what the run meets."""
     if request.behaviour not in BEHAVIOUR_NAMES:
         raise BadInput(f"unknown behaviour {request.behaviour!r}")
     check_threshold(request.threshold)
@@ -94,14 +135,22 @@ def run_fam(request: RunRequest, watch: StepSink | None = None) -> RunMetrics:
     robot = run_robot(fam_file.robot_config, request.sonar, request.fam)
     goal = resolve_goal(request.world, world, request.behaviour, request.goal)
     path = PathRecorder()
+    tally = MinuteTally(robot.control_period_s)
     with ExitStack() as outputs:
+        learner, session = (
+            _online_learner(request, fam_file, world, robot, goal, outputs)
+            if request.learn is not None
+            else (None, None)
+        )
         sinks: list[ColumnSink] = [path] if request.png is not None else []
         trace = None
         if request.trace is not None:
             trace = outputs.enter_context(_trace_output(request, world, robot, goal))
             sinks.append(trace)
         recorder = TraceRecorder(request.reflexes, robot.sonar.count, sinks)
-        on_step = _both(recorder if sinks else None, watch)
+        on_step = _fan_out(
+            recorder if sinks else None, watch, lambda step: tally.record(step.events), learner
+        )
         metrics = behave(
             world,
             robot,
@@ -114,6 +163,8 @@ def run_fam(request: RunRequest, watch: StepSink | None = None) -> RunMetrics:
             reflexes=request.reflexes,
             on_step=on_step,
         )
+        if learner is not None:
+            learner.finish(metrics.sim_s)
         recorder.close()
         if trace is not None:
             trace.metrics = asdict(metrics)
@@ -130,7 +181,77 @@ def run_fam(request: RunRequest, watch: StepSink | None = None) -> RunMetrics:
             title=f"{request.behaviour} in {world.name}, threshold {request.threshold:g}",
             goal=goal,
         )
-    return metrics
+    learnt = learner.summary() if learner is not None else None
+    return RunResult(metrics, tally.minutes(metrics), learnt, session)
+
+
+def training_params(fam_file: FamFile, fam_path: Path) -> TrainParams:
+    """How the episodes a run learns are labelled and trained: as the FAM's own were (its
+    provenance), so that the log replays into it; the defaults for a FAM that does not say."""
+    training = fam_file.provenance.get("training")
+    if not isinstance(training, dict):
+        return TrainParams()
+    names = {f.name for f in fields(TrainParams)}
+    try:
+        return TrainParams(**{k: v for k, v in training.items() if k in names})
+    except (TypeError, BadInput) as error:
+        raise BadInput(
+            f"{fam_path}: unreadable training parameters in its provenance ({error})"
+        ) from None
+
+
+def _run_parameters(
+    request: RunRequest, robot: RobotConfig, goal: tuple[float, float] | None
+) -> dict[str, Any]:
+    """The run's parameters, as its trace and a behaving log session keep them."""
+    return {
+        "behaviour": request.behaviour,
+        "threshold": request.threshold,
+        "minutes": request.minutes,
+        "goal": list(goal) if goal else None,
+        "seed": request.seed,
+        "reflexes": list(request.reflexes),
+        "sonar": sonar_model_name(robot.sonar),
+        "fam": str(request.fam),
+        "fam_sha256": file_sha256(request.fam),
+    }
+
+
+def _online_learner(
+    request: RunRequest,
+    fam_file: FamFile,
+    world: WorldMap,
+    robot: RobotConfig,
+    goal: tuple[float, float] | None,
+    outputs: ExitStack,
+) -> tuple[OnlineLearner, str | None]:
+    """The learner of a --learn run, and the `behaving` session of the log it appends to
+    (None: learning in memory). The session is opened before any other output, so that a
+    log refused (locked, not a log, another robot's) stops the run before it starts."""
+    assert request.learn is not None
+    params = training_params(fam_file, request.fam)
+    if request.learn.log is None:
+        return OnlineLearner(fam_file.fam, robot, params, world.start), None
+    writer = outputs.enter_context(
+        LogWriter.open(
+            request.learn.log,
+            world_name=world.name,
+            world_text=world.text,
+            seed=request.seed,
+            parameters={
+                **_run_parameters(request, robot, goal),
+                "config": fam_file.fam.config.name,
+                **params.to_dict(),
+                "echo_before_s": ECHO_BEFORE_S,
+                "echo_after_s": ECHO_AFTER_S,
+            },
+            robot_config=robot.to_dict(),
+            fam_config=fam_file.fam.config.to_dict(),
+            kind=KIND_BEHAVING,
+        )
+    )
+    learner = OnlineLearner(fam_file.fam, robot, params, world.start, writer.append_episode)
+    return learner, writer.session
 
 
 def _trace_output(
@@ -138,34 +259,29 @@ def _trace_output(
 ) -> AbstractContextManager[RunTraceWriter]:
     """The run trace file, with the run's parameters; the steps follow as the run goes."""
     assert request.trace is not None
+    learning = request.learn
     return run_trace_output(
         request.trace,
         world_name=world.name,
         world_text=world.text,
         parameters={
-            "behaviour": request.behaviour,
-            "threshold": request.threshold,
-            "minutes": request.minutes,
-            "goal": list(goal) if goal else None,
-            "seed": request.seed,
-            "reflexes": list(request.reflexes),
-            "sonar": "ideal" if robot.sonar.ideal else "real",
-            "fam": str(request.fam),
-            "fam_sha256": file_sha256(request.fam),
+            **_run_parameters(request, robot, goal),
+            # A run that learns drives with a FAM that changes: the file is where it started.
+            "learn": None if learning is None else str(learning.log or ""),
         },
         robot_config=robot.to_dict(),
         reflex_names=request.reflexes,
     )
 
 
-def _both(first: StepSink | None, second: StepSink | None) -> StepSink | None:
-    """One step sink feeding both, or whichever there is."""
-    if first is None or second is None:
-        return first or second
-    both = (first, second)
+def _fan_out(*sinks: StepSink | None) -> StepSink | None:
+    """One step sink feeding each of those given, in order; None if none is."""
+    given = tuple(sink for sink in sinks if sink is not None)
+    if not given:
+        return None
 
     def each(step: Step) -> None:
-        for sink in both:
+        for sink in given:
             sink(step)
 
     return each

@@ -12,11 +12,13 @@ from typing import Any
 
 import numpy as np
 
+from tvl_cli.agent.novelty import explore_rule
 from tvl_cli.core.config import FamConfig, RobotConfig
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.training import TrainParams, train_episode
+from tvl_cli.io.loglayout import KIND_LEARNING
 from tvl_cli.io.logreader import LearningLog, Session, read_log
 
 
@@ -47,7 +49,7 @@ def common_robot(logs: Sequence[LearningLog]) -> RobotConfig:
     return first
 
 
-def _refuse_repeated(logs: Sequence[LearningLog]) -> None:
+def refuse_repeated(logs: Sequence[LearningLog]) -> None:
     """The same log given twice would train every exemplar twice."""
     seen: dict[str, Path] = {}
     for log in logs:
@@ -106,6 +108,8 @@ def provenance(logs: Sequence[LearningLog], params: TrainParams, config: FamConf
                         "name": s.name,
                         "world": s.world_name,
                         "seed": s.seed,
+                        # How it chose where to learn; a behaving session did not explore.
+                        "explore": explore_rule(s.parameters) if s.kind == KIND_LEARNING else None,
                         "status": s.status,
                         "episodes": len(s.episode_table),
                         "exemplars": s.exemplar_count,
@@ -133,7 +137,7 @@ def train_from_logs(
     if until_minute is not None and not (math.isfinite(until_minute) and until_minute >= 0):
         raise BadInput(f"--until-minute {until_minute:g} must be a number of minutes >= 0")
     logs = [read_log(path) for path in paths]
-    _refuse_repeated(logs)
+    refuse_repeated(logs)
     robot = common_robot(logs)
     fam = Fam(config, [t.name for t in robot.trajectories], params.init_velocity_mps)
     sessions, repeats = distinct_sessions(logs)

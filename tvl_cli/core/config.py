@@ -9,9 +9,14 @@ from __future__ import annotations
 import json
 import math
 from dataclasses import asdict, dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any, TypeVar
+
+if TYPE_CHECKING:
+    import numpy as np
 
 SONAR_COUNT = 16
+
+IndexT = TypeVar("IndexT", int, "np.ndarray")
 
 
 @dataclass(frozen=True, slots=True)
@@ -53,10 +58,29 @@ class SonarConfig:
     max_range_m: float = 4.0
     cone_deg: float = 25.0
     rays_per_beam: int = 5
-    specular_max_deg: float = 20.0  # beyond this incidence a flat surface returns no echo
+    specular_max_deg: float = 20.0  # beyond this incidence a smooth flat surface returns no echo
+    # A convex edge (a block's corner, the end of a thin wall) diffracts a weak echo back to a
+    # beam that meets its wall near it, heard only this close; 0 hears none.
+    edge_echo_range_m: float = 0.0
     noise_sigma_m: float = 0.01
     noise_fraction: float = 0.01  # sigma grows by this fraction of the range
     ideal: bool = False  # nearest hit at any angle, no noise (ablations)
+
+
+# Diffraction from an edge returns far less sound than a wall square on, heard out to about a
+# quarter of the ring's maximum range (the `edges` sonar model).
+EDGE_ECHO_RANGE_M = 1.0
+# The sonar models a robot can learn and run with, by the name `--sonar` takes.
+SONAR_MODELS: dict[str, SonarConfig] = {
+    "real": SonarConfig(),
+    "edges": SonarConfig(edge_echo_range_m=EDGE_ECHO_RANGE_M),
+    "ideal": SonarConfig(ideal=True),
+}
+
+
+def sonar_model_name(sonar: SonarConfig) -> str | None:
+    """The name of one of SONAR_MODELS, or None for a ring this simulator has no name for."""
+    return next((name for name, model in SONAR_MODELS.items() if model == sonar), None)
 
 
 @dataclass(frozen=True, slots=True)
@@ -126,6 +150,9 @@ def _check_physical(robot: RobotConfig) -> None:
             raise ValueError(f"robot {name} is {value!r}, not a number")
     if not sonar.max_range_m > sonar.min_range_m or not math.isfinite(sonar.max_range_m):
         raise ValueError(f"robot sonar ranges {sonar.min_range_m!r} to {sonar.max_range_m!r}")
+    edge = sonar.edge_echo_range_m
+    if not (isinstance(edge, int | float) and math.isfinite(edge) and edge >= 0):
+        raise ValueError(f"robot sonar.edge_echo_range_m is {edge!r}, not a range >= 0")
 
 
 # Fuzzy-set names by partition size: very near .. very far.
@@ -190,18 +217,64 @@ class FamTable:
 
 
 @dataclass(frozen=True, slots=True)
+class InputChoice:
+    """One step of choosing a table's inputs from data (`tvl design`): the input added (or,
+    for a table that mirrors itself, the mirrored pair) and what it bought."""
+
+    table: str
+    inputs: tuple[str, ...]
+    # Mean |perceived - label| m/s over the held-out episodes' exemplars of the table's
+    # trajectory (and its mirror's, mirrored), with the table's inputs before and after.
+    heldout_error_before_mps: float
+    heldout_error_after_mps: float
+
+
+@dataclass(frozen=True, slots=True)
+class FamDesign:
+    """How a configuration's inputs were chosen from learning logs. Informational only: a
+    FAM is the same with or without it."""
+
+    seed: int  # of the split of the episodes into training and held-out ones
+    budget_rules: int  # the most rules all tables together were allowed
+    logs_sha256: tuple[str, ...]  # the learning logs it was chosen from
+    choices: tuple[InputChoice, ...]  # in the order they were made
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> FamDesign:
+        return cls(
+            seed=int(data["seed"]),
+            budget_rules=int(data["budget_rules"]),
+            logs_sha256=tuple(str(s) for s in data["logs_sha256"]),
+            choices=tuple(
+                InputChoice(
+                    table=str(c["table"]),
+                    inputs=tuple(str(i) for i in c["inputs"]),
+                    heldout_error_before_mps=float(c["heldout_error_before_mps"]),
+                    heldout_error_after_mps=float(c["heldout_error_after_mps"]),
+                )
+                for c in data["choices"]
+            ),
+        )
+
+
+@dataclass(frozen=True, slots=True)
 class FamConfig:
     """A set of FAM tables that together store a velocity for every trajectory."""
 
     name: str
     tables: tuple[FamTable, ...]
+    design: FamDesign | None = None  # how the inputs were chosen, if from data
 
     @property
     def rule_count(self) -> int:
         return sum(t.rule_count for t in self.tables)
 
     def to_dict(self) -> dict[str, Any]:
-        return asdict(self)
+        data = asdict(self)
+        if self.design is None:
+            # Hand-made configurations keep the JSON they always had, in files old and new.
+            del data["design"]
+        return data
 
     def to_json(self) -> str:
         return json.dumps(self.to_dict(), sort_keys=True)
@@ -225,7 +298,8 @@ class FamConfig:
             tables.append(
                 FamTable(str(t["name"]), inputs, tuple(str(n) for n in t["trajectories"]))
             )
-        return cls(str(data["name"]), tuple(tables))
+        design = FamDesign.from_dict(data["design"]) if "design" in data else None
+        return cls(str(data["name"]), tuple(tables), design)
 
 
 def _input(name: str, sonars: tuple[int, ...], sets: int) -> FamInput:
@@ -258,27 +332,35 @@ def mirror_sonar(index: int, count: int = SONAR_COUNT) -> int:
     return (-index) % count
 
 
+def mirror_trajectory(index: IndexT, count: int) -> IndexT:
+    """The trajectory turning as far the other way, of `count` listed left to right:
+    j <-> count - 1 - j (the straight one mirrors itself). Indices may be an array."""
+    return count - 1 - index
+
+
 def sonars_within(angle_rad: float, count: int = SONAR_COUNT) -> tuple[int, ...]:
     """The sonars facing at most angle_rad to either side of straight ahead (S0 ahead, CCW)."""
     lowest = math.cos(angle_rad) - 1e-9  # the sideways sonars count at exactly 90 degrees
     return tuple(i for i in range(count) if math.cos(2 * math.pi * i / count) >= lowest)
 
 
-def _sonar_input(sonars: tuple[int, ...], sets: int) -> FamInput:
+def sonar_input(sonars: tuple[int, ...], sets: int) -> FamInput:
     """One sonar, or the nearest of a few, named after them (S3, S13+S14+S15)."""
     return _input("+".join(f"S{s}" for s in sonars), sonars, sets)
 
 
-def _mirror_table(table: FamTable, name: str) -> FamTable:
+def mirror_table(table: FamTable, name: str) -> FamTable:
+    """The table of trajectory `name`, the mirror image of `table`'s: each input on the
+    mirrored sonars, with as many fuzzy sets."""
     inputs = tuple(
-        _sonar_input(tuple(mirror_sonar(s) for s in i.sonars), len(i.partition.names))
+        sonar_input(tuple(mirror_sonar(s) for s in i.sonars), len(i.partition.names))
         for i in table.inputs
     )
     return FamTable(name, inputs, (name,))
 
 
 def _sonar_table(name: str, sets_by_sonars: tuple[tuple[tuple[int, ...], int], ...]) -> FamTable:
-    inputs = tuple(_sonar_input(sonars, sets) for sonars, sets in sets_by_sonars)
+    inputs = tuple(sonar_input(sonars, sets) for sonars, sets in sets_by_sonars)
     return FamTable(name, inputs, (name,))
 
 
@@ -306,9 +388,9 @@ MULTI = FamConfig(
         _T2L,
         _T1L,
         _T0,
-        _mirror_table(_T1L, "T1R"),
-        _mirror_table(_T2L, "T2R"),
-        _mirror_table(_T3L, "T3R"),
+        mirror_table(_T1L, "T1R"),
+        mirror_table(_T2L, "T2R"),
+        mirror_table(_T3L, "T3R"),
     ),
 )
 

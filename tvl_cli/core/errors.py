@@ -7,6 +7,9 @@ class BadInput(Exception):
     """Input a user can fix. The message names the file, the line and what is wrong."""
 
 
+# Seeds are stored as 64-bit integers in logs and traces, and numpy takes no negative seed.
+MAX_SEED = 2**63 - 1
+
 # A simulated year: beyond any experiment (a day of wall time at 300x), and small enough that
 # a step count is an exact integer and a progress bar's total stays finite.
 MAX_SIMULATED_MINUTES = 525_600.0

@@ -23,6 +23,7 @@ from tvl_cli.core.config import (
     FamTable,
     Partition,
     mirror_sonar,
+    mirror_trajectory,
 )
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.explain import Explanation, FiredRule, reading
@@ -289,7 +290,7 @@ class Fam:
         if trajectories.min() < 0 or trajectories.max() >= len(self._names):
             raise ValueError(f"trajectory indices must be in 0..{len(self._names) - 1}")
         trajectories = trajectories.astype(np.intp)
-        mirrors = len(self._names) - 1 - trajectories
+        mirrors = mirror_trajectory(trajectories, len(self._names))
         for t in range(len(self._config.tables)):
             passes = [(self._train_firings[t], trajectories)]
             if symmetric:

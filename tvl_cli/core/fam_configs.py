@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 from collections.abc import Sequence
 from typing import Any
 
@@ -50,9 +51,25 @@ def validate_fam_config(
     missing = [n for n in trajectory_names if n not in covered]
     if missing:
         raise BadInput(f"{source}: no table stores trajectory {', '.join(missing)}")
+    _validate_design(config, source)
     entries = sum(t.rule_count * len(t.trajectories) for t in config.tables)
     if entries > MAX_ENTRIES:
         raise BadInput(f"{source}: {entries:,} rule entries, at most {MAX_ENTRIES:,}")
+
+
+def _validate_design(config: FamConfig, source: str) -> None:
+    """A design's choices name the tables and inputs they chose, so that a reader can trust
+    the record it describes this configuration."""
+    if config.design is None:
+        return
+    inputs = {t.name: {i.name for i in t.inputs} for t in config.tables}
+    for c, choice in enumerate(config.design.choices):
+        where = f"{source}: design choice {c}"
+        if choice.table not in inputs:
+            raise BadInput(f"{where}: no table {choice.table!r}")
+        for name in choice.inputs:
+            if name not in inputs[choice.table]:
+                raise BadInput(f"{where}: table {choice.table!r} has no input {name!r}")
 
 
 def _validate_input(name: str, sonars: tuple[int, ...], partition: Partition, where: str) -> None:
@@ -95,7 +112,9 @@ def fam_config_from_json(
 
 
 # The keys of each level of a FAM configuration; any other is a typo, named rather than ignored.
-_CONFIG_KEYS = ("name", "tables")
+_CONFIG_KEYS = ("name", "tables", "design")
+_DESIGN_KEYS = ("seed", "budget_rules", "logs_sha256", "choices")
+_CHOICE_KEYS = ("table", "inputs", "heldout_error_before_mps", "heldout_error_after_mps")
 _TABLE_KEYS = ("name", "inputs", "trajectories")
 _INPUT_KEYS = ("name", "sonars", "partition")
 _PARTITION_KEYS = ("names", "centres_m")
@@ -111,6 +130,8 @@ def _check_schema(data: dict[str, Any], source: str) -> None:
     outside the sonar's range, before anything is converted (which would make 5 into "5")."""
     _known_keys(data, _CONFIG_KEYS, source)
     _text(data, "name", source)
+    if "design" in data:
+        _check_design(data["design"], f"{source}: design")
     tables = data.get("tables")
     for t, table in enumerate(tables if isinstance(tables, list) else []):
         where = f"{source}: table {t}"
@@ -132,6 +153,31 @@ def _check_schema(data: dict[str, Any], source: str) -> None:
             for sonar in sonars if isinstance(sonars, list) else []:
                 if isinstance(sonar, bool) or not isinstance(sonar, int):
                     raise BadInput(f"{at}: sonar {sonar!r} is not a whole number")
+
+
+def _check_design(design: Any, where: str) -> None:
+    """The record of `tvl design`: whole numbers, texts and errors in m/s as it writes them."""
+    if not isinstance(design, dict):
+        raise BadInput(f"{where}: expected an object with {', '.join(_DESIGN_KEYS)}")
+    _known_keys(design, _DESIGN_KEYS, where)
+    for key in ("seed", "budget_rules"):
+        value = design.get(key, 0)  # a missing key is named when the record is built
+        if isinstance(value, bool) or not isinstance(value, int) or value < 0:
+            raise BadInput(f"{where}: {key!r} is {value!r}, expected a whole number >= 0")
+    _texts(design, "logs_sha256", where)
+    choices = design.get("choices")
+    for c, choice in enumerate(choices if isinstance(choices, list) else []):
+        at = f"{where} choice {c}"
+        if not isinstance(choice, dict):
+            raise BadInput(f"{at}: expected an object with {', '.join(_CHOICE_KEYS)}")
+        _known_keys(choice, _CHOICE_KEYS, at)
+        _text(choice, "table", at)
+        _texts(choice, "inputs", at)
+        for key in _CHOICE_KEYS[2:]:
+            value = choice.get(key, 0.0)
+            number = isinstance(value, int | float) and not isinstance(value, bool)
+            if not (number and math.isfinite(value) and value >= 0):
+                raise BadInput(f"{at}: {key!r} is {value!r}, expected a speed >= 0 m/s")
 
 
 def _check_partition(partition: dict[str, Any], where: str) -> None:

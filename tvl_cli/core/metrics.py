@@ -107,3 +107,53 @@ class MetricsRecorder:
             goal_reached=self._time_to_goal_s is not None,
             time_to_goal_s=self._time_to_goal_s,
         )
+
+
+@dataclass(frozen=True, slots=True)
+class MinuteContacts:
+    """A run's contacts in one simulated minute (`tvl run --json`'s `minutes`)."""
+
+    minute: int  # from 0
+    sim_s: float  # simulated seconds of it the run lasted (a last minute may be partial)
+    collisions: int
+    near_misses: int
+    contacts: int  # collisions + near misses
+
+
+class MinuteTally:
+    """Counts a run's contacts per simulated minute, fed each step's events in order."""
+
+    def __init__(self, dt_s: float) -> None:
+        self._dt_s = dt_s
+        self._per_minute = round(60.0 / dt_s)  # steps, counted: sums of 0.1 s drift
+        self._steps = 0
+        self._collisions: list[int] = []
+        self._near_misses: list[int] = []
+
+    def record(self, events: Iterable[str]) -> None:
+        if self._steps % self._per_minute == 0:
+            self._collisions.append(0)
+            self._near_misses.append(0)
+        self._steps += 1
+        for event in events:
+            if event == BUMP:
+                self._collisions[-1] += 1
+            elif event == NEAR_MISS:
+                self._near_misses[-1] += 1
+
+    def minutes(self, run: RunMetrics) -> list[MinuteContacts]:
+        """The minutes of `run`, whose totals also count an approach still open when it
+        ended (MetricsRecorder.count): that near miss belongs to the last minute."""
+        near_misses = list(self._near_misses)
+        if near_misses:
+            near_misses[-1] += run.near_misses - sum(near_misses)
+        return [
+            MinuteContacts(
+                minute=k,
+                sim_s=min(self._per_minute, self._steps - k * self._per_minute) * self._dt_s,
+                collisions=c,
+                near_misses=n,
+                contacts=c + n,
+            )
+            for k, (c, n) in enumerate(zip(self._collisions, near_misses, strict=True))
+        ]

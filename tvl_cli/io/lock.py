@@ -42,7 +42,9 @@ class WriterLock:
                 os.close(fd)
                 pid = writer_pid(path)
                 holder = f" (pid {pid})" if pid is not None else ""
-                raise BadInput(f"{path}: locked by another tvl learn{holder}") from None
+                raise BadInput(
+                    f"{path}: locked by another tvl learn or run --learn{holder}"
+                ) from None
             # A previous holder may have unlinked the sidecar between our open and our
             # flock; then we hold a lock nobody else can see, so start again.
             if _same_file(fd, sidecar):

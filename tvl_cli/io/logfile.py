@@ -3,9 +3,9 @@
 Layout (all lengths grow as whole episodes are appended):
 
     /                       format, format_version, tvl_version, created
-    /sessions/0000          world_name, world_text, seed, parameters, robot_config,
-                            fam_config (JSON), status, started, ended, tvl_version,
-                            episodes_written, minutes_written
+    /sessions/0000          kind ('learning' or 'behaving'), world_name, world_text, seed,
+                            parameters, robot_config, fam_config (JSON), status, started,
+                            ended, tvl_version, episodes_written, minutes_written
         ring_mm     (N, 16) uint16  sonar ranges in millimetres, S0 forward, CCW
         pose        (N, 3)  float64 true x, y (m), theta (rad)
         odometry    (N, 3)  float64 odometry x, y (m), theta (rad)
@@ -52,8 +52,10 @@ from tvl_cli.io.loglayout import (
     COMMITTED_MINUTES,
     EPISODE_DTYPE,
     EXEMPLAR_DATASETS,
+    KIND_LEARNING,
     MINUTE_COLUMNS,
     MINUTE_UNITS,
+    SESSION_KINDS,
     SESSIONS,
     STATUS_FINISHED,
     STATUS_RUNNING,
@@ -103,9 +105,13 @@ class LogWriter:
         parameters: dict[str, Any],
         robot_config: dict[str, Any],
         fam_config: dict[str, Any],
+        kind: str = KIND_LEARNING,
     ) -> LogWriter:
-        """Create the log, or add a new session to an existing one (which must be a tvl-log
-        of the same robot). BadInput if another process is writing it."""
+        """Create the log, or add a new session of `kind` (SESSION_KINDS) to an existing one
+        (which must be a tvl-log of the same robot). BadInput if another process is writing
+        it."""
+        if kind not in SESSION_KINDS:
+            raise ValueError(f"session kind {kind!r} is none of {', '.join(SESSION_KINDS)}")
         path = Path(path)
         if not path.parent.is_dir():
             raise BadInput(f"{path}: cannot write, directory {path.parent} does not exist")
@@ -127,6 +133,7 @@ class LogWriter:
                 _refuse_other_robot(f, path, robot_config)
             group = _new_session(f, RobotConfig.from_dict(robot_config))
             group.attrs.update(
+                kind=kind,
                 world_name=world_name,
                 world_text=world_text,
                 seed=np.int64(seed),

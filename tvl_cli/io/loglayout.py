@@ -32,6 +32,13 @@ MINUTE_UNITS = ("min", "", "", "", "m/s per control step")
 COMMITTED_EPISODES = "episodes_written"
 COMMITTED_MINUTES = "minutes_written"
 
+# What a session recorded: exploration (`tvl learn`) or a behaviour learning as it went
+# (`tvl run --learn`). Both keep the same exemplars; sessions written before kinds were
+# recorded are learning sessions.
+KIND_LEARNING = "learning"
+KIND_BEHAVING = "behaving"
+SESSION_KINDS = (KIND_LEARNING, KIND_BEHAVING)
+
 STATUS_RUNNING = "running"
 STATUS_FINISHED = "finished"
 STATUS_NOT_CLOSED = "interrupted: not closed"  # the writer died without closing the session

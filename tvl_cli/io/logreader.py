@@ -19,7 +19,9 @@ from tvl_cli.io.loglayout import (
     COMMITTED_EPISODES,
     COMMITTED_MINUTES,
     EXEMPLAR_DATASETS,
+    KIND_LEARNING,
     MINUTE_COLUMNS,
+    SESSION_KINDS,
     SESSIONS,
     STATUS_NOT_CLOSED,
     STATUS_RUNNING,
@@ -39,6 +41,7 @@ class Session:
     """One learning session as read back: its settings and its whole episodes."""
 
     name: str  # the group name, e.g. '0000'
+    kind: str  # 'learning' (`tvl learn`) or 'behaving' (`tvl run --learn`)
     world_name: str
     world_text: str
     seed: int
@@ -160,11 +163,15 @@ def _read_session(group: h5py.Group, name: str, path: Path) -> Session:
     minutes = group["minutes"][: int(group.attrs[COMMITTED_MINUTES])]
     _check_ranges(columns, robot, where)
     _check_values(columns, table, minutes, where)
+    kind = read_str_attr(group, "kind", path) if "kind" in group.attrs else KIND_LEARNING
+    if kind not in SESSION_KINDS:
+        raise FormatError(f"{where}: unknown session kind {kind!r}")
     status = read_str_attr(group, "status", path)
     if status == STATUS_RUNNING and writer_pid(path) is None:
         status = STATUS_NOT_CLOSED
     return Session(
         name=name,
+        kind=kind,
         world_name=read_str_attr(group, "world_name", path),
         world_text=read_str_attr(group, "world_text", path),
         seed=int(group.attrs["seed"]),

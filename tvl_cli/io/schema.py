@@ -149,7 +149,7 @@ def _open_error(path: Path, error: OSError) -> BadInput:
     if "unable to lock file" in message:
         pid = writer_pid(path)
         if pid is not None:
-            return BadInput(f"{path}: locked by another tvl learn (pid {pid})")
+            return BadInput(f"{path}: locked by another tvl learn or run --learn (pid {pid})")
         return BadInput(f"{path}: in use by another program (the HDF5 file is locked)")
     if "file signature not found" in message:
         if path.stat().st_size == 0:

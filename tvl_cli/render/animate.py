@@ -1,6 +1,7 @@
 """Animated replays, as GIFs written by matplotlib's Pillow writer: a run trace (the robot,
 its sonar ring and what it perceived) or a learning session (each episode's trajectory and
-the velocity labels learning drew from it)."""
+the velocity labels learning drew from it); and the same picture of a robot being stepped
+now, as an RGB array (the Gymnasium environment's `rgb_array`)."""
 
 from __future__ import annotations
 
@@ -27,7 +28,7 @@ from tvl_cli.io.atomic import atomic_output
 from tvl_cli.io.logreader import Session
 from tvl_cli.io.runfile import RunTrace
 from tvl_cli.render.plot import ROBOT_COLOUR, draw_world
-from tvl_cli.sim.worldmap import parse_world
+from tvl_cli.sim.worldmap import WorldMap, parse_world
 
 DPI = 60  # small frames: a minute of replay stays a GIF of a few MB
 FIGURE_SIZE_IN = (9.0, 4.5)
@@ -130,10 +131,10 @@ def _rays(ring_mm: np.ndarray, pose: np.ndarray, robot: RobotConfig) -> tuple[li
     ]
 
 
-def _world_axes(figure: Figure, world_text: str, name: str, robot: RobotConfig) -> tuple:
+def _world_axes(figure: Figure, world: WorldMap, robot: RobotConfig) -> tuple:
     """The world, the robot's body, heading, trail and rays on the left; the right axes."""
     world_ax, side_ax = figure.subplots(1, 2, gridspec_kw={"width_ratios": (1.6, 1.0)})
-    draw_world(world_ax, parse_world(world_text, name))
+    draw_world(world_ax, world)
     (trail,) = world_ax.plot([], [], color=ROBOT_COLOUR, linewidth=1.0, alpha=0.6)
     body = Circle((0, 0), robot.radius_m, color=ROBOT_COLOUR, alpha=0.5, zorder=6)
     world_ax.add_patch(body)
@@ -160,7 +161,7 @@ class _Frame:
         self.figure = Figure(figsize=FIGURE_SIZE_IN)
         FigureCanvasAgg(self.figure)
         world_ax, self.bars_ax, self.trail, self.body, self.heading, self.rays = _world_axes(
-            self.figure, trace.world_text, trace.world_name, robot
+            self.figure, parse_world(trace.world_text, trace.world_name), robot
         )
         self.title = world_ax.set_title("", fontsize=9)
         names = [t.name for t in robot.trajectories]
@@ -214,7 +215,7 @@ class _EpisodeFrame:
         self.figure = Figure(figsize=FIGURE_SIZE_IN)
         FigureCanvasAgg(self.figure)
         world_ax, self.labels_ax, self.trail, self.body, self.heading, self.rays = _world_axes(
-            self.figure, session.world_text, session.world_name, self.robot
+            self.figure, parse_world(session.world_text, session.world_name), self.robot
         )
         self.title = world_ax.set_title("", fontsize=9)
         (self.curve,) = self.labels_ax.plot([], [], color=FAST_COLOUR)
@@ -241,3 +242,43 @@ class _EpisodeFrame:
         self.title.set_text(f"episode {episode.index}: learning {name}, ended {ending}")
         self.labels_title.set_text(f"ends at {episode.end_time_s:.1f} s")
         return [self.trail, self.body, self.heading, self.rays, self.curve, self.marker]
+
+
+class RobotFrame:
+    """A robot being stepped now, drawn as a run's replay frames are: the world, the body, its
+    trail and sonar rays on the left; on the right each sonar's range, where the replay shows
+    perception (a caller stepping the simulator itself has no FAM's view to show)."""
+
+    def __init__(self, world: WorldMap, robot: RobotConfig) -> None:
+        self.robot = robot
+        self.figure = Figure(figsize=FIGURE_SIZE_IN, dpi=DPI)
+        self.canvas = FigureCanvasAgg(self.figure)
+        world_ax, ranges_ax, self.trail, self.body, self.heading, self.rays = _world_axes(
+            self.figure, world, robot
+        )
+        self.title = world_ax.set_title("", fontsize=9)
+        count = robot.sonar.count
+        self.bars = ranges_ax.bar(np.arange(count), np.zeros(count), edgecolor="black")
+        ranges_ax.set_xticks(np.arange(0, count, 4), [f"S{k}" for k in range(0, count, 4)])
+        ranges_ax.set_ylim(0.0, 1.05 * robot.sonar.max_range_m)
+        ranges_ax.set_ylabel("sonar range (m)")
+        self.ranges_title = ranges_ax.set_title("", fontsize=9)
+        self.figure.tight_layout(rect=(0.0, 0.0, 1.0, 0.95))  # room for the titles
+
+    def draw(
+        self, trail_xy: np.ndarray, pose: np.ndarray, ring_m: np.ndarray, title: str, caption: str
+    ) -> np.ndarray:
+        """(H, W, 3) uint8 RGB of the trail (N, 2) metres so far, the robot at `pose` and its
+        ring (16,) metres; `title` over the world, `caption` over the ranges."""
+        self.trail.set_data(trail_xy[:, 0], trail_xy[:, 1])
+        _place(self.body, self.heading, pose, self.robot)
+        segments, colours = _rays(ring_m * 1000.0, pose, self.robot)
+        self.rays.set_segments(segments)
+        self.rays.set_color(colours)
+        for bar, range_m, colour in zip(self.bars, ring_m, colours, strict=True):
+            bar.set_height(range_m)
+            bar.set_facecolor(colour)
+        self.title.set_text(title)
+        self.ranges_title.set_text(caption)
+        self.canvas.draw()
+        return np.asarray(self.canvas.buffer_rgba())[..., :3].copy()

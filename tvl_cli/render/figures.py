@@ -14,12 +14,21 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
+from tvl_cli.analysis.exploration import (
+    COVERAGE_GOAL,
+    COVERAGE_HEADER,
+    competence_rows,
+    coverage_rows,
+    mean_curve,
+)
 from tvl_cli.analysis.results import (
     ABLATION_HEADER,
     ABLATION_SETTINGS,
     COLLISION_PRONE_PER_MIN,
     METHOD_HEADER,
     METHOD_NOTE,
+    ONLINE_HEADER,
+    ONLINE_SETTINGS,
     PAPER_FIG21,
     PAPER_FIG27,
     WORLD_ORDER,
@@ -37,7 +46,10 @@ from tvl_cli.analysis.results import (
     markdown,
     mean,
     method_rows,
+    minute_rates,
     number,
+    online_conditions,
+    online_rows,
     prone,
     qlearn_checks,
     read_results,
@@ -422,6 +434,101 @@ def ablation(rows: list[Row]) -> tuple[Figure, str]:
     return figure, "\n".join(tables) + "\n" + note + competence_note(rows)
 
 
+def online(rows: list[Row]) -> tuple[Figure, str]:
+    """Contacts a minute over behaving runs, with the FAM fixed and learning as it goes, for
+    each length of exploration before them."""
+    conditions = online_conditions(rows)
+    figure = new_figure(3.6 * len(conditions), 3.4)
+    axes = figure.subplots(1, len(conditions), squeeze=False)[0]
+    styles = {"fixed": ("s--", "grey"), "learns": ("o-", CONFIG_STYLE["single"])}
+    for ax, (start, threshold) in zip(axes, conditions, strict=True):
+        for setting in ONLINE_SETTINGS:
+            runs = select(
+                rows, kind="tvl", online=setting, start_minutes=start, threshold=threshold
+            )
+            rates = [minute_rates(r) for r in runs]
+            longest = max((len(r) for r in rates), default=0)
+            minutes = np.arange(1, longest + 1)
+            means = [mean(r[k] for r in rates if k < len(r)) for k in range(longest)]
+            style, colour = styles[setting]
+            ax.plot(minutes, means, style, ms=3, color=colour, label=f"FAM {setting}")
+        competence_limit(ax, COLLISION_PRONE_PER_MIN)
+        collision_axis(ax)
+        ax.set_title(f"after {start:g} min exploring, threshold {threshold:g}", fontsize=9)
+        ax.set_xlabel("minute of the avoid run")
+        ax.grid(alpha=0.3)
+        ax.xaxis.set_major_locator(MaxNLocator(integer=True))
+    axes[0].set_ylabel("contacts/min (mean of runs)")
+    shared_legend(figure, axes[:1])
+    worlds = ", ".join(distinct(select(rows, kind="tvl"), "world"))
+    figure.suptitle(f"Learning while behaving (tvl run --learn): avoid in {worlds}")
+    table = markdown("Learning while behaving: avoid", ONLINE_HEADER, online_rows(rows))
+    note = (
+        "Each run starts from a FAM trained on the first minutes of an exploratory learning "
+        "log (0: nothing learnt, every entry at its initial velocity) and drives avoid with "
+        "every reflex; `learns` trains that FAM on what the run meets (`tvl run --learn`). "
+        "Contacts are collisions and near misses; means over worlds and seeds.\n"
+    )
+    return figure, table + "\n" + note
+
+
+# --- Exploration strategies: coverage and time to competence --------------------------
+
+RULE_COLOURS = {"least-experience": "#1f77b4", "novelty": "#d62728", "random": "#2ca02c"}
+
+
+def exploration(rows: list[Row]) -> tuple[Figure, str]:
+    """Coverage against learning time for each `tvl learn --explore` rule, in the lab and
+    over the other worlds; the time to competence each rule's FAM took."""
+    learnt = select(rows, kind="learn")
+    others = tuple(w for w in distinct(learnt, "world") if w != "lab")
+    groups = [
+        (title, worlds)
+        for title, worlds in (("lab", ("lab",)), (", ".join(others), others))
+        if select(learnt, world=worlds)
+    ]
+    figure = new_figure(5.0 * len(groups), 4.0)
+    axes = figure.subplots(1, len(groups), squeeze=False)[0]
+    styles = {"sonar": "-", "bumps": "--"}
+    for ax, (title, worlds) in zip(axes, groups, strict=True):
+        here = select(learnt, world=worlds)
+        for points in distinct(here, "collision_points", ("sonar", "bumps")):
+            for rule in distinct(here, "explore"):
+                curve_ = mean_curve(select(here, collision_points=points, explore=rule))
+                label = rule if points == "sonar" else f"{rule}, bumps only (--near 0)"
+                ax.plot(
+                    np.arange(1, len(curve_) + 1),
+                    100 * curve_,
+                    styles.get(points, ":"),
+                    color=RULE_COLOURS.get(rule, "black"),
+                    label=label,
+                )
+        ax.axhline(100 * COVERAGE_GOAL, color="grey", linestyle=":", linewidth=1, label="goal")
+        ax.set_ylim(0, 100)
+        ax.set_title(title, fontsize=9)
+        ax.set_xlabel("learning minute")
+        ax.grid(alpha=0.3)
+    axes[0].set_ylabel("coverage (%, mean of trials)")
+    # Every panel draws the rules in the same colours: one legend, where the lab's curves
+    # leave room.
+    axes[0].legend(fontsize=7, loc="lower right")
+    figure.suptitle("Coverage while learning, by tvl learn --explore rule")
+    tables = [
+        markdown(f"Coverage while learning: {title}", COVERAGE_HEADER, coverage_rows(rows, worlds))
+        for title, worlds in groups
+    ]
+    header, body = competence_rows(rows)
+    tables.append(markdown("Time to competence (avoid), min (trials)", header, body))
+    note = (
+        "Coverage: the fraction of the world map's cells that a body of the robot's radius can "
+        "reach from the start whose cell the robot's centre has passed, from the true poses "
+        "in the log. Collision points: `sonar` is the learner's default, `bumps` learns with "
+        "--near 0. Time to competence is read at the lengths of learning tried (snapshots "
+        "of each log): the shortest whose FAM made avoid competent.\n"
+    )
+    return figure, "\n".join(tables) + "\n" + note + competence_note(rows)
+
+
 # --- the registry and the command's entry point ---------------------------------------
 
 FIGURES: dict[str, Callable[[list[Row], Path], tuple[Figure, str]]] = {
@@ -431,6 +538,8 @@ FIGURES: dict[str, Callable[[list[Row], Path], tuple[Figure, str]]] = {
     "fig24": lambda rows, _base: figure24(rows),
     "fig27": lambda rows, _base: figure27(rows),
     "ablation": lambda rows, _base: ablation(rows),
+    "online": lambda rows, _base: online(rows),
+    "exploration": lambda rows, _base: exploration(rows),
 }
 
 

@@ -195,20 +195,32 @@ def render_paths(
 
 
 def render_learning_curves(
-    minutes: np.ndarray, columns: Sequence[str], png_path: str | Path, title: str
+    minutes: np.ndarray,
+    columns: Sequence[str],
+    coverage: Sequence[float],
+    png_path: str | Path,
+    title: str,
 ) -> None:
-    """ΔV, collisions and episodes per learning minute, one panel each, from (M, k) rows."""
-    figure = Figure(figsize=(6.4, 6.0))
+    """ΔV, collisions, episodes and coverage per learning minute, one panel each, from (M, k)
+    rows and the M coverage fractions at the minutes' ends."""
+    figure = Figure(figsize=(6.4, 7.6))
     FigureCanvasAgg(figure)
     minute = minutes[:, columns.index("minute")] + 1
-    for panel, (name, label) in enumerate(
-        (("delta_v", "ΔV (m/s per step)"), ("collisions", "collisions"), ("episodes", "episodes")),
-        start=1,
-    ):
-        ax = figure.add_subplot(3, 1, panel)
-        ax.plot(minute, minutes[:, columns.index(name)], marker="o", markersize=3)
+    panels = [
+        (minutes[:, columns.index(name)], label)
+        for name, label in (
+            ("delta_v", "ΔV (m/s per step)"),
+            ("collisions", "collisions"),
+            ("episodes", "episodes"),
+        )
+    ]
+    panels.append((100.0 * np.asarray(coverage), "coverage (%)"))
+    for panel, (values, label) in enumerate(panels, start=1):
+        ax = figure.add_subplot(len(panels), 1, panel)
+        ax.plot(minute, values, marker="o", markersize=3)
         ax.set_ylabel(label)
         ax.grid(alpha=0.3)
+    ax.set_ylim(0, 100)
     ax.set_xlabel("learning minute")
     figure.suptitle(title)
     _save(figure, png_path)

@@ -7,7 +7,13 @@ decided by the first surface it meets (the rest of the ray is reflected away, ne
 - a round pillar met by any ray of a cone echoes from its point nearest the transducer,
   whose normal faces the transducer;
 - a concave corner (two walls meeting with the corner open towards the transducer) echoes
-  from anywhere in the beam, as a corner reflector does, at the range of the corner itself.
+  from anywhere in the beam, as a corner reflector does, at the range of the corner itself;
+- a convex edge (a block's corner, a thin wall's end) diffracts a weak echo back to a ray
+  meeting its wall near it, heard within the ring's `edge_echo_range_m` (none by default);
+- a rough wall (the world's `roughness` R) scatters part of the sound back whatever the
+  incidence: Lambert's law gives a backscatter of R cos(incidence) of a square-on echo, and
+  the two-way spreading loss of a point echo (1/r^2) then puts it above the threshold that a
+  square-on echo meets at the maximum range only within max_range * sqrt(R cos(incidence)).
 A transducer reads its nearest echo; no echo reads the maximum range.
 """
 
@@ -100,9 +106,9 @@ class SonarRing:
             if len(geometry.seg_len):
                 found.append(self._segments(geometry, rays))
             if len(geometry.discs):
-                found.append(self._circles(geometry.discs, rays, solid=True))
+                found.append(self._circles(geometry.discs, rays, 0.0, solid=True))
             if len(geometry.rings):
-                found.append(self._circles(geometry.rings, rays, solid=False))
+                found.append(self._circles(geometry.rings, rays, geometry.roughness, solid=False))
             if not found:
                 return np.full(cfg.count, cfg.max_range_m)
             hit, echo = found[0]
@@ -167,20 +173,29 @@ class SonarRing:
         k = flat % n  # (16 * rays,) the wall each ray meets first
         cross = denom.take(flat)
         length = g.seg_len.take(k)
-        specular = (np.abs(cross) >= self._cos_specular * length) | (hit <= 0.0)
+        cos_incidence = np.abs(cross) / length
+        specular = (cos_incidence >= self._cos_specular) | (hit <= 0.0)
         # For a forward hit the transducer is on the side of the wall given by the sign of
-        # cross(D, E); a corner is concave when the other wall leaves it on that same side.
+        # cross(D, E); a corner is concave when the other wall leaves it on that same side,
+        # and an edge when it leaves on the other side or no wall meets it there.
         gap = np.abs(s.take(flat)[:, None] - self._corner_ends) * length[:, None]  # (., 2)
         reach = np.maximum(CORNER_MIN_RADIUS_M, self._corner_slope * hit)  # metres
-        concave = (g.corner_sides.take(k, axis=0) * cross[:, None] > 0.0) & (gap <= reach[:, None])
+        near_end = gap <= reach[:, None]  # (16 * rays, 2)
+        side = g.corner_sides.take(k, axis=0) * cross[:, None]  # (16 * rays, 2)
         to_corner = g.seg_ends.take(k, axis=0) - rays.origin_of_ray  # (16 * rays, 2, 2) metres
-        corner = np.where(concave, np.hypot(to_corner[..., 0], to_corner[..., 1]), np.inf)
-        return hit, np.where(specular, hit, np.minimum(corner[:, 0], corner[:, 1]))
+        corner_m = np.hypot(to_corner[..., 0], to_corner[..., 1])  # (16 * rays, 2) metres
+        heard = (side > 0.0) | (corner_m <= self.config.edge_echo_range_m)
+        corner = np.where(near_end & heard, corner_m, np.inf).min(axis=1)
+        if g.roughness > 0.0:
+            diffuse_m = self.config.max_range_m * np.sqrt(g.roughness * cos_incidence)
+            corner = np.minimum(corner, np.where(hit <= diffuse_m, hit, np.inf))
+        return hit, np.where(specular, hit, corner)
 
     def _circles(
-        self, circles: np.ndarray, rays: _Rays, solid: bool
+        self, circles: np.ndarray, rays: _Rays, roughness: float, solid: bool
     ) -> tuple[np.ndarray, np.ndarray]:
-        """(hit, echo) metres for every ray against its nearest disc (solid) or ring wall."""
+        """(hit, echo) metres for every ray against its nearest disc (solid) or ring wall of
+        the given roughness (a disc always echoes)."""
         # |O + tD - C| = r at t = b -/+ h: b = D.(C - O) is where the ray passes nearest the
         # centre, at a distance q = cross(C - O, D), and h = sqrt(r^2 - q^2). A disc is met at
         # the near root, a ring (seen from inside) at the far one; at the hit point the cosine
@@ -202,7 +217,8 @@ class SonarRing:
             return hit, np.where(np.isfinite(hit), nearest, np.inf)
         cos_incidence = root.take(flat) / radius.take(flat % m)
         specular = (cos_incidence >= self._cos_specular) | (hit <= 0.0)
-        return hit, np.where(specular, hit, np.inf)
+        diffuse_m = self.config.max_range_m * np.sqrt(roughness * cos_incidence)
+        return hit, np.where(specular | (hit <= diffuse_m), hit, np.inf)
 
 
 @dataclass(frozen=True, slots=True, eq=False)

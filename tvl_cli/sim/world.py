@@ -59,6 +59,7 @@ class StaticGeometry:
     # wall meets it there or the two are collinear. Seen from that side the corner is concave.
     corner_sides: np.ndarray
     max_disc_radius_m: float  # 0 without discs
+    roughness: float  # the world's, 0 to 1: how much sound its walls scatter diffusely
     # segments_near's last answer, by tile and reach: a robot stays in a tile for many steps.
     _near: dict[tuple[int, int, float], StaticGeometry] = field(
         default_factory=dict, repr=False, compare=False
@@ -121,6 +122,7 @@ def static_geometry(world: WorldMap) -> StaticGeometry:
         seg_ends=segments.reshape(-1, 2, 2),
         corner_sides=_corner_sides(segments),
         max_disc_radius_m=float(discs[:, 2].max(initial=0.0)),
+        roughness=world.roughness,
     )
 
 

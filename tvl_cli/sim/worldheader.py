@@ -29,10 +29,11 @@ MIN_CELL_M, MAX_CELL_M = 0.01, 10.0
 # As fine as the finest map: a shorter wall is a slip of the pen, not a shape a sonar could
 # tell from a point.
 MIN_WALL_M = MIN_CELL_M
-HEADER_KEYS = ("version", "name", "cell", "disc", "ring", "goal", "wall")
+HEADER_KEYS = ("version", "name", "cell", "roughness", "disc", "ring", "goal", "wall")
 HEADER_LINE = re.compile(r"\s*([A-Za-z_]\w*)\s*:\s*(.*?)\s*")
 _NUMBERS = {  # key -> (how many numbers, what they are); the last must be positive but for goals
     "cell": (1, f"a size in metres from {MIN_CELL_M:g} to {MAX_CELL_M:g}"),
+    "roughness": (1, "a fraction from 0 (smooth) to 1"),
     "disc": (3, "x y r in metres, r > 0"),
     "ring": (3, f"x y r in metres, r >= {MIN_WALL_M:g}"),
     "goal": (2, "x y in metres"),
@@ -86,6 +87,7 @@ class Header:
     seen: dict[str, int] = field(default_factory=dict)
     name: str | None = None
     cell_m: float = DEFAULT_CELL_M
+    roughness: float = 0.0  # smooth walls: only near-normal echoes (paper Fig. 12)
     discs: list[tuple[float, float, float, str]] = field(default_factory=list)  # x, y, r, where
     rings: list[tuple[float, float, float, str]] = field(default_factory=list)  # x, y, r, where
     goals: list[tuple[float, float, str]] = field(default_factory=list)  # x, y, where
@@ -101,7 +103,7 @@ def read_header(header: Header, match: re.Match[str], where: str, number: int) -
             f"{where}:{match.start(1) + 1}: unknown header key {key!r} "
             f"(expected one of {' '.join(HEADER_KEYS)})"
         )
-    if key in ("version", "name", "cell"):
+    if key in ("version", "name", "cell", "roughness"):
         if key in header.seen:
             raise WorldMapError(
                 f"{where}:1: {key!r} given twice (first on line {header.seen[key]})"
@@ -123,6 +125,8 @@ def read_header(header: Header, match: re.Match[str], where: str, number: int) -
         numbers = _numbers(key, value, value_at)
         if key == "cell":
             header.cell_m = numbers[0]
+        elif key == "roughness":
+            header.roughness = numbers[0]
         elif key == "goal":
             header.goals.append((numbers[0], numbers[1], value_at))
         elif key == "disc":
@@ -140,12 +144,14 @@ def _floats(value: str) -> tuple[float, ...]:
 
 
 def _numbers(key: str, value: str, value_at: str) -> tuple[float, ...]:
-    """The numbers of a `cell`, `disc`, `ring` or `goal` header; sizes must be positive."""
+    """The numbers of a `cell`, `roughness`, `disc`, `ring` or `goal` header; sizes must be
+    positive."""
     wanted, usage = _NUMBERS[key]
     numbers = _floats(value)
     if (
         len(numbers) != wanted
-        or (key != "goal" and numbers[-1] <= 0)
+        or (key not in ("goal", "roughness") and numbers[-1] <= 0)
+        or (key == "roughness" and not 0 <= numbers[0] <= 1)
         # A ring is a wall bent round: no shorter across than the shortest straight wall.
         or (key == "ring" and numbers[-1] < MIN_WALL_M)
         or (key == "cell" and not MIN_CELL_M <= numbers[0] <= MAX_CELL_M)

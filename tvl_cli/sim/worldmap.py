@@ -34,6 +34,8 @@ class WorldMap:
     start: tuple[float, float, float]  # x, y, heading (radians, CCW from +x)
     goals: tuple[tuple[float, float], ...]
     text: str  # the source, stored in every log so a world travels with its data
+    # The share of sound its walls scatter diffusely (`roughness:` header); 0 is smooth.
+    roughness: float = 0.0
 
 
 MAX_FILE_BYTES = 1 << 20  # 1 MB: far beyond any hand-made map, small enough to read at once
@@ -205,6 +207,7 @@ def _build(grid: _Grid, header: Header, text: str, source: str) -> WorldMap:
         start=(sx, sy, START_HEADINGS[grid.rows[sr][sc]]),
         goals=tuple((x, y) for x, y, _ in goals),
         text=text,
+        roughness=header.roughness,
     )
 
 

@@ -1,0 +1,78 @@
+"""Generalization levers: the generalization benchmark once per learning or sensing option.
+
+    python benchmarks/generalization_levers.py [--set tuning|test] [--full] [--workers 2]
+                                               [--lever NAME ...]
+
+Each lever is a set of `benchmarks/generalization.py` options; this runs the benchmark with
+each (its `--quick` subset unless `--full`) and prints one markdown row per lever: competent
+runs and contacts a minute for the single and the multi FAM, goals reached, and avoid speed.
+Develop on `--set tuning` (the default); the test worlds are for reporting a chosen lever.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import subprocess
+import sys
+from pathlib import Path
+from typing import Any
+
+BENCHMARK = Path(__file__).resolve().parent / "generalization.py"
+# Lever name -> the benchmark's options; "default" is the shipped learner and sonar.
+LEVERS: dict[str, list[str]] = {
+    "default": [],
+    "near 0.25": ["--near", "0.25"],
+    "near 0.35": ["--near", "0.35"],
+    "edges": ["--sonar", "edges"],
+    "edges, near 0.35": ["--sonar", "edges", "--near", "0.35"],
+    "paper": ["--paper"],
+}
+
+
+def measure(options: list[str], world_set: str, full: bool, workers: int) -> dict[str, Any]:
+    """The benchmark's summary with these options."""
+    command = [sys.executable, str(BENCHMARK), "--set", world_set, "--json"]
+    command += ["--workers", str(workers), *([] if full else ["--quick"]), *options]
+    printed = subprocess.run(command, check=True, capture_output=True, text=True).stdout
+    summary: dict[str, Any] = json.loads(printed)["summary"]
+    return summary
+
+
+def row(lever: str, summary: dict[str, Any]) -> str:
+    single, multi = summary["single"], summary["multi"]
+    cells = [
+        lever,
+        f"{single['competent']}/{single['runs']}",
+        f"{multi['competent']}/{multi['runs']}",
+        f"{single['contacts_per_min']:.2f}",
+        f"{multi['contacts_per_min']:.2f}",
+        f"{single['goals_reached']}/{single['goal_runs']}",
+        f"{multi['goals_reached']}/{multi['goal_runs']}",
+        f"{single['avoid_speed_mps']:.2f}",
+        f"{multi['avoid_speed_mps']:.2f}",
+    ]
+    return "| " + " | ".join(cells) + " |"
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--set", choices=("tuning", "test"), default="tuning", dest="world_set")
+    parser.add_argument("--full", action="store_true", help="all 20 worlds and 3 trials")
+    parser.add_argument("--workers", type=int, default=2, help="parallel processes")
+    parser.add_argument(
+        "--lever", action="append", choices=list(LEVERS), help="only these (repeatable)"
+    )
+    args = parser.parse_args()
+    print(
+        "| lever | competent single | competent multi | contacts/min single | "
+        "contacts/min multi | goals single | goals multi | avoid m/s single | avoid m/s multi |"
+    )
+    print("| --- | --- | --- | --- | --- | --- | --- | --- | --- |")
+    for lever in args.lever or list(LEVERS):
+        summary = measure(LEVERS[lever], args.world_set, args.full, args.workers)
+        print(row(lever, summary), flush=True)
+
+
+if __name__ == "__main__":
+    main()

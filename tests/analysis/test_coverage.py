@@ -1,0 +1,81 @@
+"""Coverage: reachable cells of a world, and the fraction of them a list of poses passed."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from tvl_cli.analysis.coverage import (
+    CoverageTracker,
+    coverage_by_minute,
+    coverage_of,
+    grid_over,
+    reachable_floor,
+)
+from tvl_cli.commands.learn import world_floor
+from tvl_cli.core.config import RobotConfig
+from tvl_cli.sim.worldmap import parse_world
+
+ROBOT = RobotConfig()
+# Half-metre cells: a room 2 m by 1 m inside the walls, its 8 cells' centres 0.25 m from the
+# nearest wall, so a body of radius 0.2 m fits on every one.
+ROOM = "version: 1\nname: room\ncell: 0.5\n\n######\n#>...#\n#....#\n######\n"
+# Two rooms joined by a doorway one cell (0.5 m) wide: 9 cells on the left, 1 in the doorway,
+# 15 on the right.
+TWO_ROOMS = (
+    "version: 1\nname: two\ncell: 0.5\n{disc}\n"
+    "###########\n#>..#.....#\n#.........#\n#...#.....#\n###########\n"
+)
+
+
+def test_every_cell_of_a_plain_room_is_reachable() -> None:
+    floor = world_floor(parse_world(ROOM, "room"), ROBOT)
+    assert floor.cells == 8
+
+
+def test_coverage_of_hand_made_poses_is_the_fraction_of_cells_passed() -> None:
+    floor = world_floor(parse_world(ROOM, "room"), ROBOT)
+    poses = np.array(
+        [
+            [0.75, 1.25, 0.0],  # the start's cell (top row, first column)
+            [1.10, 1.20, 0.0],  # top row, second column
+            [1.40, 1.30, 0.0],  # the same cell again
+            [1.90, 1.25, 0.0],  # top row, third column
+            [0.60, 0.70, 3.1],  # bottom row, first column
+            [0.20, 0.20, 0.0],  # inside the wall: not a reachable cell
+        ]
+    )
+    assert coverage_of(floor, poses) == pytest.approx(4 / 8)
+
+
+def test_coverage_by_minute_counts_each_minutes_poses_on_top_of_the_earlier() -> None:
+    floor = world_floor(parse_world(ROOM, "room"), ROBOT)
+    poses = np.array([[0.75, 1.25], [1.25, 1.25], [1.25, 0.75], [2.25, 0.75], [0.75, 0.75]])
+    assert coverage_by_minute(floor, poses, [2, 0, 3]) == pytest.approx([2 / 8, 2 / 8, 5 / 8])
+
+
+def test_a_doorway_the_body_fits_through_joins_the_rooms() -> None:
+    floor = world_floor(parse_world(TWO_ROOMS.format(disc=""), "two"), ROBOT)
+    assert floor.cells == 9 + 1 + 15
+
+
+def test_a_doorway_narrower_than_the_body_keeps_the_far_room_out_of_reach() -> None:
+    # A pillar of radius 0.1 m in the middle of the doorway leaves gaps of 0.15 m either side.
+    narrowed = TWO_ROOMS.format(disc="disc: 2.25 1.25 0.1\n")
+    floor = world_floor(parse_world(narrowed, "two"), ROBOT)
+    assert floor.cells == 9
+
+
+def test_the_tracker_ignores_poses_off_the_grid() -> None:
+    floor = world_floor(parse_world(ROOM, "room"), ROBOT)
+    tracker = CoverageTracker(floor)
+    tracker.add(np.array([[-1.0, 0.5], [9.0, 9.0]]))
+    assert tracker.fraction == 0.0
+
+
+def test_a_step_between_cells_needs_the_body_to_fit_halfway_too() -> None:
+    """Two cells whose centres fit, with an obstacle only between them, are not joined."""
+    grid = grid_over(1.0, 0.5, 0.5)  # two cells side by side
+    clearance = np.array([[0.1, 0.0, 0.1]])  # (1, 3): centre, midpoint, centre
+    floor = reachable_floor(grid, clearance, (0.25, 0.25))
+    assert floor.reachable.tolist() == [True, False]

@@ -1,0 +1,174 @@
+"""Choosing FAM inputs from data: the informative sonar first, the budget, symmetry, the seed."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from tvl_cli.analysis.design import (
+    DEFAULT_BUDGET_RULES,
+    GROUP_SIZES,
+    HELDOUT_FRACTION,
+    MAX_TRAIN_EXEMPLARS,
+    MIN_GAIN_MPS,
+    SET_COUNTS,
+    design_inputs,
+    least_budget_rules,
+)
+from tvl_cli.core.config import MULTI, RobotConfig, mirror_sonar, mirror_trajectory
+from tvl_cli.core.episode import Episode
+from tvl_cli.core.errors import BadInput
+from tvl_cli.core.ring import ring_to_mm
+from tvl_cli.core.training import TrainParams
+
+ROBOT = RobotConfig()
+NAMES = [t.name for t in ROBOT.trajectories]
+STEP_M = 0.05  # arc between recorded points
+
+
+def informative(trajectory: int) -> int:
+    """The one sonar that reads the distance to the collision point: S3 (left of ahead) for
+    a left trajectory, its mirror image S13 for a right one, and S0 straight ahead (a sonar
+    that is its own mirror image, so that a mirrored ring tells as much)."""
+    mirror = mirror_trajectory(trajectory, len(NAMES))
+    return 3 if trajectory < mirror else 13 if trajectory > mirror else 0
+
+
+def episode(index: int, trajectory: int, start_m: float, rng: np.random.Generator) -> Episode:
+    """An episode whose only informative reading is the distance to its collision point."""
+    arc = np.arange(0.0, start_m - 0.1, STEP_M)  # (n,) m
+    end = float(start_m)
+    ring = rng.uniform(0.15, 4.0, (len(arc), 16))  # (n, 16) m, noise everywhere else
+    ring[:, informative(trajectory)] = end - arc
+    return Episode(
+        index=index,
+        ring_mm=ring_to_mm(ring),
+        pose=np.zeros((len(arc), 3)),
+        odometry=np.zeros((len(arc), 3)),
+        arc_m=arc,
+        trajectory=trajectory,
+        rotation=0,
+        collided=True,
+        bumped=True,
+        end_arc_m=end,
+        end_time_s=float(index),
+    )
+
+
+def synthetic(per_trajectory: int = 6, seed: int = 0) -> list[Episode]:
+    rng = np.random.default_rng(seed)
+    return [
+        episode(7 * k + j, j, float(rng.uniform(1.0, 3.5)), rng)
+        for k in range(per_trajectory)
+        for j in range(7)
+    ]
+
+
+@pytest.fixture(scope="module")
+def designed():
+    return design_inputs(synthetic(), ROBOT, TrainParams(), seed=1)
+
+
+def test_the_sonar_the_labels_depend_on_is_chosen_first_for_every_table(designed) -> None:
+    first = {}
+    for choice in designed.config.design.choices:
+        first.setdefault(choice.table, choice)
+    assert {t: c.inputs for t, c in first.items()} == {
+        "T3L": ("S3",),
+        "T2L": ("S3",),
+        "T1L": ("S3",),
+        "T0": ("S0",),
+    }
+    for choice in first.values():
+        # Knowing the distance, a table perceives the label closely; without, far off.
+        assert choice.heldout_error_after_mps < 0.03 < 0.05 < choice.heldout_error_before_mps
+
+
+def test_right_tables_mirror_left_ones_and_the_straight_one_mirrors_itself(designed) -> None:
+    tables = {t.name: t for t in designed.config.tables}
+    assert [t.name for t in designed.config.tables] == NAMES
+    for left, right in (("T1L", "T1R"), ("T2L", "T2R"), ("T3L", "T3R")):
+        mirrored = [
+            (tuple(mirror_sonar(s) for s in i.sonars), i.partition) for i in tables[left].inputs
+        ]
+        assert [(i.sonars, i.partition) for i in tables[right].inputs] == mirrored
+        assert tables[right].trajectories == (right,)
+    straight = {(frozenset(i.sonars), i.partition) for i in tables["T0"].inputs}
+    assert {(frozenset(mirror_sonar(s) for s in g), p) for g, p in straight} == straight
+
+
+def test_each_choice_lowers_its_tables_error_from_where_the_last_left_it(designed) -> None:
+    last: dict[str, float] = {}
+    for choice in designed.config.design.choices:
+        if choice.table in last:
+            assert choice.heldout_error_before_mps == last[choice.table]
+        assert choice.heldout_error_after_mps < choice.heldout_error_before_mps
+        last[choice.table] = choice.heldout_error_after_mps
+
+
+def test_the_chosen_tables_score_as_the_whole_fam_trained_as_tvl_train_does(designed) -> None:
+    """The straight table's last error during the choice is the error of the whole FAM,
+    trained on the same episodes: the choice measured what training will give."""
+    t0 = [c for c in designed.config.design.choices if c.table == "T0"][-1]
+    ours = designed.scores[0]
+    assert ours.config == designed.config.name
+    assert dict(ours.error_by_trajectory_mps)["T0"] == pytest.approx(
+        t0.heldout_error_after_mps, rel=1e-9
+    )
+    assert [s.config for s in designed.scores] == [designed.config.name, "single", "multi"]
+    assert ours.error_mps < designed.scores[1].error_mps
+
+
+@pytest.mark.parametrize("budget", [30, 200])
+def test_the_budget_is_respected(budget: int) -> None:
+    config = design_inputs(synthetic(), ROBOT, TrainParams(), budget, seed=1).config
+    assert config.rule_count <= budget
+    assert config.design.budget_rules == budget
+
+
+def test_the_least_budget_gives_each_table_one_input_of_the_fewest_sets() -> None:
+    least = least_budget_rules(ROBOT)
+    assert least == min(SET_COUNTS) * (1 + 2 * 3)  # T0, and three left tables with mirrors
+    config = design_inputs(synthetic(), ROBOT, TrainParams(), least, seed=1).config
+    assert [t.shape for t in config.tables] == [(min(SET_COUNTS),)] * 7
+    assert config.rule_count == least
+
+
+def test_the_default_budget_is_the_multi_fams_rule_count() -> None:
+    assert MULTI.rule_count == DEFAULT_BUDGET_RULES
+
+
+def test_a_budget_too_small_for_one_input_per_table_is_refused() -> None:
+    with pytest.raises(BadInput, match="--budget 13: too small for one input per table"):
+        design_inputs(synthetic(), ROBOT, TrainParams(), 13)
+
+
+def test_the_same_seed_chooses_the_same_and_another_holds_out_other_episodes() -> None:
+    episodes = synthetic(per_trajectory=4)
+    first, again, other = (
+        design_inputs(episodes, ROBOT, TrainParams(), 30, seed) for seed in (5, 5, 6)
+    )
+    assert first.config == again.config and first.scores == again.scores
+    assert first.config.design.choices != other.config.design.choices
+
+
+def test_a_trajectory_pair_with_one_episode_is_refused() -> None:
+    episodes = [e for e in synthetic() if e.trajectory not in (0, 6)]
+    episodes.append(synthetic(per_trajectory=1)[0])  # one T3L episode, no T3R
+    with pytest.raises(BadInput, match=r"1 episode\(s\) of T3L or T3R: at least 2"):
+        design_inputs(episodes, ROBOT, TrainParams())
+
+
+def test_the_readme_quotes_the_choices_constants() -> None:
+    readme = (Path(__file__).resolve().parents[2] / "README.md").read_text(encoding="utf-8")
+    section = readme.split("### Inputs chosen from data")[1].split("\n## ")[0]
+    assert f"lowers its table's error by {MIN_GAIN_MPS:g} m/s" in section
+    assert HELDOUT_FRACTION == 0.25 and "a quarter held out" in section
+    assert f"Past {MAX_TRAIN_EXEMPLARS:,} exemplars" in section
+    assert f"the `multi` FAM's {DEFAULT_BUDGET_RULES:,}" in section
+    assert f"per table needs {least_budget_rules(ROBOT)} rules" in section
+    assert f"with {', '.join(map(str, SET_COUNTS[:-1]))} or {SET_COUNTS[-1]} fuzzy sets" in section
+    assert GROUP_SIZES == (1, 2, 3) and "one sonar or the nearest reading" in section
+    assert "of two or three adjacent ones" in section

@@ -1,0 +1,82 @@
+"""`tvl design` through the real `tvl` process: a configuration `train` and `learn` take."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+from pathlib import Path
+
+import pytest
+from conftest import TVL
+
+EXAMPLE_LOG = Path(__file__).resolve().parents[2] / "logs" / "square-s1.h5"
+SQUARE = Path(__file__).resolve().parents[2] / "worlds" / "square.txt"
+
+
+def tvl(*args: str | Path) -> subprocess.CompletedProcess[str]:
+    return subprocess.run([TVL, *map(str, args)], capture_output=True, text=True, timeout=180)
+
+
+@pytest.fixture(scope="module")
+def designed(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, dict]:
+    output = tmp_path_factory.mktemp("design") / "inputs.json"
+    done = tvl("design", EXAMPLE_LOG, "-o", output, "--budget", "2000", "--json")
+    assert done.returncode == 0, done.stderr
+    return output, json.loads(done.stdout)
+
+
+def test_the_summary_describes_the_file_written(designed: tuple[Path, dict]) -> None:
+    output, printed = designed
+    written = json.loads(output.read_text())
+    assert printed["output"] == str(output) and printed["config"] == written["name"] == "inputs"
+    assert printed["budget_rules"] == 2000 >= printed["rules"]
+    assert [t["name"] for t in printed["tables"]] == [t["name"] for t in written["tables"]]
+    assert printed["choices"] == written["design"]["choices"]
+    assert [s["config"] for s in printed["heldout"]] == ["inputs", "single", "multi"]
+    assert sum(t["rules"] for t in printed["tables"]) == printed["rules"]
+
+
+def test_train_and_learn_take_the_file_as_config(
+    designed: tuple[Path, dict], tmp_path: Path
+) -> None:
+    output, printed = designed
+    done = tvl("train", EXAMPLE_LOG, "--config", output, "-o", tmp_path / "fam.h5", "--json")
+    assert done.returncode == 0, done.stderr
+    trained = json.loads(done.stdout)
+    assert trained["config"] == "inputs" and trained["rules_total"] == printed["rules"]
+    assert trained["exemplars"] > 0 and trained["rules_touched"] > 0
+    done = tvl("learn", SQUARE, "--log", tmp_path / "l.h5", "--minutes", "0.2", "--config", output)
+    assert done.returncode == 0, done.stderr
+
+
+def test_the_same_seed_writes_the_same_file(designed: tuple[Path, dict], tmp_path: Path) -> None:
+    output, _ = designed
+    again = tmp_path / "inputs.json"
+    done = tvl("design", EXAMPLE_LOG, "-o", again, "--budget", "2000", "--seed", "1")
+    assert done.returncode == 0, done.stderr
+    assert again.read_bytes() == output.read_bytes()
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        ((), "Missing argument 'LOGS...'"),
+        ((EXAMPLE_LOG, "--budget", "13"), "--budget 13: too small for one input per table"),
+        (("unreadable.h5",), "unreadable.h5"),
+    ],
+)
+def test_bad_input_is_one_line_and_exit_2(
+    args: tuple[str | Path, ...], message: str, tmp_path: Path
+) -> None:
+    (tmp_path / "unreadable.h5").write_text("not HDF5")
+    done = subprocess.run(
+        [TVL, "design", *map(str, args), "-o", "out.json"],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        cwd=tmp_path,
+    )
+    assert done.returncode == 2
+    assert len(done.stderr.splitlines()) == 1 and message in done.stderr
+    assert done.stderr.startswith("tvl: error:")
+    assert not (tmp_path / "out.json").exists()

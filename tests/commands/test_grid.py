@@ -1,0 +1,92 @@
+"""A sweep's grid: its cells are every combination of its values, goals multiply only the
+goal runs, `paper` is the paper's whole method, and worlds and configurations are known by
+their names."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from tvl_cli.agent.explore import PAPER_NEAR_M, LearnParams
+from tvl_cli.agent.reflexes import STACK_ORDER
+from tvl_cli.commands.grid import Cell, read_grid
+from tvl_cli.core.config import SINGLE
+from tvl_cli.core.errors import BadInput
+from tvl_cli.core.labels import PAPER_DECEL_MPS2, PAPER_MARGIN_M
+from tvl_cli.core.training import TrainParams
+
+WORLDS = Path(__file__).resolve().parents[2] / "worlds"
+
+
+def grid_of(tmp_path: Path, text: str) -> Path:
+    path = tmp_path / "grid.toml"
+    path.write_text(text)
+    return path
+
+
+def test_cells_are_every_combination_with_the_last_key_fastest(tmp_path: Path) -> None:
+    grid = read_grid(
+        grid_of(
+            tmp_path,
+            'world = ["square", "circle"]\nseed = [1, 2]\nbehaviour = "avoid"\n'
+            "threshold = [0.7, 0.9]\n",
+        )
+    )
+    assert [(c.world, c.seed, c.threshold) for c in grid.cells] == [
+        (world, seed, threshold)
+        for world in ("square", "circle")
+        for seed in (1, 2)
+        for threshold in (0.7, 0.9)
+    ]
+    # What the grid leaves out is what `tvl learn`, `train` and `run` do by default.
+    assert grid.cells[0] == Cell("square", 1, "single", 15.0, "avoid", 0.7, None, 5.0, "all")
+    assert grid.configs == {"single": SINGLE}
+
+
+def test_goals_multiply_the_goal_runs_only(tmp_path: Path) -> None:
+    text = (
+        f'world = "{WORLDS / "obstacles.txt"}"\nseed = 1\nbehaviour = ["avoid", "goal"]\n'
+        'goal = ["5.875,3.875", "4.875, 1.625"]\n'
+    )
+    cells = read_grid(grid_of(tmp_path, text)).cells
+    assert [(c.behaviour, c.goal) for c in cells] == [
+        ("avoid", None), ("goal", "5.875,3.875"), ("goal", "4.875,1.625")
+    ]  # fmt: skip
+    assert cells[2].goal_xy() == (4.875, 1.625)
+
+
+def test_a_goal_run_without_a_goal_seeks_the_worlds_first(tmp_path: Path) -> None:
+    text = 'world = "narrow"\nseed = 1\nbehaviour = "goal"\n'
+    assert [c.goal for c in read_grid(grid_of(tmp_path, text)).cells] == ["3.625,1.875"]
+    square = 'world = "square"\nseed = 1\nbehaviour = "goal"\n'
+    with pytest.raises(BadInput, match="world 'square' has no goal"):
+        read_grid(grid_of(tmp_path, square))
+
+
+def test_paper_is_the_papers_labels_collision_points_and_no_reflexes(tmp_path: Path) -> None:
+    text = 'world = "square"\nseed = 1\nbehaviour = "avoid"\nreflexes = ["all", "paper"]\n'
+    ours, paper = read_grid(grid_of(tmp_path, text)).cells
+    assert (ours.learn_params(), ours.train_params()) == (LearnParams(), TrainParams())
+    assert ours.run_reflexes() == STACK_ORDER
+    assert paper.learn_params() == LearnParams(near_m=PAPER_NEAR_M)
+    assert paper.train_params() == TrainParams(decel_mps2=PAPER_DECEL_MPS2, margin_m=PAPER_MARGIN_M)
+    assert paper.run_reflexes() == ()
+
+
+def test_a_configuration_file_beside_the_grid_is_known_by_its_name(tmp_path: Path) -> None:
+    config = json.loads(SINGLE.to_json())
+    config["name"] = "mine"
+    (tmp_path / "mine.json").write_text(json.dumps(config))
+    text = 'world = "square"\nseed = 1\nbehaviour = "avoid"\nconfig = ["single", "mine.json"]\n'
+    grid = read_grid(grid_of(tmp_path, text))
+    assert [c.config for c in grid.cells] == ["single", "mine"]
+    assert grid.configs["mine"].tables == SINGLE.tables
+
+
+def test_two_worlds_of_one_name_are_refused(tmp_path: Path) -> None:
+    (tmp_path / "copy.txt").write_text((WORLDS / "square.txt").read_text())
+    text = 'world = ["square", "copy.txt"]\nseed = 1\nbehaviour = "avoid"\n'
+    with pytest.raises(BadInput, match=r"worlds 'square' and 'copy\.txt' are both named 'square'"):
+        read_grid(grid_of(tmp_path, text))

@@ -1,0 +1,127 @@
+"""`tvl design`: FAM inputs chosen from learning logs."""
+
+from __future__ import annotations
+
+from dataclasses import asdict
+from pathlib import Path
+from typing import Any
+
+import click
+from rich.table import Table
+
+from tvl_cli.analysis.design import DEFAULT_BUDGET_RULES
+from tvl_cli.cli.options import SEED, print_json, refuse_existing, refuse_shared_paths
+from tvl_cli.cli.views import out
+from tvl_cli.commands.design import DesignSummary, design_from_logs
+from tvl_cli.core.fam_configs import MAX_ENTRIES
+
+
+@click.command()
+@click.argument("logs", nargs=-1, required=True, type=click.Path(path_type=Path))
+@click.option(
+    "-o", "--output", type=click.Path(path_type=Path), required=True, help="CONFIG.json to write."
+)
+@click.option(
+    "--budget",
+    type=click.IntRange(1, MAX_ENTRIES),
+    default=DEFAULT_BUDGET_RULES,
+    show_default=True,
+    metavar="RULES",
+    help="Most rules of all tables together (default: the multi FAM's).",
+)
+@click.option(
+    "--seed",
+    type=SEED,
+    default=1,
+    show_default=True,
+    help="Seed of the split into training and held-out episodes.",
+)
+@click.option("--force", is_flag=True, help="Overwrite OUTPUT.")
+@click.option("--json", "as_json", is_flag=True, help="Print a JSON summary.")
+def design(
+    logs: tuple[Path, ...], output: Path, budget: int, seed: int, force: bool, as_json: bool
+) -> None:
+    """Choose each FAM table's sonars and fuzzy sets from learning logs.
+
+    For the straight trajectory's table and each left one (the right ones mirror them), adds
+    one input at a time, a sonar or the nearest of 2 or 3 adjacent ones with 2 to 5 fuzzy
+    sets, whichever, trained on three quarters of the episodes, best perceives the velocity
+    labels of the rest; until the rules would exceed the budget or no input lowers that
+    error measurably. Writes a configuration for `tvl train --config CONFIG.json` that
+    records each choice's held-out error before and after.
+    """
+    refuse_shared_paths({"-o": output}, {f"LOG {i + 1}": log for i, log in enumerate(logs)})
+    refuse_existing(output, force)
+    summary = design_from_logs(list(logs), output, budget, seed, force)
+    if as_json:
+        print_json(design_json(summary))
+    else:
+        _show(summary)
+
+
+def design_json(summary: DesignSummary) -> dict[str, Any]:
+    design = summary.design
+    config = design.config
+    assert config.design is not None
+    return {
+        "output": str(summary.output),
+        "config": config.name,
+        "rules": config.rule_count,
+        "budget_rules": config.design.budget_rules,
+        "seed": config.design.seed,
+        "train_episodes": design.train_episodes,
+        "heldout_episodes": design.heldout_episodes,
+        "candidates_scored": design.candidates_scored,
+        "tables": [
+            {
+                "name": t.name,
+                "inputs": [{"name": i.name, "sets": len(i.partition.names)} for i in t.inputs],
+                "rules": t.rule_count,
+            }
+            for t in config.tables
+        ],
+        "choices": [asdict(c) for c in config.design.choices],
+        "heldout": [
+            {
+                "config": s.config,
+                "rules": s.rules,
+                "error_mps": s.error_mps,
+                "error_by_trajectory_mps": dict(s.error_by_trajectory_mps),
+            }
+            for s in design.scores
+        ],
+        "repeated_sessions": summary.repeated_sessions,
+        "wall_s": summary.wall_s,
+    }
+
+
+def _show(summary: DesignSummary) -> None:
+    config = summary.design.config
+    assert config.design is not None
+    choices = Table(title=f"inputs chosen → {summary.output}")
+    for column in ("table", "added", "held-out error m/s"):
+        choices.add_column(column)
+    for c in config.design.choices:
+        before, after = c.heldout_error_before_mps, c.heldout_error_after_mps
+        choices.add_row(c.table, ", ".join(c.inputs), f"{before:.3f} → {after:.3f}")
+    out.print(choices)
+    tables = Table(title=f"{config.name}: {config.rule_count:,} rules", show_header=False)
+    tables.add_column()
+    tables.add_column()
+    tables.add_column(justify="right")
+    for t in config.tables:
+        sets = ", ".join(f"{i.name} ({len(i.partition.names)})" for i in t.inputs)
+        tables.add_row(t.name, sets, f"{t.rule_count:,}")
+    out.print(tables)
+    scores = Table(
+        title=f"trained on {summary.design.train_episodes} episodes, "
+        f"scored on {summary.design.heldout_episodes} held out"
+    )
+    for column in ("configuration", "rules", "held-out error m/s"):
+        scores.add_column(column, justify="right")
+    for s in summary.design.scores:
+        scores.add_row(s.config, f"{s.rules:,}", f"{s.error_mps:.3f}")
+    out.print(scores)
+    for repeat in summary.repeated_sessions:
+        out.print(f"used once: {repeat}")
+    out.print(f"{summary.wall_s:.1f} s")

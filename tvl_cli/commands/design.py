@@ -1,0 +1,58 @@
+"""`tvl design`: choose each FAM table's inputs from learning logs; write the configuration."""
+
+from __future__ import annotations
+
+import json
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+from tvl_cli.analysis.design import DEFAULT_BUDGET_RULES, Design, design_inputs
+from tvl_cli.commands.train import common_robot, distinct_sessions, refuse_repeated
+from tvl_cli.core.errors import BadInput
+from tvl_cli.core.fam_configs import fam_config_from_json
+from tvl_cli.core.training import TrainParams
+from tvl_cli.io.atomic import atomic_output
+from tvl_cli.io.logreader import read_log
+
+
+@dataclass(frozen=True, slots=True)
+class DesignSummary:
+    design: Design
+    output: Path
+    repeated_sessions: list[str]  # found again, used once
+    wall_s: float
+
+
+def design_from_logs(
+    paths: Sequence[Path],
+    output: Path,
+    budget_rules: int = DEFAULT_BUDGET_RULES,
+    seed: int = 1,
+    overwrite: bool = False,
+) -> DesignSummary:
+    """Choose the inputs from every episode of the logs, labelled as `tvl train` labels them
+    by default, and write the configuration as JSON that `--config` reads, named after it."""
+    started = time.perf_counter()
+    if not paths:
+        raise BadInput("no learning log given: name at least one LOG")
+    logs = [read_log(path) for path in paths]
+    refuse_repeated(logs)
+    robot = common_robot(logs)
+    sessions, repeats = distinct_sessions(logs)
+    design = design_inputs(
+        [e for s in sessions for e in s.episodes()],
+        robot,
+        TrainParams(),
+        budget_rules,
+        seed,
+        output.stem,
+        tuple(log.sha256 for log in logs),
+    )
+    text = json.dumps(design.config.to_dict(), indent=1) + "\n"
+    # Read back as `--config FILE.json` will read it, so that a file written is one it takes.
+    fam_config_from_json(text, [t.name for t in robot.trajectories], str(output))
+    with atomic_output(output, overwrite) as temporary:
+        temporary.write_text(text, encoding="utf-8")
+    return DesignSummary(design, output, repeats, time.perf_counter() - started)

@@ -1,0 +1,273 @@
+"""`tvl sweep`: every cell of a grid learnt, trained and run, on local processes or a Dask
+cluster, into one results table.
+
+A learning log is learnt once for every cell that shares it, a FAM trained once likewise, and
+both stay in the sweep's directory for the next sweep. Each row joins results.jsonl as its run
+ends, so a killed sweep loses only the runs under way, and a cell whose row is there is not
+run again. Every random choice comes from the cell's seed: wherever a cell runs, its row is
+the same.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from concurrent.futures import FIRST_COMPLETED, Executor, Future, wait
+from contextlib import AbstractContextManager
+from dataclasses import asdict, dataclass, replace
+from pathlib import Path
+from typing import Any
+
+from tvl_cli.analysis.results import read_results
+from tvl_cli.commands.grid import COLUMNS, Cell, Grid, read_grid
+from tvl_cli.commands.learn import LearnRequest, learn_to_log
+from tvl_cli.commands.run import RunRequest, RunResult, run_behaviour
+from tvl_cli.commands.train import train_from_logs
+from tvl_cli.commands.workers import dask_cluster, local_processes
+from tvl_cli.core.config import SINGLE, FamConfig
+from tvl_cli.core.errors import BadInput
+from tvl_cli.core.training import TrainParams
+from tvl_cli.io.atomic import atomic_output
+from tvl_cli.io.famfile import write_fam
+from tvl_cli.io.loglayout import STATUS_FINISHED
+from tvl_cli.io.table import Row, append_row, write_csv, write_parquet
+
+RESULTS = "results.jsonl"  # every row the directory has, in the order the runs ended
+TABLE_CSV = "results.csv"  # the grid's rows in the grid's order, as the tables below
+TABLE_PARQUET = "results.parquet"
+# A row's `kind`: how `tvl figure` knows a run of TVL among an experiment's rows.
+RUN_KIND = "tvl"
+# Every log is learnt exploring with this FAM, as `tvl learn` does by default, so that one
+# log serves the cells of every configuration: each is trained from it.
+LEARN_CONFIG = SINGLE.name
+
+
+@dataclass(frozen=True, slots=True)
+class SweepRequest:
+    grid: Path
+    out: Path
+    workers: int = 1  # local processes
+    scheduler: str | None = None  # a Dask scheduler's address: its workers run the cells
+
+
+@dataclass(frozen=True, slots=True)
+class SweepResult:
+    out: Path
+    cells: int
+    done: int  # run by this sweep
+    skipped: int  # in the results already
+    rows: list[Row]  # the grid's, in the grid's order
+    files: list[Path]  # written by this sweep, relative to `out`
+
+
+def default_out(grid: Path) -> Path:
+    return Path("results") / grid.stem
+
+
+@dataclass(frozen=True, slots=True)
+class _Layout:
+    """Where a sweep keeps its files. Absolute: a cluster's workers run elsewhere."""
+
+    root: Path
+    grid: Grid
+
+    def world(self, cell: Cell) -> Path:
+        return self.root / "worlds" / f"{cell.world}.txt"
+
+    def log(self, cell: Cell) -> Path:
+        # repr: two lengths never share a name, as they could rounded.
+        paper = "-paper" if cell.paper else ""
+        return self.root / "logs" / f"{cell.world}-s{cell.seed}-m{cell.learn_minutes!r}{paper}.h5"
+
+    def fam(self, cell: Cell) -> Path:
+        return self.root / "fams" / f"{self.log(cell).stem}-{cell.config}.h5"
+
+    def learn_request(self, cell: Cell) -> LearnRequest:
+        return LearnRequest(
+            self.world(cell),
+            self.log(cell),
+            cell.seed,
+            LEARN_CONFIG,
+            cell.learn_params(),
+            cell.train_params(),
+        )
+
+    def train_arguments(self, cell: Cell) -> tuple[Path, Path, FamConfig, TrainParams]:
+        return self.fam(cell), self.log(cell), self.grid.configs[cell.config], cell.train_params()
+
+    def run_request(self, cell: Cell) -> RunRequest:
+        return RunRequest(
+            self.fam(cell),
+            self.world(cell),
+            cell.behaviour,
+            cell.threshold,
+            cell.run_minutes,
+            cell.seed,
+            cell.goal_xy(),
+            reflexes=cell.run_reflexes(),
+        )
+
+
+def run_sweep(
+    request: SweepRequest, on_progress: Callable[[int, int], None] = lambda done, total: None
+) -> SweepResult:
+    """Run the grid's cells not yet in the results, then write the grid's table; each run's
+    progress as (cells done, cells to do)."""
+    grid = read_grid(request.grid)
+    layout = _Layout(request.out.absolute(), grid)
+    written = _prepare(layout)
+    journal = layout.root / RESULTS
+    recorded = _recorded(journal)
+    rows = {cell: recorded[cell.key()] for cell in grid.cells if cell.key() in recorded}
+    todo = [cell for cell in grid.cells if cell not in rows]
+    skipped = len(rows)
+    on_progress(0, len(todo))
+
+    def record(cell: Cell, result: RunResult) -> None:
+        # What `tvl run --json` prints, after the cell's grid values.
+        rows[cell] = {"kind": RUN_KIND, **asdict(cell), **result.to_dict()}
+        append_row(journal, rows[cell])
+        on_progress(len(rows) - skipped, len(todo))
+
+    if todo:
+        with _executor(request) as pool:
+            written += _work(pool, layout, todo, record)
+        written.append(journal)
+    table = [rows[cell] for cell in grid.cells if cell in rows]
+    written += _write_tables(layout.root, table)
+    return SweepResult(
+        out=request.out,
+        cells=len(grid.cells),
+        done=len(todo),
+        skipped=skipped,
+        rows=table,
+        files=[path.relative_to(layout.root) for path in written],
+    )
+
+
+def _prepare(layout: _Layout) -> list[Path]:
+    """Make the sweep's folders and put a copy of each world in it, which the runs read
+    (a cluster's workers see the sweep's directory, not the grid's); the copies made.
+    A world is known by its name: a copy of another world by that name is refused, since the
+    logs beside it were learnt there."""
+    if layout.root.exists() and not layout.root.is_dir():
+        raise BadInput(f"{layout.root}: is a file, not a directory for the sweep")
+    for folder in ("worlds", "logs", "fams"):
+        (layout.root / folder).mkdir(parents=True, exist_ok=True)
+    made = []
+    for name, text in layout.grid.worlds.items():
+        copy = layout.root / "worlds" / f"{name}.txt"
+        data = text.encode("utf-8")
+        if copy.exists():
+            if copy.read_bytes() != data:
+                raise BadInput(
+                    f"{copy}: another world named {name!r} than the grid's; its logs were "
+                    "learnt there (give another --out)"
+                )
+            continue
+        with atomic_output(copy) as temporary:
+            temporary.write_bytes(data)
+        made.append(copy)
+    return made
+
+
+def _recorded(journal: Path) -> dict[tuple[object, ...], Row]:
+    """The journal's rows of sweeps by their grid values, as Cell.key() gives them; rows of
+    anything else (merged in by hand, say) are kept in it but match no cell."""
+    found = read_results(journal).values() if journal.exists() else []
+    return {
+        tuple(row[column] for column in COLUMNS): row
+        for row in found
+        if row["kind"] == RUN_KIND and all(column in row for column in COLUMNS)
+    }
+
+
+def _executor(request: SweepRequest) -> AbstractContextManager[Executor]:
+    if request.scheduler is not None:
+        return dask_cluster(request.scheduler)
+    return local_processes(request.workers)
+
+
+def _work(
+    pool: Executor, layout: _Layout, cells: list[Cell], record: Callable[[Cell, RunResult], None]
+) -> list[Path]:
+    """Run each cell once its FAM is on disk, train each FAM once its log is, and learn each
+    log that is not: each at most once, all as soon as they can start. Each run's result
+    goes to `record` as it ends; the logs and FAMs made are returned."""
+    waiting_for_fam: dict[Path, list[Cell]] = {}
+    waiting_for_log: dict[Path, list[Cell]] = {}  # a cell for each FAM a log is wanted for
+    learning: dict[Future[None], Path] = {}
+    training: dict[Future[None], Path] = {}
+    running: dict[Future[RunResult], Cell] = {}
+
+    def train(cell: Cell) -> None:
+        training[pool.submit(train_fam, *layout.train_arguments(cell))] = layout.fam(cell)
+
+    def run(cell: Cell) -> None:
+        running[pool.submit(run_behaviour, layout.run_request(cell))] = cell
+
+    for cell in cells:
+        fam, log = layout.fam(cell), layout.log(cell)
+        if fam.exists():
+            run(cell)
+        elif fam in waiting_for_fam:
+            waiting_for_fam[fam].append(cell)
+        else:
+            waiting_for_fam[fam] = [cell]
+            if log.exists():
+                train(cell)
+            elif log in waiting_for_log:
+                waiting_for_log[log].append(cell)
+            else:
+                waiting_for_log[log] = [cell]
+                learning[pool.submit(learn_log, layout.learn_request(cell))] = log
+
+    def under_way() -> list[Future[Any]]:
+        return [*learning, *training, *running]
+
+    made: list[Path] = []
+    try:
+        while under_way():
+            ended, _ = wait(under_way(), return_when=FIRST_COMPLETED)
+            for future in ended:
+                if future in running:
+                    record(running.pop(future), future.result())
+                elif future in training:
+                    future.result()
+                    made.append(fam := training.pop(future))
+                    for cell in waiting_for_fam.pop(fam):
+                        run(cell)
+                else:
+                    future.result()
+                    made.append(log := learning.pop(future))
+                    for cell in waiting_for_log.pop(log):
+                        train(cell)
+    finally:
+        # After a failure or Ctrl-C: what has not started never will.
+        for future in under_way():
+            future.cancel()
+    return made
+
+
+def learn_log(request: LearnRequest) -> None:
+    """Learn a new log whole at request.log, or leave no file there."""
+    with atomic_output(request.log) as temporary:
+        # learn_to_log makes the log itself (or adds to one that exists): it learns under the
+        # name atomic_output reserved, renamed into place only once learning has finished.
+        temporary.unlink()
+        result = learn_to_log(replace(request, log=temporary))
+        if result.status != STATUS_FINISHED:
+            raise KeyboardInterrupt  # a signal stopped the learning: it stops the sweep too
+
+
+def train_fam(fam: Path, log: Path, config: FamConfig, params: TrainParams) -> None:
+    """Train a FAM from a log, as `tvl train LOG -o FAM` does."""
+    trained = train_from_logs([log], config, params)
+    write_fam(fam, trained.fam, robot_config=trained.robot, provenance=trained.provenance)
+
+
+def _write_tables(root: Path, rows: list[Row]) -> list[Path]:
+    write_csv(root / TABLE_CSV, rows)
+    written = [root / TABLE_CSV]
+    if write_parquet(root / TABLE_PARQUET, rows):
+        written.append(root / TABLE_PARQUET)
+    return written
