@@ -3,13 +3,17 @@ keys the README documents, through the real `tvl` process."""
 
 from __future__ import annotations
 
+import importlib
 import json
 import subprocess
 from pathlib import Path
 
+import click
 import pytest
 from conftest import TVL
 from test_bad_numbers import SQUARE
+
+from tvl_cli.cli.main import COMMANDS
 
 COUNTS = {"segments", "discs", "rings", "goals"}
 
@@ -91,3 +95,20 @@ def test_csv_rows_of_rules_and_of_run_metrics(learnt: Path, tmp_path: Path) -> N
         text=True,
     )
     assert both.returncode == 2 and "give --json or --csv, not both" in both.stderr
+
+
+def _leaf_commands() -> list[tuple[str, click.Command]]:
+    """Every command a user can run, subcommands of a group by their full name."""
+    found = []
+    for name, (module, attribute, _) in COMMANDS.items():
+        command = getattr(importlib.import_module(module), attribute)
+        if isinstance(command, click.Group):
+            found += [(f"{name} {sub}", c) for sub, c in command.commands.items()]
+        else:
+            found.append((name, command))
+    return found
+
+
+@pytest.mark.parametrize("name, command", _leaf_commands(), ids=lambda v: str(v))
+def test_every_command_takes_json(name: str, command: click.Command) -> None:
+    assert "--json" in {opt for p in command.params for opt in p.opts}, name
