@@ -25,8 +25,8 @@ LEVERS: dict[str, list[str]] = {
     "near 0.25": ["--near", "0.25"],
     "near 0.35": ["--near", "0.35"],
     "edges": ["--sonar", "edges"],
+    "edges, near 0.25": ["--sonar", "edges", "--near", "0.25"],
     "edges, near 0.35": ["--sonar", "edges", "--near", "0.35"],
-    "paper": ["--paper"],
 }
 
 
