@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+from test_results import run_row
 
 from tvl_cli.analysis.exploration import (
     competence_rows,
@@ -25,30 +26,14 @@ def learn(rule: str, seed: int, coverage: list[float], points: str = "sonar") ->
 
 
 def avoid(rule: str, world: str, seed: int, learnt: float, competent: bool) -> dict:
-    return {
-        "kind": "tvl",
-        "behaviour": "avoid",
-        "world": world,
-        "explore": rule,
-        "seed": seed,
-        "learnt_minutes": learnt,
-        "sim_s": 300.0,
-        "distance_m": 120.0,
-        "mean_speed_mps": 0.4 if competent else 0.1,
-        "mean_drive_speed_mps": 0.4,
-        "collisions": 0,
-        "near_misses": 0,
-        "contacts": 0,
-        "contacts_per_min": 0.0,
-        "collisions_per_min": 0.0,
-        "backoffs": 0,
-        "spins": 0,
-        "trapped": 0,
-        "mean_clearance_m": 0.3,
-        "mean_wall_clearance_m": None,
-        "goal_reached": False,
-        "time_to_goal_s": None,
-    }
+    return run_row(
+        kind="tvl",
+        world=world,
+        explore=rule,
+        seed=seed,
+        learnt_minutes=learnt,
+        mean_speed_mps=0.4 if competent else 0.1,
+    )
 
 
 def test_the_goal_is_reached_at_the_end_of_the_first_minute_at_or_above_it() -> None:

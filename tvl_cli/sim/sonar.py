@@ -216,9 +216,10 @@ class SonarRing:
             nearest = np.hypot(b.take(flat), q.take(flat)) - radius.take(flat % m)
             return hit, np.where(np.isfinite(hit), nearest, np.inf)
         cos_incidence = root.take(flat) / radius.take(flat % m)
-        specular = (cos_incidence >= self._cos_specular) | (hit <= 0.0)
-        diffuse_m = self.config.max_range_m * np.sqrt(roughness * cos_incidence)
-        return hit, np.where(specular | (hit <= diffuse_m), hit, np.inf)
+        heard = (cos_incidence >= self._cos_specular) | (hit <= 0.0)
+        if roughness > 0.0:
+            heard |= hit <= self.config.max_range_m * np.sqrt(roughness * cos_incidence)
+        return hit, np.where(heard, hit, np.inf)
 
 
 @dataclass(frozen=True, slots=True, eq=False)
