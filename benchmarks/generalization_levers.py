@@ -27,6 +27,8 @@ LEVERS: dict[str, list[str]] = {
     "edges": ["--sonar", "edges"],
     "edges, near 0.25": ["--sonar", "edges", "--near", "0.25"],
     "edges, near 0.35": ["--sonar", "edges", "--near", "0.35"],
+    # The paper's whole method beside ours: its labels, bump-only collision points, no reflexes.
+    "paper": ["--paper"],
 }
 
 
