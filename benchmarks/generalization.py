@@ -3,14 +3,15 @@
     python benchmarks/generalization.py [--set test|tuning] [--quick] [--trials 3]
                                         [--reflex NAMES | --paper] [--workers 2] [--json]
                                         [--config NAME=FILE.json ...] [--near M]
-                                        [--sonar real|edges|ideal]
+                                        [--sonar real|edges|ideal] [--decel A]
 
 For each world (`tvl world new rooms --seed N`) and trial (seed 1, 2, 3): learn 15 simulated
-minutes from the world's start, exploring with the single FAM; train a single and a multi
-FAM from that one log; run avoid, wall-left, wall-right and goal (to the world's first goal)
-for 5 simulated minutes with each. The DWA's avoid run in each world, knowing the map, is
-the speed reference. A run is competent with at most 0.2 contacts (collisions and near
-misses) a minute at a mean speed of at least 0.3 m/s; a goal run must also reach its goal.
+minutes from the world's start, exploring with the single FAM; train a single, a multi and a
+designed FAM (the three shipped configurations) from that one log; run avoid, wall-left,
+wall-right and goal (to the world's first goal) for 5 simulated minutes with each. The
+DWA's avoid run in each world, knowing the map, is the speed reference. A run is competent
+with at most 0.2 contacts (collisions and near misses) a minute at a mean speed of at least
+0.3 m/s; a goal run must also reach its goal.
 
 The test worlds are rooms seeds 1001-1020 and are for reporting only: develop and tune on
 `--set tuning` (seeds 1-20). `--quick` takes the first 5 worlds of the set and 2 trials.
@@ -18,8 +19,8 @@ The test worlds are rooms seeds 1001-1020 and are for reporting only: develop an
 reflexes); `--reflex` picks the reflexes of the behaviour runs (all by default). `--config
 NAME=FILE.json` (repeatable) adds a configuration of your own (from `tvl design`, say),
 trained from the same log as the others. `--near M` sets the learner's sonar collision point
-(`tvl learn --near`) and `--sonar MODEL` the sonar of learning and runs (`--sonar`), for
-measuring those levers.
+(`tvl learn --near`), `--decel A` the labels' deceleration (`tvl learn --decel`) and
+`--sonar MODEL` the sonar of learning and runs (`--sonar`), for measuring those levers.
 """
 
 from __future__ import annotations
@@ -37,7 +38,7 @@ from tvl_cli.agent.reflexes import ALL, parse_reflexes
 from tvl_cli.baselines.dwa import run_dwa
 from tvl_cli.commands.learn import resolve_fam_config
 from tvl_cli.core import competence
-from tvl_cli.core.config import MULTI, SINGLE, SONAR_MODELS, FamConfig, RobotConfig
+from tvl_cli.core.config import DESIGNED, MULTI, SINGLE, SONAR_MODELS, FamConfig, RobotConfig
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
@@ -53,7 +54,7 @@ QUICK_WORLDS, QUICK_TRIALS = 5, 2
 LEARN_MINUTES = 15.0
 RUN_MINUTES = 5.0
 BEHAVIOURS = ("avoid", "wall-left", "wall-right", "goal")
-CONFIGS: dict[str, FamConfig] = {"single": SINGLE, "multi": MULTI}
+CONFIGS: dict[str, FamConfig] = {"single": SINGLE, "multi": MULTI, "designed": DESIGNED}
 # The targets this benchmark is judged against.
 MIN_COMPETENT_SHARE = 0.9
 MIN_GOAL_SHARE = 0.9
@@ -237,6 +238,12 @@ def main() -> None:
         help="metres: a sonar ahead reading this close marks a collision point while learning",
     )
     parser.add_argument(
+        "--decel",
+        type=float,
+        default=TrainParams().decel_mps2,
+        help="m/s²: the deceleration of the training labels",
+    )
+    parser.add_argument(
         "--sonar", choices=list(SONAR_MODELS), default="real", help="the sonar model throughout"
     )
     parser.add_argument("--json", action="store_true", help="print the figures as JSON")
@@ -261,7 +268,7 @@ def main() -> None:
     trials = range(1, args.trials + 1)
     if args.quick:
         world_seeds, trials = world_seeds[:QUICK_WORLDS], range(1, QUICK_TRIALS + 1)
-    train, explore = TrainParams(), LearnParams(near_m=args.near)
+    train, explore = TrainParams(decel_mps2=args.decel), LearnParams(near_m=args.near)
     if args.paper:
         train = TrainParams(decel_mps2=PAPER_DECEL_MPS2, margin_m=PAPER_MARGIN_M)
         explore = LearnParams(near_m=PAPER_NEAR_M)
@@ -283,7 +290,8 @@ def main() -> None:
     print(
         f"{KIND} worlds {world_seeds[0]}-{world_seeds[-1]} ({args.world_set}, "
         f"{len(world_seeds)} worlds), trials {trials.start}-{trials.stop - 1}, learning "
-        f"{LEARN_MINUTES:g} min (near {explore.near_m:g} m), runs {RUN_MINUTES:g} min, "
+        f"{LEARN_MINUTES:g} min (near {explore.near_m:g} m, decel {train.decel_mps2:g} m/s²), "
+        f"runs {RUN_MINUTES:g} min, "
         f"{args.sonar} sonar, {method} "
         f"({time.perf_counter() - started:.0f} s)"
     )

@@ -14,6 +14,7 @@ from conftest import TVL
 from test_bad_numbers import SQUARE
 
 from tvl_cli.cli.main import COMMANDS
+from tvl_cli.core.config import DESIGNED
 
 COUNTS = {"segments", "discs", "rings", "goals"}
 
@@ -55,6 +56,13 @@ def test_train_prints_its_summary(learnt: Path, tmp_path: Path) -> None:
     assert (printed["output"], printed["config"]) == (str(fam), "multi")
     assert 0 < printed["rules_touched"] <= printed["rules_total"] and printed["exemplars"] > 0
     assert fam.exists()
+
+
+def test_train_takes_the_designed_configuration_by_name(learnt: Path, tmp_path: Path) -> None:
+    fam = tmp_path / "fam.h5"
+    printed = tvl_json("train", learnt, "-o", fam, "--config", "designed")
+    assert (printed["config"], printed["rules_total"]) == ("designed", DESIGNED.rule_count)
+    assert tvl_json("inspect", fam)["config"]["name"] == "designed"
 
 
 def test_demo_prints_learning_and_every_run(tmp_path: Path) -> None:

@@ -11,6 +11,7 @@ from hypothesis import strategies as st
 
 from tvl_cli.core.config import (
     ALL_TRAJECTORY_NAMES,
+    DESIGNED,
     MULTI,
     SINGLE,
     SONAR_COUNT,
@@ -68,7 +69,7 @@ def multi() -> Fam:
 
 @pytest.fixture(scope="module")
 def fams(single: Fam, multi: Fam) -> dict[str, Fam]:
-    return {"single": single, "multi": multi}
+    return {"single": single, "multi": multi, "designed": trained(DESIGNED)}
 
 
 def test_shipped_configurations_have_the_papers_sizes() -> None:
@@ -189,7 +190,7 @@ def test_rotation_by_sixteen_is_the_identity(multi: Fam, values: list[float]) ->
     np.testing.assert_array_equal(fam.experience(ring, rotation=16), fam.experience(ring))
 
 
-@given(ring_values, st.integers(0, 15), st.sampled_from(["single", "multi"]))
+@given(ring_values, st.integers(0, 15), st.sampled_from(["single", "multi", "designed"]))
 @settings(max_examples=40, deadline=None)
 def test_rotation_by_k_equals_reading_the_ring_shifted_by_k(
     fams: dict[str, Fam], values: list[float], k: int, name: str

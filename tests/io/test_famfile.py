@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from tvl_cli import __version__
-from tvl_cli.core.config import MULTI, SINGLE, FamConfig, FamInput, FamTable, Partition
+from tvl_cli.core.config import DESIGNED, MULTI, SINGLE, FamConfig, FamInput, FamTable, Partition
 from tvl_cli.core.config import RobotConfig as Robot
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
@@ -65,7 +65,7 @@ def contents(path: Path) -> dict[str, Any]:
     return found
 
 
-@pytest.mark.parametrize("config", [SINGLE, MULTI], ids=["single", "multi"])
+@pytest.mark.parametrize("config", [SINGLE, MULTI, DESIGNED], ids=["single", "multi", "designed"])
 def test_round_trip_keeps_every_table_value(tmp_path: Path, config: FamConfig) -> None:
     fam = trained(config)
     back = read_fam(written(tmp_path / "f.h5", fam)).fam

@@ -76,7 +76,10 @@ def training_options(command: Callable[..., None]) -> Callable[..., None]:
 
     options = (
         click.option(
-            "--config", default="single", show_default=True, help="single, multi or FILE.json."
+            "--config",
+            default="single",
+            show_default=True,
+            help="single, multi, designed or FILE.json.",
         ),
         click.option(
             "--paper",

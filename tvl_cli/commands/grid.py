@@ -4,7 +4,7 @@ combination of them. A cell is one `tvl run` and the learning and training befor
     world = ["square", "circle"]        # required: bundled world names or world files
     seed = [1, 2, 3]                    # required: of the learning and of the run
     behaviour = ["wall-left", "wall-right"]   # required
-    config = ["single", "multi"]        # single, multi or a FAM configuration file
+    config = ["single", "multi"]        # single, multi, designed or a FAM configuration file
     learn_minutes = 15
     threshold = [0.65, 0.8, 0.95]
     run_minutes = 5

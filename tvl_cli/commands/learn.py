@@ -38,7 +38,8 @@ def resolve_fam_config(spec: str, robot: RobotConfig) -> FamConfig:
     path = Path(spec)
     if not path.is_file():
         raise BadInput(
-            f"{spec}: no such FAM configuration (use single, multi or a JSON file that exists)"
+            f"{spec}: no such FAM configuration "
+            "(use single, multi, designed or a JSON file that exists)"
         )
     try:
         text = path.read_text(encoding="utf-8")

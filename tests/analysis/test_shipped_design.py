@@ -1,0 +1,34 @@
+"""The shipped `designed` configuration is what `tvl design` chooses from its tuning logs."""
+
+from __future__ import annotations
+
+from tvl_cli.agent.explore import Learner, LearnParams
+from tvl_cli.analysis.design import design_inputs
+from tvl_cli.core.config import DESIGNED, SINGLE, RobotConfig
+from tvl_cli.core.episode import Episode
+from tvl_cli.core.fam import Fam
+from tvl_cli.core.training import TrainParams
+from tvl_cli.sim.worldgen import generate_world
+from tvl_cli.sim.worldmap import parse_world
+
+# As experiments/design_inputs.sh makes them: 15 simulated minutes in each of rooms seeds 1 to
+# 10, learning seed 1, every default; the design with seed 1 and the default budget.
+TUNING_WORLD_SEEDS = range(1, 11)
+TUNING_MINUTES = 15.0
+
+
+def tuning_episodes() -> list[Episode]:
+    robot, train = RobotConfig(), TrainParams()
+    names = [t.name for t in robot.trajectories]
+    episodes: list[Episode] = []
+    for world_seed in TUNING_WORLD_SEEDS:
+        world = parse_world(generate_world("rooms", None, None, world_seed), "rooms")
+        fam = Fam(SINGLE, names, train.init_velocity_mps)
+        learner = Learner(world, robot, fam, LearnParams(minutes=TUNING_MINUTES), train, 1)
+        learner.run(episodes.append, lambda _minute: None)
+    return episodes
+
+
+def test_the_shipped_designed_configuration_is_designed_again_from_the_tuning_logs() -> None:
+    design = design_inputs(tuning_episodes(), RobotConfig(), TrainParams(), seed=1)
+    assert design.config.tables == DESIGNED.tables
