@@ -13,6 +13,7 @@ import click
 from click.core import ParameterSource
 
 from tvl_cli.agent.reflexes import STACK_ORDER, parse_reflexes
+from tvl_cli.core.config import BUILTIN_FAM_CONFIGS
 from tvl_cli.core.errors import MAX_SEED, BadInput
 from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS
 from tvl_cli.core.labels import (
@@ -79,7 +80,7 @@ def training_options(command: Callable[..., None]) -> Callable[..., None]:
             "--config",
             default="single",
             show_default=True,
-            help="single, multi, designed or FILE.json.",
+            help=f"{', '.join(BUILTIN_FAM_CONFIGS)} or FILE.json.",
         ),
         click.option(
             "--paper",

@@ -39,7 +39,7 @@ def resolve_fam_config(spec: str, robot: RobotConfig) -> FamConfig:
     if not path.is_file():
         raise BadInput(
             f"{spec}: no such FAM configuration "
-            "(use single, multi, designed or a JSON file that exists)"
+            f"(use {', '.join(BUILTIN_FAM_CONFIGS)} or a JSON file that exists)"
         )
     try:
         text = path.read_text(encoding="utf-8")

@@ -381,18 +381,16 @@ _T3L = _sonar_table(
     "T3L", (((0,), 3), ((2,), 5), ((3,), 5), ((4,), 5), ((5,), 5), ((6,), 3), ((13,), 2))
 )
 
-MULTI = FamConfig(
-    "multi",
-    (
-        _T3L,
-        _T2L,
-        _T1L,
-        _T0,
-        mirror_table(_T1L, "T1R"),
-        mirror_table(_T2L, "T2R"),
-        mirror_table(_T3L, "T3R"),
-    ),
-)
+
+def _one_table_per_trajectory(
+    name: str, t3l: FamTable, t2l: FamTable, t1l: FamTable, t0: FamTable
+) -> FamConfig:
+    """Seven tables in trajectory order, each right one the mirror image of its left one."""
+    right = (mirror_table(t1l, "T1R"), mirror_table(t2l, "T2R"), mirror_table(t3l, "T3R"))
+    return FamConfig(name, (t3l, t2l, t1l, t0, *right))
+
+
+MULTI = _one_table_per_trajectory("multi", _T3L, _T2L, _T1L, _T0)
 
 # One FAM per trajectory, as `multi`, with the inputs `tvl design` chose from data instead of
 # by hand: from 15-minute logs of ten tuning worlds (rooms seeds 1 to 10, learning seed 1,
@@ -408,17 +406,8 @@ _DESIGNED_T1L = _sonar_table("T1L", (((0, 1, 2), 5), ((14, 15), 5), ((3,), 5)))
 _DESIGNED_T2L = _sonar_table("T2L", (((0, 1, 2), 5), ((14,), 5), ((3,), 5), ((15,), 5)))
 _DESIGNED_T3L = _sonar_table("T3L", (((0, 1, 2), 5), ((15,), 5), ((3,), 5)))
 
-DESIGNED = FamConfig(
-    "designed",
-    (
-        _DESIGNED_T3L,
-        _DESIGNED_T2L,
-        _DESIGNED_T1L,
-        _DESIGNED_T0,
-        mirror_table(_DESIGNED_T1L, "T1R"),
-        mirror_table(_DESIGNED_T2L, "T2R"),
-        mirror_table(_DESIGNED_T3L, "T3R"),
-    ),
+DESIGNED = _one_table_per_trajectory(
+    "designed", _DESIGNED_T3L, _DESIGNED_T2L, _DESIGNED_T1L, _DESIGNED_T0
 )
 
 BUILTIN_FAM_CONFIGS: dict[str, FamConfig] = {"single": SINGLE, "multi": MULTI, "designed": DESIGNED}
