@@ -4,6 +4,7 @@
                                         [--reflex NAMES | --paper] [--workers 2] [--json]
                                         [--config NAME=FILE.json ...] [--near M]
                                         [--sonar real|edges|ideal] [--decel A]
+                                        [--threshold T] [--learn]
 
 For each world (`tvl world new rooms --seed N`) and trial (seed 1, 2, 3): learn 15 simulated
 minutes from the world's start, exploring with the single FAM; train a single, a multi and a
@@ -19,13 +20,17 @@ The test worlds are rooms seeds 1001-1020 and are for reporting only: develop an
 reflexes); `--reflex` picks the reflexes of the behaviour runs (all by default). `--config
 NAME=FILE.json` (repeatable) adds a configuration of your own (from `tvl design`, say),
 trained from the same log as the others. `--near M` sets the learner's sonar collision point
-(`tvl learn --near`), `--decel A` the labels' deceleration (`tvl learn --decel`) and
-`--sonar MODEL` the sonar of learning and runs (`--sonar`), for measuring those levers.
+(`tvl learn --near`), `--decel A` the labels' deceleration (`tvl learn --decel`),
+`--sonar MODEL` the sonar of learning and runs (`--sonar`), `--threshold T` the runs'
+threshold (`tvl run --threshold`), and `--learn` makes every run go on learning while it
+behaves, from a copy of the FAM exploring learnt (`tvl run --learn`), for measuring those
+levers.
 """
 
 from __future__ import annotations
 
 import argparse
+import copy
 import json
 import time
 from concurrent.futures import ProcessPoolExecutor
@@ -34,10 +39,12 @@ from typing import Any
 
 from tvl_cli.agent.behave import behave
 from tvl_cli.agent.explore import PAPER_NEAR_M, Learner, LearnParams
+from tvl_cli.agent.online import OnlineLearner
 from tvl_cli.agent.reflexes import ALL, parse_reflexes
 from tvl_cli.baselines.dwa import run_dwa
 from tvl_cli.commands.learn import resolve_fam_config
 from tvl_cli.core import competence
+from tvl_cli.core.behaviours import DEFAULT_THRESHOLD, is_threshold
 from tvl_cli.core.config import DESIGNED, MULTI, SINGLE, SONAR_MODELS, FamConfig, RobotConfig
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
@@ -108,15 +115,22 @@ def trial_runs(
     reflexes: tuple[str, ...],
     configs: dict[str, FamConfig],
     robot: RobotConfig,
+    threshold: float,
+    learn_while_behaving: bool,
 ) -> list[dict[str, Any]]:
     """Every behaviour run of one trial in one world, as rows."""
     world = world_of(world_seed)
     rows = []
-    for config, fam in learn_and_train(world, trial, train, explore, robot, configs).items():
+    for config, learnt in learn_and_train(world, trial, train, explore, robot, configs).items():
         for behaviour in BEHAVIOURS:
             goal = world.goals[0] if behaviour == "goal" and world.goals else None
             if behaviour == "goal" and goal is None:
                 continue
+            # Each run starts from what exploring learnt, as `tvl run --learn` from its FAM file.
+            fam = copy.deepcopy(learnt) if learn_while_behaving else learnt
+            learner = (
+                OnlineLearner(fam, robot, train, world.start) if learn_while_behaving else None
+            )
             metrics = behave(
                 world,
                 robot,
@@ -124,8 +138,10 @@ def trial_runs(
                 behaviour,
                 minutes=RUN_MINUTES,
                 seed=trial,
+                threshold=threshold,
                 goal_xy=goal,
                 reflexes=reflexes,
+                on_step=learner,
             )
             rows.append(
                 {
@@ -246,6 +262,17 @@ def main() -> None:
     parser.add_argument(
         "--sonar", choices=list(SONAR_MODELS), default="real", help="the sonar model throughout"
     )
+    parser.add_argument(
+        "--threshold",
+        type=float,
+        default=DEFAULT_THRESHOLD,
+        help="the behaviour runs' threshold: fast is at least this fraction of a maximum",
+    )
+    parser.add_argument(
+        "--learn",
+        action="store_true",
+        help="the behaviour runs learn while behaving, as `tvl run --learn` does",
+    )
     parser.add_argument("--json", action="store_true", help="print the figures as JSON")
     parser.add_argument(
         "--config",
@@ -264,6 +291,8 @@ def main() -> None:
             configs[name] = resolve_fam_config(path, RobotConfig())
         except BadInput as error:
             parser.error(str(error))
+    if not is_threshold(args.threshold):
+        parser.error(f"--threshold {args.threshold:g} must be in (0, 1]")
     world_seeds = list(WORLD_SETS[args.world_set])
     trials = range(1, args.trials + 1)
     if args.quick:
@@ -276,7 +305,11 @@ def main() -> None:
     reflexes = parse_reflexes(args.reflex)
     started = time.perf_counter()
     robot = RobotConfig(sonar=SONAR_MODELS[args.sonar])
-    jobs = [(w, t, train, explore, reflexes, configs, robot) for w in world_seeds for t in trials]
+    jobs = [
+        (w, t, train, explore, reflexes, configs, robot, args.threshold, args.learn)
+        for w in world_seeds
+        for t in trials
+    ]
     with ProcessPoolExecutor(max_workers=args.workers) as pool:
         dwa_jobs = pool.map(dwa_run, world_seeds)
         per_trial = pool.map(trial_runs, *zip(*jobs, strict=True))
@@ -291,7 +324,8 @@ def main() -> None:
         f"{KIND} worlds {world_seeds[0]}-{world_seeds[-1]} ({args.world_set}, "
         f"{len(world_seeds)} worlds), trials {trials.start}-{trials.stop - 1}, learning "
         f"{LEARN_MINUTES:g} min (near {explore.near_m:g} m, decel {train.decel_mps2:g} m/s²), "
-        f"runs {RUN_MINUTES:g} min, "
+        f"runs {RUN_MINUTES:g} min at threshold {args.threshold:g}"
+        f"{' learning while behaving' if args.learn else ''}, "
         f"{args.sonar} sonar, {method} "
         f"({time.perf_counter() - started:.0f} s)"
     )

@@ -1,11 +1,12 @@
-"""Generalization levers: the generalization benchmark once per learning or sensing option.
+"""Generalization levers: the benchmark once per option that may carry competence further.
 
     python benchmarks/generalization_levers.py [--set tuning|test] [--full] [--workers 2]
                                                [--lever NAME ...]
 
-Each lever is a set of `benchmarks/generalization.py` options; this runs the benchmark with
-each (its `--quick` subset unless `--full`) and prints one markdown row per lever: competent
-runs, contacts a minute, goals reached and avoid speed for each shipped FAM configuration.
+Each lever is a set of `benchmarks/generalization.py` options (learning, sensing, the
+threshold of the runs, learning while behaving); this runs the benchmark with each (its
+`--quick` subset unless `--full`) and prints one markdown row per lever: competent runs,
+contacts a minute, goals reached and avoid speed for each shipped FAM configuration.
 Develop on `--set tuning` (the default); the test worlds are for reporting a chosen lever.
 """
 
@@ -19,17 +20,29 @@ from pathlib import Path
 from typing import Any
 
 BENCHMARK = Path(__file__).resolve().parent / "generalization.py"
+# The pair most of the levers below are tried beside: edge echoes and a farther collision point.
+EDGES_NEAR_025 = ["--sonar", "edges", "--near", "0.25"]
 # Lever name -> the benchmark's options; "default" is the shipped learner and sonar.
 LEVERS: dict[str, list[str]] = {
     "default": [],
     "near 0.25": ["--near", "0.25"],
     "near 0.35": ["--near", "0.35"],
     "edges": ["--sonar", "edges"],
-    "edges, near 0.25": ["--sonar", "edges", "--near", "0.25"],
+    "edges, near 0.25": EDGES_NEAR_025,
     "edges, near 0.35": ["--sonar", "edges", "--near", "0.35"],
     # A firmer brake in the labels: a shorter horizon for every trajectory to be fast.
     "decel 0.3": ["--decel", "0.3"],
-    "edges, near 0.25, decel 0.2": ["--sonar", "edges", "--near", "0.25", "--decel", "0.2"],
+    "edges, near 0.25, decel 0.2": [*EDGES_NEAR_025, "--decel", "0.2"],
+    # Choice dynamics: the threshold of the runs. Lower lets slower trajectories count as
+    # fast, so the robot spins less; higher keeps more clearance (paper Fig. 21).
+    "threshold 0.7": ["--threshold", "0.7"],
+    "threshold 0.92": ["--threshold", "0.92"],
+    "edges, near 0.25, threshold 0.7": [*EDGES_NEAR_025, "--threshold", "0.7"],
+    "edges, near 0.25, threshold 0.92": [*EDGES_NEAR_025, "--threshold", "0.92"],
+    # Learning while behaving (`tvl run --learn`): each run goes on training its FAM.
+    "learn": ["--learn"],
+    "edges, near 0.25, learn": [*EDGES_NEAR_025, "--learn"],
+    "edges, near 0.25, threshold 0.92, learn": [*EDGES_NEAR_025, "--threshold", "0.92", "--learn"],
     # The paper's whole method beside ours: its labels, bump-only collision points, no reflexes.
     "paper": ["--paper"],
 }

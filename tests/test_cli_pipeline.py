@@ -151,6 +151,12 @@ def test_run_prints_the_metrics_json(run_tvl, learnt, tmp_path):
     replayed = json.loads(run_tvl("replay", trace, "--json").stdout)
     assert replayed["format"] == "tvl-run" and replayed["steps"] == 300
     assert replayed["minutes"] == 0.5  # the run's length, as asked for
+    with h5py.File(trace) as f:
+        driven = f["trajectory"][()]
+    names = ["T3L", "T2L", "T1L", "T0", "T1R", "T2R", "T3R"]
+    per_trajectory = [replayed[f"steps driving {name}"] for name in names]
+    assert per_trajectory == [int((driven == j).sum()) for j in range(7)]
+    assert 0 < sum(per_trajectory) <= 300
 
 
 @pytest.mark.parametrize("method", [["--paper"], ["--reflex", "none"]])

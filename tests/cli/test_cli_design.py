@@ -32,7 +32,7 @@ def test_the_summary_describes_the_file_written(designed: tuple[Path, dict]) -> 
     assert printed["budget_rules"] == 2000 >= printed["rules"]
     assert [t["name"] for t in printed["tables"]] == [t["name"] for t in written["tables"]]
     assert printed["choices"] == written["design"]["choices"]
-    assert [s["config"] for s in printed["heldout"]] == ["inputs", "single", "multi"]
+    assert [s["config"] for s in printed["heldout"]] == ["inputs", "single", "multi", "designed"]
     assert sum(t["rules"] for t in printed["tables"]) == printed["rules"]
 
 

@@ -23,6 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from tvl_cli.core.config import (
+    DESIGNED,
     MULTI,
     PARTITIONS,
     SINGLE,
@@ -81,7 +82,7 @@ class Design:
     train_episodes: int
     heldout_episodes: int
     candidates_scored: int  # candidate tables trained and scored in all
-    scores: tuple[HeldOutScore, ...]  # the chosen configuration, single and multi
+    scores: tuple[HeldOutScore, ...]  # the chosen configuration, then each shipped one
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -173,7 +174,10 @@ def design_inputs(
         len(train),
         len(heldout),
         scored,
-        tuple(heldout_score(c, train, heldout, robot, params) for c in (config, SINGLE, MULTI)),
+        tuple(
+            heldout_score(c, train, heldout, robot, params)
+            for c in (config, SINGLE, MULTI, DESIGNED)
+        ),
     )
 
 

@@ -127,6 +127,11 @@ def _events(trace: RunTrace) -> list[tuple[str, Any]]:
     overridden = trace.arrays["reflex"]
     for index, name in enumerate(trace.reflex_names):
         facts.append((f"steps taken by reflex {name}", int((overridden == index).sum())))
+    # Which trajectories carried the run: a robot that keeps to the sharp arcs is slow
+    # however few things it meets.
+    driven = trace.arrays["trajectory"]
+    for index, trajectory in enumerate(trace.robot_config.get("trajectories", ())):
+        facts.append((f"steps driving {trajectory['name']}", int((driven == index).sum())))
     return facts
 
 
