@@ -126,11 +126,11 @@ def trial_runs(
             goal = world.goals[0] if behaviour == "goal" and world.goals else None
             if behaviour == "goal" and goal is None:
                 continue
-            # Each run starts from what exploring learnt, as `tvl run --learn` from its FAM file.
-            fam = copy.deepcopy(learnt) if learn_while_behaving else learnt
-            learner = (
-                OnlineLearner(fam, robot, train, world.start) if learn_while_behaving else None
-            )
+            fam, learner = learnt, None
+            if learn_while_behaving:
+                # Each run starts from what exploring learnt, as `tvl run --learn` from a file.
+                fam = copy.deepcopy(learnt)
+                learner = OnlineLearner(fam, robot, train, world.start)
             metrics = behave(
                 world,
                 robot,

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from conftest import TVL
 
-from tvl_cli.core.config import EDGE_ECHO_RANGE_M
+from tvl_cli.core.config import EDGE_ECHO_RANGE_M, RobotConfig
 from tvl_cli.io.famfile import read_fam
 from tvl_cli.io.logreader import read_log
 
@@ -153,9 +153,9 @@ def test_run_prints_the_metrics_json(run_tvl, learnt, tmp_path):
     assert replayed["minutes"] == 0.5  # the run's length, as asked for
     with h5py.File(trace) as f:
         driven = f["trajectory"][()]
-    names = ["T3L", "T2L", "T1L", "T0", "T1R", "T2R", "T3R"]
+    names = [t.name for t in RobotConfig().trajectories]
     per_trajectory = [replayed[f"steps driving {name}"] for name in names]
-    assert per_trajectory == [int((driven == j).sum()) for j in range(7)]
+    assert per_trajectory == [int((driven == j).sum()) for j in range(len(names))]
     assert 0 < sum(per_trajectory) <= 300
 
 
