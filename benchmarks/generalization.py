@@ -45,7 +45,13 @@ from tvl_cli.baselines.dwa import run_dwa
 from tvl_cli.commands.learn import resolve_fam_config
 from tvl_cli.core import competence
 from tvl_cli.core.behaviours import DEFAULT_THRESHOLD, is_threshold
-from tvl_cli.core.config import DESIGNED, MULTI, SINGLE, SONAR_MODELS, FamConfig, RobotConfig
+from tvl_cli.core.config import (
+    BUILTIN_FAM_CONFIGS,
+    SINGLE,
+    SONAR_MODELS,
+    FamConfig,
+    RobotConfig,
+)
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
@@ -61,7 +67,7 @@ QUICK_WORLDS, QUICK_TRIALS = 5, 2
 LEARN_MINUTES = 15.0
 RUN_MINUTES = 5.0
 BEHAVIOURS = ("avoid", "wall-left", "wall-right", "goal")
-CONFIGS: dict[str, FamConfig] = {"single": SINGLE, "multi": MULTI, "designed": DESIGNED}
+CONFIGS: dict[str, FamConfig] = BUILTIN_FAM_CONFIGS  # single, multi and designed
 # The targets this benchmark is judged against.
 MIN_COMPETENT_SHARE = 0.9
 MIN_GOAL_SHARE = 0.9

@@ -23,10 +23,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from tvl_cli.core.config import (
-    DESIGNED,
+    BUILTIN_FAM_CONFIGS,
     MULTI,
     PARTITIONS,
-    SINGLE,
     SONAR_COUNT,
     FamConfig,
     FamDesign,
@@ -176,7 +175,7 @@ def design_inputs(
         scored,
         tuple(
             heldout_score(c, train, heldout, robot, params)
-            for c in (config, SINGLE, MULTI, DESIGNED)
+            for c in (config, *BUILTIN_FAM_CONFIGS.values())
         ),
     )
 
