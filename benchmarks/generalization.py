@@ -67,7 +67,6 @@ QUICK_WORLDS, QUICK_TRIALS = 5, 2
 LEARN_MINUTES = 15.0
 RUN_MINUTES = 5.0
 BEHAVIOURS = ("avoid", "wall-left", "wall-right", "goal")
-CONFIGS: dict[str, FamConfig] = BUILTIN_FAM_CONFIGS  # single, multi and designed
 # The targets this benchmark is judged against.
 MIN_COMPETENT_SHARE = 0.9
 MIN_GOAL_SHARE = 0.9
@@ -288,7 +287,7 @@ def main() -> None:
         help="also train this FAM configuration from each log (repeatable)",
     )
     args = parser.parse_args()
-    configs = dict(CONFIGS)
+    configs = dict(BUILTIN_FAM_CONFIGS)  # single, multi and designed, then any --config
     for given in args.config:
         name, _, path = given.partition("=")
         if not name or not path or name in configs:
