@@ -278,3 +278,57 @@ def test_a_large_world_reads_exactly_as_if_every_wall_were_tested(monkeypatch) -
     every = [sonar.read(geometry, tuple(p), np.random.default_rng(5)) for p in poses]
     np.testing.assert_array_equal(near, every)
     assert (np.array(every) < SonarConfig().max_range_m).mean() > 0.5  # walls were heard
+
+
+def _rays_meet_nothing(ring: SonarRing, geometry: StaticGeometry, pose) -> np.ndarray:
+    """(16,) bool: transducers none of whose rays crosses any wall, disc or ring ahead."""
+    origins, directions = ring.rays(pose)
+    far = origins + 10.0 * ring.config.max_range_m * directions
+
+    def cross(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+        return u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
+
+    meets = np.zeros(len(origins), dtype=bool)
+    for x1, y1, x2, y2 in geometry.segments:
+        a, b = np.array([x1, y1]), np.array([x2, y2])
+        # The segment's ends lie on either side of the ray, and the ray's ends on either
+        # side of the segment.
+        ends_apart = cross(far - origins, a - origins) * cross(far - origins, b - origins) <= 0
+        ray_apart = cross(b - a, origins - a) * cross(b - a, far - a) <= 0
+        meets |= ends_apart & ray_apart
+    return ~meets.reshape(16, -1).any(axis=1)
+
+
+def test_a_ray_that_meets_nothing_hears_nothing_outside_the_square() -> None:
+    # Backed into the square's left wall and facing out of the world: the front beams cross
+    # no wall at all, so no wall's corner may echo to them.
+    geometry = static_geometry(load_world("worlds/square.txt"))
+    ring = SonarRing(QUIET, RADIUS)
+    pose = (0.1, 2.0, math.pi)
+    silent = _rays_meet_nothing(ring, geometry, pose)
+    assert silent[[0, 1, 15]].all()
+    readings = ring.read(geometry, pose, np.random.default_rng(0))
+    assert np.all(readings[silent] == QUIET.max_range_m)
+
+
+def test_a_ray_that_meets_nothing_hears_nothing_among_many_blocks() -> None:
+    # A hall of 300 square blocks, read at random poses clear of them: a beam none of whose
+    # rays crosses any wall reads the maximum range, however many walls lie elsewhere.
+    rng = np.random.default_rng(11)
+    blocks = tuple(
+        wall
+        for x, y in rng.uniform(1.0, 39.0, (300, 2))
+        for wall in square_block(float(x), float(y), 0.4)
+    )
+    geometry = static_geometry(room(40, 40, walls=blocks, outline=False))
+    ring = SonarRing(QUIET, RADIUS)
+    silent_beams = 0
+    for x, y, theta in rng.uniform((0, 0, -math.pi), (40, 40, math.pi), (300, 3)):
+        pose = (float(x), float(y), float(theta))
+        if clearance_m(geometry, x, y, RADIUS) <= 0.0:
+            continue
+        silent = _rays_meet_nothing(ring, geometry, pose)
+        readings = ring.read(geometry, pose, rng)
+        silent_beams += int(silent.sum())
+        assert np.all(readings[silent] == QUIET.max_range_m), pose
+    assert silent_beams > 100  # the test looked at many beams that meet nothing

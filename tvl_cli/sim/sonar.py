@@ -180,7 +180,9 @@ class SonarRing:
         # and an edge when it leaves on the other side or no wall meets it there.
         gap = np.abs(s.take(flat)[:, None] - self._corner_ends) * length[:, None]  # (., 2)
         reach = np.maximum(CORNER_MIN_RADIUS_M, self._corner_slope * hit)  # metres
-        near_end = gap <= reach[:, None]  # (16 * rays, 2)
+        # A ray that meets no wall has no wall to judge a corner on: argmin named wall 0
+        # for it, and an infinite reach would make that wall's corners echo.
+        near_end = (gap <= reach[:, None]) & np.isfinite(hit)[:, None]  # (16 * rays, 2)
         side = g.corner_sides.take(k, axis=0) * cross[:, None]  # (16 * rays, 2)
         to_corner = g.seg_ends.take(k, axis=0) - rays.origin_of_ray  # (16 * rays, 2, 2) metres
         corner_m = np.hypot(to_corner[..., 0], to_corner[..., 1])  # (16 * rays, 2) metres
