@@ -37,11 +37,17 @@ from concurrent.futures import ProcessPoolExecutor
 from dataclasses import asdict, replace
 from typing import Any
 
+import numpy as np
+
 from tvl_cli.agent.behave import behave
+from tvl_cli.agent.drive import Step, StepSink
 from tvl_cli.agent.explore import PAPER_NEAR_M, Learner, LearnParams
 from tvl_cli.agent.online import OnlineLearner
 from tvl_cli.agent.reflexes import ALL, parse_reflexes
+from tvl_cli.agent.trace import Columns, TraceRecorder
+from tvl_cli.analysis.autopsy import CAUSES, GOAL_FAILURES, TIME_CLASSES, tally
 from tvl_cli.baselines.dwa import run_dwa
+from tvl_cli.commands.autopsy import run_autopsy
 from tvl_cli.commands.learn import resolve_fam_config
 from tvl_cli.core import competence
 from tvl_cli.core.behaviours import DEFAULT_THRESHOLD, is_threshold
@@ -56,6 +62,14 @@ from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.labels import PAPER_DECEL_MPS2, PAPER_MARGIN_M
+from tvl_cli.core.memory import (
+    DEFAULT_PATCH_M,
+    DEFAULT_RANGE_M,
+    DEFAULT_WINDOW_S,
+    MEMORY_KINDS,
+    NONE,
+    MemoryConfig,
+)
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.core.training import TrainParams, train_episode
 from tvl_cli.sim.worldgen import generate_world
@@ -89,6 +103,7 @@ def learn_and_train(
     explore: LearnParams,
     robot: RobotConfig,
     configs: dict[str, FamConfig],
+    memory: MemoryConfig,
 ) -> dict[str, Fam]:
     """Learn with the single FAM, then train each configuration from the same episodes,
     as `tvl train LOG --config C` does from the learning log."""
@@ -101,6 +116,7 @@ def learn_and_train(
         replace(explore, minutes=LEARN_MINUTES),
         train,
         seed,
+        memory=memory,
     )
     learner.run(episodes.append, lambda _minute: None)
     fams = {}
@@ -122,11 +138,13 @@ def trial_runs(
     robot: RobotConfig,
     threshold: float,
     learn_while_behaving: bool,
+    memory: MemoryConfig,
 ) -> list[dict[str, Any]]:
     """Every behaviour run of one trial in one world, as rows."""
     world = world_of(world_seed)
     rows = []
-    for config, learnt in learn_and_train(world, trial, train, explore, robot, configs).items():
+    fams = learn_and_train(world, trial, train, explore, robot, configs, memory)
+    for config, learnt in fams.items():
         for behaviour in BEHAVIOURS:
             goal = world.goals[0] if behaviour == "goal" and world.goals else None
             if behaviour == "goal" and goal is None:
@@ -135,7 +153,9 @@ def trial_runs(
             if learn_while_behaving:
                 # Each run starts from what exploring learnt, as `tvl run --learn` from a file.
                 fam = copy.deepcopy(learnt)
-                learner = OnlineLearner(fam, robot, train, world.start)
+                learner = OnlineLearner(fam, robot, train, world.start, memory=memory)
+            chunks: list[Columns] = []
+            recorder = TraceRecorder(reflexes, robot.sonar.count, [chunks.append])
             metrics = behave(
                 world,
                 robot,
@@ -146,7 +166,19 @@ def trial_runs(
                 threshold=threshold,
                 goal_xy=goal,
                 reflexes=reflexes,
-                on_step=learner,
+                on_step=_both(recorder, learner),
+                memory=memory,
+            )
+            recorder.close()
+            autopsy = run_autopsy(
+                world,
+                robot,
+                {name: np.concatenate([c[name] for c in chunks]) for name in chunks[0]},
+                reflex_names=reflexes,
+                trajectory_names=tuple(t.name for t in robot.trajectories),
+                table_sonars=configs[config].sonars_read(),
+                goal_xy=goal,
+                goal_reached=metrics.goal_reached,
             )
             rows.append(
                 {
@@ -156,9 +188,22 @@ def trial_runs(
                     "behaviour": behaviour,
                     "competent": is_competent(metrics, behaviour),
                     **asdict(metrics),
+                    "autopsy": autopsy.to_dict(),
                 }
             )
     return rows
+
+
+def _both(recorder: StepSink, learner: StepSink | None) -> StepSink:
+    """The recorder, and the learner of a run that learns while it behaves."""
+    if learner is None:
+        return recorder
+
+    def each(step: Step) -> None:
+        recorder(step)
+        learner(step)
+
+    return each
 
 
 def dwa_run(world_seed: int) -> dict[str, Any]:
@@ -195,8 +240,28 @@ def summarise(
             "contacts_per_min": _mean([r["contacts_per_min"] for r in runs]),
             "avoid_speed_mps": _mean([r["mean_speed_mps"] for r in avoid]),
             "avoid_speed_of_dwa": _mean([r["mean_speed_mps"] for r in avoid]) / dwa_speed,
+            "autopsy": tally(r["autopsy"] for r in runs),
         }
     return summary
+
+
+def autopsy_table(summary: dict[str, Any], configs: dict[str, FamConfig]) -> str:
+    """Where the contacts came from and where the time went, per configuration."""
+    columns = [summary[name]["autopsy"] for name in configs]
+    rows: list[tuple[str, ...]] = []
+    for cause in CAUSES:
+        if any(c["causes"][cause] for c in columns):
+            rows.append((f"contacts: {cause}", *(str(c["causes"][cause]) for c in columns)))
+    for name in TIME_CLASSES:
+        if any(c["time_s"][name] for c in columns):
+            shares = [c["time_s"][name] / (sum(c["time_s"].values()) or 1) for c in columns]
+            rows.append((f"time: {name}", *(f"{s:.0%}" for s in shares)))
+    for reason in GOAL_FAILURES:
+        if any(c["goal_failures"][reason] for c in columns):
+            rows.append(
+                (f"goal missed: {reason}", *(str(c["goal_failures"][reason]) for c in columns))
+            )
+    return _aligned(("autopsy", *configs), rows)
 
 
 def table(summary: dict[str, Any], configs: dict[str, FamConfig]) -> str:
@@ -232,7 +297,11 @@ def table(summary: dict[str, Any], configs: dict[str, FamConfig]) -> str:
             f">= {MIN_SPEED_OF_DWA:.0%}",
         ),
     ]
-    header = ("figure", *configs, "target")
+    return _aligned(("figure", *configs, "target"), rows)
+
+
+def _aligned(header: tuple[str, ...], rows: list[tuple[str, ...]]) -> str:
+    """A header, a rule and the rows, in columns as wide as their widest cell."""
     widths = [max(len(r[i]) for r in [header, *rows]) for i in range(len(header))]
     lines = []
     for r in [header, tuple("-" * w for w in widths), *rows]:
@@ -278,6 +347,13 @@ def main() -> None:
         action="store_true",
         help="the behaviour runs learn while behaving, as `tvl run --learn` does",
     )
+    parser.add_argument(
+        "--memory", choices=MEMORY_KINDS, default=NONE, help="the echo memory throughout"
+    )
+    parser.add_argument("--memory-window", type=float, default=DEFAULT_WINDOW_S, help="seconds")
+    parser.add_argument("--memory-range", type=float, default=DEFAULT_RANGE_M, help="metres")
+    parser.add_argument("--memory-patch", type=float, default=DEFAULT_PATCH_M, help="metres")
+    parser.add_argument("--worlds", type=int, help="only the first N worlds of the set")
     parser.add_argument("--json", action="store_true", help="print the figures as JSON")
     parser.add_argument(
         "--config",
@@ -302,6 +378,9 @@ def main() -> None:
     trials = range(1, args.trials + 1)
     if args.quick:
         world_seeds, trials = world_seeds[:QUICK_WORLDS], range(1, QUICK_TRIALS + 1)
+    if args.worlds:
+        world_seeds = world_seeds[: args.worlds]
+    memory = MemoryConfig(args.memory, args.memory_window, args.memory_range, args.memory_patch)
     train, explore = TrainParams(decel_mps2=args.decel), LearnParams(near_m=args.near)
     if args.paper:
         train = TrainParams(decel_mps2=PAPER_DECEL_MPS2, margin_m=PAPER_MARGIN_M)
@@ -311,7 +390,7 @@ def main() -> None:
     started = time.perf_counter()
     robot = RobotConfig(sonar=SONAR_MODELS[args.sonar])
     jobs = [
-        (w, t, train, explore, reflexes, configs, robot, args.threshold, args.learn)
+        (w, t, train, explore, reflexes, configs, robot, args.threshold, args.learn, memory)
         for w in world_seeds
         for t in trials
     ]
@@ -331,10 +410,12 @@ def main() -> None:
         f"{LEARN_MINUTES:g} min (near {explore.near_m:g} m, decel {train.decel_mps2:g} m/s²), "
         f"runs {RUN_MINUTES:g} min at threshold {args.threshold:g}"
         f"{' learning while behaving' if args.learn else ''}, "
-        f"{args.sonar} sonar, {method} "
+        f"{args.sonar} sonar, memory {memory.kind}, {method} "
         f"({time.perf_counter() - started:.0f} s)"
     )
     print(table(summary, configs))
+    print()
+    print(autopsy_table(summary, configs))
 
 
 if __name__ == "__main__":

@@ -1,4 +1,4 @@
-"""Write the golden version-1 files that tests/io/test_golden.py reads back.
+"""Write the golden files of each format version that tests/io/test_golden.py reads back.
 
     python tests/data/make_golden.py
 
@@ -18,12 +18,16 @@ import numpy as np
 from tvl_cli.core.config import SINGLE, FamConfig, FamInput, FamTable, Partition, RobotConfig
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.memory import NO_MEMORY, MemoryConfig
 from tvl_cli.io.famfile import write_fam
 from tvl_cli.io.logfile import LogWriter
 
 HERE = Path(__file__).parent
 GOLDEN_LOG = HERE / "golden-log-v1.h5"
 GOLDEN_FAM = HERE / "golden-fam-v1.h5"
+# Version 2 of the FAM file adds the echo memory it reads through.
+GOLDEN_FAM_V2 = HERE / "golden-fam-v2.h5"
+MEMORY = {"kind": "patches", "window_s": 12.5, "range_m": 1.75, "patch_m": 0.4}
 
 ROBOT = RobotConfig()
 NAMES = tuple(t.name for t in ROBOT.trajectories)
@@ -128,21 +132,23 @@ def write_log(path: Path) -> None:
                     )
 
 
-def write_golden_fam(path: Path) -> None:
+def write_golden_fam(path: Path, memory: MemoryConfig = NO_MEMORY) -> None:
     velocity, experience = golden_tables()
     fam = Fam.from_tables(TINY, NAMES, [velocity], [experience], INIT_VELOCITY_MPS)
-    write_fam(path, fam, robot_config=ROBOT, provenance=PROVENANCE)
+    write_fam(path, fam, robot_config=ROBOT, provenance=PROVENANCE, memory=memory)
 
 
 def main(argv: list[str]) -> int:
+    """Write the golden files that are missing: those of the current format versions. The
+    older ones were written by the tvl of their version and are kept as they are."""
     force = "--force" in argv
-    for path in (GOLDEN_LOG, GOLDEN_FAM):
+    writers = {GOLDEN_FAM_V2: lambda path: write_golden_fam(path, MemoryConfig(**MEMORY))}
+    for path, write in writers.items():
         if path.exists() and not force:
             print(f"{path}: already exists (golden files are kept; use --force)", file=sys.stderr)
             return 2
         path.unlink(missing_ok=True)
-    write_log(GOLDEN_LOG)
-    write_golden_fam(GOLDEN_FAM)
+        write(path)
     return 0
 
 

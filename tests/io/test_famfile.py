@@ -154,7 +154,7 @@ def test_root_attributes_describe_the_file(tmp_path: Path) -> None:
     path = written(tmp_path / "f.h5", trained(SINGLE))
     with h5py.File(path) as f:
         attrs = f.attrs
-        assert attrs["format"] == "tvl-fam" and attrs["format_version"] == 1
+        assert attrs["format"] == "tvl-fam" and attrs["format_version"] == 2
         assert FamConfig.from_dict(json.loads(attrs["config"])) == SINGLE
         assert Robot.from_dict(json.loads(attrs["robot_config"])) == ROBOT
         assert json.loads(attrs["provenance"]) == PROVENANCE

@@ -1,5 +1,5 @@
-"""Files written by format version 1 stay readable: the committed golden files read back as
-the constants they were made from."""
+"""Files written by every format version stay readable: the committed golden files read back
+as the constants they were made from."""
 
 from __future__ import annotations
 
@@ -11,6 +11,7 @@ import numpy as np
 from log_samples import assert_same_episode
 
 from tvl_cli.core.config import SINGLE
+from tvl_cli.core.memory import NO_MEMORY, MemoryConfig
 from tvl_cli.io.famfile import read_fam
 from tvl_cli.io.logreader import read_log
 
@@ -73,3 +74,16 @@ def test_golden_fam_perceives_a_ring_on_set_centres_as_its_rule() -> None:
     ring[[3, 4]] = 0.3  # left input on its N centre: rule (N, F), flat index 1
     velocity, _ = GOLDEN.golden_tables()
     np.testing.assert_allclose(fam.velocities(ring), velocity[1], rtol=0, atol=1e-12)
+
+
+def test_golden_fam_of_version_1_reads_the_live_ring() -> None:
+    assert read_fam(GOLDEN.GOLDEN_FAM).memory == NO_MEMORY
+
+
+def test_golden_fam_of_version_2_reads_back_its_memory_and_tables() -> None:
+    read = read_fam(GOLDEN.GOLDEN_FAM_V2)
+    assert read.memory == MemoryConfig(**GOLDEN.MEMORY)
+    velocity, experience = GOLDEN.golden_tables()
+    np.testing.assert_array_equal(read.fam.velocity_table(0), velocity)
+    np.testing.assert_array_equal(read.fam.experience_table(0), experience)
+    assert read.provenance == GOLDEN.PROVENANCE

@@ -42,7 +42,7 @@ def refusal(path: Path, expected: str = LOG_FORMAT) -> str:
 def test_header_names_format_version_tool_and_time(tmp_path: Path) -> None:
     with h5py.File(tvl_file(tmp_path / "a.h5", FAM_FORMAT, extra=1)) as f:
         assert f.attrs["format"] == "tvl-fam"
-        assert f.attrs["format_version"] == FORMAT_VERSIONS["tvl-fam"] == 1
+        assert f.attrs["format_version"] == FORMAT_VERSIONS["tvl-fam"] == 2
         assert f.attrs["tvl_version"] == __version__
         assert str(f.attrs["created"]).endswith("+00:00")
 

@@ -6,11 +6,13 @@ from __future__ import annotations
 import numpy as np
 
 from tvl_cli.agent.drive import StepSink, drive
+from tvl_cli.agent.perception import Perception
 from tvl_cli.agent.reflexes import STACK_ORDER, wrap
 from tvl_cli.agent.tvl import TvlPolicy
 from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
 from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.memory import NO_MEMORY, MemoryConfig
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.sim.robot import Simulator
 from tvl_cli.sim.worldmap import WorldMap
@@ -28,8 +30,11 @@ def behave(
     goal_xy: tuple[float, float] | None = None,
     reflexes: tuple[str, ...] = STACK_ORDER,
     on_step: StepSink | None = None,
+    memory: MemoryConfig = NO_MEMORY,
 ) -> RunMetrics:
-    """Perform `behaviour` with a FAM; the simulator's generator is seeded with `seed`."""
+    """Perform `behaviour` with a FAM perceiving through `memory`; the simulator's generator
+    is seeded with `seed`."""
     sim = Simulator(world, robot, np.random.default_rng(seed))
-    policy = wrap(TvlPolicy(fam, robot, behaviour, threshold), reflexes, robot, behaviour)
+    tvl = TvlPolicy(fam, robot, behaviour, threshold, Perception(memory, robot))
+    policy = wrap(tvl, reflexes, robot, behaviour)
     return drive(sim, policy, minutes, goal_xy=goal_xy, on_step=on_step)

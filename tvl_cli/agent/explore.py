@@ -20,6 +20,7 @@ from tvl_cli.agent.novelty import (
     Places,
     random_pair,
 )
+from tvl_cli.agent.perception import Perception
 from tvl_cli.agent.policy import Decision, Observation, Pose
 from tvl_cli.agent.recording import EpisodeRecord
 from tvl_cli.core.command import Command
@@ -27,6 +28,7 @@ from tvl_cli.core.config import RobotConfig, sonars_within
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput, check_minutes
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.memory import NO_MEMORY, MemoryConfig
 from tvl_cli.core.ring import mm_to_ring, ring_to_mm
 from tvl_cli.core.training import TrainParams, train_episode
 from tvl_cli.sim.robot import Simulator
@@ -119,11 +121,15 @@ class ExplorePolicy:
         rng: np.random.Generator,
         true_pose: Callable[[], Pose],
         on_episode: EpisodeSink,
+        perception: Perception | None = None,
     ) -> None:
         self.robot = robot
         self.fam = fam
         self.params = params
         self.rng = rng
+        # What the FAM reads. Only the exemplars' readings are remembered, so that replaying
+        # the log's exemplars (`tvl train`) rebuilds exactly the virtual rings learnt from.
+        self.perception = perception or Perception(NO_MEMORY, robot)
         # The log keeps the true pose for people to draw; no choice is made by it.
         self._true_pose = true_pose
         self._on_episode = on_episode
@@ -162,11 +168,16 @@ class ExplorePolicy:
             if self._queue:
                 return Decision(self._queue.pop(0))
         if following is None:
-            following = self._start(ring_mm, obs.odometry)
+            following = self._start(ring_mm, obs)
             if self._queue:
                 return Decision(self._queue.pop(0))
         record = self._episode
-        record.record(ring_mm, self._true_pose(), obs.odometry)
+        perceived = (
+            self.perception.sense(obs.time_s, obs.odometry, mm_to_ring(ring_mm))
+            if self.perception.remembers
+            else None
+        )
+        record.record(ring_mm, self._true_pose(), obs.odometry, perceived)
         # Odometry-free arc length: the distance commanded; short and exact (paper §4.1).
         record.arc_m += following.command.linear_mps * self.robot.control_period_s
         return following
@@ -200,9 +211,10 @@ class ExplorePolicy:
             self._queue = backoff_commands(self._last_follow, self.robot, self.params.reverse_m)
         return True
 
-    def _start(self, ring_mm: np.ndarray, odometry: Pose) -> Decision:
+    def _start(self, ring_mm: np.ndarray, obs: Observation) -> Decision:
         """Choose a pair, spin to face it, and set off along it."""
-        rotation, trajectory = self.choose(mm_to_ring(ring_mm), odometry)
+        seen = self.perception.peek(obs.time_s, obs.odometry, mm_to_ring(ring_mm))
+        rotation, trajectory = self.choose(seen, obs.odometry)
         self._queue = spin_commands(rotation, self.robot)
         self._episode = EpisodeRecord(trajectory, rotation)
         self._last_follow = Command.follow(
@@ -255,6 +267,7 @@ class Learner:
         train_params: TrainParams,
         seed: int,
         seed_stream: int = 0,
+        memory: MemoryConfig = NO_MEMORY,
     ) -> None:
         # Stream k of a seed is its children 2k and 2k + 1 (what spawn() would hand out
         # next): a log's second session goes on from its first instead of repeating it.
@@ -265,6 +278,7 @@ class Learner:
         self.fam = fam
         self.params = params
         self.train_params = train_params
+        self.memory = memory
         self.sim = Simulator(world, robot, np.random.default_rng(sim_seed))
         self.rng = np.random.default_rng(choice_seed)
 
@@ -308,7 +322,13 @@ class Learner:
             summary.exemplars += episode.exemplar_count
 
         policy = ExplorePolicy(
-            self.robot, self.fam, self.params, self.rng, lambda: self.sim.pose, learnt
+            self.robot,
+            self.fam,
+            self.params,
+            self.rng,
+            lambda: self.sim.pose,
+            learnt,
+            Perception(self.memory, self.robot),
         )
 
         def stop() -> bool:

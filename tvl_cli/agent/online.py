@@ -34,13 +34,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from tvl_cli.agent.drive import Step
+from tvl_cli.agent.perception import Perception
 from tvl_cli.agent.policy import Pose
 from tvl_cli.agent.recording import EpisodeRecord
 from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.contacts import blind_ahead, near_miss_sonars
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.fam import Fam
-from tvl_cli.core.ring import ring_to_mm
+from tvl_cli.core.memory import NO_MEMORY, MemoryConfig
+from tvl_cli.core.ring import mm_to_ring, ring_to_mm
 from tvl_cli.core.training import TrainParams, train_episode
 
 # The sonar returns a stretch's collision point is estimated from: those read from a moment
@@ -169,8 +171,12 @@ class OnlineLearner:
         on_episode: EpisodeSink = lambda episode: None,
         before_s: float = ECHO_BEFORE_S,
         after_s: float = ECHO_AFTER_S,
+        memory: MemoryConfig = NO_MEMORY,
     ) -> None:
         self.fam = fam
+        # The virtual rings the FAM trains on remember the exemplars' readings alone, so
+        # that `tvl train` makes the same of the log's exemplars.
+        self._perception = Perception(memory, robot)
         self.robot = robot
         self.params = params
         self._on_episode = on_episode
@@ -208,7 +214,13 @@ class OnlineLearner:
         if follows and not near:
             stretch = self._stretch or self._begin(decision.trajectory, decision.rotation)
             if ring is not None:
-                stretch.record(ring_to_mm(ring), self._pose, self._odometry)
+                ring_mm = ring_to_mm(ring)
+                perceived = (
+                    self._perception.sense(step.time_s, self._odometry, mm_to_ring(ring_mm))
+                    if self._perception.remembers
+                    else None
+                )
+                stretch.record(ring_mm, self._pose, self._odometry, perceived)
             stretch.arc_m += decision.command.linear_mps * self.robot.control_period_s
             if step.bumped:
                 self._end(step.time_s + self.robot.control_period_s, BUMP, stretch.arc_m)

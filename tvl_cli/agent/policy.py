@@ -75,6 +75,9 @@ class Decision:
     reflex: str = ""  # the reflex that overrode the policy, if one did
     trapped: bool = False  # the policy found nothing fast in any direction
     following_wall: bool = False  # a wall to follow has been found (wall clearance counts)
+    # (16,) metres the choice read of the ring when it was not the live ring itself: the echo
+    # memory's virtual ring; None otherwise.
+    perceived_m: np.ndarray | None = None
 
     def overridden(self, reflex: str, command: Command) -> Decision:
         """This decision with its command replaced by a reflex's."""

@@ -22,13 +22,19 @@ class EpisodeRecord:
     poses: list[Pose] = field(default_factory=list)  # true, for people to draw
     odometry: list[Pose] = field(default_factory=list)
     arcs: list[float] = field(default_factory=list)  # arc_m at each ring
+    perceived: list[np.ndarray] = field(default_factory=list)  # virtual rings, metres
 
-    def record(self, ring_mm: np.ndarray, pose: Pose, odometry: Pose) -> None:
-        """One step's reading, taken where the arc so far has brought the robot."""
+    def record(
+        self, ring_mm: np.ndarray, pose: Pose, odometry: Pose, perceived: np.ndarray | None = None
+    ) -> None:
+        """One step's reading, taken where the arc so far has brought the robot, and the
+        virtual ring the FAM read there if an echo memory made one."""
         self.rings.append(ring_mm)
         self.poses.append(pose)
         self.odometry.append(odometry)
         self.arcs.append(self.arc_m)
+        if perceived is not None:
+            self.perceived.append(perceived)
 
     def episode(
         self,
@@ -52,4 +58,9 @@ class EpisodeRecord:
             bumped=bumped,
             end_arc_m=end_arc_m,
             end_time_s=end_time_s,
+            fam_ring_m=(
+                np.array(self.perceived, dtype=np.float64).reshape(-1, sonars)
+                if self.perceived
+                else None
+            ),
         )

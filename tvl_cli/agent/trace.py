@@ -70,6 +70,13 @@ def step_columns(rows: list[Step], reflex_names: tuple[str, ...], sonars: int) -
     not_read = np.full(sonars, np.nan)
     rings = np.array([s.ring_m if s.ring_m is not None else not_read for s in rows])
     ring_mm = ring_to_mm(np.nan_to_num(rings.reshape(n, sonars), nan=NOT_READ_MM))
+    # What the choice read: the echo memory's virtual ring where it made one, else the ring.
+    perceived = np.array(
+        [
+            s.decision.perceived_m if s.decision.perceived_m is not None else rings[i]
+            for i, s in enumerate(rows)
+        ]
+    ).reshape(n, sonars)
     no_view = np.full(7, np.nan)
     no_fast = np.zeros(7, dtype=bool)
     reflex_index = {name: i for i, name in enumerate(reflex_names)}
@@ -79,6 +86,7 @@ def step_columns(rows: list[Step], reflex_names: tuple[str, ...], sonars: int) -
         "pose": np.array([s.pose for s in rows], dtype=np.float64).reshape(n, 3),
         "odometry": np.array([s.odometry for s in rows], dtype=np.float64).reshape(n, 3),
         "ring_mm": ring_mm,
+        "perceived_mm": ring_to_mm(np.nan_to_num(perceived, nan=NOT_READ_MM)),
         "velocities": np.array(
             [d.velocities if d.velocities is not None else no_view for d in decisions]
         ).reshape(n, 7),

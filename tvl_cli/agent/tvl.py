@@ -10,6 +10,7 @@ import math
 import numpy as np
 
 from tvl_cli.agent.motions import spin_commands
+from tvl_cli.agent.perception import Perception
 from tvl_cli.agent.policy import Decision, Observation
 from tvl_cli.core.angles import wrap_rad
 from tvl_cli.core.behaviours import (
@@ -24,6 +25,7 @@ from tvl_cli.core.behaviours import (
 from tvl_cli.core.command import Command
 from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.memory import NO_MEMORY
 
 # Trapped (nothing fast in any direction): turn slowly on the spot so the ring sees anew.
 TRAPPED_SPIN_RADPS = 0.3
@@ -41,8 +43,18 @@ def goal_bearing(odometry: tuple[float, float, float], goal_xy: tuple[float, flo
 class TvlPolicy:
     """Drives one behaviour from a FAM's perception."""
 
-    def __init__(self, fam: Fam, robot: RobotConfig, behaviour: str, threshold: float) -> None:
+    def __init__(
+        self,
+        fam: Fam,
+        robot: RobotConfig,
+        behaviour: str,
+        threshold: float,
+        perception: Perception | None = None,
+    ) -> None:
         self.fam = fam
+        # Everything the choice reads of the ring, the FAM and the behaviours' rules alike,
+        # is what perception makes of it: the live ring, or the echo memory's virtual ring.
+        self.perception = perception or Perception(NO_MEMORY, robot)
         self.robot = robot
         self.behaviour = behaviour
         self.threshold = threshold
@@ -70,7 +82,8 @@ class TvlPolicy:
     def decide(self, obs: Observation) -> Decision:
         if self._queue:
             return self._queue.pop(0)
-        ring_m = obs.ring_m
+        ring_m = self.perception.sense(obs.time_s, obs.odometry, obs.ring_m)
+        perceived = ring_m if self.perception.remembers else None
         self._latch_wall_side(ring_m)
         velocities, _ = self.fam.perceive(ring_m)  # (16, 7) m/s, row k facing sonar k
         fast = fast_set(velocities, self._v_max, self.threshold)
@@ -90,12 +103,18 @@ class TvlPolicy:
                 fast=fast[0],
                 trapped=became_trapped,
                 following_wall=following,
+                perceived_m=perceived,
             )
         self._trapped = False
-        return self._plan(choice, velocities, fast, following)
+        return self._plan(choice, velocities, fast, following, perceived)
 
     def _plan(
-        self, choice: Choice, velocities: np.ndarray, fast: np.ndarray, following: bool
+        self,
+        choice: Choice,
+        velocities: np.ndarray,
+        fast: np.ndarray,
+        following: bool,
+        perceived: np.ndarray | None,
     ) -> Decision:
         """Spin to face the chosen view, then follow the trajectory: one decision a step."""
         row = choice.rotation % len(velocities)
@@ -107,6 +126,7 @@ class TvlPolicy:
             velocities=velocities[row],
             fast=fast[row],
             following_wall=following,
+            perceived_m=perceived,
         )
         spins = [
             Decision(c, following_wall=following)
@@ -122,6 +142,7 @@ class TvlPolicy:
             velocities=record.velocities,
             fast=record.fast,
             following_wall=following,
+            perceived_m=perceived,
         )
         self._queue = [*spins[1:], record]
         return first

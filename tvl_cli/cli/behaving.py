@@ -15,6 +15,7 @@ from tvl_cli.cli import views
 from tvl_cli.cli.options import (
     SEED,
     live_options,
+    memory_options,
     print_csv,
     print_json,
     reflex_options,
@@ -22,6 +23,7 @@ from tvl_cli.cli.options import (
     refuse_existing,
     refuse_shared_paths,
 )
+from tvl_cli.commands.autopsy import trace_autopsy
 from tvl_cli.commands.demo import run_demo
 from tvl_cli.commands.explain import EVENT_CHOICES, Moment, explain_run
 from tvl_cli.commands.replay import Animation
@@ -36,6 +38,8 @@ from tvl_cli.commands.run import (
 )
 from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD
 from tvl_cli.core.config import SONAR_MODELS, RobotConfig
+from tvl_cli.core.errors import BadInput
+from tvl_cli.core.memory import MemoryChoice
 from tvl_cli.sim.worldmap import load_world
 
 
@@ -80,6 +84,7 @@ from tvl_cli.sim.worldmap import load_world
     help="Learn while behaving: train the FAM on what the run meets and append it to LOG as "
     "a behaving session; without LOG (--learn last, or before another option), in memory.",
 )
+@memory_options(base="the one the FAM was trained through")
 @click.option("--force", is_flag=True, help="Overwrite the --png and --log files.")
 @click.option("--json", "as_json", is_flag=True, help="Print the metrics as JSON.")
 @click.option("--csv", "as_csv", is_flag=True, help="Print the metrics as a CSV row.")
@@ -97,6 +102,7 @@ def run(
     reflexes: tuple[str, ...],
     sonar: str | None,
     learn_log: str | None,
+    memory: MemoryChoice,
     force: bool,
     as_json: bool,
     as_csv: bool,
@@ -130,6 +136,7 @@ def run(
         reflexes,
         sonar,
         learning,
+        memory,
     )
     with _watching(request, live, pace) as watch:
         result = run_behaviour(request, watch)
@@ -251,6 +258,12 @@ def demo(directory: Path, force: bool, as_json: bool) -> None:
     default=None,
     help="The FAM the run used, if it is no longer where the trace says.",
 )
+@click.option(
+    "--contacts",
+    is_flag=True,
+    help="The contact autopsy instead: every contact's cause, where the time went and why "
+    "a goal was missed.",
+)
 @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
 def explain(
     trace: Path,
@@ -259,11 +272,22 @@ def explain(
     event: str | None,
     index: int,
     fam_path: Path | None,
+    contacts: bool,
     as_json: bool,
 ) -> None:
     """Explain one moment of a run trace in the rules of its FAM.
 
-    What the robot read and perceived, what it chose and why."""
+    What the robot read and perceived, what it chose and why; or, with --contacts, why each
+    contact of the run happened."""
+    if contacts:
+        if any(x is not None for x in (step, at_s, event)):
+            raise BadInput("--contacts explains the whole run: give no --step, --at or --event")
+        autopsy = trace_autopsy(trace)
+        if as_json:
+            print_json(autopsy.to_dict())
+        else:
+            views.autopsy(autopsy)
+        return
     found = explain_run(trace, Moment(step, at_s, event, index), fam_path)
     if as_json:
         print_json(found.to_dict())

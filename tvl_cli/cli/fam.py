@@ -11,6 +11,7 @@ from tvl_cli.analysis.rules import SORT_KEYS, parse_ring, select_rules
 from tvl_cli.analysis.surface import velocity_surfaces
 from tvl_cli.cli import views
 from tvl_cli.cli.options import (
+    memory_options,
     print_csv,
     print_json,
     refuse_both_formats,
@@ -22,6 +23,7 @@ from tvl_cli.commands.learn import resolve_fam_config
 from tvl_cli.commands.train import train_from_logs
 from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.errors import BadInput
+from tvl_cli.core.memory import MemoryChoice
 from tvl_cli.core.training import TrainParams
 from tvl_cli.io.famfile import FamFile, read_fam, write_fam
 
@@ -36,6 +38,7 @@ from tvl_cli.io.famfile import FamFile, read_fam, write_fam
     default=None,
     help="Use only the episodes each session finished by this simulated minute.",
 )
+@memory_options(base="the one the logs were learnt through")
 @click.option("--force", is_flag=True, help="Overwrite OUTPUT.")
 @click.option("--json", "as_json", is_flag=True, help="Print a JSON summary.")
 def train(
@@ -44,6 +47,7 @@ def train(
     config: str,
     train_params: TrainParams,
     until_minute: float | None,
+    memory: MemoryChoice,
     force: bool,
     as_json: bool,
 ) -> None:
@@ -52,12 +56,13 @@ def train(
     refuse_existing(output, force)
     fam_config = resolve_fam_config(config, RobotConfig())
     with views.progress("training") as bar:
-        summary = train_from_logs(list(logs), fam_config, train_params, bar, until_minute)
+        summary = train_from_logs(list(logs), fam_config, train_params, bar, until_minute, memory)
     write_fam(
         output,
         summary.fam,
         robot_config=summary.robot,
         provenance=summary.provenance,
+        memory=summary.memory,
         overwrite=force,
     )
     if as_json:

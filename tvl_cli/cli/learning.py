@@ -13,6 +13,7 @@ from tvl_cli.cli import views
 from tvl_cli.cli.options import (
     SEED,
     live_options,
+    memory_options,
     print_json,
     refuse_beside_paper,
     refuse_existing,
@@ -22,6 +23,7 @@ from tvl_cli.cli.options import (
 from tvl_cli.commands.learn import LearnRequest, LearnResult, learn_to_log
 from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
 from tvl_cli.core.config import EDGE_ECHO_RANGE_M, SONAR_MODELS, RobotConfig
+from tvl_cli.core.memory import DEFAULT_MEMORY, MemoryChoice
 from tvl_cli.core.training import TrainParams
 from tvl_cli.sim.worldmap import load_world
 
@@ -88,6 +90,7 @@ DEFAULT_LEARN = LearnParams()
     default=None,
     help="Start a new log from this trained FAM (of the same --config).",
 )
+@memory_options(base=DEFAULT_MEMORY.kind)
 @click.option("--force", is_flag=True, help="Overwrite the --fam file.")
 @click.option("--json", "as_json", is_flag=True, help="Print a JSON summary.")
 @live_options("learning")
@@ -104,6 +107,7 @@ def learn(
     explore: str,
     sonar: str,
     from_fam: Path | None,
+    memory: MemoryChoice,
     force: bool,
     as_json: bool,
     live: bool,
@@ -128,6 +132,7 @@ def learn(
         fam_out,
         sonar=sonar,
         from_fam=from_fam,
+        memory=memory.over(DEFAULT_MEMORY),
     )
     if live and views.out.is_terminal:
         result = _learn_live(request, pace)

@@ -115,10 +115,8 @@ class LiveView:
         lines = [Text(f"t {step.time_s:6.1f} s   view {step.decision.rotation:2d}", style="bold")]
         if self.caption:
             lines.append(Text(self.caption))
-        ring = step.ring_m
-        if ring is not None:  # S0..S7, then S8..S15, in metres
-            lines.append(Text(" ".join(f"{r:.1f}" for r in ring[:8])))
-            lines.append(Text(" ".join(f"{r:.1f}" for r in ring[8:])))
+        if step.ring_m is not None:  # S0..S7, then S8..S15, in metres
+            lines.extend(self._ring(step.ring_m, step.decision.perceived_m))
         lines.extend(self._bars(step))
         acted = step.decision.reflex or ("trapped" if step.decision.trapped else "policy")
         lines.append(Text(f"acting: {acted}  {' '.join(step.events)}"))
@@ -130,6 +128,21 @@ class LiveView:
                 f"{(self.counts[BUMP] + self.counts[NEAR_MISS]) / minutes:.2f} contacts/min"
             )
         )
+        return lines
+
+    @staticmethod
+    def _ring(ring_m: np.ndarray, perceived_m: np.ndarray | None) -> list[Text]:
+        """The readings in two rows; where the echo memory gave the FAM a nearer range than
+        the live reading, that range, in cyan."""
+        lines = []
+        for half in (range(0, 8), range(8, 16)):
+            line = Text()
+            for i in half:
+                remembered = perceived_m is not None and perceived_m[i] < ring_m[i]
+                value = perceived_m[i] if perceived_m is not None and remembered else ring_m[i]
+                line.append(f"{value:.1f}", style="cyan" if remembered else "")
+                line.append(" " if i != half[-1] else "")
+            lines.append(line)
         return lines
 
     def _bars(self, step: Step) -> list[Text]:

@@ -22,6 +22,14 @@ from tvl_cli.core.labels import (
     PAPER_DECEL_MPS2,
     PAPER_MARGIN_M,
 )
+from tvl_cli.core.memory import (
+    DEFAULT_PATCH_M,
+    DEFAULT_RANGE_M,
+    DEFAULT_WINDOW_S,
+    MEMORY_KINDS,
+    NONE,
+    MemoryChoice,
+)
 from tvl_cli.core.training import TrainParams
 from tvl_cli.io.atomic import refuse_non_file
 from tvl_cli.io.table import csv_text
@@ -148,6 +156,67 @@ def reflex_options(default: str) -> Callable[[Callable[..., None]], Callable[...
             help=f"Reflexes beyond the paper, comma-separated: {', '.join(STACK_ORDER)}; "
             "or all, or none.",
         )(with_reflexes)
+
+    return decorate
+
+
+MEMORY_OPTIONS = ("--memory", "--memory-window", "--memory-range", "--memory-patch")
+
+
+def memory_options(base: str) -> Callable[[Callable[..., None]], Callable[..., None]]:
+    """--memory, --memory-window, --memory-range and --memory-patch, given to the command as
+    one `memory` MemoryChoice to apply over `base` (said in the help). The paper's method
+    keeps no memory: with --paper they are refused, and the choice is none."""
+
+    def decorate(command: Callable[..., None]) -> Callable[..., None]:
+        @functools.wraps(command)
+        def with_memory(
+            *args: Any,
+            memory: str | None,
+            memory_window: float | None,
+            memory_range: float | None,
+            memory_patch: float | None,
+            **kwargs: Any,
+        ) -> None:
+            choice = MemoryChoice(memory, memory_window, memory_range, memory_patch)
+            if click.get_current_context().params.get("paper"):
+                refuse_beside_paper(
+                    "--memory", "--memory-window", "--memory-range", "--memory-patch"
+                )
+                choice = MemoryChoice(kind=NONE)
+            command(*args, memory=choice, **kwargs)
+
+        options = (
+            click.option(
+                "--memory",
+                type=click.Choice(MEMORY_KINDS),
+                default=None,
+                help=f"What the FAM reads: the live ring (none), or with echoes remembered as "
+                f"points or patches (default: {base}).",
+            ),
+            click.option(
+                "--memory-window",
+                type=float,
+                default=None,
+                help=f"Seconds of echoes remembered (default {DEFAULT_WINDOW_S:g} with a memory).",
+            ),
+            click.option(
+                "--memory-range",
+                type=float,
+                default=None,
+                help=f"Echoes farther than this are not remembered, m (default "
+                f"{DEFAULT_RANGE_M:g}).",
+            ),
+            click.option(
+                "--memory-patch",
+                type=float,
+                default=None,
+                help=f"Patches are at least this wide, m (default {DEFAULT_PATCH_M:g}).",
+            ),
+        )
+        for option in reversed(options):
+            with_memory = option(with_memory)
+        return with_memory
 
     return decorate
 

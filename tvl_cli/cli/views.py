@@ -14,6 +14,7 @@ from rich.table import Table
 
 from tvl_cli.agent.drive import Step, StepSink
 from tvl_cli.agent.explore import MinuteStats
+from tvl_cli.analysis.autopsy import Autopsy
 from tvl_cli.analysis.famdiff import FamDifference
 from tvl_cli.commands.demo import DemoResult
 from tvl_cli.commands.explain import StepExplanation
@@ -189,8 +190,14 @@ def step_explanation(e: StepExplanation) -> None:
     facts.add_column()
     ring = " ".join(f"{r:.2f}" for r in e.ring_m) if e.ring_m else "not read"
     velocities = " ".join("-" if v is None else f"{v:.2f}" for v in e.velocities_mps)
+    remembered = (
+        [("virtual ring (m), S0..S15", " ".join(f"{r:.2f}" for r in e.perceived_m))]
+        if e.perceived_m
+        else []
+    )
     for label, value in (
         ("ring (m), S0..S15", ring),
+        *remembered,
         ("view (rotation)", str(e.rotation)),
         ("perceived (m/s), T3L..T3R", velocities),
         ("fast set", ", ".join(e.fast) or "none"),
@@ -204,6 +211,38 @@ def step_explanation(e: StepExplanation) -> None:
     if e.why is not None:
         out.print(f"why, for {' and '.join(e.focus) or 'every trajectory'}:")
         explanation(e.why)
+
+
+def autopsy(a: Autopsy) -> None:
+    """The contact autopsy: each contact, the causes counted, the time by class."""
+    contacts = Table(title=f"{len(a.contacts)} contacts")
+    for column in ("time (s)", "event", "cause", "obstacle", "driven", "reflex"):
+        contacts.add_column(column)
+    for c in a.contacts:
+        f = c.facts
+        contacts.add_row(
+            f"{f.time_s:.1f}", f.event, c.cause, f.obstacle, f.trajectory or "-", f.reflex or "-"
+        )
+    out.print(contacts)
+    causes = Table(title="causes")
+    causes.add_column("cause")
+    causes.add_column("contacts", justify="right")
+    for cause, count in a.causes.items():
+        if count:
+            causes.add_row(cause, str(count))
+    out.print(causes)
+    total = sum(a.time_s.values()) or 1.0
+    time = Table(title="where the time went")
+    for column in ("class", "seconds", "share"):
+        time.add_column(column, justify="right" if column != "class" else "left")
+    for name, seconds in a.time_s.items():
+        time.add_row(name, f"{seconds:.1f}", f"{seconds / total:.0%}")
+    out.print(time)
+    if a.goal_failure is not None:
+        out.print(
+            f"goal missed: {a.goal_failure} (came within {a.goal_closest_m:.2f} m of it)",
+            highlight=False,
+        )
 
 
 def explanation(e: Explanation) -> None:

@@ -12,6 +12,7 @@ import numpy as np
 from tvl_cli.core.contacts import BUMP, EVENTS
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.explain import Explanation, restricted
+from tvl_cli.core.memory import MemoryConfig
 from tvl_cli.core.ring import mm_to_ring
 from tvl_cli.io.famfile import read_fam
 from tvl_cli.io.logreader import file_sha256
@@ -37,6 +38,9 @@ class StepExplanation:
     step: int
     time_s: float  # when the step ended, the time `tvl replay` gives its events
     ring_m: list[float] | None  # as read before the step; None if nobody read it
+    # What the FAM read of it where that differs: the echo memory's virtual ring; None if the
+    # run kept no memory (or the ring was not read)
+    perceived_m: list[float] | None
     rotation: int  # the view, in sonar positions counter-clockwise
     velocities_mps: list[float | None]  # perceived in that view; None where none was
     fast: list[str]  # the fast set of that view
@@ -74,15 +78,18 @@ def explain_run(trace_path: Path, moment: Moment, fam_path: Path | None = None) 
     focus = tuple(n for n in names if n in (choice, best))
     why = None
     ring = mm_to_ring(ring_mm)
+    # Version 3 traces keep what the FAM read, which an echo memory makes of the ring.
+    perceived = mm_to_ring(arrays["perceived_mm"][step]) if "perceived_mm" in arrays else ring
     if read:
         # The view of rotation k reads sonar (i + k) mod 16 where view 0 reads sonar i.
-        view = ring.take((np.arange(len(ring)) + rotation) % len(ring))
+        view = perceived.take((np.arange(len(perceived)) + rotation) % len(perceived))
         why = restricted(fam.explain(view), focus or names)
     reflex_index = int(arrays["reflex"][step])
     return StepExplanation(
         step=step,
         time_s=(step + 1) * _period_s(trace),
         ring_m=[float(r) for r in ring] if read else None,
+        perceived_m=([float(r) for r in perceived] if read and _remembers(trace) else None),
         rotation=rotation,
         velocities_mps=[None if math.isnan(v) else float(v) for v in velocities],
         fast=[n for n, fast in zip(names, arrays["fast"][step], strict=True) if fast],
@@ -93,6 +100,11 @@ def explain_run(trace_path: Path, moment: Moment, fam_path: Path | None = None) 
         focus=focus,
         why=why,
     )
+
+
+def _remembers(trace: RunTrace) -> bool:
+    """Whether the run perceived through an echo memory (traces before it: never)."""
+    return MemoryConfig.from_dict(trace.parameters.get("memory") or {}).remembers
 
 
 def _period_s(trace: RunTrace) -> float:

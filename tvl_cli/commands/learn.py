@@ -16,12 +16,13 @@ from typing import Any
 from tvl_cli.agent.drive import StepSink
 from tvl_cli.agent.explore import Learner, LearnParams, LearnSummary, MinuteStats
 from tvl_cli.analysis.coverage import CoverageTracker, Floor, grid_over, reachable_floor
-from tvl_cli.commands.train import distinct_sessions, provenance, train_on
+from tvl_cli.commands.train import distinct_sessions, perceived_episodes, provenance, train_on
 from tvl_cli.core.config import BUILTIN_FAM_CONFIGS, SONAR_MODELS, FamConfig, RobotConfig
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_configs import fam_config_from_json
+from tvl_cli.core.memory import NO_MEMORY, MemoryConfig
 from tvl_cli.core.training import TrainParams
 from tvl_cli.io.famfile import read_fam, write_fam
 from tvl_cli.io.logfile import LogWriter
@@ -59,6 +60,7 @@ class LearnRequest:
     fam_out: Path | None = None
     sonar: str = "real"  # one of SONAR_MODELS
     from_fam: Path | None = None  # start from this trained FAM (a new log only)
+    memory: MemoryConfig = NO_MEMORY  # what the FAM reads through
 
 
 @dataclass(frozen=True, slots=True)
@@ -127,16 +129,24 @@ def learn_to_log(
                 f"{request.log}: already holds sessions; --from-fam starts a new log "
                 "(a log goes on from its own sessions)"
             )
-        fam = _fam_to_start_from(request.from_fam, config, robot)
+        fam = _fam_to_start_from(request.from_fam, config, robot, request.memory)
         started_from = {"path": str(request.from_fam), "sha256": file_sha256(request.from_fam)}
     else:
         fam = Fam(config, [t.name for t in robot.trajectories], request.train.init_velocity_mps)
         if log is not None:
             # A log goes on from what its sessions learnt, trained as `tvl train` would.
             sessions, _ = distinct_sessions([log])
-            train_on(fam, [e for s in sessions for e in s.episodes()], robot, request.train)
+            episodes = [e for s in sessions for e in perceived_episodes(s, request.memory, robot)]
+            train_on(fam, episodes, robot, request.train)
     learner = Learner(
-        world, robot, fam, request.learn, request.train, request.seed, seed_stream=len(earlier)
+        world,
+        robot,
+        fam,
+        request.learn,
+        request.train,
+        request.seed,
+        seed_stream=len(earlier),
+        memory=request.memory,
     )
     started = time.perf_counter()
     parameters = {
@@ -145,6 +155,7 @@ def learn_to_log(
         **request.train.to_dict(),
         "seed_stream": len(earlier),
         "from_fam": started_from or None,
+        "memory": request.memory.to_dict(),
     }
     with (
         LogWriter.open(
@@ -201,13 +212,16 @@ def learn_to_log(
                 "online_session": session,
                 "from_fam": started_from or None,
             },
+            memory=request.memory,
         )
     return LearnResult(
         summary, time.perf_counter() - started, status, minute_coverage, coverage.fraction
     )
 
 
-def _fam_to_start_from(path: Path, config: FamConfig, robot: RobotConfig) -> Fam:
+def _fam_to_start_from(
+    path: Path, config: FamConfig, robot: RobotConfig, memory: MemoryConfig
+) -> Fam:
     """A trained FAM to go on learning into: of this robot and of the configuration asked for."""
     found = read_fam(path)
     if found.robot_config != robot:
@@ -216,5 +230,10 @@ def _fam_to_start_from(path: Path, config: FamConfig, robot: RobotConfig) -> Fam
         raise BadInput(
             f"{path}: FAM has configuration {found.fam.config.name!r}, not {config.name!r} "
             "(give --config to match it)"
+        )
+    if found.memory != memory:
+        raise BadInput(
+            f"{path}: FAM reads through another echo memory ({found.memory.kind}) than this "
+            f"session's ({memory.kind}); give --memory to match it"
         )
     return found.fam

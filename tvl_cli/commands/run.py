@@ -15,6 +15,7 @@ from tvl_cli.agent.trace import ColumnSink, PathRecorder, TraceRecorder
 from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, is_threshold
 from tvl_cli.core.config import SONAR_MODELS, RobotConfig, sonar_model_name
 from tvl_cli.core.errors import BadInput, check_run_minutes
+from tvl_cli.core.memory import NOT_CHOSEN, MemoryChoice, MemoryConfig
 from tvl_cli.core.metrics import MinuteContacts, MinuteTally, RunMetrics
 from tvl_cli.core.training import TrainParams
 from tvl_cli.io.famfile import FamFile, read_fam
@@ -49,6 +50,7 @@ class RunRequest:
     reflexes: tuple[str, ...] = STACK_ORDER
     sonar: str | None = None  # one of SONAR_MODELS; None: the sonar the FAM was learnt with
     learn: OnlineLearning | None = None  # learn while behaving (`--learn`)
+    memory: MemoryChoice = NOT_CHOSEN  # over the memory the FAM was trained through
 
 
 @dataclass(frozen=True, slots=True)
@@ -133,19 +135,22 @@ def run_behaviour(request: RunRequest, watch: StepSink | None = None) -> RunResu
     fam_file = read_fam(request.fam)
     world = load_world(request.world)
     robot = run_robot(fam_file.robot_config, request.sonar, request.fam)
+    memory = request.memory.over(fam_file.memory)
     goal = resolve_goal(request.world, world, request.behaviour, request.goal)
     path = PathRecorder()
     tally = MinuteTally(robot.control_period_s)
     with ExitStack() as outputs:
         learner, session = (
-            _online_learner(request, fam_file, world, robot, goal, outputs)
+            _online_learner(request, fam_file, world, robot, memory, goal, outputs)
             if request.learn is not None
             else (None, None)
         )
         sinks: list[ColumnSink] = [path] if request.png is not None else []
         trace = None
         if request.trace is not None:
-            trace = outputs.enter_context(_trace_output(request, world, robot, goal))
+            trace = outputs.enter_context(
+                _trace_output(request, world, robot, memory, fam_file, goal)
+            )
             sinks.append(trace)
         recorder = TraceRecorder(request.reflexes, robot.sonar.count, sinks)
         on_step = _fan_out(
@@ -162,6 +167,7 @@ def run_behaviour(request: RunRequest, watch: StepSink | None = None) -> RunResu
             goal_xy=goal,
             reflexes=request.reflexes,
             on_step=on_step,
+            memory=memory,
         )
         if learner is not None:
             learner.finish(metrics.sim_s)
@@ -201,7 +207,10 @@ def training_params(fam_file: FamFile, fam_path: Path) -> TrainParams:
 
 
 def _run_parameters(
-    request: RunRequest, robot: RobotConfig, goal: tuple[float, float] | None
+    request: RunRequest,
+    robot: RobotConfig,
+    memory: MemoryConfig,
+    goal: tuple[float, float] | None,
 ) -> dict[str, Any]:
     """The run's parameters, as its trace and a behaving log session keep them."""
     return {
@@ -212,6 +221,7 @@ def _run_parameters(
         "seed": request.seed,
         "reflexes": list(request.reflexes),
         "sonar": sonar_model_name(robot.sonar),
+        "memory": memory.to_dict(),
         "fam": str(request.fam),
         "fam_sha256": file_sha256(request.fam),
     }
@@ -222,6 +232,7 @@ def _online_learner(
     fam_file: FamFile,
     world: WorldMap,
     robot: RobotConfig,
+    memory: MemoryConfig,
     goal: tuple[float, float] | None,
     outputs: ExitStack,
 ) -> tuple[OnlineLearner, str | None]:
@@ -231,7 +242,7 @@ def _online_learner(
     assert request.learn is not None
     params = training_params(fam_file, request.fam)
     if request.learn.log is None:
-        return OnlineLearner(fam_file.fam, robot, params, world.start), None
+        return OnlineLearner(fam_file.fam, robot, params, world.start, memory=memory), None
     writer = outputs.enter_context(
         LogWriter.open(
             request.learn.log,
@@ -239,7 +250,7 @@ def _online_learner(
             world_text=world.text,
             seed=request.seed,
             parameters={
-                **_run_parameters(request, robot, goal),
+                **_run_parameters(request, robot, memory, goal),
                 "config": fam_file.fam.config.name,
                 **params.to_dict(),
                 "echo_before_s": ECHO_BEFORE_S,
@@ -250,12 +261,19 @@ def _online_learner(
             kind=KIND_BEHAVING,
         )
     )
-    learner = OnlineLearner(fam_file.fam, robot, params, world.start, writer.append_episode)
+    learner = OnlineLearner(
+        fam_file.fam, robot, params, world.start, writer.append_episode, memory=memory
+    )
     return learner, writer.session
 
 
 def _trace_output(
-    request: RunRequest, world: WorldMap, robot: RobotConfig, goal: tuple[float, float] | None
+    request: RunRequest,
+    world: WorldMap,
+    robot: RobotConfig,
+    memory: MemoryConfig,
+    fam_file: FamFile,
+    goal: tuple[float, float] | None,
 ) -> AbstractContextManager[RunTraceWriter]:
     """The run trace file, with the run's parameters; the steps follow as the run goes."""
     assert request.trace is not None
@@ -265,7 +283,9 @@ def _trace_output(
         world_name=world.name,
         world_text=world.text,
         parameters={
-            **_run_parameters(request, robot, goal),
+            **_run_parameters(request, robot, memory, goal),
+            # Which sonars each trajectory's table reads, for the contact autopsy.
+            "sonars_read": fam_file.fam.config.sonars_read(),
             # A run that learns drives with a FAM that changes: the file is where it started.
             "learn": None if learning is None else str(learning.log or ""),
         },

@@ -6,17 +6,20 @@ import hashlib
 import math
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from tvl_cli.agent.novelty import explore_rule
+from tvl_cli.agent.perception import replayed_rings
 from tvl_cli.core.config import FamConfig, RobotConfig
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.memory import NO_MEMORY, NOT_CHOSEN, MemoryChoice, MemoryConfig
+from tvl_cli.core.ring import mm_to_ring
 from tvl_cli.core.training import TrainParams, train_episode
 from tvl_cli.io.loglayout import KIND_LEARNING
 from tvl_cli.io.logreader import LearningLog, Session, read_log
@@ -26,6 +29,7 @@ from tvl_cli.io.logreader import LearningLog, Session, read_log
 class TrainSummary:
     fam: Fam
     robot: RobotConfig
+    memory: MemoryConfig  # what the FAM was trained to read through
     provenance: dict[str, Any]
     exemplars: int
     episodes: int
@@ -79,6 +83,65 @@ def distinct_sessions(logs: Sequence[LearningLog]) -> tuple[list[Session], list[
     return kept, repeats
 
 
+def session_memory(session: Session, where: str) -> MemoryConfig:
+    """The echo memory a session was learnt through; none for one that does not say (all
+    sessions written before there was a memory)."""
+    try:
+        return MemoryConfig.from_dict(session.parameters.get("memory") or {})
+    except BadInput as error:
+        raise BadInput(f"{where} session {session.name}: {error}") from None
+
+
+def common_memory(logs: Sequence[LearningLog]) -> MemoryConfig:
+    """The one echo memory all the logs' sessions were learnt through; BadInput if they differ,
+    since one FAM reads through one memory."""
+    found = {
+        (str(log.path), s.name): session_memory(s, str(log.path))
+        for log in logs
+        for s in log.sessions
+    }
+    memories = set(found.values())
+    if len(memories) > 1:
+        raise BadInput(
+            "the sessions were learnt through different echo memories "
+            f"({', '.join(sorted(m.kind for m in memories))}); give --memory to choose one"
+        )
+    return memories.pop() if memories else NO_MEMORY
+
+
+def training_memory(logs: Sequence[LearningLog], choice: MemoryChoice) -> MemoryConfig:
+    """The memory a FAM trained from the logs reads through: the sessions' own, with the
+    settings chosen in their place. Sessions of different memories need --memory."""
+    try:
+        base = common_memory(logs)
+    except BadInput:
+        if choice.kind is None:
+            raise
+        base = NO_MEMORY
+    return choice.over(base)
+
+
+def perceived_episodes(session: Session, memory: MemoryConfig, robot: RobotConfig) -> list[Episode]:
+    """The session's episodes with what the FAM reads at each exemplar through `memory`: the
+    exemplars' readings replayed into the memory in order, as a learner perceived them."""
+    episodes = session.episodes()
+    if not memory.remembers or not episodes:
+        return episodes
+    count = sum(e.exemplar_count for e in episodes)
+    virtual = replayed_rings(
+        memory,
+        robot,
+        np.concatenate([e.steps(robot.control_period_s) for e in episodes]),
+        session.odometry[:count],
+        mm_to_ring(session.ring_mm[:count]),
+    )
+    starts = np.cumsum([0] + [e.exemplar_count for e in episodes])
+    return [
+        replace(episode, fam_ring_m=virtual[start : start + episode.exemplar_count])
+        for episode, start in zip(episodes, starts, strict=False)
+    ]
+
+
 def train_on(
     fam: Fam,
     episodes: Sequence[Episode],
@@ -129,19 +192,23 @@ def train_from_logs(
     params: TrainParams,
     on_progress: Callable[[int, int], None] = lambda done, total: None,
     until_minute: float | None = None,
+    memory: MemoryChoice = NOT_CHOSEN,
 ) -> TrainSummary:
     """Train a new FAM on every episode of every log, in log, session and episode order;
     with `until_minute`, only on the episodes each session finished by then (a snapshot of
-    what the learner knew at that minute)."""
+    what the learner knew at that minute). The FAM reads through the memory the sessions were
+    learnt through, with the settings `memory` gives in their place, its virtual rings
+    replayed from the exemplars."""
     started = time.perf_counter()
     if until_minute is not None and not (math.isfinite(until_minute) and until_minute >= 0):
         raise BadInput(f"--until-minute {until_minute:g} must be a number of minutes >= 0")
     logs = [read_log(path) for path in paths]
     refuse_repeated(logs)
     robot = common_robot(logs)
+    memory_read = training_memory(logs, memory)
     fam = Fam(config, [t.name for t in robot.trajectories], params.init_velocity_mps)
     sessions, repeats = distinct_sessions(logs)
-    episodes = [e for s in sessions for e in s.episodes()]
+    episodes = [e for s in sessions for e in perceived_episodes(s, memory_read, robot)]
     if until_minute is not None:
         episodes = [e for e in episodes if e.end_time_s <= until_minute * 60.0]
     total = train_on(fam, episodes, robot, params, on_progress)
@@ -150,6 +217,7 @@ def train_from_logs(
     return TrainSummary(
         fam=fam,
         robot=robot,
+        memory=memory_read,
         provenance={
             **provenance(logs, params, config),
             "until_minute": until_minute,

@@ -269,6 +269,14 @@ class FamConfig:
     def rule_count(self) -> int:
         return sum(t.rule_count for t in self.tables)
 
+    def sonars_read(self) -> dict[str, tuple[int, ...]]:
+        """Trajectory name -> the sonars its table reads, facing ahead, in ring order."""
+        return {
+            name: tuple(sorted({s for i in table.inputs for s in i.sonars}))
+            for table in self.tables
+            for name in table.trajectories
+        }
+
     def to_dict(self) -> dict[str, Any]:
         data = asdict(self)
         if self.design is None:

@@ -13,7 +13,6 @@ from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS, Fam
 from tvl_cli.core.labels import DEFAULT_DECEL_MPS2, DEFAULT_MARGIN_M, velocity_labels
-from tvl_cli.core.ring import mm_to_ring
 
 
 @dataclass(frozen=True, slots=True)
@@ -50,7 +49,8 @@ def episode_labels(episode: Episode, robot: RobotConfig, params: TrainParams) ->
 
 
 def train_episode(fam: Fam, episode: Episode, robot: RobotConfig, params: TrainParams) -> None:
-    """Train on one whole episode, on exactly the ring values the log keeps."""
+    """Train on one whole episode, on exactly the ring values the log keeps (or the virtual
+    rings the echo memory made of them)."""
     labels = episode_labels(episode, robot, params)
     trajectories = np.full(len(labels), episode.trajectory)
-    fam.train(mm_to_ring(episode.ring_mm), trajectories, labels, symmetric=params.symmetric)
+    fam.train(episode.fam_rings(), trajectories, labels, symmetric=params.symmetric)

@@ -18,6 +18,7 @@ from gymnasium import spaces
 
 from tvl_cli.agent.drive import GOAL_RADIUS_M
 from tvl_cli.agent.motions import BACKOFF_M, backoff_commands
+from tvl_cli.agent.perception import Perception
 from tvl_cli.agent.tvl import goal_bearing
 from tvl_cli.baselines.qlearning import DEFAULT_Q, step_reward
 from tvl_cli.core.behaviours import is_threshold
@@ -25,6 +26,7 @@ from tvl_cli.core.command import STOP, Command
 from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.contacts import EventDetector, drives_forward, near_miss_sonars
 from tvl_cli.core.errors import BadInput
+from tvl_cli.core.memory import NO_MEMORY, MemoryConfig
 from tvl_cli.sim.robot import Pose, Simulator
 from tvl_cli.sim.worldgen import bundled_world_path
 from tvl_cli.sim.worldmap import WorldMap, check_goal, load_world
@@ -74,10 +76,13 @@ class SonarRingEnv(gymnasium.Env[np.ndarray, np.int64]):
         *,
         goal: tuple[float, float] | None = None,
         speed_fraction: float = 1.0,
+        memory: MemoryConfig | str = NO_MEMORY,
         render_mode: str | None = None,
     ) -> None:
         """`goal` (x, y metres) for the `goal` task, by default the world's first;
-        `speed_fraction` of each trajectory's maximum speed is what its action drives at."""
+        `speed_fraction` of each trajectory's maximum speed is what its action drives at;
+        `memory` (a MemoryConfig, or the name of a kind with its default settings) makes the
+        observed ring the echo memory's virtual ring, as a FAM trained through it reads."""
         if task not in TASKS:
             raise ValueError(f"unknown task {task!r} (choose from {', '.join(TASKS)})")
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
@@ -85,6 +90,10 @@ class SonarRingEnv(gymnasium.Env[np.ndarray, np.int64]):
         if not is_threshold(speed_fraction):
             raise ValueError(f"speed_fraction {speed_fraction!r} is outside (0, 1]")
         self.world = resolve_world(world)
+        try:
+            self.memory = memory if isinstance(memory, MemoryConfig) else MemoryConfig(memory)
+        except BadInput as problem:
+            raise ValueError(str(problem)) from None
         self.task = task
         self.goal_xy = self._goal(goal)
         self.render_mode = render_mode
@@ -106,6 +115,8 @@ class SonarRingEnv(gymnasium.Env[np.ndarray, np.int64]):
         )
         self._sim: Simulator | None = None
         self._ring = np.empty(SONARS)  # (16,) metres read after the last step
+        self._perceived = self._ring  # (16,) metres observed: the ring, or the virtual ring
+        self._perception = Perception(self.memory, ROBOT)
         self._events = EventDetector(near_miss_sonars(SONARS), ROBOT.sonar.min_range_m)
         self._last: tuple[int, float, tuple[str, ...]] | None = None  # action, reward, events
         self._trail: list[tuple[float, float]] = []  # true positions this episode, metres
@@ -147,8 +158,10 @@ class SonarRingEnv(gymnasium.Env[np.ndarray, np.int64]):
                     sim.step(command)
         else:
             sim = self._sim = Simulator(self.world, ROBOT, self.np_random)
+            # A robot going on remembers what it heard; one starting afresh has heard nothing.
+            self._perception = Perception(self.memory, ROBOT)
         self._events = EventDetector(near_miss_sonars(SONARS), ROBOT.sonar.min_range_m)
-        self._ring = sim.read_sonar()
+        self._sense(sim)
         self._last = None
         self._trail = [sim.pose[:2]]
         return self._observation(sim), self._info(sim, ())
@@ -161,7 +174,7 @@ class SonarRingEnv(gymnasium.Env[np.ndarray, np.int64]):
         before = sim.odometry
         ring_before = self._ring
         sim.step(command)
-        self._ring = sim.read_sonar()
+        self._sense(sim)
         events = self._events.step(ring_before, command, sim.bumped, False)
         if self.goal_xy is None:
             reward = step_reward(before, sim.odometry, sim.bumped)
@@ -189,18 +202,24 @@ class SonarRingEnv(gymnasium.Env[np.ndarray, np.int64]):
             raise gymnasium.error.ResetNeeded("call reset() before step() or render()")
         return self._sim
 
+    def _sense(self, sim: Simulator) -> None:
+        """Read the ring where the robot is, and what perception makes of it."""
+        self._ring = sim.read_sonar()
+        self._perceived = self._perception.sense(sim.time_s, sim.odometry, self._ring)
+
     def _goal_m(self, odometry: Pose) -> float:
         assert self.goal_xy is not None
         return math.dist(odometry[:2], self.goal_xy)
 
     def _observation(self, sim: Simulator) -> np.ndarray:
-        """(16,) float32 metres, S0 forward, CCW; seeking a goal (18,): then its bearing
-        (radians, left positive) and distance (metres), both by odometry."""
+        """(16,) float32 metres, S0 forward, CCW (the echo memory's virtual ring with a
+        memory); seeking a goal (18,): then its bearing (radians, left positive) and distance
+        (metres), both by odometry."""
         if self.goal_xy is None:
-            return self._ring.astype(np.float32)
+            return self._perceived.astype(np.float32)
         bearing = goal_bearing(sim.odometry, self.goal_xy)
         distance = min(self._goal_m(sim.odometry), self._far_m)
-        return np.array([*self._ring, bearing, distance], dtype=np.float32)
+        return np.array([*self._perceived, bearing, distance], dtype=np.float32)
 
     def _info(self, sim: Simulator, events: tuple[str, ...]) -> dict[str, Any]:
         """The truth beside the observation: simulated time, true pose and odometry (x, y

@@ -3,7 +3,9 @@
 Layout:
 
     /                 format, format_version, tvl_version, created, config (FamConfig JSON),
-                      robot_config (JSON), init_velocity_mps, trajectories, provenance (JSON)
+                      robot_config (JSON), init_velocity_mps, trajectories, provenance (JSON),
+                      memory (JSON: the echo memory it was trained to read through; a file
+                      without it reads the live ring)
     /fams/<table>     one group per FAM table, e.g. /fams/all or /fams/T1L
         velocity      table.shape + (trajectories,) float64 m/s, one axis per input
         experience    the same shape, unitless (summed rule firing strengths, eq. 1)
@@ -27,6 +29,7 @@ import numpy as np
 from tvl_cli.core.config import FamConfig, FamTable, RobotConfig
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.memory import NO_MEMORY, MemoryConfig
 from tvl_cli.io.schema import (
     FAM_FORMAT,
     FormatError,
@@ -52,6 +55,7 @@ class FamFile:
     provenance: dict[str, Any]
     tvl_version: str
     created: str  # UTC ISO 8601
+    memory: MemoryConfig = NO_MEMORY  # what it perceives through: a run's default
 
 
 def write_fam(
@@ -60,6 +64,7 @@ def write_fam(
     *,
     robot_config: RobotConfig,
     provenance: dict[str, Any],
+    memory: MemoryConfig = NO_MEMORY,
     overwrite: bool = True,
 ) -> None:
     """Write `fam` to `path` atomically: a failure leaves any existing file untouched, and
@@ -78,6 +83,7 @@ def write_fam(
             config=fam.config.to_dict(),
             robot_config=robot_config.to_dict(),
             provenance=provenance,
+            memory=memory.to_dict(),
         )
         f.attrs["init_velocity_mps"] = fam.init_velocity_mps
         f.attrs["trajectories"] = list(names)
@@ -193,4 +199,9 @@ def _read(f: h5py.File, path: Path) -> FamFile:
         provenance=read_json_attr(f, "provenance", path),
         tvl_version=read_str_attr(f, "tvl_version", path),
         created=read_str_attr(f, "created", path),
+        memory=(
+            MemoryConfig.from_dict(read_json_attr(f, "memory", path))
+            if "memory" in f.attrs
+            else NO_MEMORY
+        ),
     )

@@ -1,16 +1,19 @@
 """The run trace (`tvl-run`): every control step of one behaviour run, why it was taken,
 and the run's metrics.
 
-Layout (format_version 2; version 1 had only pose, odometry, ring_mm, velocities,
-trajectory, speed_mps and bumped, with velocities facing forward, and is still read):
+Layout (format_version 3; version 2 had no perceived_mm, version 1 only pose, odometry,
+ring_mm, velocities, trajectory, speed_mps and bumped, with velocities facing forward; both
+are still read):
 
     /             format, format_version, tvl_version, created, world_name, world_text,
-                  parameters (JSON: behaviour, threshold, minutes, goal, seed, reflexes, FAM
-                  file and its SHA-256), robot_config (JSON), metrics (JSON: what
-                  `tvl run --json` prints)
+                  parameters (JSON: behaviour, threshold, minutes, goal, seed, reflexes, sonar,
+                  echo memory, FAM file and its SHA-256, the sonars each trajectory's table
+                  reads), robot_config (JSON), metrics (JSON: what `tvl run --json` prints)
     pose          (N, 3) float64  true x, y (m), theta (rad) after each step
     odometry      (N, 3) float64  odometry x, y (m), theta (rad) after each step
     ring_mm       (N, 16) uint16  sonar ranges read before the step, mm; 0 if not read
+    perceived_mm  (N, 16) uint16  what the choice read of them: the echo memory's virtual ring
+                                  where it made one, else ring_mm
     velocities    (N, 7) float64  perceived m/s of the 7 trajectories in the view used; NaN
     fast          (N, 7) bool     the fast set of that view
     rotation      (N,) int8       the view: sonar positions CCW the choice was made facing
@@ -68,6 +71,11 @@ _DECISION_DATASETS: dict[str, tuple[str, str]] = {
     "reflex": ("", "the reflex that overrode the policy (index into `names`); -1 none"),
     "events": ("", "events the step began, one bit each (bit i is `bits`[i])"),
 }
+# What the choice read of the ring, added in format_version 3.
+_PERCEPTION_DATASETS: dict[str, tuple[str, str]] = {
+    "perceived_mm": ("mm", "what the choice read of the ring: the echo memory's virtual ring"),
+}
+_OPTIONAL_DATASETS = {**_DECISION_DATASETS, **_PERCEPTION_DATASETS}
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -123,7 +131,7 @@ class RunTraceWriter:
 
     def _create(self, columns: dict[str, np.ndarray]) -> None:
         """Resizable datasets shaped and typed like the first columns."""
-        for name, (units, description) in {**_DATASETS, **_DECISION_DATASETS}.items():
+        for name, (units, description) in {**_DATASETS, **_OPTIONAL_DATASETS}.items():
             values = columns[name]
             dataset = self._datasets[name] = self._file.create_dataset(
                 name,
@@ -179,7 +187,7 @@ def read_run(path: Path | str) -> RunTrace:
         missing = [name for name in _DATASETS if name not in f]
         if missing:
             raise FormatError(f"{path}: run trace has no {', '.join(missing)} dataset")
-        names = [*_DATASETS, *(n for n in _DECISION_DATASETS if n in f)]
+        names = [*_DATASETS, *(n for n in _OPTIONAL_DATASETS if n in f)]
         try:
             arrays = {name: f[name][()] for name in names}
             reflex_names = (
@@ -203,7 +211,14 @@ def read_run(path: Path | str) -> RunTrace:
 
 
 # Datasets with a row per step rather than a value: their rows' shapes, when fixed.
-_ROWS = {"pose": (3,), "odometry": (3,), "ring_mm": None, "velocities": None, "fast": None}
+_ROWS = {
+    "pose": (3,),
+    "odometry": (3,),
+    "ring_mm": None,
+    "perceived_mm": None,
+    "velocities": None,
+    "fast": None,
+}
 
 
 def _check_shapes(arrays: dict[str, np.ndarray], path: Path | str) -> None:

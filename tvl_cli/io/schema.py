@@ -27,7 +27,9 @@ FAM_FORMAT = "tvl-fam"
 RUN_FORMAT = "tvl-run"
 
 # The newest version of each format this tvl writes and reads.
-FORMAT_VERSIONS: dict[str, int] = {LOG_FORMAT: 1, FAM_FORMAT: 1, RUN_FORMAT: 2}
+# A FAM file of version 2 records the echo memory it reads through, which a reader of
+# version 1 would silently run without; a run trace of version 3 records what the FAM read.
+FORMAT_VERSIONS: dict[str, int] = {LOG_FORMAT: 1, FAM_FORMAT: 2, RUN_FORMAT: 3}
 
 # HDF5 1.8 object headers: readable by any HDF5 library since 2008, and they allow attributes
 # over 64 KiB (a large world map's text) in dense storage.

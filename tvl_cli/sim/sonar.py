@@ -96,33 +96,60 @@ class SonarRing:
         Noise is drawn from rng (16 normal draws a reading) unless the ring is ideal.
         """
         cfg = self.config
+        echo, _ = self._echoes(geometry, pose)
+        nearest = echo.reshape(cfg.count, -1).min(axis=1)  # (16,) metres; inf: no echo
+        heard = nearest <= cfg.max_range_m
+        if not cfg.ideal:
+            sigma = cfg.noise_sigma_m + cfg.noise_fraction * np.where(heard, nearest, 0.0)
+            nearest = nearest + sigma * rng.standard_normal(cfg.count)
+        measured = np.minimum(np.maximum(nearest, cfg.min_range_m), cfg.max_range_m)
+        return np.where(heard, measured, cfg.max_range_m)
+
+    def echo_sources(
+        self, geometry: StaticGeometry, pose: tuple[float, float, float]
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Ground truth for a reading at `pose`, without noise: each transducer's nearest echo
+        (16,) metres (inf: none within range) and the obstacle it came from (16,), as
+        `StaticGeometry.element_of` numbers them (-1: none)."""
+        echo, source = self._echoes(geometry, pose)
+        per_beam = echo.reshape(self.config.count, -1)  # (16, rays) metres
+        ray = per_beam.argmin(axis=1)  # (16,) the ray of each beam's nearest echo
+        nearest = per_beam[np.arange(self.config.count), ray]
+        heard = nearest <= self.config.max_range_m
+        element = source.reshape(self.config.count, -1)[np.arange(self.config.count), ray]
+        return np.where(heard, nearest, np.inf), np.where(heard, element, -1)
+
+    def _echoes(
+        self, geometry: StaticGeometry, pose: tuple[float, float, float]
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Every ray's echo (16 * rays,) metres (inf: none) and the obstacle it came from,
+        numbered as `StaticGeometry.element_of` numbers them (-1 for a ray that meets none)."""
         rays = self._world_rays(pose)
         # A pillar's echo comes from its nearest point, up to a diameter nearer than where a
         # ray meets it: a wall in front of that meeting point still decides the echo.
         pillar_m = 2.0 * geometry.max_disc_radius_m
-        geometry = geometry.segments_near(pose[0], pose[1], self._wall_reach_m + pillar_m)
+        near = geometry.segments_near(pose[0], pose[1], self._wall_reach_m + pillar_m)
         with np.errstate(divide="ignore", invalid="ignore"):
-            found = []  # (hit, echo) pairs, each (16 * rays,) metres
-            if len(geometry.seg_len):
-                found.append(self._segments(geometry, rays))
-            if len(geometry.discs):
-                found.append(self._circles(geometry.discs, rays, 0.0, solid=True))
-            if len(geometry.rings):
-                found.append(self._circles(geometry.rings, rays, geometry.roughness, solid=False))
-            if not found:
-                return np.full(cfg.count, cfg.max_range_m)
-            hit, echo = found[0]
-            for other_hit, other_echo in found[1:]:
-                # Where a ray meets this kind of surface first, its echo is this surface's.
-                echo = np.where(other_hit < hit, other_echo, echo)
-                hit = np.minimum(hit, other_hit)
-            nearest = echo.reshape(cfg.count, -1).min(axis=1)  # (16,) metres; inf: no echo
-            heard = nearest <= cfg.max_range_m
-            if not cfg.ideal:
-                sigma = cfg.noise_sigma_m + cfg.noise_fraction * nearest
-                nearest = nearest + sigma * rng.standard_normal(cfg.count)
-            measured = np.minimum(np.maximum(nearest, cfg.min_range_m), cfg.max_range_m)
-        return np.where(heard, measured, cfg.max_range_m)
+            found = []  # (hit, echo, source) triples, each (16 * rays,)
+            if len(near.seg_len):
+                hit, echo, k = self._segments(near, rays)
+                found.append((hit, echo, near.segment_ids.take(k)))
+            if len(near.discs):
+                hit, echo, k = self._circles(near.discs, rays, 0.0, solid=True)
+                found.append((hit, echo, geometry.element_of("disc", k)))
+            if len(near.rings):
+                hit, echo, k = self._circles(near.rings, rays, near.roughness, solid=False)
+                found.append((hit, echo, geometry.element_of("ring", k)))
+        if not found:
+            return np.full(self._rays, np.inf), np.full(self._rays, -1)
+        hit, echo, source = found[0]
+        for other_hit, other_echo, other_source in found[1:]:
+            # Where a ray meets this kind of surface first, its echo is this surface's.
+            first = other_hit < hit
+            echo = np.where(first, other_echo, echo)
+            source = np.where(first, other_source, source)
+            hit = np.minimum(hit, other_hit)
+        return echo, np.where(np.isfinite(hit), source, -1)
 
     def rays(self, pose: tuple[float, float, float]) -> tuple[np.ndarray, np.ndarray]:
         """Every ray's origin (16 * rays, 2) metres and unit direction (16 * rays, 2), beam by
@@ -156,8 +183,11 @@ class SonarRing:
         flat = self._ray_index * n + t.argmin(axis=1)  # (16 * rays,)
         return flat, t.take(flat)
 
-    def _segments(self, g: StaticGeometry, rays: _Rays) -> tuple[np.ndarray, np.ndarray]:
-        """(hit, echo) metres for every ray against its nearest wall segment."""
+    def _segments(
+        self, g: StaticGeometry, rays: _Rays
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(hit, echo) metres for every ray against its nearest wall segment, and the
+        segment's index in g."""
         # Ray O + tD meets segment A + sE where t = cross(A-O, E) / cross(D, E) and
         # s = cross(A-O, D) / cross(D, E); |cross(D, E)| / |E| is the cosine of incidence.
         # Each cross product splits into a matrix product and a per-ray or per-wall term.
@@ -168,9 +198,9 @@ class SonarRing:
         t = (t_num[:, None, :] / denom.reshape(count, -1, n)).reshape(self._rays, n)  # metres
         s = s_num / denom  # (16 * rays, n) fraction along each segment
         flat, hit = self._first(t, (t > -self._behind_m) & (s >= 0.0) & (s <= 1.0))
-        if self.config.ideal:
-            return hit, hit
         k = flat % n  # (16 * rays,) the wall each ray meets first
+        if self.config.ideal:
+            return hit, hit, k
         cross = denom.take(flat)
         length = g.seg_len.take(k)
         cos_incidence = np.abs(cross) / length
@@ -191,13 +221,13 @@ class SonarRing:
         if g.roughness > 0.0:
             diffuse_m = self.config.max_range_m * np.sqrt(g.roughness * cos_incidence)
             corner = np.minimum(corner, np.where(hit <= diffuse_m, hit, np.inf))
-        return hit, np.where(specular, hit, corner)
+        return hit, np.where(specular, hit, corner), k
 
     def _circles(
         self, circles: np.ndarray, rays: _Rays, roughness: float, solid: bool
-    ) -> tuple[np.ndarray, np.ndarray]:
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(hit, echo) metres for every ray against its nearest disc (solid) or ring wall of
-        the given roughness (a disc always echoes)."""
+        the given roughness (a disc always echoes), and the circle's index."""
         # |O + tD - C| = r at t = b -/+ h: b = D.(C - O) is where the ray passes nearest the
         # centre, at a distance q = cross(C - O, D), and h = sqrt(r^2 - q^2). A disc is met at
         # the near root, a ring (seen from inside) at the far one; at the hit point the cosine
@@ -210,18 +240,19 @@ class SonarRing:
         root = np.sqrt(radius * radius - q * q)  # (16 * rays, m) metres; nan where rays miss
         t = b - root if solid else b + root  # (16 * rays, m) metres
         flat, hit = self._first(t, t > -self._behind_m)
+        k = flat % m  # (16 * rays,) the circle each ray meets first
         if self.config.ideal:
-            return hit, hit
+            return hit, hit, k
         if solid:
             # A round pillar always turns part of its surface square to the transducer: when
             # any ray of the cone meets it, the echo returns from that nearest point of it.
-            nearest = np.hypot(b.take(flat), q.take(flat)) - radius.take(flat % m)
-            return hit, np.where(np.isfinite(hit), nearest, np.inf)
-        cos_incidence = root.take(flat) / radius.take(flat % m)
+            nearest = np.hypot(b.take(flat), q.take(flat)) - radius.take(k)
+            return hit, np.where(np.isfinite(hit), nearest, np.inf), k
+        cos_incidence = root.take(flat) / radius.take(k)
         heard = (cos_incidence >= self._cos_specular) | (hit <= 0.0)
         if roughness > 0.0:
             heard |= hit <= self.config.max_range_m * np.sqrt(roughness * cos_incidence)
-        return hit, np.where(heard, hit, np.inf)
+        return hit, np.where(heard, hit, np.inf), k
 
 
 @dataclass(frozen=True, slots=True, eq=False)

@@ -60,10 +60,26 @@ class StaticGeometry:
     corner_sides: np.ndarray
     max_disc_radius_m: float  # 0 without discs
     roughness: float  # the world's, 0 to 1: how much sound its walls scatter diffusely
+    segment_ids: np.ndarray  # (n,) each segment's index in the whole world's segments
+    segment_total: int  # segments in the whole world (segments_near keeps some of them)
     # segments_near's last answer, by tile and reach: a robot stays in a tile for many steps.
     _near: dict[tuple[int, int, float], StaticGeometry] = field(
         default_factory=dict, repr=False, compare=False
     )
+
+    def element_of(self, kind: str, index: np.ndarray) -> np.ndarray:
+        """Every obstacle of the world numbered once: its segments first (in the world's
+        order), then its discs, then its ring walls. `kind` is "segment", "disc" or "ring"."""
+        offset = {"segment": 0, "disc": self.segment_total, "ring": self.segment_total}[kind]
+        if kind == "ring":
+            offset += len(self.discs)
+        return np.asarray(index) + offset
+
+    def element_kind(self, element: int) -> str:
+        """ "segment", "disc" or "ring": what element_of numbered `element`."""
+        if element < self.segment_total:
+            return "segment"
+        return "disc" if element < self.segment_total + len(self.discs) else "ring"
 
     def segments_near(self, x: float, y: float, reach_m: float) -> StaticGeometry:
         """This geometry keeping only the wall segments that may pass within `reach_m` of
@@ -100,6 +116,7 @@ def _some_segments(geometry: StaticGeometry, keep: np.ndarray) -> StaticGeometry
         seg_moment=geometry.seg_moment[keep],
         seg_ends=geometry.seg_ends[keep],
         corner_sides=geometry.corner_sides[keep],
+        segment_ids=geometry.segment_ids[keep],
         _near={},
     )
 
@@ -123,6 +140,8 @@ def static_geometry(world: WorldMap) -> StaticGeometry:
         corner_sides=_corner_sides(segments),
         max_disc_radius_m=float(discs[:, 2].max(initial=0.0)),
         roughness=world.roughness,
+        segment_ids=np.arange(len(segments)),
+        segment_total=len(segments),
     )
 
 
@@ -166,28 +185,45 @@ def _corner_sides(segments: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(sides.reshape(2, n).T)  # (n, 2) [start, end]
 
 
-def clearances_m(geometry: StaticGeometry, points: np.ndarray, body_radius_m: float) -> np.ndarray:
-    """(p,) metres from the edge of a body centred at each of points (p, 2) to the nearest
-    obstacle; 0 where the body touches or overlaps one, inf in a world with no obstacles."""
+def _element_gaps(geometry: StaticGeometry, points: np.ndarray) -> list[np.ndarray]:
+    """Metres from each of points (p, 2) to each segment (p, n), disc (p, m) and ring wall
+    (p, k), for the kinds the world has, in element_of's order."""
     px = points[:, 0:1]  # (p, 1) metres
     py = points[:, 1:2]
-    nearest = np.full(len(points), np.inf)  # (p,) metres from the centre
+    gaps = []
     if len(geometry.seg_len):
         # Closest point on each segment: the projection clamped to the segment.
         (sx, sy), (ex, ey) = geometry.seg_start, geometry.seg_delta
         rx, ry = px - sx, py - sy  # (p, n) metres
         along = np.clip((rx * ex + ry * ey) / geometry.seg_len**2, 0.0, 1.0)
-        gap = np.hypot(rx - along * ex, ry - along * ey)
-        nearest = np.minimum(nearest, gap.min(axis=1))
+        gaps.append(np.hypot(rx - along * ex, ry - along * ey))
     if len(geometry.discs):
         cx, cy, r = geometry.discs.T
-        gap = np.hypot(px - cx, py - cy) - r  # (p, m)
-        nearest = np.minimum(nearest, gap.min(axis=1))
+        gaps.append(np.hypot(px - cx, py - cy) - r)  # (p, m)
     if len(geometry.rings):
         cx, cy, r = geometry.rings.T
-        gap = r - np.hypot(px - cx, py - cy)  # (p, k)
+        gaps.append(r - np.hypot(px - cx, py - cy))  # (p, k)
+    return gaps
+
+
+def clearances_m(geometry: StaticGeometry, points: np.ndarray, body_radius_m: float) -> np.ndarray:
+    """(p,) metres from the edge of a body centred at each of points (p, 2) to the nearest
+    obstacle; 0 where the body touches or overlaps one, inf in a world with no obstacles."""
+    nearest = np.full(len(points), np.inf)  # (p,) metres from the centre
+    for gap in _element_gaps(geometry, points):
         nearest = np.minimum(nearest, gap.min(axis=1))
     return np.maximum(nearest - body_radius_m, 0.0)
+
+
+def nearest_element(geometry: StaticGeometry, x: float, y: float) -> tuple[int, float]:
+    """The obstacle nearest (x, y), as StaticGeometry.element_of numbers it, and its distance
+    in metres; (-1, inf) in a world with none."""
+    gaps = _element_gaps(geometry, np.array([[x, y]]))
+    if not gaps:
+        return -1, math.inf
+    every = np.concatenate([gap[0] for gap in gaps])  # (elements,) metres
+    element = int(every.argmin())
+    return element, float(every[element])
 
 
 def clearance_m(geometry: StaticGeometry, x: float, y: float, body_radius_m: float) -> float:

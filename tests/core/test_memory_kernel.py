@@ -1,0 +1,38 @@
+"""The echo memory's compiled cast agrees with its numpy reference on random memories."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.kernels.memory import remembered_ranges, remembered_ranges_reference
+from tvl_cli.core.memory import PATCHES, POINTS
+from tvl_cli.sim.sonar import SonarRing
+
+ROBOT = RobotConfig()
+RING = SonarRing(ROBOT.sonar, ROBOT.radius_m)
+HALF_CONE = math.radians(ROBOT.sonar.cone_deg) / 2.0
+
+
+@pytest.mark.parametrize("kind", [POINTS, PATCHES])
+def test_the_kernel_casts_as_the_reference_does(kind: str) -> None:
+    rng = np.random.default_rng(5)
+    met = 0
+    for _ in range(150):
+        origins, directions = RING.rays(tuple(rng.uniform((-1, -1, -4), (1, 1, 4))))
+        echoes = int(rng.integers(0, 400))
+        centres = rng.uniform(-3.0, 3.0, (echoes, 2))  # metres
+        axes = rng.normal(size=(echoes, 2))
+        axes /= np.linalg.norm(axes, axis=1)[:, None]
+        half_widths = rng.uniform(0.05, 0.5, echoes)  # metres
+        heard = rng.integers(0, 100, echoes)  # steps
+        args = (kind, origins, directions, ROBOT.sonar.rays_per_beam, HALF_CONE)
+        memory = (centres, axes, half_widths, heard, 50)
+        compiled = remembered_ranges(*args, *memory)
+        reference = remembered_ranges_reference(*args, *memory)
+        np.testing.assert_allclose(compiled, reference, rtol=0, atol=1e-12)
+        met += int(np.isfinite(reference).sum())
+    assert met > 500  # most casts met something: the comparison was not of empty memories

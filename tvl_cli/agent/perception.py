@@ -1,0 +1,130 @@
+"""What the FAM reads: the live ring, or the virtual ring of the echo memory (core.memory).
+
+The memory is fed the readings the robot perceives with, each at the odometry pose and the
+control step it was read at, and answers for any later pose. It knows nothing of the true
+pose or the map. Steps are counted, not timed, so that replaying a log's exemplars rebuilds
+exactly the virtual rings a learner perceived.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+
+from tvl_cli.agent.policy import Pose
+from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.memory import MemoryConfig
+from tvl_cli.sim.sonar import SonarRing
+
+
+class EchoMemory:
+    """The echoes of the last `config.window_s`, in the odometry frame."""
+
+    def __init__(self, config: MemoryConfig, robot: RobotConfig) -> None:
+        # The compiled cast is loaded with the first memory, so that a command's help, or a
+        # run without a memory, never loads the compiler.
+        from tvl_cli.core.kernels.memory import remembered_ranges
+
+        self._cast = remembered_ranges
+        self.config = config
+        sonar = robot.sonar
+        self._sonar = sonar
+        self._ring = SonarRing(sonar, robot.radius_m)
+        self._window_steps = max(1, round(config.window_s / robot.control_period_s))
+        capacity = self._window_steps * sonar.count
+        self._centres = np.zeros((capacity, 2))  # (C, 2) echo points, metres
+        self._axes = np.zeros((capacity, 2))  # (C, 2) unit beam axes they were heard along
+        self._half_widths = np.zeros(capacity)  # (C,) metres
+        self._steps = np.full(capacity, -(2**62), dtype=np.int64)  # (C,) step heard; old
+        self._next = 0
+        self._half_cone = math.radians(sonar.cone_deg) / 2.0
+        self._rays = sonar.rays_per_beam
+        self._middle = self._rays // 2
+
+    def remember(self, step: int, odometry: Pose, ring_m: np.ndarray) -> None:
+        """Keep the echoes of a reading taken at `odometry` on control step `step`."""
+        heard = np.flatnonzero((ring_m < self._sonar.max_range_m) & (ring_m <= self.config.range_m))
+        origins, directions = self._ring.rays(odometry)
+        axis_rows = heard * self._rays + self._middle
+        axes = directions[axis_rows]  # (h, 2)
+        ranges = ring_m[heard]  # (h,) metres
+        slots = (self._next + np.arange(len(heard))) % len(self._steps)
+        self._next = (self._next + len(heard)) % len(self._steps)
+        self._centres[slots] = origins[axis_rows] + ranges[:, None] * axes
+        self._axes[slots] = axes
+        beam_half_m = ranges * math.tan(self._half_cone)
+        self._half_widths[slots] = np.maximum(self.config.patch_m / 2.0, beam_half_m)
+        self._steps[slots] = step
+
+    def virtual(self, step: int, odometry: Pose, ring_m: np.ndarray) -> np.ndarray:
+        """(16,) metres: each sonar's live range or the nearest remembered surface in its
+        cone from `odometry`, whichever is nearer."""
+        origins, directions = self._ring.rays(odometry)
+        remembered = self._cast(
+            self.config.kind,
+            origins,
+            directions,
+            self._rays,
+            self._half_cone,
+            self._centres,
+            self._axes,
+            self._half_widths,
+            self._steps,
+            step - self._window_steps + 1,
+        )
+        sonar = self._sonar
+        return np.minimum(ring_m, np.clip(remembered, sonar.min_range_m, sonar.max_range_m))
+
+    def sense(self, step: int, odometry: Pose, ring_m: np.ndarray) -> np.ndarray:
+        """Remember a reading, then the virtual ring it makes."""
+        self.remember(step, odometry, ring_m)
+        return self.virtual(step, odometry, ring_m)
+
+
+class Perception:
+    """The stage between the ring and the FAM: the live ring itself without a memory."""
+
+    def __init__(self, config: MemoryConfig, robot: RobotConfig) -> None:
+        self.config = config
+        self._dt_s = robot.control_period_s
+        self._memory = EchoMemory(config, robot) if config.remembers else None
+
+    @property
+    def remembers(self) -> bool:
+        return self._memory is not None
+
+    def step_of(self, time_s: float) -> int:
+        return round(time_s / self._dt_s)
+
+    def sense(self, time_s: float, odometry: Pose, ring_m: np.ndarray) -> np.ndarray:
+        """(16,) metres the FAM reads, remembering this reading."""
+        if self._memory is None:
+            return ring_m
+        return self._memory.sense(self.step_of(time_s), odometry, ring_m)
+
+    def peek(self, time_s: float, odometry: Pose, ring_m: np.ndarray) -> np.ndarray:
+        """(16,) metres the FAM reads, without remembering this reading."""
+        if self._memory is None:
+            return ring_m
+        return self._memory.virtual(self.step_of(time_s), odometry, ring_m)
+
+
+def replayed_rings(
+    config: MemoryConfig,
+    robot: RobotConfig,
+    steps: Sequence[int] | np.ndarray,
+    odometry: np.ndarray,
+    rings_m: np.ndarray,
+) -> np.ndarray:
+    """(N, 16) metres: the virtual rings of readings (N, 16) taken in order at `odometry`
+    (N, 3) on control `steps` (N,), each remembered before its own is made, as a learner
+    perceived them."""
+    if not config.remembers:
+        return rings_m
+    memory = EchoMemory(config, robot)
+    virtual = np.empty_like(rings_m)
+    for i, (step, pose, ring) in enumerate(zip(steps, odometry, rings_m, strict=True)):
+        virtual[i] = memory.sense(int(step), (pose[0], pose[1], pose[2]), ring)
+    return virtual

@@ -1,0 +1,202 @@
+"""The contact autopsy: why each contact of a run happened, and where the run's time went.
+
+A contact (a collision or a near miss, core.contacts) gets one cause, the first that fits:
+- `reflex`: a reflex was driving when it began (backing off has no sonar behind);
+- `spin`: the robot was turning on the spot;
+- `unheard-slant`, `unheard-edge`, `unheard-pillar`, `unheard-ring`: no beam heard the obstacle
+  beyond the ring's blind zone in the last AUDIBLE_S seconds (at most as it touched): a smooth
+  wall met at a slant, a convex edge (a block's corner, a thin wall's end), a pillar or a
+  ring wall the beams missed. The sensor's limit;
+- `not-given`: it was heard, but what the FAM read at the choices of the last RATING_S seconds
+  never held it where the chosen trajectory's table reads (no echo memory, or it had been
+  forgotten);
+- `blind-zone`: the FAM read it, but only inside the blind zone, where the ring cannot tell
+  near from touching;
+- `rated-fast`: the FAM read it beyond the blind zone, and still rated the way fast enough to
+  drive into it: what was learnt is at fault;
+- `other`: none of these.
+
+The facts come from the simulator's ground truth (commands.autopsy); the rules are here.
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+from collections.abc import Iterable
+from dataclasses import asdict, dataclass, field
+from typing import Any
+
+import numpy as np
+
+from tvl_cli.core.contacts import TRAPPED, steps_beginning
+
+# How far back a contact's obstacle is looked for among the echoes: the "last few seconds"
+# in which the robot could have heard what it was about to meet.
+AUDIBLE_S = 5.0
+# The choices that should have rated a contact's way slow: a trajectory stays fast (at the
+# default threshold and labels) until its collision point is 0.6 m (T3) to 1.6 m (T0) ahead,
+# two to three seconds at the speeds it is driven at.
+RATING_S = 2.0
+
+REFLEX, SPINNING = "reflex", "spin"
+UNHEARD = "unheard"
+BLIND_ZONE, NOT_GIVEN, RATED_FAST, OTHER = "blind-zone", "not-given", "rated-fast", "other"
+# Obstacle shapes an unheard contact is told apart by.
+SLANT, EDGE, PILLAR, RING = "slant", "edge", "pillar", "ring"
+CAUSES = (
+    REFLEX,
+    SPINNING,
+    *(f"{UNHEARD}-{shape}" for shape in (SLANT, EDGE, PILLAR, RING)),
+    NOT_GIVEN,
+    BLIND_ZONE,
+    RATED_FAST,
+    OTHER,
+)
+
+# Where the time of a run went, one class a control step.
+DRIVE_FAST, DRIVE_MEDIUM, DRIVE_SLOW = "drive >= 0.3 m/s", "drive 0.2-0.3 m/s", "drive < 0.2 m/s"
+TIME_CLASSES = (DRIVE_FAST, DRIVE_MEDIUM, DRIVE_SLOW, "spin", "trapped", "backoff", "stopped")
+# The speed competence asks of a run (core.competence) splits the driving.
+FAST_DRIVE_MPS = 0.3
+MEDIUM_DRIVE_MPS = 0.2
+
+# Why a goal run ended without its goal.
+DRIFT, TRAPPED_GOAL, STALLED, WANDERED = "drift", "trapped", "stalled", "wandered"
+GOAL_FAILURES = (DRIFT, TRAPPED_GOAL, STALLED, WANDERED)
+# A run that moved less than this in its last minute, net, was stalled (at a doorway, say).
+STALLED_M = 0.5
+STALLED_WINDOW_S = 60.0
+
+
+@dataclass(frozen=True, slots=True)
+class ContactFacts:
+    """What the ground truth says of one contact."""
+
+    step: int  # the step it began on (a near miss: its approach's first step)
+    time_s: float  # simulated seconds at the end of that step
+    event: str  # core.contacts BUMP or NEAR_MISS
+    obstacle: str  # SLANT (a wall's face), EDGE, PILLAR or RING
+    driver: str  # "policy", REFLEX or SPINNING: what was driving when it began
+    reflex: str | None  # the reflex, when one was driving
+    trajectory: str | None  # the trajectory being driven, if one was
+    heard: bool  # a beam heard it beyond the blind zone in the AUDIBLE_S before
+    given: bool  # what the FAM read at a choice in the RATING_S before held it
+    given_beyond_blind_zone: bool  # ... farther than the blind zone
+
+
+def cause_of(facts: ContactFacts) -> str:
+    """The first cause that fits, in CAUSES order."""
+    if facts.driver == REFLEX:
+        return REFLEX
+    if facts.driver == SPINNING:
+        return SPINNING
+    if not facts.heard:
+        return f"{UNHEARD}-{facts.obstacle}"
+    if not facts.given:
+        return NOT_GIVEN
+    if not facts.given_beyond_blind_zone:
+        return BLIND_ZONE
+    if facts.driver == "policy":
+        return RATED_FAST
+    return OTHER
+
+
+@dataclass(frozen=True, slots=True)
+class Contact:
+    facts: ContactFacts
+    cause: str
+
+    def to_dict(self) -> dict[str, Any]:
+        return {**asdict(self.facts), "cause": self.cause}
+
+
+@dataclass(frozen=True, slots=True)
+class Autopsy:
+    """One run: its contacts with their causes, its time by class, and for a goal run that
+    missed its goal, why."""
+
+    contacts: tuple[Contact, ...]
+    time_s: dict[str, float]  # TIME_CLASSES -> simulated seconds
+    goal_failure: str | None = None  # one of GOAL_FAILURES; None if no goal was missed
+    goal_closest_m: float | None = None  # the truth's closest approach to the goal
+    causes: dict[str, int] = field(init=False)
+
+    def __post_init__(self) -> None:
+        counted = Counter(c.cause for c in self.contacts)
+        object.__setattr__(self, "causes", {cause: counted[cause] for cause in CAUSES})
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "contacts": [c.to_dict() for c in self.contacts],
+            "causes": dict(self.causes),
+            "time_s": dict(self.time_s),
+            "goal_failure": self.goal_failure,
+            "goal_closest_m": self.goal_closest_m,
+        }
+
+
+def time_by_class(
+    speed_mps: np.ndarray, turn_radps: np.ndarray, events: np.ndarray, dt_s: float
+) -> dict[str, float]:
+    """Simulated seconds of each TIME_CLASSES class, from the commands of each step (N,) and
+    the event bits (N,) each began. A spin is trapped from the step a trapped event began
+    until the robot stops spinning."""
+    spinning = (speed_mps == 0.0) & (turn_radps != 0.0)
+    trapped = np.zeros(len(speed_mps), dtype=bool)
+    starts = set(steps_beginning(events, TRAPPED).tolist())
+    inside = False
+    for i in range(len(speed_mps)):
+        inside = (inside or i in starts) and bool(spinning[i])
+        trapped[i] = inside
+    forward = speed_mps > 0.0
+    steps = {
+        DRIVE_FAST: forward & (speed_mps >= FAST_DRIVE_MPS),
+        DRIVE_MEDIUM: forward & (speed_mps >= MEDIUM_DRIVE_MPS) & (speed_mps < FAST_DRIVE_MPS),
+        DRIVE_SLOW: forward & (speed_mps < MEDIUM_DRIVE_MPS),
+        "spin": spinning & ~trapped,
+        "trapped": trapped,
+        "backoff": speed_mps < 0.0,
+        "stopped": (speed_mps == 0.0) & (turn_radps == 0.0),
+    }
+    return {name: float(mask.sum()) * dt_s for name, mask in steps.items()}
+
+
+def goal_failure(
+    true_xy: np.ndarray,
+    goal_xy: tuple[float, float],
+    goal_radius_m: float,
+    time_s: dict[str, float],
+    dt_s: float,
+) -> tuple[str, float]:
+    """Why a goal run that ran out of time missed its goal, from its true path (N, 2) metres,
+    and the truth's closest approach to the goal (m)."""
+    distance = np.hypot(true_xy[:, 0] - goal_xy[0], true_xy[:, 1] - goal_xy[1])  # (N,) m
+    closest = float(distance.min()) if len(distance) else float("inf")
+    total = sum(time_s.values())
+    last = true_xy[-max(1, round(STALLED_WINDOW_S / dt_s)) :]
+    moved = float(np.hypot(*(last[-1] - last[0]))) if len(last) else 0.0
+    if closest <= goal_radius_m:
+        return DRIFT, closest  # it was there, but odometry placed it elsewhere
+    if total and (time_s["trapped"] + time_s["spin"]) >= 0.5 * total:
+        return TRAPPED_GOAL, closest
+    if moved < STALLED_M:
+        return STALLED, closest
+    return WANDERED, closest
+
+
+def tally(autopsies: Iterable[dict[str, Any]]) -> dict[str, Any]:
+    """Autopsies (as `Autopsy.to_dict` gives them) summed: contacts by cause, seconds by
+    time class, goal failures by reason."""
+    causes: Counter[str] = Counter()
+    time_s: Counter[str] = Counter()
+    failures: Counter[str] = Counter()
+    for autopsy in autopsies:
+        causes.update(autopsy["causes"])
+        time_s.update(autopsy["time_s"])
+        if autopsy["goal_failure"] is not None:
+            failures[autopsy["goal_failure"]] += 1
+    return {
+        "causes": {cause: causes[cause] for cause in CAUSES},
+        "time_s": {name: time_s[name] for name in TIME_CLASSES},
+        "goal_failures": {reason: failures[reason] for reason in GOAL_FAILURES},
+    }

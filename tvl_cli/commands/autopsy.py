@@ -1,0 +1,261 @@
+"""`tvl explain RUN --contacts`: the contact autopsy of a run, from the simulator's truth.
+
+The run's steps (a trace file's datasets, or the same columns recorded in memory) and its
+world give each contact the facts analysis.autopsy judges it by: which obstacle it met, what
+shape of it, whether any beam heard that obstacle in the seconds before, whether what the
+FAM read held it, and what was driving.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from tvl_cli.agent.drive import GOAL_RADIUS_M
+from tvl_cli.agent.trace import Columns
+from tvl_cli.analysis.autopsy import (
+    AUDIBLE_S,
+    EDGE,
+    PILLAR,
+    RATING_S,
+    REFLEX,
+    RING,
+    SLANT,
+    SPINNING,
+    Autopsy,
+    Contact,
+    ContactFacts,
+    cause_of,
+    goal_failure,
+    time_by_class,
+)
+from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.contacts import BUMP, NEAR_MISS, near_miss_sonars, steps_beginning
+from tvl_cli.core.errors import BadInput
+from tvl_cli.core.ring import mm_to_ring
+from tvl_cli.io.runfile import read_run
+from tvl_cli.sim.sonar import SonarRing
+from tvl_cli.sim.world import StaticGeometry, nearest_element, static_geometry
+from tvl_cli.sim.worldmap import WorldMap, parse_world
+
+# A contact this near a wall's end meets the end itself: a convex edge or a free end.
+EDGE_REACH_M = 0.05
+
+
+# What the FAM read holds an obstacle when a beam it reads ranged the obstacle no farther than
+# this beyond where it truly is in that beam: about the noise and the ring's minimum range.
+GIVEN_TOLERANCE_M = 0.15
+
+
+class _Hearing:
+    """Which obstacle each beam heard at each step, cast again from the true poses with the
+    run's sonar model (or, `ideal`, the nearest obstacle in each beam at any angle)."""
+
+    def __init__(
+        self,
+        geometry: StaticGeometry,
+        robot: RobotConfig,
+        poses_before: np.ndarray,
+        ideal: bool = False,
+    ) -> None:
+        self.geometry = geometry
+        self.poses = poses_before  # (N, 3) true pose each reading was taken at
+        sonar = replace(robot.sonar, ideal=True) if ideal else robot.sonar
+        self._ring = SonarRing(sonar, robot.radius_m)
+        self._cache: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+
+    def at(self, step: int) -> tuple[np.ndarray, np.ndarray]:
+        """(16,) metres and (16,) obstacles the beams heard before `step`."""
+        if step not in self._cache:
+            x, y, theta = self.poses[step]
+            self._cache[step] = self._ring.echo_sources(self.geometry, (x, y, theta))
+        return self._cache[step]
+
+
+def run_autopsy(
+    world: WorldMap,
+    robot: RobotConfig,
+    columns: Columns,
+    *,
+    reflex_names: tuple[str, ...],
+    trajectory_names: tuple[str, ...],
+    table_sonars: dict[str, tuple[int, ...]] | None,
+    goal_xy: tuple[float, float] | None,
+    goal_reached: bool,
+) -> Autopsy:
+    """The autopsy of a run from its steps' columns (agent.trace names them).
+
+    `table_sonars` names, for each trajectory, the sonars its FAM table reads (facing ahead);
+    None counts every sonar as read.
+    """
+    dt = robot.control_period_s
+    pose = columns["pose"]  # (N, 3) true pose after each step
+    steps = len(pose)
+    poses_before = np.vstack([np.array(world.start)[None, :], pose[:-1]])  # (N, 3)
+    read = np.asarray(columns["ring_mm"].any(axis=1))  # (N,) the ring was read before the step
+    ring_m = mm_to_ring(columns["ring_mm"])  # (N, 16) metres
+    geometry = static_geometry(world)
+    hearing = _Hearing(geometry, robot, poses_before)
+    truth = _Hearing(geometry, robot, poses_before, ideal=True)
+    fam_read = mm_to_ring(columns.get("perceived_mm", columns["ring_mm"]))  # (N, 16) metres
+    every = tuple(range(robot.sonar.count))
+    sonars_of = {
+        j: (table_sonars or {}).get(name, every) for j, name in enumerate(trajectory_names)
+    }
+    min_range = robot.sonar.min_range_m
+    near_sonars = near_miss_sonars(robot.sonar.count)
+    blind = read & np.asarray((ring_m[:, near_sonars] <= min_range).any(axis=1))  # (N,)
+    window = max(1, round(AUDIBLE_S / dt))
+    rating = max(1, round(RATING_S / dt))
+    decided = read & (columns["choice"] >= 0)  # (N,) steps the policy chose, seeing the ring
+
+    contacts = []
+    found = [(int(s), BUMP) for s in steps_beginning(columns["events"], BUMP)]
+    found += [(int(s), NEAR_MISS) for s in steps_beginning(columns["events"], NEAR_MISS)]
+    for event_step, event in sorted(found):
+        if event == BUMP:
+            # It began on the step that closed the bump sensor, touching where it ended: that
+            # step's command drove into it.
+            began, where = event_step, pose[event_step]
+            moved = began
+            obstacle, _ = nearest_element(geometry, where[0], where[1])
+        else:
+            # Counted when the approach ended; it began at the approach's first blind reading,
+            # taken after the step before it drove there (the step of the reading itself is
+            # already the reflexes' answer to it).
+            began = event_step
+            while began > 0 and blind[began - 1]:
+                began -= 1
+            began = min(began, steps - 1)
+            moved = max(began - 1, 0)
+            where = poses_before[began]
+            obstacle = _blind_obstacle(hearing, began, ring_m[began], near_sonars)
+        if obstacle < 0:
+            continue  # nothing there to have met
+        heard = False
+        for step in range(max(0, began - window + 1), began + 1):
+            if read[step]:
+                ranges, sources = hearing.at(step)
+                heard |= bool(((sources == obstacle) & (ranges > min_range)).any())
+        # The choices that led to it: those of the seconds before, up to its beginning.
+        first_choice = max(0, moved - rating + 1)
+        choices = np.flatnonzero(decided[first_choice : moved + 1]) + first_choice
+        held_m = _held_at(truth, choices, fam_read, columns, obstacle, sonars_of)
+        facts = ContactFacts(
+            step=began,
+            time_s=(began + 1) * dt,
+            event=event,
+            obstacle=_shape(geometry, obstacle, where),
+            **_driver(columns, moved, reflex_names, trajectory_names),
+            heard=heard,
+            given=held_m is not None,
+            given_beyond_blind_zone=held_m is not None and held_m > min_range,
+        )
+        contacts.append(Contact(facts, cause_of(facts)))
+    time_s = time_by_class(columns["speed_mps"], columns["turn_radps"], columns["events"], dt)
+    failure, closest = None, None
+    if goal_xy is not None and not goal_reached:
+        failure, closest = goal_failure(pose[:, :2], goal_xy, GOAL_RADIUS_M, time_s, dt)
+    return Autopsy(tuple(contacts), time_s, failure, closest)
+
+
+def _blind_obstacle(
+    hearing: _Hearing, step: int, ring_m: np.ndarray, near_sonars: np.ndarray
+) -> int:
+    """The obstacle inside the blind zone ahead at `step`: the one the nearest front beam
+    heard, else (a beam that heard it only through noise) the one nearest the body."""
+    _, sources = hearing.at(step)
+    beam = near_sonars[int(np.argmin(ring_m[near_sonars]))]
+    if sources[beam] >= 0:
+        return int(sources[beam])
+    x, y, _ = hearing.poses[step]
+    return nearest_element(hearing.geometry, x, y)[0]
+
+
+def _shape(geometry: StaticGeometry, element: int, where: np.ndarray) -> str:
+    """SLANT, EDGE, PILLAR or RING: what of the obstacle a body centred at `where` meets."""
+    kind = geometry.element_kind(element)
+    if kind == "disc":
+        return PILLAR
+    if kind == "ring":
+        return RING
+    x1, y1, x2, y2 = geometry.segments[element]
+    dx, dy = x2 - x1, y2 - y1
+    length = math.hypot(dx, dy)
+    along = ((where[0] - x1) * dx + (where[1] - y1) * dy) / length  # metres from the start
+    side = math.copysign(1.0, dx * (where[1] - y1) - dy * (where[0] - x1))
+    for end, at_m in ((0, 0.0), (1, length)):
+        at_end = abs(along - at_m) <= EDGE_REACH_M or (along < 0.0 if end == 0 else along > length)
+        # Where the other wall at this end leaves on the robot's side the corner is concave,
+        # and echoes from anywhere in a beam; else it is a convex edge or a free end.
+        if at_end and geometry.corner_sides[element, end] != side:
+            return EDGE
+    return SLANT
+
+
+def _driver(
+    columns: Columns, step: int, reflex_names: tuple[str, ...], names: tuple[str, ...]
+) -> dict[str, Any]:
+    reflex = int(columns["reflex"][step])
+    speed, turn = float(columns["speed_mps"][step]), float(columns["turn_radps"][step])
+    trajectory = int(columns["trajectory"][step])
+    if reflex >= 0:
+        return {"driver": REFLEX, "reflex": reflex_names[reflex], "trajectory": None}
+    if speed == 0.0 and turn != 0.0:
+        return {"driver": SPINNING, "reflex": None, "trajectory": None}
+    return {
+        "driver": "policy",
+        "reflex": None,
+        "trajectory": names[trajectory] if trajectory >= 0 else None,
+    }
+
+
+def _held_at(
+    truth: _Hearing,
+    choices: np.ndarray,
+    fam_read: np.ndarray,
+    columns: Columns,
+    obstacle: int,
+    sonars_of: dict[int, tuple[int, ...]],
+) -> float | None:
+    """The farthest range at which what the FAM read at the `choices` (steps) held the
+    obstacle; None if it never did. It is held in a beam that the chosen trajectory's table
+    reads (in the view chosen in) where the obstacle is the nearest thing, when the ring the
+    FAM read ranged it no farther than it truly is."""
+    farthest = None
+    for step in choices:
+        ranges, sources = truth.at(int(step))
+        rotation = int(columns["rotation"][step])
+        read = (np.array(sonars_of[int(columns["choice"][step])]) + rotation) % len(ranges)
+        held = (sources[read] == obstacle) & (
+            fam_read[step, read] <= ranges[read] + GIVEN_TOLERANCE_M
+        )
+        if held.any():
+            at_m = float(fam_read[step, read[held]].min())
+            farthest = at_m if farthest is None else max(farthest, at_m)
+    return farthest
+
+
+def trace_autopsy(path: Path) -> Autopsy:
+    """The autopsy of a run trace file."""
+    trace = read_run(path)
+    if not trace.has_decisions:
+        raise BadInput(f"{path}: a format_version 1 trace records no events to explain")
+    parameters = trace.parameters
+    robot = RobotConfig.from_dict(trace.robot_config)
+    world = parse_world(trace.world_text, str(path))
+    goal = parameters.get("goal")
+    return run_autopsy(
+        world,
+        robot,
+        trace.arrays,
+        reflex_names=trace.reflex_names,
+        trajectory_names=tuple(t.name for t in robot.trajectories),
+        table_sonars=parameters.get("sonars_read"),
+        goal_xy=(float(goal[0]), float(goal[1])) if goal else None,
+        goal_reached=bool(trace.metrics.get("goal_reached")),
+    )

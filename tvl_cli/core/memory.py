@@ -1,0 +1,119 @@
+"""The echo memory's settings, and the geometry of what it remembers.
+
+A specular ring hears a smooth wall only near square on, so a wall met at a slant is often
+silent at the moment the FAM must rate the way ahead, though a side sonar heard it square on
+a moment earlier. The echo memory keeps the echoes of the last few seconds in the odometry
+frame and gives the FAM a *virtual ring*: each sonar reads the nearer of its live range and
+the nearest remembered surface in its cone, as seen from where odometry says the robot is
+now. It never uses the true pose or the map.
+
+What an echo is remembered as (`kind`):
+- `none`: nothing; the virtual ring is the live ring (the paper's perception).
+- `points`: the point on the transducer's axis at the echo's range. A later beam reads it
+  when the point lies inside its cone.
+- `patches`: a piece of surface square to the beam, centred on that point, as wide as the
+  beam was there (`patch_m` across at least). A specular echo returns only from a surface
+  facing the transducer, and the part of it inside the cone is what was heard; a later beam
+  meets it like a wall, at any angle, from the side it was heard from.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+from typing import Any
+
+from tvl_cli.core.errors import BadInput
+
+NONE, POINTS, PATCHES = "none", "points", "patches"
+MEMORY_KINDS = (NONE, POINTS, PATCHES)
+# A second is 16 echoes a control step at 10 Hz; odometry drifts by about a centimetre over
+# a minute of driving (1 % wheel noise), so seconds are well within what it places truly.
+DEFAULT_WINDOW_S = 5.0
+# Far echoes are placed worst: the cone is 0.9 m across at the 4 m maximum range, so where
+# in it the echo came from is unknown by half that.
+DEFAULT_RANGE_M = 2.0
+DEFAULT_PATCH_M = 0.3
+MAX_WINDOW_S = 600.0
+
+
+@dataclass(frozen=True, slots=True)
+class MemoryConfig:
+    """How the robot remembers echoes; recorded in every log session and FAM file."""
+
+    kind: str = NONE
+    window_s: float = DEFAULT_WINDOW_S  # echoes older than this are forgotten
+    range_m: float = DEFAULT_RANGE_M  # echoes farther than this are not remembered
+    patch_m: float = DEFAULT_PATCH_M  # a patch is at least this wide (patches only)
+
+    def __post_init__(self) -> None:
+        if self.kind not in MEMORY_KINDS:
+            raise BadInput(f"--memory {self.kind}: choose {', '.join(MEMORY_KINDS)}")
+        if not (math.isfinite(self.window_s) and 0 < self.window_s <= MAX_WINDOW_S):
+            raise BadInput(
+                f"--memory-window {self.window_s:g} must be more than 0 and at most "
+                f"{MAX_WINDOW_S:g} s"
+            )
+        if not (math.isfinite(self.range_m) and self.range_m > 0):
+            raise BadInput(f"--memory-range {self.range_m:g} must be more than 0 m")
+        if not (math.isfinite(self.patch_m) and self.patch_m >= 0):
+            raise BadInput(f"--memory-patch {self.patch_m:g} must be 0 m or more")
+        if self.kind == NONE:
+            # Remembering nothing has no settings: every such memory is the same one.
+            object.__setattr__(self, "window_s", DEFAULT_WINDOW_S)
+            object.__setattr__(self, "range_m", DEFAULT_RANGE_M)
+            object.__setattr__(self, "patch_m", DEFAULT_PATCH_M)
+
+    @property
+    def remembers(self) -> bool:
+        return self.kind != NONE
+
+    def to_dict(self) -> dict[str, Any]:
+        return asdict(self)
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> MemoryConfig:
+        """From a file's JSON; BadInput naming what is wrong."""
+        if not isinstance(data, dict):
+            raise BadInput(f"echo memory settings are not a JSON object: {data!r}")
+        known = {"kind", "window_s", "range_m", "patch_m"}
+        unknown = sorted(set(data) - known)
+        if unknown:
+            raise BadInput(f"unknown echo memory setting {unknown[0]!r}")
+        try:
+            return cls(
+                kind=str(data.get("kind", NONE)),
+                window_s=float(data.get("window_s", DEFAULT_WINDOW_S)),
+                range_m=float(data.get("range_m", DEFAULT_RANGE_M)),
+                patch_m=float(data.get("patch_m", DEFAULT_PATCH_M)),
+            )
+        except (TypeError, ValueError) as error:
+            raise BadInput(f"unreadable echo memory settings ({error})") from None
+
+
+NO_MEMORY = MemoryConfig()
+# What `tvl learn` remembers unless told otherwise (the paper's method remembers nothing).
+DEFAULT_MEMORY = NO_MEMORY
+
+
+@dataclass(frozen=True, slots=True)
+class MemoryChoice:
+    """The memory settings a user gave (None: not given), to apply over another memory: the
+    one a FAM was trained through, a log was learnt through, or the default."""
+
+    kind: str | None = None
+    window_s: float | None = None
+    range_m: float | None = None
+    patch_m: float | None = None
+
+    def over(self, base: MemoryConfig) -> MemoryConfig:
+        """`base` with every setting given here in its place."""
+        given = {k: v for k, v in asdict(self).items() if v is not None}
+        return MemoryConfig(**{**base.to_dict(), **given})
+
+    @property
+    def given(self) -> bool:
+        return any(v is not None for v in asdict(self).values())
+
+
+NOT_CHOSEN = MemoryChoice()
