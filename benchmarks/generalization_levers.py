@@ -50,7 +50,7 @@ LEVERS: dict[str, list[str]] = {
 
 def measure(options: list[str], world_set: str, full: bool, workers: int) -> dict[str, Any]:
     """The benchmark's summary with these options."""
-    command = [sys.executable, str(BENCHMARK), "--set", world_set, "--json"]
+    command = [sys.executable, str(BENCHMARK), "--set", world_set, "--json", "--no-ceiling"]
     command += ["--workers", str(workers), *([] if full else ["--quick"]), *options]
     printed = subprocess.run(command, check=True, capture_output=True, text=True).stdout
     summary: dict[str, Any] = json.loads(printed)["summary"]
@@ -62,7 +62,7 @@ FIGURES = ("competent", "contacts/min", "goals", "avoid m/s")
 
 def configs_of(summary: dict[str, Any]) -> list[str]:
     """The FAM configurations the benchmark trained, in its order."""
-    return [name for name, figures in summary.items() if isinstance(figures, dict)]
+    return list(summary["runs"])
 
 
 def header(configs: list[str]) -> str:
@@ -71,7 +71,7 @@ def header(configs: list[str]) -> str:
 
 
 def row(lever: str, summary: dict[str, Any]) -> str:
-    columns = [summary[config] for config in configs_of(summary)]
+    columns = [summary["runs"][config] for config in configs_of(summary)]
     cells = [
         lever,
         *(f"{c['competent']}/{c['runs']}" for c in columns),

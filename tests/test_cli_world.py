@@ -28,7 +28,7 @@ BAD_WORLDS = {  # name -> (file bytes, the error after the file name)
     "unknown header key": (
         ("colour: red\n" + ROOM).encode(),
         ":1:1: unknown header key 'colour' "
-        "(expected one of version name cell roughness disc ring goal wall)",
+        "(expected one of version name cell roughness rough disc ring goal wall)",
     ),
     "bad header value": (
         ("cell: big\n" + ROOM).encode(),

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from tvl_cli.agent.policy import LazyRing, Observation
-from tvl_cli.baselines.dwa import DwaPolicy, run_dwa
+from tvl_cli.baselines.dwa import RING, DwaPolicy, MapSensing, run_dwa
 from tvl_cli.core.command import Command
 from tvl_cli.core.config import RobotConfig
 from tvl_cli.sim.robot import Simulator
@@ -28,7 +28,7 @@ def first_choice(x: float, y: float, theta: float) -> Command:
     """The first command of a DWA cruising straight at top speed from a pose in the square."""
     sim = Simulator(SQUARE, ROBOT, np.random.default_rng(0))
     sim.place(x, y, theta)
-    policy = DwaPolicy(sim)
+    policy = DwaPolicy(MapSensing(sim), ROBOT)
     policy.last = CRUISING
     return policy.decide(observe(sim)).command
 
@@ -54,3 +54,19 @@ def test_it_reaches_a_goal_behind_an_obstacle() -> None:
     world = load_world(WORLDS / "obstacles.txt")
     metrics = run_dwa(world, ROBOT, 1.0, seed=1, goal_xy=world.goals[1])
     assert metrics.goal_reached and metrics.collisions == 0
+
+
+def test_driven_by_the_ring_alone_it_avoids_the_square_by_what_it_hears() -> None:
+    metrics = run_dwa(SQUARE, ROBOT, 1.0, seed=1, sensor=RING)
+    assert metrics.collisions == 0
+    assert metrics.mean_speed_mps > 0.2
+
+
+def test_driven_by_the_ring_it_meets_a_wall_it_cannot_hear_that_the_map_sees() -> None:
+    # The lab's thin table edges and slanted approaches: the ring-driven DWA meets what a
+    # specular ring misses, the map-driven one does not.
+    lab = load_world(WORLDS / "lab.txt")
+    by_map = run_dwa(lab, ROBOT, 2.0, seed=1)
+    by_ring = run_dwa(lab, ROBOT, 2.0, seed=1, sensor=RING)
+    assert by_map.collisions == 0
+    assert by_ring.collisions > 0

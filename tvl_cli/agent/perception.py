@@ -15,7 +15,7 @@ import numpy as np
 
 from tvl_cli.agent.policy import Pose
 from tvl_cli.core.config import RobotConfig
-from tvl_cli.core.memory import MemoryConfig
+from tvl_cli.core.memory import POINTS, MemoryConfig
 from tvl_cli.sim.sonar import SonarRing
 
 
@@ -76,6 +76,21 @@ class EchoMemory:
         )
         sonar = self._sonar
         return np.minimum(ring_m, np.clip(remembered, sonar.min_range_m, sonar.max_range_m))
+
+    def surfaces(
+        self, step: int, near_xy: tuple[float, float], within_m: float
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """What is remembered on control step `step` within `within_m` of `near_xy`, in the
+        odometry frame: patches as segments (n, 4) x1, y1, x2, y2, and points as discs of no
+        radius (m, 3), metres."""
+        reach = within_m + self._half_widths  # (C,) a patch's end may be nearer its centre
+        gap = np.hypot(self._centres[:, 0] - near_xy[0], self._centres[:, 1] - near_xy[1])
+        live = (self._steps > step - self._window_steps) & (gap <= reach)
+        centres, axes = self._centres[live], self._axes[live]
+        if self.config.kind == POINTS:
+            return np.empty((0, 4)), np.column_stack([centres, np.zeros(len(centres))])
+        across = np.stack([-axes[:, 1], axes[:, 0]], axis=1) * self._half_widths[live, None]
+        return np.hstack([centres - across, centres + across]), np.empty((0, 3))
 
     def sense(self, step: int, odometry: Pose, ring_m: np.ndarray) -> np.ndarray:
         """Remember a reading, then the virtual ring it makes."""

@@ -1,15 +1,23 @@
-"""The Dynamic Window Approach with the world's true geometry: the upper reference, no learning.
+"""The Dynamic Window Approach, no learning, with one of two ways of knowing the obstacles:
 
-It sees what no sonar can, the exact obstacles and its own true pose, so its collisions and
-speed bound what a sensor-driven controller could hope for with the same robot.
+- `map`: the world's true geometry and its own true pose. It sees what no sonar can, so its
+  collisions and speed bound what a sensor-driven controller could hope for with the same
+  robot: the speed reference;
+- `ring`: what the sonar ring hears, placed by odometry: each echo a patch square to the beam
+  that heard it (core.memory), the echoes of the last reading alone or, with an echo memory,
+  those of its window. The same sensor as TVL's, so a reference for what a hand-made
+  controller makes of it.
 """
 
 from __future__ import annotations
 
+from typing import Protocol
+
 import numpy as np
 
 from tvl_cli.agent.drive import StepSink, drive
-from tvl_cli.agent.policy import Decision, Observation
+from tvl_cli.agent.perception import EchoMemory
+from tvl_cli.agent.policy import Decision, Observation, Pose
 from tvl_cli.agent.reflexes import wrap
 from tvl_cli.baselines.dwa_window import (
     DwaParams,
@@ -20,6 +28,7 @@ from tvl_cli.baselines.dwa_window import (
     free_distances,
     goal_headings,
     heading_scores,
+    lookahead_m,
     predicted_poses,
     ray_points,
     recovery_spin,
@@ -27,30 +36,69 @@ from tvl_cli.baselines.dwa_window import (
 )
 from tvl_cli.core.command import Command
 from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.memory import NO_MEMORY, PATCHES, MemoryConfig
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.sim.robot import Simulator
-from tvl_cli.sim.world import clearances_m
+from tvl_cli.sim.world import StaticGeometry, clearance_m, clearances_m, geometry_of
 from tvl_cli.sim.worldmap import WorldMap
 
 BEHAVIOURS = ("avoid", "goal")
+MAP, RING = "map", "ring"
+SENSORS = (MAP, RING)
 DEFAULT_DWA = DwaParams()
 
 
-class DwaPolicy:
-    """Chooses (v, w) in the dynamic window around the last command it gave.
+class Sensing(Protocol):
+    def sense(self, obs: Observation) -> tuple[StaticGeometry, Pose]:
+        """The obstacles and the robot's pose in the same frame, before a control step."""
+        ...
 
-    It reads the simulator's true pose and geometry, not the observation: that is the point
-    of this baseline. Advice from reflexes is ignored, but a reflex can still take over.
-    """
+
+class MapSensing:
+    """The world's true geometry and the true pose: what no sonar gives."""
+
+    def __init__(self, sim: Simulator) -> None:
+        self._sim = sim
+
+    def sense(self, obs: Observation) -> tuple[StaticGeometry, Pose]:
+        return self._sim.geometry, self._sim.pose
+
+
+class RingSensing:
+    """The ring's echoes as patches in the odometry frame: the last reading's, or an echo
+    memory's."""
+
+    def __init__(self, robot: RobotConfig, memory: MemoryConfig, reach_m: float) -> None:
+        self._reach_m = reach_m  # farther obstacles cannot change a choice
+        if not memory.remembers:
+            # The last reading alone, every echo of it, as the memory's patches.
+            memory = MemoryConfig(
+                PATCHES, window_s=robot.control_period_s, range_m=robot.sonar.max_range_m
+            )
+        self._memory = EchoMemory(memory, robot)
+        self._dt_s = robot.control_period_s
+
+    def sense(self, obs: Observation) -> tuple[StaticGeometry, Pose]:
+        step = round(obs.time_s / self._dt_s)
+        self._memory.remember(step, obs.odometry, obs.ring_m)
+        surfaces = self._memory.surfaces(step, obs.odometry[:2], self._reach_m)
+        return geometry_of(*surfaces), obs.odometry
+
+
+class DwaPolicy:
+    """Chooses (v, w) in the dynamic window around the last command it gave, avoiding the
+    obstacles its sensing gives. Advice from reflexes is ignored, but a reflex can still take
+    over."""
 
     def __init__(
         self,
-        sim: Simulator,
+        sensing: Sensing,
+        robot: RobotConfig,
         params: DwaParams = DEFAULT_DWA,
         goal_xy: tuple[float, float] | None = None,
     ) -> None:
-        self.sim = sim
-        self.robot = sim.robot
+        self.sensing = sensing
+        self.robot = robot
         self.params = params
         self.goal_xy = goal_xy
         self._s_m = arc_lengths(params)  # (K,) metres
@@ -62,34 +110,33 @@ class DwaPolicy:
         self.last = Command(0.0, 0.0)
         self._turn_side = 1  # keeps turning the way it last turned when it must spin free
 
-    def _free(self, sim: Simulator, points: np.ndarray) -> np.ndarray:
+    def _free(self, geometry: StaticGeometry, pose: Pose, points: np.ndarray) -> np.ndarray:
         """(N,) free distances along paths sampled at (N, K, 2) points every arc step."""
-        clearance = clearances_m(sim.geometry, points.reshape(-1, 2), self.robot.radius_m)
-        return free_distances(
-            clearance.reshape(points.shape[:2]), sim.clearance_m(), self._s_m, self.params
-        )
+        radius = self.robot.radius_m
+        clearance = clearances_m(geometry, points.reshape(-1, 2), radius)
+        here = clearance_m(geometry, pose[0], pose[1], radius)
+        return free_distances(clearance.reshape(points.shape[:2]), here, self._s_m, self.params)
 
-    def _wander(self, sim: Simulator) -> float:
-        free = self._free(sim, ray_points(sim.pose, self._ray_offsets, self._s_m))
-        return wander_heading(sim.pose[2], self._ray_offsets, free, self.params, self._turn_side)
+    def _wander(self, geometry: StaticGeometry, pose: Pose) -> float:
+        free = self._free(geometry, pose, ray_points(pose, self._ray_offsets, self._s_m))
+        return wander_heading(pose[2], self._ray_offsets, free, self.params, self._turn_side)
 
     def interrupt(self) -> None:
         # A reflex has driven the robot meanwhile: the window starts again from rest.
         self.last = Command(0.0, 0.0)
 
     def decide(self, obs: Observation) -> Decision:
-        return Decision(self._command(self.sim))
+        return Decision(self._command(*self.sensing.sense(obs)))
 
-    def _command(self, sim: Simulator) -> Command:
-        pose = sim.pose
+    def _command(self, geometry: StaticGeometry, pose: Pose) -> Command:
         period = self.robot.control_period_s
         candidates = dynamic_window(
             self.last.linear_mps, self.last.angular_radps, period, self.params
         )
-        free = self._free(sim, arc_points(pose, candidates, self._s_m))  # (N,) metres
+        free = self._free(geometry, pose, arc_points(pose, candidates, self._s_m))  # (N,) m
         predicted = predicted_poses(pose, candidates, period, self.params)  # (N, 3)
         if self.goal_xy is None:
-            wanted: np.ndarray | float = self._wander(sim)
+            wanted: np.ndarray | float = self._wander(geometry, pose)
         else:
             wanted = goal_headings(predicted, self.goal_xy)
         heading = heading_scores(predicted, wanted)
@@ -111,13 +158,23 @@ def run_dwa(
     params: DwaParams = DEFAULT_DWA,
     reflexes: tuple[str, ...] = (),
     on_step: StepSink | None = None,
+    sensor: str = MAP,
+    memory: MemoryConfig = NO_MEMORY,
 ) -> RunMetrics:
     """One run from the world's start: `avoid` without a goal, goal seeking with one.
 
-    The simulator's generator is seeded as `tvl run` seeds its own; the goal is judged on
-    the true pose, by which the DWA localises.
+    The simulator's generator is seeded as `tvl run` seeds its own. With the `map` the goal is
+    judged on the true pose, by which that DWA localises; with the `ring`, by odometry, as TVL
+    judges it, and the obstacles are the ring's echoes (and with `memory`, the remembered).
     """
     sim = Simulator(world, robot, np.random.default_rng(seed))
     behaviour = "avoid" if goal_xy is None else "goal"
-    policy = wrap(DwaPolicy(sim, params, goal_xy), reflexes, robot, behaviour)
-    return drive(sim, policy, minutes, goal_xy=goal_xy, goal_by_odometry=False, on_step=on_step)
+    sensing: Sensing = (
+        MapSensing(sim)
+        if sensor == MAP
+        else RingSensing(robot, memory, lookahead_m(params) + robot.radius_m)
+    )
+    policy = wrap(DwaPolicy(sensing, robot, params, goal_xy), reflexes, robot, behaviour)
+    return drive(
+        sim, policy, minutes, goal_xy=goal_xy, goal_by_odometry=sensor == RING, on_step=on_step
+    )

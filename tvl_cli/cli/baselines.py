@@ -9,9 +9,11 @@ import click
 
 from tvl_cli.agent.reflexes import NONE as NO_REFLEXES
 from tvl_cli.baselines.dwa import BEHAVIOURS as DWA_BEHAVIOURS
+from tvl_cli.baselines.dwa import SENSORS as DWA_SENSORS
 from tvl_cli.cli import views
 from tvl_cli.cli.options import (
     SEED,
+    memory_options,
     print_json,
     reflex_options,
     refuse_existing,
@@ -19,6 +21,7 @@ from tvl_cli.cli.options import (
 )
 from tvl_cli.commands.baseline import dwa_session, qlearn_session
 from tvl_cli.commands.run import parse_goal
+from tvl_cli.core.memory import MemoryChoice
 
 
 @click.group()
@@ -34,6 +37,15 @@ def baseline() -> None:
 @click.option("--seed", type=SEED, default=1, show_default=True)
 @click.option("--png", type=click.Path(path_type=Path), default=None, help="Draw the path.")
 @reflex_options(default=NO_REFLEXES)
+@click.option(
+    "--sensor",
+    type=click.Choice(DWA_SENSORS),
+    default=DWA_SENSORS[0],
+    show_default=True,
+    help="How it knows the obstacles: the world's true map and pose, or the sonar ring's "
+    "echoes placed by odometry.",
+)
+@memory_options(base="none: the last reading's echoes alone")
 @click.option("--force", is_flag=True, help="Overwrite the --png file.")
 @click.option("--json", "as_json", is_flag=True, help="Print the metrics as JSON.")
 def baseline_dwa(
@@ -44,15 +56,25 @@ def baseline_dwa(
     seed: int,
     png: Path | None,
     reflexes: tuple[str, ...],
+    sensor: str,
+    memory: MemoryChoice,
     force: bool,
     as_json: bool,
 ) -> None:
-    """Drive WORLD with the Dynamic Window Approach, which knows the true obstacles."""
+    """Drive WORLD with the Dynamic Window Approach, by the true map or by the sonar ring."""
     refuse_shared_paths({"--png": png}, {"WORLD": world_file})
     if png is not None:
         refuse_existing(png, force)
     metrics = dwa_session(
-        world_file, behaviour, parse_goal(goal) if goal else None, minutes, seed, png, reflexes
+        world_file,
+        behaviour,
+        parse_goal(goal) if goal else None,
+        minutes,
+        seed,
+        png,
+        reflexes,
+        sensor,
+        memory,
     )
     if as_json:
         print_json(asdict(metrics))

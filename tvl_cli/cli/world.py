@@ -14,7 +14,7 @@ from tvl_cli.cli.options import (
     refuse_shared_paths,
 )
 from tvl_cli.io.atomic import atomic_output
-from tvl_cli.sim.worldgen import KINDS, generate_world
+from tvl_cli.sim.worldgen import KINDS, SMOOTH, Materials, generate_world
 from tvl_cli.sim.worldmap import WorldMap, describe, load_world, parse_world, world_to_dict
 
 
@@ -34,6 +34,21 @@ def world() -> None:
     show_default=True,
     help=f"Layout seed ({', '.join(name for name, kind in KINDS.items() if kind.seeded)}).",
 )
+@click.option(
+    "--rough",
+    "rough_share",
+    type=float,
+    default=SMOOTH.share,
+    show_default=True,
+    help="rooms: the share of the rooms whose walls are rough (the rest are smooth).",
+)
+@click.option(
+    "--roughness",
+    type=float,
+    default=SMOOTH.roughness,
+    show_default=True,
+    help="rooms: how rough a rough room's walls are, from 0 to 1.",
+)
 @click.option("--force", is_flag=True, help="Overwrite OUTPUT.")
 @click.option("--json", "as_json", is_flag=True, help="Print what was written as JSON.")
 def world_new(
@@ -41,12 +56,14 @@ def world_new(
     output: Path,
     size: tuple[float, float] | None,
     seed: int,
+    rough_share: float,
+    roughness: float,
     force: bool,
     as_json: bool,
 ) -> None:
     """Write a generated world of KIND."""
     width_m, height_m = size if size else (None, None)
-    text = generate_world(kind, width_m, height_m, seed)
+    text = generate_world(kind, width_m, height_m, seed, Materials(rough_share, roughness))
     refuse_existing(output, force)
     with atomic_output(output, overwrite=force) as temporary:
         temporary.write_text(text, encoding="utf-8")

@@ -9,11 +9,12 @@ from pathlib import Path
 from typing import Any
 
 from tvl_cli.agent.trace import PathRecorder, TraceRecorder
-from tvl_cli.baselines.dwa import BEHAVIOURS, run_dwa
+from tvl_cli.baselines.dwa import BEHAVIOURS, MAP, SENSORS, run_dwa
 from tvl_cli.baselines.qlearning import QLearningResult, learn_and_evaluate
 from tvl_cli.commands.run import resolve_goal
 from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.errors import BadInput, check_minutes, check_run_minutes
+from tvl_cli.core.memory import NO_MEMORY, NONE, NOT_CHOSEN, MemoryChoice
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.sim.worldmap import WorldMap, load_world
 
@@ -55,20 +56,35 @@ def dwa_session(
     seed: int,
     png: Path | None = None,
     reflexes: tuple[str, ...] = (),
+    sensor: str = MAP,
+    memory: MemoryChoice = NOT_CHOSEN,
 ) -> RunMetrics:
-    """One DWA run in a world file inside the named reflexes; the path drawn to `png`."""
+    """One DWA run in a world file inside the named reflexes, knowing the obstacles by the
+    map or by the sonar ring (through an echo memory if chosen); the path drawn to `png`."""
     check_run_minutes(minutes, RobotConfig().control_period_s)
+    if sensor not in SENSORS:
+        raise BadInput(f"--sensor {sensor}: choose {', '.join(SENSORS)}")
+    if sensor == MAP and memory.given and memory.kind != NONE:
+        raise BadInput("--memory is for --sensor ring: the map needs no memory")
     world = load_world(world_path)
     goal = _goal(world_path, world, behaviour, goal)
     robot = RobotConfig()
     path = PathRecorder()
     steps = TraceRecorder(reflexes, robot.sonar.count, [path])
     metrics = run_dwa(
-        world, robot, minutes, seed, goal, reflexes=reflexes, on_step=steps if png else None
+        world,
+        robot,
+        minutes,
+        seed,
+        goal,
+        reflexes=reflexes,
+        on_step=steps if png else None,
+        sensor=sensor,
+        memory=memory.over(NO_MEMORY),
     )
     if png is not None:
         steps.close()
-        _draw(world, path, png, f"DWA {behaviour} in {world.name}", goal)
+        _draw(world, path, png, f"DWA by the {sensor}, {behaviour} in {world.name}", goal)
     return metrics
 
 

@@ -68,6 +68,8 @@ class RoomsPlan:
     corridor_widths_m: tuple[float, ...]
     doorways: tuple[Doorway, ...]
     furniture: tuple[str, ...]  # one of PIECES for each piece placed
+    # Each room with the walls round it, x0 y0 x1 y1 metres: where a material may be laid.
+    room_extents_m: tuple[tuple[float, float, float, float], ...] = ()
 
 
 @dataclass(frozen=True, slots=True)
@@ -103,6 +105,15 @@ def layout_rooms(canvas: Canvas, rng: np.random.Generator) -> RoomsPlan:
         corridor_widths_m=tuple(cells * CELL_M for cells in corridors),
         doorways=tuple(doorways),
         furniture=tuple(furniture),
+        room_extents_m=tuple(
+            (
+                (room.c0 - 1) * CELL_M,
+                (canvas.rows - room.r1 - 2) * CELL_M,
+                (room.c1 + 2) * CELL_M,
+                (canvas.rows - room.r0 + 1) * CELL_M,
+            )
+            for room in regions
+        ),
     )
 
 

@@ -123,14 +123,22 @@ def _some_segments(geometry: StaticGeometry, keep: np.ndarray) -> StaticGeometry
 
 def static_geometry(world: WorldMap) -> StaticGeometry:
     """The arrays the sonar and clearance queries read; computed once per world."""
-    segments = np.asarray(world.segments, dtype=np.float64).reshape(-1, 4)
-    discs = np.asarray(world.discs, dtype=np.float64).reshape(-1, 3)
+    return geometry_of(world.segments, world.discs, world.rings, world.roughness)
+
+
+def geometry_of(
+    segments: object, discs: object = (), rings: object = (), roughness: float = 0.0
+) -> StaticGeometry:
+    """Obstacles as the queries read them: segments (n, 4) x1, y1, x2, y2, discs (m, 3) and
+    ring walls (k, 3) x, y, r, metres (anything numpy reads as such)."""
+    segments = np.asarray(segments, dtype=np.float64).reshape(-1, 4)
+    discs = np.asarray(discs, dtype=np.float64).reshape(-1, 3)
     start = np.ascontiguousarray(segments[:, :2].T)  # (2, n) metres
     delta = np.ascontiguousarray((segments[:, 2:] - segments[:, :2]).T)  # (2, n) metres
     return StaticGeometry(
         segments=segments,
         discs=discs,
-        rings=np.asarray(world.rings, dtype=np.float64).reshape(-1, 3),
+        rings=np.asarray(rings, dtype=np.float64).reshape(-1, 3),
         seg_start=start,
         seg_delta=delta,
         seg_len=np.hypot(delta[0], delta[1]),
@@ -139,7 +147,7 @@ def static_geometry(world: WorldMap) -> StaticGeometry:
         seg_ends=segments.reshape(-1, 2, 2),
         corner_sides=_corner_sides(segments),
         max_disc_radius_m=float(discs[:, 2].max(initial=0.0)),
-        roughness=world.roughness,
+        roughness=roughness,
         segment_ids=np.arange(len(segments)),
         segment_total=len(segments),
     )

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -10,12 +11,15 @@ import numpy as np
 
 from tvl_cli.core.errors import BadInput
 from tvl_cli.sim.canvas import CELL_M, Canvas
-from tvl_cli.sim.rooms import ROOMS_DEFAULT_SIZE_M, ROOMS_MIN_SIZE_M, layout_rooms
+from tvl_cli.sim.rooms import ROOMS_DEFAULT_SIZE_M, ROOMS_MIN_SIZE_M, RoomsPlan, layout_rooms
 from tvl_cli.sim.worldheader import WorldMapError
 from tvl_cli.sim.worldmap import parse_world
 
 MAX_SIZE_M = 100.0  # 400 x 400 cells: a big hall, still a small file
 ATTEMPTS = 20  # random layouts drawn before giving up on a size
+# Rough enough to be heard at a slant close in (47° off the normal within 1.8 m, the sonar's
+# own paragraph in the README), as brick or a curtain is; smooth painted plaster is 0.
+DEFAULT_ROUGHNESS = 0.3
 BUNDLED_DIR = Path(__file__).resolve().parent.parent / "data"
 
 
@@ -188,18 +192,51 @@ KINDS: dict[str, Kind] = {
 }
 
 
-def generate_world(kind: str, width_m: float | None, height_m: float | None, seed: int) -> str:
-    """The text of a world file of KIND (sizes in metres, rounded to whole cells)."""
-    return draw_world(kind, width_m, height_m, seed)[0]
+@dataclass(frozen=True, slots=True)
+class Materials:
+    """Rooms whose walls are rough: each room of a rooms world is, with chance `share`, with
+    `roughness`; the others keep smooth walls."""
+
+    share: float = 0.0
+    roughness: float = DEFAULT_ROUGHNESS
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.share) and 0.0 <= self.share <= 1.0):
+            raise BadInput(f"--rough {self.share:g} must be a share of the rooms from 0 to 1")
+        if not (math.isfinite(self.roughness) and 0.0 < self.roughness <= 1.0):
+            raise BadInput(f"--roughness {self.roughness:g} must be more than 0 and at most 1")
+
+
+SMOOTH = Materials()
+
+
+def generate_world(
+    kind: str,
+    width_m: float | None,
+    height_m: float | None,
+    seed: int,
+    materials: Materials = SMOOTH,
+) -> str:
+    """The text of a world file of KIND (sizes in metres, rounded to whole cells), its walls
+    of the materials given (rooms worlds only)."""
+    return draw_world(kind, width_m, height_m, seed, materials)[0]
 
 
 def draw_world(
-    kind: str, width_m: float | None, height_m: float | None, seed: int
+    kind: str,
+    width_m: float | None,
+    height_m: float | None,
+    seed: int,
+    materials: Materials = SMOOTH,
 ) -> tuple[str, object]:
     """The text of a world file of KIND, and the layout's own record of what it drew (None
     for kinds that keep none): a rooms world's RoomsPlan."""
     if kind not in KINDS:
         raise BadInput(f"unknown world kind {kind!r} (choose from {', '.join(KINDS)})")
+    if materials != SMOOTH and kind != "rooms":
+        raise BadInput(
+            f"--rough is for rooms worlds; give a {kind} world's walls a `roughness:` line"
+        )
     spec = KINDS[kind]
     width_m = spec.default_size_m[0] if width_m is None else width_m
     height_m = spec.default_size_m[1] if height_m is None else height_m
@@ -218,13 +255,30 @@ def draw_world(
         canvas = Canvas(cols, rows)
         try:
             record = spec.layout(canvas, rng)
-            text = canvas.text(kind, spec.about, command)
+            if isinstance(record, RoomsPlan) and materials != SMOOTH:
+                _lay_materials(canvas, record, materials, seed)
+            text = canvas.text(kind, spec.about, command + _materials_options(materials))
             parse_world(text, f"<{kind}>")
         except WorldMapError as problem:  # a layout may box its start or goal in: draw again
             error = str(problem)
             continue
         return text, record
     raise BadInput(f"cannot make a {kind} world of {width_m:g} x {height_m:g} m ({error})")
+
+
+def _lay_materials(canvas: Canvas, plan: RoomsPlan, materials: Materials, seed: int) -> None:
+    """A `rough:` line for each room drawn rough. The draws come from a generator of their
+    own, so that a seed lays out the same rooms whatever their walls are made of."""
+    rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(1,)))
+    for x0, y0, x1, y1 in plan.room_extents_m:
+        if rng.random() < materials.share:
+            canvas.header.append(f"rough: {materials.roughness:g} {x0:g} {y0:g} {x1:g} {y1:g}")
+
+
+def _materials_options(materials: Materials) -> str:
+    if materials == SMOOTH:
+        return ""
+    return f" --rough {materials.share:g} --roughness {materials.roughness:g}"
 
 
 def bundled_world_path(name: str) -> Path:

@@ -4,6 +4,10 @@ Besides the name, the cell size, pillars, ring walls and goals, a header may dra
 walls at any angle: `wall: x1 y1 x2 y2 [thickness]`. A wall with no thickness is a thin edge
 (a table top seen from the side), solid and echoing from both faces; a thick one is a solid
 rectangle centred on the line.
+
+Walls are as rough as the `roughness:` line says (smooth without one), except those within a
+`rough: R x1 y1 x2 y2` rectangle, whose walls have roughness R: rooms of painted plaster
+beside rooms of brick or curtains. A wall belongs to the last rectangle holding its middle.
 """
 
 from __future__ import annotations
@@ -29,11 +33,12 @@ MIN_CELL_M, MAX_CELL_M = 0.01, 10.0
 # As fine as the finest map: a shorter wall is a slip of the pen, not a shape a sonar could
 # tell from a point.
 MIN_WALL_M = MIN_CELL_M
-HEADER_KEYS = ("version", "name", "cell", "roughness", "disc", "ring", "goal", "wall")
+HEADER_KEYS = ("version", "name", "cell", "roughness", "rough", "disc", "ring", "goal", "wall")
 HEADER_LINE = re.compile(r"\s*([A-Za-z_]\w*)\s*:\s*(.*?)\s*")
 _NUMBERS = {  # key -> (how many numbers, what they are); the last must be positive but for goals
     "cell": (1, f"a size in metres from {MIN_CELL_M:g} to {MAX_CELL_M:g}"),
     "roughness": (1, "a fraction from 0 (smooth) to 1"),
+    "rough": (5, "R x1 y1 x2 y2: a roughness from 0 to 1, then a rectangle's corners in metres"),
     "disc": (3, "x y r in metres, r > 0"),
     "ring": (3, f"x y r in metres, r >= {MIN_WALL_M:g}"),
     "goal": (2, "x y in metres"),
@@ -79,6 +84,21 @@ class Wall:
         return max(to_line - self.thickness_m / 2.0, 0.0)
 
 
+@dataclass(frozen=True, slots=True)
+class RoughRegion:
+    """The walls within a rectangle, and their roughness; where it was written."""
+
+    roughness: float
+    x_min: float
+    y_min: float
+    x_max: float
+    y_max: float
+    where: str
+
+    def holds(self, x: float, y: float) -> bool:
+        return self.x_min <= x <= self.x_max and self.y_min <= y <= self.y_max
+
+
 @dataclass(slots=True)
 class Header:
     """Header values as read, with the line of each one-off key to name a duplicate; `where`
@@ -92,6 +112,12 @@ class Header:
     rings: list[tuple[float, float, float, str]] = field(default_factory=list)  # x, y, r, where
     goals: list[tuple[float, float, str]] = field(default_factory=list)  # x, y, where
     walls: list[Wall] = field(default_factory=list)
+    rough: list[RoughRegion] = field(default_factory=list)
+
+    def roughness_at(self, x: float, y: float) -> float:
+        """The roughness of a wall whose middle is at (x, y)."""
+        holding = [region for region in self.rough if region.holds(x, y)]
+        return holding[-1].roughness if holding else self.roughness
 
 
 def read_header(header: Header, match: re.Match[str], where: str, number: int) -> None:
@@ -129,6 +155,10 @@ def read_header(header: Header, match: re.Match[str], where: str, number: int) -
             header.roughness = numbers[0]
         elif key == "goal":
             header.goals.append((numbers[0], numbers[1], value_at))
+        elif key == "rough":
+            r, x1, y1, x2, y2 = numbers
+            xs, ys = sorted((x1, x2)), sorted((y1, y2))
+            header.rough.append(RoughRegion(r, xs[0], ys[0], xs[1], ys[1], value_at))
         elif key == "disc":
             header.discs.append((numbers[0], numbers[1], numbers[2], value_at))
         else:
@@ -150,8 +180,9 @@ def _numbers(key: str, value: str, value_at: str) -> tuple[float, ...]:
     numbers = _floats(value)
     if (
         len(numbers) != wanted
-        or (key not in ("goal", "roughness") and numbers[-1] <= 0)
-        or (key == "roughness" and not 0 <= numbers[0] <= 1)
+        or (key not in ("goal", "roughness", "rough") and numbers[-1] <= 0)
+        or (key in ("roughness", "rough") and not 0 <= numbers[0] <= 1)
+        or (key == "rough" and (numbers[1] == numbers[3] or numbers[2] == numbers[4]))
         # A ring is a wall bent round: no shorter across than the shortest straight wall.
         or (key == "ring" and numbers[-1] < MIN_WALL_M)
         or (key == "cell" and not MIN_CELL_M <= numbers[0] <= MAX_CELL_M)

@@ -36,6 +36,8 @@ class WorldMap:
     text: str  # the source, stored in every log so a world travels with its data
     # The share of sound its walls scatter diffusely (`roughness:` header); 0 is smooth.
     roughness: float = 0.0
+    # Each segment's own share, as `rough:` rectangles give it (empty: the world's for all).
+    segment_roughness: tuple[float, ...] = ()
 
 
 MAX_FILE_BYTES = 1 << 20  # 1 MB: far beyond any hand-made map, small enough to read at once
@@ -196,18 +198,22 @@ def _build(grid: _Grid, header: Header, text: str, source: str) -> WorldMap:
         )
     for x, y, where in goals:
         _check_goal(grid, x, y, discs, header.walls, where)
+    segments = (*_wall_segments(grid), *(s for w in header.walls for s in w.outline()))
     return WorldMap(
         name=header.name or Path(source).stem,
         cell_m=grid.cell_m,
         width_m=width_m,
         height_m=height_m,
-        segments=(*_wall_segments(grid), *(s for w in header.walls for s in w.outline())),
+        segments=segments,
         discs=discs,
         rings=rings,
         start=(sx, sy, START_HEADINGS[grid.rows[sr][sc]]),
         goals=tuple((x, y) for x, y, _ in goals),
         text=text,
         roughness=header.roughness,
+        segment_roughness=tuple(
+            header.roughness_at((x1 + x2) / 2.0, (y1 + y2) / 2.0) for x1, y1, x2, y2 in segments
+        ),
     )
 
 
@@ -240,6 +246,9 @@ def _check_inside(header: Header, width_m: float, height_m: float) -> None:
             raise WorldMapError(
                 f"{where}: ring at x {x:g} y {y:g} r {r:g} reaches outside the world {extent}"
             )
+    for region in header.rough:
+        if not (inside(region.x_min, region.y_min) and inside(region.x_max, region.y_max)):
+            raise WorldMapError(f"{region.where}: rough rectangle reaches outside {extent}")
 
 
 def _check_start_clear(
