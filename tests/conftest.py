@@ -19,11 +19,17 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from hypothesis import HealthCheck, settings
 
 pytest_plugins = ["pytester"]  # tests/test_fast_tier.py runs an inner pytest
 
 # The console script installed beside the interpreter running the tests.
 TVL = str(Path(sys.executable).with_name("tvl"))
+
+# Hypothesis times each example on the wall clock, which parallel workers on a shared CPU make
+# run at random: no test here is about time (the fuzz tests keep their own deadline for a hang).
+settings.register_profile("tvl", deadline=None, suppress_health_check=[HealthCheck.too_slow])
+settings.load_profile("tvl")
 
 # Fixtures that start a real `tvl` process: a test that asks for one is slow.
 PROCESS_FIXTURES = frozenset({"run_tvl"})
