@@ -23,6 +23,8 @@ from tvl_cli.io.logreader import read_log
 WORLDS = Path(__file__).resolve().parent.parent / "worlds"
 SQUARE = WORLDS / "square.txt"
 
+pytestmark = pytest.mark.slow  # every test here starts a real `tvl` process
+
 
 def _assert_refused(result: subprocess.CompletedProcess[str], *phrases: str) -> None:
     assert result.returncode == 2, result.stderr

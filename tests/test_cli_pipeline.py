@@ -18,6 +18,8 @@ from tvl_cli.io.logreader import read_log
 WORLDS = Path(__file__).resolve().parent.parent / "worlds"
 SQUARE = WORLDS / "square.txt"
 
+pytestmark = pytest.mark.slow  # every test here starts a real `tvl` process
+
 
 @pytest.fixture(scope="module")
 def learnt(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:

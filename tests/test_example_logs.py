@@ -17,6 +17,8 @@ EXAMPLES = ("square-s1.h5", "lab-s1.h5")
 # Attributes that say when and by which version a file was written, not what it holds.
 WHEN = {"created", "started", "ended", "tvl_version"}
 
+pytestmark = pytest.mark.slow  # every test here starts a real `tvl` process
+
 
 def _attributes(path: Path) -> dict[str, dict[str, object]]:
     found: dict[str, dict[str, object]] = {}

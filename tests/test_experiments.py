@@ -83,6 +83,7 @@ def tiny(tmp_path_factory: pytest.TempPathFactory) -> Callable[[str], Finished]:
     return get
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", sorted(SCRIPTS))
 def test_tiny_run_writes_one_json_line_per_run_with_its_parameters(tiny, name):
     out = tiny(name).out
@@ -101,6 +102,7 @@ def test_tiny_run_writes_one_json_line_per_run_with_its_parameters(tiny, name):
             assert {"minute", "delta_v", "collisions"} <= row["minutes"][0].keys()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", sorted(SCRIPTS))
 def test_tiny_run_draws_a_png_and_a_summary_table(tiny, name):
     out = tiny(name).out
@@ -109,6 +111,7 @@ def test_tiny_run_draws_a_png_and_a_summary_table(tiny, name):
     assert table.startswith("### ") and "| --- |" in table
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", sorted(SCRIPTS))
 def test_running_a_finished_script_again_repeats_no_run(tiny, name):
     out, env, calls = tiny(name)
@@ -120,6 +123,7 @@ def test_running_a_finished_script_again_repeats_no_run(tiny, name):
     assert {p.name: p.stat().st_mtime_ns for p in (out / "runs").iterdir()} == runs_before
 
 
+@pytest.mark.slow
 def test_a_run_missing_from_a_finished_script_is_the_only_one_redone(tiny, tmp_path):
     out = tmp_path / "out"
     shutil.copytree(tiny("fig21_threshold").out, out)
@@ -131,6 +135,7 @@ def test_a_run_missing_from_a_finished_script_is_the_only_one_redone(tiny, tmp_p
     assert victim.exists()
 
 
+@pytest.mark.slow
 def test_another_size_into_the_same_out_dir_is_refused(tmp_path):
     env, calls = shim_environment(tmp_path)
     out = tmp_path / "out"
@@ -142,6 +147,7 @@ def test_another_size_into_the_same_out_dir_is_refused(tmp_path):
     assert not calls.exists()
 
 
+@pytest.mark.slow
 def test_an_unknown_option_is_refused_before_any_run(tmp_path):
     env, calls = shim_environment(tmp_path)
     result = run_script("fig19_learning_curves", tmp_path / "out", env, "--trials")

@@ -7,6 +7,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parent.parent
 
 
@@ -30,6 +32,7 @@ def test_every_python_block_of_the_readme_is_run_here() -> None:
     assert len(re.findall(r"```python\n", readme)) == 2
 
 
+@pytest.mark.slow  # over a second
 def test_the_readme_python_example_runs(tmp_path: Path) -> None:
     episodes, velocities, metrics = _run_example("Python API and shell completion", tmp_path)
     assert int(episodes.split()[0]) > 0
@@ -39,6 +42,7 @@ def test_the_readme_python_example_runs(tmp_path: Path) -> None:
     assert (tmp_path / "api.h5").exists() and (tmp_path / "multi.h5").exists()
 
 
+@pytest.mark.slow  # over a second
 def test_the_readme_gymnasium_example_runs(tmp_path: Path) -> None:
     episode, learning = _run_example("Gymnasium environment", tmp_path)
     # TVL drove the whole 5-minute episode without a bump, forward most of the time.

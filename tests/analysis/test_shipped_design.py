@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import pytest
+
 from tvl_cli.agent.explore import Learner, LearnParams
 from tvl_cli.analysis.design import design_inputs
 from tvl_cli.core.config import DESIGNED, SINGLE, RobotConfig
@@ -29,6 +31,7 @@ def tuning_episodes() -> list[Episode]:
     return episodes
 
 
+@pytest.mark.slow  # over a second
 def test_the_shipped_designed_configuration_is_designed_again_from_the_tuning_logs() -> None:
     design = design_inputs(tuning_episodes(), RobotConfig(), TrainParams(), seed=1)
     assert design.config.tables == DESIGNED.tables

@@ -88,6 +88,7 @@ def test_learning_counts_its_collisions() -> None:
     assert learner.learn_collisions == sum(r.collisions for r in runs) > 0
 
 
+@pytest.mark.slow  # over a second
 def test_competence_is_judged_every_k_learning_minutes() -> None:
     result = learn_and_evaluate(SQUARE, ROBOT, 0.3, 0.2, seed=1, competence_every=0.1)
     minutes = [check.learn_minutes for check in result.checks]

@@ -12,6 +12,8 @@ from conftest import TVL
 EXAMPLE_LOG = Path(__file__).resolve().parents[2] / "logs" / "square-s1.h5"
 SQUARE = Path(__file__).resolve().parents[2] / "worlds" / "square.txt"
 
+pytestmark = pytest.mark.slow  # every test here starts a real `tvl` process
+
 
 def tvl(*args: str | Path) -> subprocess.CompletedProcess[str]:
     return subprocess.run([TVL, *map(str, args)], capture_output=True, text=True, timeout=180)

@@ -13,6 +13,8 @@ from tvl_cli.io.famfile import read_fam
 
 EXAMPLE_LOG = Path(__file__).resolve().parents[2] / "logs" / "square-s1.h5"
 
+pytestmark = pytest.mark.slow  # every test here starts a real `tvl` process
+
 
 def tvl(*args: str | Path) -> subprocess.CompletedProcess[str]:
     return subprocess.run([TVL, *map(str, args)], capture_output=True, text=True, timeout=120)

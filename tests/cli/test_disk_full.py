@@ -17,6 +17,8 @@ from test_bad_numbers import SQUARE
 LAB = SQUARE.with_name("lab.txt")
 LIMIT_BYTES = 300_000  # room for a log's start, not for a multi FAM (about 2 MB)
 
+pytestmark = pytest.mark.slow  # every test here starts a real `tvl` process
+
 
 def tvl_limited(*args: str | Path) -> subprocess.CompletedProcess[str]:
     """`tvl ARGS` allowed files of at most LIMIT_BYTES: writes beyond fail with EFBIG."""

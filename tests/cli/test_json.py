@@ -33,6 +33,7 @@ def learnt(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return log
 
 
+@pytest.mark.slow
 def test_world_commands_print_what_the_world_holds(tmp_path: Path) -> None:
     world, png = tmp_path / "rooms.txt", tmp_path / "rooms.png"
     made = tvl_json("world", "new", "rooms", "--seed", "3", "-o", world)
@@ -46,6 +47,7 @@ def test_world_commands_print_what_the_world_holds(tmp_path: Path) -> None:
     assert png.stat().st_size > 1000
 
 
+@pytest.mark.slow
 def test_train_prints_its_summary(learnt: Path, tmp_path: Path) -> None:
     fam = tmp_path / "fam.h5"
     printed = tvl_json("train", learnt, "-o", fam, "--config", "multi")
@@ -58,6 +60,7 @@ def test_train_prints_its_summary(learnt: Path, tmp_path: Path) -> None:
     assert fam.exists()
 
 
+@pytest.mark.slow
 def test_train_takes_the_designed_configuration_by_name(learnt: Path, tmp_path: Path) -> None:
     fam = tmp_path / "fam.h5"
     printed = tvl_json("train", learnt, "-o", fam, "--config", "designed")
@@ -65,6 +68,7 @@ def test_train_takes_the_designed_configuration_by_name(learnt: Path, tmp_path: 
     assert tvl_json("inspect", fam)["config"]["name"] == "designed"
 
 
+@pytest.mark.slow
 def test_demo_prints_learning_and_every_run(tmp_path: Path) -> None:
     printed = tvl_json("demo", tmp_path / "demo")
     assert printed["learning"]["status"] == "finished"
@@ -77,6 +81,7 @@ def test_demo_prints_learning_and_every_run(tmp_path: Path) -> None:
         assert Path(run["png"]).exists()
 
 
+@pytest.mark.slow
 def test_csv_rows_of_rules_and_of_run_metrics(learnt: Path, tmp_path: Path) -> None:
     import csv
     import io

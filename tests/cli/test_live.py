@@ -45,6 +45,7 @@ def test_the_view_fits_a_small_terminal_and_shows_the_run(fam: Path) -> None:
     assert f"t {metrics.sim_s - 0.1:6.1f} s" in text  # the last step began 0.1 s before the end
 
 
+@pytest.mark.slow
 def test_live_without_a_terminal_falls_back_to_the_plain_output(fam: Path) -> None:
     done = subprocess.run(
         [TVL, "run", str(fam), str(LAB), "--behaviour", "avoid", "--minutes", "0.2", "--live",
@@ -60,6 +61,7 @@ def test_live_without_a_terminal_falls_back_to_the_plain_output(fam: Path) -> No
     assert paced.returncode == 2 and "--pace 0 must be a positive number" in paced.stderr
 
 
+@pytest.mark.slow
 def test_learning_shows_the_trajectory_followed_and_the_last_minute(tmp_path: Path) -> None:
     from tvl_cli.agent.explore import LearnParams
     from tvl_cli.commands.learn import LearnRequest, learn_to_log

@@ -6,6 +6,7 @@ import json
 import subprocess
 from pathlib import Path
 
+import pytest
 from conftest import TVL
 from PIL import Image
 from test_bad_numbers import SQUARE, assert_one_line_refusal
@@ -13,6 +14,8 @@ from test_bad_numbers import SQUARE, assert_one_line_refusal
 from tvl_cli.render.animate import DPI, FIGURE_SIZE_IN
 
 EXAMPLE_LOG = Path(__file__).resolve().parents[2] / "logs" / "square-s1.h5"
+
+pytestmark = pytest.mark.slow  # every test here starts a real `tvl` process
 
 
 def tvl(*args: str | Path) -> subprocess.CompletedProcess[str]:

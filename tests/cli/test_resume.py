@@ -10,11 +10,14 @@ from pathlib import Path
 
 import h5py
 import numpy as np
+import pytest
 from conftest import TVL
 from test_bad_numbers import SQUARE
 
 from tvl_cli.io.famfile import read_fam
 from tvl_cli.io.logreader import read_log
+
+pytestmark = pytest.mark.slow  # every test here starts a real `tvl` process
 
 
 def tvl(*args: str | Path) -> subprocess.CompletedProcess[str]:

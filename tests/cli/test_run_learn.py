@@ -31,6 +31,8 @@ from tvl_cli.sim.worldmap import load_world
 NARROW = SQUARE.with_name("narrow.txt")
 AVOID = ["--behaviour", "avoid", "--minutes", "0.5"]
 
+pytestmark = pytest.mark.slow  # every test here starts a real `tvl` process
+
 
 @pytest.fixture(scope="module")
 def learnt(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]:

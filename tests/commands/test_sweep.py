@@ -68,6 +68,7 @@ def swept(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return out
 
 
+@pytest.mark.slow
 def test_every_cell_is_a_row_of_its_grid_values_and_its_run_metrics(swept: Path) -> None:
     with open(swept / "results.csv", newline="") as table:
         rows = list(csv.DictReader(table))
@@ -89,6 +90,7 @@ def test_every_cell_is_a_row_of_its_grid_values_and_its_run_metrics(swept: Path)
     assert all(list(row) == ["kind", *COLUMNS, *PRINTED] for row in recorded)
 
 
+@pytest.mark.slow
 def test_a_row_holds_what_tvl_run_prints_for_its_cell(swept: Path, tmp_path: Path) -> None:
     log, fam = tmp_path / "log.h5", tmp_path / "multi.h5"
     for command in (
@@ -107,6 +109,7 @@ def test_a_row_holds_what_tvl_run_prints_for_its_cell(swept: Path, tmp_path: Pat
     assert printed["distance_m"] > 0
 
 
+@pytest.mark.slow
 def test_a_finished_sweep_runs_nothing_again(swept: Path) -> None:
     grid = swept.parent / "grid.toml"
     kept = {p: p.stat().st_mtime_ns for p in [swept / LOG, *(swept / f for f in FAMS)]}
@@ -119,6 +122,7 @@ def test_a_finished_sweep_runs_nothing_again(swept: Path) -> None:
     assert {p: p.stat().st_mtime_ns for p in kept} == kept
 
 
+@pytest.mark.slow
 def test_a_stopped_sweep_runs_only_the_cells_it_lacks(swept: Path, tmp_path: Path) -> None:
     out = tmp_path / "out"
     shutil.copytree(swept, out)
@@ -133,6 +137,7 @@ def test_a_stopped_sweep_runs_only_the_cells_it_lacks(swept: Path, tmp_path: Pat
     assert (out / "results.csv").read_text() == (swept / "results.csv").read_text()
 
 
+@pytest.mark.slow
 def test_the_rows_draw_figure_21(swept: Path, tmp_path: Path) -> None:
     drawn = tvl("figure", "fig21", swept / "results.jsonl", "-o", tmp_path / "fig21.png")
     assert drawn.returncode == 0, drawn.stderr
@@ -158,6 +163,7 @@ BAD_GRIDS = {
 }
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("case", BAD_GRIDS)
 def test_a_bad_grid_is_refused_in_one_line_before_anything_is_written(
     tmp_path: Path, case: str
@@ -179,6 +185,7 @@ def test_a_cluster_needs_dask(monkeypatch: pytest.MonkeyPatch) -> None:
         pass
 
 
+@pytest.mark.slow
 def test_a_dask_clusters_workers_give_the_local_rows(swept: Path, tmp_path: Path) -> None:
     distributed = pytest.importorskip("distributed")
     out = tmp_path / "out"

@@ -311,6 +311,7 @@ def test_a_ray_that_meets_nothing_hears_nothing_outside_the_square() -> None:
     assert np.all(readings[silent] == QUIET.max_range_m)
 
 
+@pytest.mark.slow  # over a second
 def test_a_ray_that_meets_nothing_hears_nothing_among_many_blocks() -> None:
     # A hall of 300 square blocks, read at random poses clear of them: a beam none of whose
     # rays crosses any wall reads the maximum range, however many walls lie elsewhere.
