@@ -62,6 +62,7 @@ def test_driven_by_the_ring_alone_it_avoids_the_square_by_what_it_hears() -> Non
     assert metrics.mean_speed_mps > 0.2
 
 
+@pytest.mark.slow
 def test_driven_by_the_ring_it_meets_a_wall_it_cannot_hear_that_the_map_sees() -> None:
     # The lab's thin table edges and slanted approaches: the ring-driven DWA meets what a
     # specular ring misses, the map-driven one does not.
