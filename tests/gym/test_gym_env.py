@@ -16,6 +16,7 @@ from tvl_cli.agent.drive import GOAL_RADIUS_M
 from tvl_cli.agent.motions import BACKOFF_M
 from tvl_cli.baselines.qlearning import DEFAULT_Q, step_reward
 from tvl_cli.core.command import STOP, Command
+from tvl_cli.core.memory import MemoryConfig
 from tvl_cli.gym import ENV_ID, MAX_EPISODE_STEPS, SonarRingEnv
 from tvl_cli.gym.env import ACTION_NAMES, ROBOT, SPIN_LEFT, SPIN_RIGHT, STOP_ACTION
 from tvl_cli.render.animate import DPI, FIGURE_SIZE_IN
@@ -240,3 +241,23 @@ def test_the_readme_quotes_the_envs_own_numbers() -> None:
     assert f"within {GOAL_RADIUS_M:g} m of the goal" in section
     assert f"after {MAX_EPISODE_STEPS:,} steps" in section
     assert f"backed off {BACKOFF_M:g} m after a bump" in section
+
+
+def test_the_gymnasium_observation_can_be_the_virtual_ring() -> None:
+    plain = gymnasium.make("tvl/SonarRing-v0", world="lab")
+    remembering = gymnasium.make(
+        "tvl/SonarRing-v0", world="lab", memory=MemoryConfig("patches", window_s=20.0, range_m=3.0)
+    )
+    a, _ = plain.reset(seed=3)
+    b, _ = remembering.reset(seed=3)
+    # The same seed reads the same rings; the virtual one is never farther.
+    assert (b <= a).all()
+    nearer = False
+    for _ in range(60):
+        a, *_ = plain.step(3)
+        b, *_ = remembering.step(3)
+        assert (b <= a).all()
+        nearer |= bool((b < a).any())
+    assert nearer
+    with pytest.raises(ValueError, match="--memory lines"):
+        gymnasium.make("tvl/SonarRing-v0", memory="lines")
