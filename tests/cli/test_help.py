@@ -31,3 +31,18 @@ def test_the_top_level_help_loads_no_heavy_library() -> None:
     )
     assert "run" in result.stdout and "baseline" in result.stdout
     assert result.stderr.strip() == "[]"
+
+
+def test_no_commands_help_loads_the_compiler() -> None:
+    # Kernels compile (or load from numba's cache) when first used, never for a --help.
+    code = (
+        "import sys; from tvl_cli.cli.main import COMMANDS, main\n"
+        "for name in COMMANDS:\n"
+        "    try:\n        main([name, '--help'])\n    except SystemExit:\n        pass\n"
+        "print(sorted(m for m in sys.modules if m.split('.')[0] == 'numba'), file=sys.stderr)"
+    )
+    result = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, check=True, timeout=120
+    )
+    assert "Perform a behaviour in WORLD" in result.stdout  # every help was printed
+    assert result.stderr.strip() == "[]"

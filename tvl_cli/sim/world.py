@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 from collections import defaultdict
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 import numpy as np
 import pymunk
@@ -60,48 +60,43 @@ class StaticGeometry:
     corner_sides: np.ndarray
     max_disc_radius_m: float  # 0 without discs
     roughness: float  # the world's, 0 to 1: how much sound its walls scatter diffusely
-    # segments_near's last answer, by tile and reach: a robot stays in a tile for many steps.
-    _near: dict[tuple[int, int, float], StaticGeometry] = field(
-        default_factory=dict, repr=False, compare=False
+    # Each wall's roughness (n,) and each ring wall's (k,), from the world's one value until
+    # walls have materials of their own.
+    seg_roughness: np.ndarray = field(init=False)
+    ring_roughness: np.ndarray = field(init=False)
+    _every_wall: np.ndarray = field(init=False, repr=False)  # (n,) indices 0 .. n - 1
+    # walls_near's last answer, by tile and reach: a robot stays in a tile for many steps.
+    _near: dict[tuple[int, int, float], np.ndarray] = field(
+        default_factory=dict, init=False, repr=False, compare=False
     )
 
-    def segments_near(self, x: float, y: float, reach_m: float) -> StaticGeometry:
-        """This geometry keeping only the wall segments that may pass within `reach_m` of
-        (x, y), in their order (so that ties among them are broken as before); the whole of
-        it in a small world. Discs and rings are kept: there are few of them."""
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "seg_roughness", np.full(len(self.seg_len), self.roughness))
+        object.__setattr__(self, "ring_roughness", np.full(len(self.rings), self.roughness))
+        object.__setattr__(self, "_every_wall", np.arange(len(self.seg_len)))
+
+    def walls_near(self, x: float, y: float, reach_m: float) -> np.ndarray:
+        """Indices (in increasing order, so that ties are broken as among all of them) of the
+        wall segments that may pass within `reach_m` of (x, y); every one in a small world."""
         if len(self.seg_len) < NEAR_MIN_SEGMENTS:
-            return self
+            return self._every_wall
         tile = (math.floor(x / NEAR_TILE_M), math.floor(y / NEAR_TILE_M), reach_m)
         found = self._near.get(tile)
         if found is None:
-            # Segments whose bounding box meets the tile grown by reach_m: a few more than
-            # strictly within reach, never fewer.
-            low = np.array(tile[:2]) * NEAR_TILE_M - reach_m  # (2,) metres
-            high = low + NEAR_TILE_M + 2.0 * reach_m
-            ends = self.seg_ends  # (n, 2, 2) metres
-            keep = np.flatnonzero(
-                np.all(ends.max(axis=1) >= low, axis=1) & np.all(ends.min(axis=1) <= high, axis=1)
-            )
-            found = _some_segments(self, keep)
+            found = self._walls_in_tile(*tile)
             self._near.clear()  # one tile kept: memory stays bounded in a world of any size
             self._near[tile] = found
         return found
 
-
-def _some_segments(geometry: StaticGeometry, keep: np.ndarray) -> StaticGeometry:
-    """The geometry with only the segments indexed by keep."""
-    return replace(
-        geometry,
-        segments=geometry.segments[keep],
-        seg_start=np.ascontiguousarray(geometry.seg_start[:, keep]),
-        seg_delta=np.ascontiguousarray(geometry.seg_delta[:, keep]),
-        seg_len=geometry.seg_len[keep],
-        seg_normal=np.ascontiguousarray(geometry.seg_normal[:, keep]),
-        seg_moment=geometry.seg_moment[keep],
-        seg_ends=geometry.seg_ends[keep],
-        corner_sides=geometry.corner_sides[keep],
-        _near={},
-    )
+    def _walls_in_tile(self, column: int, row: int, reach_m: float) -> np.ndarray:
+        """Segments whose bounding box meets the tile grown by reach_m: a few more than
+        strictly within reach, never fewer."""
+        low = np.array([column, row]) * NEAR_TILE_M - reach_m  # (2,) metres
+        high = low + NEAR_TILE_M + 2.0 * reach_m
+        ends = self.seg_ends  # (n, 2, 2) metres
+        return np.flatnonzero(
+            np.all(ends.max(axis=1) >= low, axis=1) & np.all(ends.min(axis=1) <= high, axis=1)
+        )
 
 
 def static_geometry(world: WorldMap) -> StaticGeometry:
@@ -169,30 +164,19 @@ def _corner_sides(segments: np.ndarray) -> np.ndarray:
 def clearances_m(geometry: StaticGeometry, points: np.ndarray, body_radius_m: float) -> np.ndarray:
     """(p,) metres from the edge of a body centred at each of points (p, 2) to the nearest
     obstacle; 0 where the body touches or overlaps one, inf in a world with no obstacles."""
-    px = points[:, 0:1]  # (p, 1) metres
-    py = points[:, 1:2]
-    nearest = np.full(len(points), np.inf)  # (p,) metres from the centre
-    if len(geometry.seg_len):
-        # Closest point on each segment: the projection clamped to the segment.
-        (sx, sy), (ex, ey) = geometry.seg_start, geometry.seg_delta
-        rx, ry = px - sx, py - sy  # (p, n) metres
-        along = np.clip((rx * ex + ry * ey) / geometry.seg_len**2, 0.0, 1.0)
-        gap = np.hypot(rx - along * ex, ry - along * ey)
-        nearest = np.minimum(nearest, gap.min(axis=1))
-    if len(geometry.discs):
-        cx, cy, r = geometry.discs.T
-        gap = np.hypot(px - cx, py - cy) - r  # (p, m)
-        nearest = np.minimum(nearest, gap.min(axis=1))
-    if len(geometry.rings):
-        cx, cy, r = geometry.rings.T
-        gap = r - np.hypot(px - cx, py - cy)  # (p, k)
-        nearest = np.minimum(nearest, gap.min(axis=1))
-    return np.maximum(nearest - body_radius_m, 0.0)
+    from tvl_cli.core.kernels.clearance import clearances  # compiled: loaded on first use
+
+    g = geometry
+    points = np.ascontiguousarray(points, dtype=np.float64)
+    return clearances(points, g.seg_start, g.seg_delta, g.seg_len, g.discs, g.rings, body_radius_m)
 
 
 def clearance_m(geometry: StaticGeometry, x: float, y: float, body_radius_m: float) -> float:
     """Metres from the edge of a body centred at (x, y) to the nearest obstacle (0 if touching)."""
-    return float(clearances_m(geometry, np.array([[x, y]]), body_radius_m)[0])
+    from tvl_cli.core.kernels.clearance import clearance  # compiled: loaded on first use
+
+    g = geometry
+    return clearance(x, y, g.seg_start, g.seg_delta, g.seg_len, g.discs, g.rings, body_radius_m)
 
 
 def skin_m(robot: RobotConfig) -> float:
