@@ -49,8 +49,9 @@ def episode_labels(episode: Episode, robot: RobotConfig, params: TrainParams) ->
     return velocity_labels(episode.distances_m(), v_max, params.decel_mps2, params.margin_m)
 
 
-def train_episode(fam: Fam, episode: Episode, robot: RobotConfig, params: TrainParams) -> None:
-    """Train on one whole episode, on exactly the ring values the log keeps."""
+def train_episode(fam: Fam, episode: Episode, robot: RobotConfig, params: TrainParams) -> float:
+    """Train on one whole episode, on exactly the ring values the log keeps; the summed
+    absolute change of the FAM's velocity entries, m/s (Fam.train)."""
     labels = episode_labels(episode, robot, params)
     trajectories = np.full(len(labels), episode.trajectory)
-    fam.train(mm_to_ring(episode.ring_mm), trajectories, labels, symmetric=params.symmetric)
+    return fam.train(mm_to_ring(episode.ring_mm), trajectories, labels, symmetric=params.symmetric)
