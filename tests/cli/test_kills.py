@@ -14,14 +14,10 @@ import h5py
 import pytest
 from conftest import TVL
 from test_bad_numbers import SQUARE
+from test_cli_bad_input import start_learning
 
 from tvl_cli.core.errors import BadInput
 from tvl_cli.io.logreader import read_log
-
-WAITING_S = 60.0
-# Long enough for learning to write some episodes (simulated minutes, at hundreds of times
-# real time), and far too short for it to finish 600 simulated minutes.
-LEARNING_S = 2.0
 
 
 def test_a_kill_as_the_log_appears_leaves_a_log_the_next_learn_continues(
@@ -77,18 +73,9 @@ def test_kills_at_any_moment_leave_a_readable_log_and_no_leftovers_after_the_nex
 def test_a_stopped_learner_keeps_every_episode_it_finished(tmp_path: Path, stop) -> None:
     # Learning writes episodes a few at a time; stopping it writes those it still holds.
     log = tmp_path / "log.h5"
-    process = subprocess.Popen(
-        [TVL, "learn", str(SQUARE), "--log", str(log), "--minutes", "600", "--json"],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.DEVNULL,
-        text=True,
-    )
-    deadline = time.monotonic() + WAITING_S
-    while not log.exists() and time.monotonic() < deadline:
-        time.sleep(0.01)
-    time.sleep(LEARNING_S)
+    process = start_learning(log, "--json")
     process.send_signal(stop)
-    printed, _ = process.communicate(timeout=WAITING_S)
+    printed, _ = process.communicate(timeout=60)
     summary = json.loads(printed)
     assert summary["status"] == f"interrupted: {stop.name}"
     (session,) = read_log(log).sessions
