@@ -27,6 +27,9 @@ SPIN = "spin"
 TRAPPED = "trapped"
 # Every event a run trace records, in the order of their bits.
 EVENTS = (BUMP, NEAR_MISS, BACKOFF, BACKOFF_END, SPIN, TRAPPED)
+# `tvl explain --event collision` is the bump event under the name a person looks for.
+EVENT_ALIASES = {"collision": BUMP}
+EVENT_CHOICES = (*EVENT_ALIASES, *EVENTS)
 
 
 def steps_beginning(events: np.ndarray, event: str) -> np.ndarray:
