@@ -187,6 +187,7 @@ class Fam:
 
         widest = max(len(t.inputs) for t in tables)
         self._firing = Firing.of(tables, self._first_rows[:-1].tolist(), widest)
+        self._firing_arrays = self._firing.kernel_inputs()
         # Training fires one table at a time, unpadded, straight into (rule, column) entries.
         self._train_firings = [_TrainFiring.of(t) for t in tables]
         # Each table's sums of a batch and of a chunk of it, zero between batches.
@@ -374,7 +375,7 @@ class Fam:
         ring rings[ring_of_view[v]] (N, 16) metres under rotation rotation_of_view[v], but
         the (V, J) velocities and experience it fills."""
         return (
-            rings, ring_of_view, rotation_of_view, self._firing.kernel_inputs(), self._lookup,
+            rings, ring_of_view, rotation_of_view, self._firing_arrays, self._lookup,
             self._trajectory_at, self._corner_strength, self._corner_offset,
         )  # fmt: skip
 
