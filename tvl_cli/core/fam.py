@@ -133,23 +133,31 @@ class Firing:
 
 
 @dataclass(frozen=True, slots=True, eq=False)
-class _TrainFiring:
-    """How training fires one table: unpadded, straight into its (rule, column) entries."""
+class _TableTraining:
+    """How training fires one table, unpadded, straight into its (rule, column) entries, and
+    the room it sums in."""
 
     pass_sonars: np.ndarray  # (2, g, n) the inputs' sonar groups, as read and mirrored
     partitions: tuple[np.ndarray, ...]  # the n inputs' StackedPartitions arrays
     strides: np.ndarray  # (n,) entry step of each input's set
+    corner_offsets: np.ndarray  # (2^n,) each corner's entry from the lowest
     chunk_rows: int  # exemplars summed apart before joining a batch's sums
+    sums: np.ndarray  # (4, E) a batch's and a chunk's sums of w and w * v; zero between batches
+    met: np.ndarray  # (2, E) the entries a batch and a chunk met
 
     @classmethod
-    def of(cls, table: FamTable) -> _TrainFiring:
+    def of(cls, table: FamTable) -> _TableTraining:
         firing = Firing.of((table,), (0,), len(table.inputs), scale=len(table.trajectories))
         p = firing.partitions
+        entries = table.rule_count * len(table.trajectories)
         return cls(
             np.stack([firing.sonars[..., 0], firing.mirrored().sonars[..., 0]]),
             (p.interior_m, p.gap_start, p.gap_low_m, p.gap_width_m),
             firing.strides[:, 0],
+            firing.corners[:, 0],
             max(1, TRAIN_CHUNK_CORNERS // len(firing.corners)),
+            np.zeros((4, entries)),
+            np.empty((2, entries), dtype=np.intp),
         )
 
 
@@ -189,9 +197,7 @@ class Fam:
         self._firing = Firing.of(tables, self._first_rows[:-1].tolist(), widest)
         self._firing_arrays = self._firing.kernel_inputs()
         # Training fires one table at a time, unpadded, straight into (rule, column) entries.
-        self._train_firings = [_TrainFiring.of(t) for t in tables]
-        # Each table's sums of a batch and of a chunk of it, zero between batches.
-        self._train_scratch = [np.zeros((4, w.size)) for w in self._weighted_sum]
+        self._training = [_TableTraining.of(t) for t in tables]
 
         where = {
             n: (t, table.trajectories.index(n))
@@ -205,6 +211,8 @@ class Fam:
         self._trajectory_at[self._table_of, self._column_of] = np.arange(len(self._names))
         # Where each table's velocity entries start among all of them, table after table.
         self._first_entry = np.cumsum([0] + [w.size for w in self._weighted_sum])
+        # (entries,) m/s: how much training changed each velocity entry, zero between batches
+        self._change = np.zeros(self._first_entry[-1])
         # Room for each corner's firing strength and rule offset, for the widest table.
         self._corner_strength = np.empty(len(self._firing.corners))  # (C,)
         self._corner_offset = np.empty(len(self._firing.corners), dtype=np.intp)  # (C,)
@@ -213,11 +221,10 @@ class Fam:
         self._one_ring = np.zeros(SONAR_COUNT, dtype=np.intp)  # (16,) every view reads ring 0
         # Compiled kernels, loaded here rather than on import so that no `--help` loads them.
         from tvl_cli.core.kernels.perception import infer_views
-        from tvl_cli.core.kernels.rule_updates import summed_change, train_table
+        from tvl_cli.core.kernels.rule_updates import train_table
 
         self._infer_views: Callable[..., None] = infer_views
-        self._train_table: Callable[..., tuple[np.ndarray, np.ndarray]] = train_table
-        self._summed_change: Callable[..., float] = summed_change
+        self._train_table: Callable[..., int] = train_table
 
     @classmethod
     def from_tables(
@@ -319,16 +326,18 @@ class Fam:
         if symmetric:
             passes.append(mirror_trajectory(trajectories, len(self._names)))
         readings = rings.ravel()
-        touched, changes = [], []
+        touched = []
         for t in range(len(self._config.tables)):
             entries, change = self._train_one_table(t, readings, velocities_mps, passes)
-            touched.append(entries + self._first_entry[t])
-            changes.append(change)
-        entries = np.concatenate(touched)
-        order = entries.argsort()
-        return float(
-            self._summed_change(entries[order], np.concatenate(changes)[order], self.entry_count)
-        )
+            entries += self._first_entry[t]
+            self._change[entries] = change
+            touched.append(entries)
+        # Every entry summed, as numpy summed the change of a copy of them all (its pairwise
+        # order decides the rounding): a reduction of memory kept for it, not two copies.
+        summed = float(np.add.reduce(self._change))
+        for entries in touched:
+            self._change[entries] = 0.0
+        return summed
 
     @property
     def entry_count(self) -> int:
@@ -343,25 +352,35 @@ class Fam:
         passes: list[np.ndarray],
     ) -> tuple[np.ndarray, np.ndarray]:
         """Train table t on each pass's exemplars (by their trajectories (N,), the second pass
-        on the mirrored ring); the entries recomputed and their absolute change."""
+        on the mirrored ring); the entries recomputed (K,) and their absolute change (K,)."""
         rows = [np.flatnonzero(self._table_of[trajectories] == t) for trajectories in passes]
-        firing = self._train_firings[t]
-        return self._train_table(
+        training = self._training[t]
+        every_row = np.concatenate(rows)
+        exemplars = min(training.chunk_rows, len(every_row))
+        corners = len(training.corner_offsets)
+        change = np.empty(min(self._weighted_sum[t].size, len(every_row) * corners))  # m/s
+        recomputed = self._train_table(
             readings,
             velocities_mps,
-            np.concatenate(rows),
+            every_row,
             np.concatenate([self._column_of[j[r]] for j, r in zip(passes, rows, strict=True)]),
             np.cumsum([len(r) for r in rows]),
-            firing.pass_sonars[: len(passes)],
-            firing.partitions,
-            firing.strides,
-            firing.chunk_rows,
+            training.pass_sonars[: len(passes)],
+            training.partitions,
+            training.strides,
+            training.corner_offsets,
+            training.chunk_rows,
             self._lookup,
             self._first_rows[t],
             len(self._config.tables[t].trajectories),
             self._weighted_sum[t].reshape(-1),
-            self._train_scratch[t],
+            training.sums,
+            training.met,
+            np.empty(exemplars, dtype=np.intp),  # (M,) each one's lowest corner's entry
+            np.empty((exemplars, len(training.strides))),  # (M, n) its upper degrees
+            change,
         )
+        return training.met[0, :recomputed].copy(), change[:recomputed]
 
     def _inputs(self, rings: np.ndarray, rotation: int) -> np.ndarray:
         """Inputs (n, T, N) metres of rings (N, 16) metres under a rotation."""

@@ -168,15 +168,14 @@ def clearances_m(geometry: StaticGeometry, points: np.ndarray, body_radius_m: fl
 
     g = geometry
     points = np.ascontiguousarray(points, dtype=np.float64)
-    return clearances(points, g.seg_start, g.seg_delta, g.seg_len, g.discs, g.rings, body_radius_m)
+    found = np.empty(len(points))  # (p,) metres
+    clearances(points, g.seg_start, g.seg_delta, g.seg_len, g.discs, g.rings, body_radius_m, found)
+    return found
 
 
 def clearance_m(geometry: StaticGeometry, x: float, y: float, body_radius_m: float) -> float:
     """Metres from the edge of a body centred at (x, y) to the nearest obstacle (0 if touching)."""
-    from tvl_cli.core.kernels.clearance import clearance  # compiled: loaded on first use
-
-    g = geometry
-    return clearance(x, y, g.seg_start, g.seg_delta, g.seg_len, g.discs, g.rings, body_radius_m)
+    return float(clearances_m(geometry, np.array([[x, y]]), body_radius_m)[0])
 
 
 def skin_m(robot: RobotConfig) -> float:

@@ -7,8 +7,9 @@ import numpy as np
 import pytest
 from kernel_worlds import every_world, random_poses
 
-from tvl_cli.core.kernels.clearance import clearance, clearances
+from tvl_cli.core.kernels.clearance import clearances
 from tvl_cli.core.kernels.clearance_reference import clearances_reference
+from tvl_cli.sim.world import clearance_m
 
 WORLDS = every_world()
 
@@ -18,14 +19,18 @@ def test_the_kernel_measures_as_the_reference_at_random_points(name: str) -> Non
     g = WORLDS[name]
     points = np.ascontiguousarray(random_poses(g, 500, seed=len(name))[:, :2])
     inputs = (points, g.seg_start, g.seg_delta, g.seg_len, g.discs, g.rings, 0.2)
-    compiled = clearances(*inputs)
-    assert compiled.tobytes() == clearances_reference(*inputs).tobytes()
+    compiled, reference = np.empty(len(points)), np.empty(len(points))
+    clearances(*inputs, compiled)
+    clearances_reference(*inputs, reference)
+    assert compiled.tobytes() == reference.tobytes()
     assert 0.0 < (compiled > 0.0).mean() < 1.0  # points clear of obstacles and touching them
-    one_by_one = [clearance(x, y, *inputs[1:]) for x, y in points]
+    one_by_one = [clearance_m(g, x, y, 0.2) for x, y in points]
     assert np.array(one_by_one).tobytes() == compiled.tobytes()
 
 
 def test_no_obstacles_leave_an_infinite_clearance() -> None:
     nothing = np.empty((0, 3))
     walls = (np.empty((2, 0)), np.empty((2, 0)), np.empty(0))
-    assert clearance(1.0, 2.0, *walls, nothing, nothing, 0.2) == np.inf
+    found = np.empty(1)
+    clearances(np.array([[1.0, 2.0]]), *walls, nothing, nothing, 0.2, found)
+    assert found[0] == np.inf

@@ -10,7 +10,7 @@ from pathlib import Path
 from conftest import TVL
 
 SQUARE = Path(__file__).resolve().parents[3] / "worlds" / "square.txt"
-KERNELS = {"ring_ranges", "clearance", "clearances", "infer_views", "train_table", "summed_change"}
+KERNELS = {"ring_ranges", "clearances", "infer_views", "train_table"}
 
 
 def cached(directory: Path) -> dict[str, float]:

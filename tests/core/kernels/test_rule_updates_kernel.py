@@ -1,5 +1,5 @@
 """Compiled training changes a FAM, bit for bit, as the numpy reference does, and sums the
-change of its velocities (ΔV) as numpy sums every entry."""
+change of its velocities (ΔV) as numpy summed a copy of every entry."""
 
 from __future__ import annotations
 
@@ -8,11 +8,7 @@ import pytest
 from kernel_fams import CONFIGS, learnt_fam, logged_rings, odd_rings
 
 from tvl_cli.core.fam import Fam
-from tvl_cli.core.kernels.rule_updates import summed_change
-from tvl_cli.core.kernels.rule_updates_reference import (
-    summed_change_reference,
-    train_table_reference,
-)
+from tvl_cli.core.kernels.rule_updates_reference import train_table_reference
 
 
 def tables(fam: Fam) -> bytes:
@@ -41,23 +37,14 @@ def test_a_batch_trains_the_fam_as_the_reference_does(name: str, symmetric: bool
     assert change > 0.0
 
 
-def test_the_change_is_what_a_copy_of_every_velocity_before_and_after_gives() -> None:
-    fam = learnt_fam("multi", minutes=2.0)
-    every = [fam.velocity_table(t).ravel() for t in range(len(fam.config.tables))]
-    before = np.concatenate(every)
-    rings, trajectories, labels = exemplars(40, seed=3)
-    change = fam.train(rings, trajectories, labels) / fam.entry_count
-    after = np.concatenate([fam.velocity_table(t).ravel() for t in range(len(every))])
-    assert change == float(np.abs(after - before).mean())
+@pytest.mark.parametrize("name", ["single", "multi"])
+def test_the_change_is_what_a_copy_of_every_velocity_before_and_after_gives(name: str) -> None:
+    fam = learnt_fam(name, minutes=2.0)
+    tables = range(len(fam.config.tables))
+    for seed in (3, 4):  # a second batch too: the first leaves nothing behind
+        before = np.concatenate([fam.velocity_table(t).ravel() for t in tables])
+        rings, trajectories, labels = exemplars(40, seed)
+        change = fam.train(rings, trajectories, labels) / fam.entry_count
+        after = np.concatenate([fam.velocity_table(t).ravel() for t in tables])
+        assert change == float(np.abs(after - before).mean()) > 0.0
     assert fam.entry_count == len(before)
-
-
-@pytest.mark.parametrize("total", [1, 7, 8, 129, 5040, 31250, 123625])
-def test_a_sparse_change_sums_as_numpy_sums_it(total: int) -> None:
-    rng = np.random.default_rng(total)
-    for touched in (1, 5, 60, 700):
-        entries = np.unique(rng.integers(0, total, touched))
-        change = rng.uniform(0.0, 0.1, len(entries)) * 10.0 ** rng.integers(-6, 1, len(entries))
-        assert summed_change(entries, change, total) == summed_change_reference(
-            entries, change, total
-        )

@@ -13,5 +13,9 @@ import numba
 
 # IEEE arithmetic exactly as numpy does it (no fast-math, which would reorder sums and change
 # bits), and numpy's error model: a division by zero gives inf or nan, as in the references,
-# instead of raising.
+# instead of raising. (Kernels compare numbers themselves rather than call min() and max(),
+# whose compiled versions would add to the first run's compilation.)
 kernel = numba.njit(cache=True, error_model="numpy")
+# The same for a small helper compiled into each kernel that calls it: its array arguments
+# are then not counted in and out of every call.
+inlined = numba.njit(cache=True, error_model="numpy", inline="always")

@@ -14,8 +14,10 @@ def clearances_reference(
     discs: np.ndarray,
     rings: np.ndarray,
     body_radius_m: float,
-) -> np.ndarray:
-    """(p,) metres, as clearance.clearances (which documents the arguments)."""
+    found: np.ndarray,
+) -> None:
+    """Fill found (p,) with metres, as clearance.clearances (which documents the
+    arguments)."""
     px = points[:, 0:1]  # (p, 1) metres
     py = points[:, 1:2]
     nearest = np.full(len(points), np.inf)  # (p,) metres from the centre
@@ -34,4 +36,4 @@ def clearances_reference(
         cx, cy, r = rings.T
         gap = r - np.hypot(px - cx, py - cy)  # (p, k)
         nearest = np.minimum(nearest, gap.min(axis=1))
-    return np.maximum(nearest - body_radius_m, 0.0)
+    found[...] = np.maximum(nearest - body_radius_m, 0.0)

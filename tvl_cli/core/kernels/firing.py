@@ -1,15 +1,11 @@
-"""What the FAM kernels share: an input's fuzzy sets, and the corners of a table's cell.
-
-Inlined where they are called, so that the partition arrays they read are not counted in and
-out of every call.
-"""
+"""What the FAM kernels share: an input's fuzzy sets, and the corners of a table's cell."""
 
 from __future__ import annotations
 
-import numba
+from tvl_cli.core.kernels import inlined
 
 
-@numba.njit(cache=True, error_model="numpy", inline="always")
+@inlined
 def fuzzify(x, p, interior, gap_start, gap_low, gap_width):
     """Lower set index and upper degree of reading x (metres, finite or +inf) in partition p
     (core.fuzzy.StackedPartitions' arrays)."""
@@ -21,10 +17,14 @@ def fuzzify(x, p, interior, gap_start, gap_low, gap_width):
             lower += 1
     gap = lower + gap_start[p]
     upper = (x - gap_low[gap]) / gap_width[gap]
-    return lower, min(max(upper, 0.0), 1.0)
+    if upper < 0.0:  # the shoulders
+        upper = 0.0
+    elif upper > 1.0:
+        upper = 1.0
+    return lower, upper
 
 
-@numba.njit(cache=True, error_model="numpy", inline="always")
+@inlined
 def add_input(strength, offset, size, upper, stride):
     """Extend the first `size` corners (strengths, rule offsets) by one more input of upper
     degree `upper` and index step `stride`, to 2 * size corners: corner c takes the input's
@@ -32,8 +32,8 @@ def add_input(strength, offset, size, upper, stride):
     as core.fam.Firing orders them."""
     for c in range(size - 1, -1, -1):  # from the top, so that each is read before it is written
         s, o = strength[c], offset[c]
-        strength[2 * c] = min(s, 1.0 - upper)
+        strength[2 * c] = s if s < 1.0 - upper else 1.0 - upper
         offset[2 * c] = o
-        strength[2 * c + 1] = min(s, upper)
+        strength[2 * c + 1] = s if s < upper else upper
         offset[2 * c + 1] = o + stride
     return 2 * size

@@ -35,13 +35,14 @@ def infer_views(
             for i in range(input_counts[t]):
                 x = ring[(sonars[0, i, t] + rotation) % count]
                 for g in range(1, groups):
-                    x = min(x, ring[(sonars[g, i, t] + rotation) % count])
+                    other = ring[(sonars[g, i, t] + rotation) % count]
+                    if other < x:
+                        x = other
                 lower, upper = fuzzify(x, i * tables + t, interior, gap_start, gap_low, gap_width)
                 rule += lower * strides[i, t]
                 size = add_input(strength, offset, size, upper, strides[i, t])
-            total = 0.0
-            for c in range(size):
-                total += strength[c]
+            total = 0.0  # of w, summed with the first column's sums (a pass fewer)
+            first_column = True
             for col in range(columns):
                 j = trajectory_at[t, col]
                 if j < 0:
@@ -49,10 +50,13 @@ def infer_views(
                 velocity_sum = experience_sum = 0.0  # of w * V, w * E
                 for c in range(size):
                     w = strength[c]
-                    if w == 0.0:  # adds nothing to either sum
+                    if w == 0.0:  # adds nothing to any sum
                         continue
+                    if first_column:
+                        total += w
                     at = rule + offset[c]
                     velocity_sum += w * lookup[col, at]
                     experience_sum += w * lookup[columns + col, at]
+                first_column = False
                 velocities[v, j] = velocity_sum / total
                 experience[v, j] = experience_sum / total

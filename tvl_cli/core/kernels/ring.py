@@ -120,7 +120,9 @@ def ring_ranges(
                 if not ideal:
                     sigma = noise_sigma_m + noise_fraction * nearest
                     nearest = nearest + sigma * noise[robot, beam]
-                reading = min(max(nearest, min_range_m), max_range_m)
+                reading = nearest if nearest > min_range_m else min_range_m
+                if reading > max_range_m:
+                    reading = max_range_m
             readings[robot, beam] = reading
 
 
@@ -141,18 +143,21 @@ def _wall_echo(
     # For a forward hit the transducer is on the side of the wall given by the sign of
     # cross(D, E); a corner is concave when the other wall leaves it on that same side, and
     # an edge when it leaves on the other side or no wall meets it there.
-    reach = max(corner_min_radius_m, corner_slope * hit)
+    reach = corner_slope * hit
+    if reach < corner_min_radius_m:
+        reach = corner_min_radius_m
     echo = math.inf
     if abs(s - 0.0) * length <= reach:
         corner_m = math.hypot(to_start_x, to_start_y)
-        if start_side * cross > 0.0 or corner_m <= edge_echo_range_m:
-            echo = min(echo, corner_m)
+        if (start_side * cross > 0.0 or corner_m <= edge_echo_range_m) and corner_m < echo:
+            echo = corner_m
     if abs(s - 1.0) * length <= reach:
         corner_m = math.hypot(to_end_x, to_end_y)
-        if end_side * cross > 0.0 or corner_m <= edge_echo_range_m:
-            echo = min(echo, corner_m)
-    if roughness > 0.0 and hit <= max_range_m * math.sqrt(roughness * cos_incidence):
-        echo = min(echo, hit)
+        if (end_side * cross > 0.0 or corner_m <= edge_echo_range_m) and corner_m < echo:
+            echo = corner_m
+    diffuse = roughness > 0.0 and hit <= max_range_m * math.sqrt(roughness * cos_incidence)
+    if diffuse and hit < echo:
+        echo = hit
     return echo
 
 

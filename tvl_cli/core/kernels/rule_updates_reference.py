@@ -1,5 +1,5 @@
-"""Training's rule updates and ΔV in plain numpy, every exemplar and corner of a chunk at once:
-what `rule_updates` computes, kept for the tests that compare the two."""
+"""Training's rule updates in plain numpy, every exemplar and corner of a chunk at once: what
+`rule_updates` computes, kept for the tests that compare the two."""
 
 from __future__ import annotations
 
@@ -18,15 +18,21 @@ def train_table_reference(
     pass_sonars: np.ndarray,
     partitions: tuple[np.ndarray, ...],
     strides: np.ndarray,
+    corner_offsets: np.ndarray,
     chunk_rows: int,
     lookup: np.ndarray,
     first_row: int,
     table_columns: int,
     weighted_sum: np.ndarray,
-    scratch: np.ndarray,
-) -> tuple[np.ndarray, np.ndarray]:
-    """The entries recomputed, in increasing order, and their absolute change, as
-    rule_updates.train_table (which documents the arguments); scratch is not needed."""
+    sums: np.ndarray,
+    met: np.ndarray,
+    lowest: np.ndarray,
+    upper: np.ndarray,
+    change: np.ndarray,
+) -> int:
+    """How many entries were recomputed, listed in met[0] in increasing order with their
+    absolute change in `change`, as rule_updates.train_table (which documents the
+    arguments; this one needs no room to work in)."""
     count = len(readings) // len(velocities_mps)
     entries = len(weighted_sum)
     d_experience = np.zeros(entries)  # (R_t * traj_t,) this batch's sum of w
@@ -55,12 +61,6 @@ def train_table_reference(
     lookup[experience_row, rule] += d_experience[touched]
     weighted_sum += d_weighted
     lookup[column, rule] = weighted_sum[touched] / lookup[experience_row, rule]
-    return touched, np.abs(lookup[column, rule] - before)
-
-
-def summed_change_reference(entries: np.ndarray, change: np.ndarray, total: int) -> float:
-    """The sum of the (total,) vector holding change at entries and 0 elsewhere, as numpy sums
-    it (rule_updates.summed_change)."""
-    every = np.zeros(total)
-    every[entries] = change
-    return float(np.add.reduce(every))
+    met[0, : len(touched)] = touched
+    change[: len(touched)] = np.abs(lookup[column, rule] - before)
+    return len(touched)
