@@ -376,8 +376,10 @@ class Fam:
             self._weighted_sum[t].reshape(-1),
             training.sums,
             training.met,
+            np.empty((len(training.strides), exemplars)),  # (n, M) upper degrees
             np.empty(exemplars, dtype=np.intp),  # (M,) each one's lowest corner's entry
-            np.empty((exemplars, len(training.strides))),  # (M, n) its upper degrees
+            np.empty((corners, exemplars)),  # (C, M) each corner's strength for each one
+            np.empty(exemplars),  # (M,) m/s each one's label
             change,
         )
         return training.met[0, :recomputed].copy(), change[:recomputed]

@@ -26,8 +26,10 @@ def train_table_reference(
     weighted_sum: np.ndarray,
     sums: np.ndarray,
     met: np.ndarray,
-    lowest: np.ndarray,
     upper: np.ndarray,
+    lowest: np.ndarray,
+    strength: np.ndarray,
+    weighted: np.ndarray,
     change: np.ndarray,
 ) -> int:
     """How many entries were recomputed, listed in met[0] in increasing order with their
