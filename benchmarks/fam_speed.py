@@ -19,15 +19,13 @@ import argparse
 import contextlib
 import io
 import json
-import statistics
 import sys
 import tempfile
-import time
 from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
-from timing import figure_line
+from timing import cpu_seconds, figure_line
 
 from tvl_cli.core.config import BUILTIN_FAM_CONFIGS, SINGLE, SONAR_COUNT, RobotConfig
 from tvl_cli.core.fam import Fam
@@ -54,16 +52,6 @@ def exemplars(rng: np.random.Generator, count: int) -> tuple[np.ndarray, ...]:
     sonar = ROBOT.sonar
     rings = rng.uniform(sonar.min_range_m, sonar.max_range_m, (count, SONAR_COUNT))
     return rings, rng.integers(0, len(NAMES), count), rng.uniform(0.0, 0.6, count)
-
-
-def cpu_seconds(run: Callable[[], object], repeats: int) -> float:
-    """Median CPU seconds of `run`."""
-    times = []
-    for _ in range(repeats):
-        started = time.process_time()
-        run()
-        times.append(time.process_time() - started)
-    return statistics.median(times)
 
 
 def numpy_fam(fam: Fam) -> Fam:

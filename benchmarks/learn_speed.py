@@ -16,7 +16,16 @@ import json
 import tempfile
 from pathlib import Path
 
-from timing import TVL, Seconds, add_against_option, figure_line, paired, run_process, tvl_in
+from timing import (
+    TVL,
+    Seconds,
+    add_against_option,
+    figure_line,
+    paired,
+    realtime_against,
+    run_process,
+    tvl_in,
+)
 
 LAB = Path(__file__).resolve().parent.parent / "worlds" / "lab.txt"
 CONFIGS = ("single", "multi")
@@ -62,12 +71,7 @@ def main() -> None:
         realtime = f["realtime_cpu"]
         assert realtime is not None
         target = TARGET_REALTIME.get(config)
-        note = ""
-        if f["cpu_ratio_against"] is not None:
-            note = (
-                f"{1.0 / f['cpu_ratio_against']:.2f}x the speed of {args.against} "
-                f"({f['against_realtime_cpu']:,.0f}x), paired"
-            )
+        note = realtime_against(f["cpu_ratio_against"], args.against, f["against_realtime_cpu"])
         print(
             figure_line(
                 f"{config} (wall {f['realtime_wall']:,.0f}x)",

@@ -18,7 +18,15 @@ import json
 import tempfile
 from pathlib import Path
 
-from timing import TVL, add_against_option, figure_line, paired, run_process, tvl_in
+from timing import (
+    TVL,
+    add_against_option,
+    figure_line,
+    paired,
+    realtime_against,
+    run_process,
+    tvl_in,
+)
 
 ROOT = Path(__file__).resolve().parent.parent
 LAB = ROOT / "worlds" / "lab.txt"
@@ -67,12 +75,7 @@ def main() -> None:
     for config, f in figures.items():
         realtime, target = f["realtime_cpu"], TARGET_REALTIME[config]
         assert realtime is not None
-        note = ""
-        if f["cpu_ratio_against"] is not None:
-            note = (
-                f"{1.0 / f['cpu_ratio_against']:.2f}x the speed of {args.against} "
-                f"({f['against_realtime_cpu']:,.0f}x), paired"
-            )
+        note = realtime_against(f["cpu_ratio_against"], args.against, f["against_realtime_cpu"])
         print(
             figure_line(
                 f"{config} (wall {f['realtime_wall']:,.0f}x, {f['us_per_step_cpu']:.0f} µs a step)",

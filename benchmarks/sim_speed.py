@@ -13,14 +13,12 @@ from __future__ import annotations
 
 import argparse
 import json
-import statistics
-import time
 from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
 import pymunk
-from timing import figure_line
+from timing import cpu_seconds, figure_line
 
 from tvl_cli.core.command import Command
 from tvl_cli.core.config import RobotConfig
@@ -31,16 +29,6 @@ from tvl_cli.sim.worldmap import WorldMap, load_world
 LAB = Path(__file__).resolve().parent.parent / "worlds" / "lab.txt"
 WARM_UP_STEPS = 200
 TARGET_STEP_US = 30.0
-
-
-def cpu_seconds(run: Callable[[], object], repeats: int) -> float:
-    """Median CPU seconds of `run`."""
-    times = []
-    for _ in range(repeats):
-        started = time.process_time()
-        run()
-        times.append(time.process_time() - started)
-    return statistics.median(times)
 
 
 def wander(sim: Simulator, steps: int) -> None:

@@ -72,6 +72,26 @@ def paired(
     return median_seconds(mine), median_seconds(other), ratio
 
 
+def cpu_seconds(run: Callable[[], object], repeats: int) -> float:
+    """Median CPU seconds of `run`, in this process."""
+    times = []
+    for _ in range(repeats):
+        started = time.process_time()
+        run()
+        times.append(time.process_time() - started)
+    return statistics.median(times)
+
+
+def realtime_against(
+    ratio: float | None, against: Path | None, their_realtime: float | None
+) -> str:
+    """The note comparing a real-time factor with the baseline's, from the paired ratio of
+    CPU seconds ours / theirs; empty without a baseline."""
+    if ratio is None or their_realtime is None:
+        return ""
+    return f"{1.0 / ratio:.2f}x the speed of {against} ({their_realtime:,.0f}x), paired"
+
+
 def tvl_in(directory: Path) -> str:
     """The `tvl` of another checkout (its .venv) or of a virtual environment."""
     for candidate in (directory / ".venv" / "bin" / "tvl", directory / "bin" / "tvl"):

@@ -34,8 +34,8 @@ def _assert_refused(result: subprocess.CompletedProcess[str], *phrases: str) -> 
     assert "Traceback" not in result.stderr
 
 
-def _log(path: Path, robot: RobotConfig, episodes: int = 1) -> Path:
-    with LogWriter.open(
+def _open_log(path: Path, robot: RobotConfig) -> LogWriter:
+    return LogWriter.open(
         path,
         world_name="square",
         world_text=SQUARE.read_text(encoding="utf-8"),
@@ -43,7 +43,11 @@ def _log(path: Path, robot: RobotConfig, episodes: int = 1) -> Path:
         parameters={},
         robot_config=robot.to_dict(),
         fam_config=SINGLE.to_dict(),
-    ) as writer:
+    )
+
+
+def _log(path: Path, robot: RobotConfig, episodes: int = 1) -> Path:
+    with _open_log(path, robot) as writer:
         for index in range(episodes):
             n = 5
             writer.append_episode(
@@ -179,15 +183,7 @@ def empty_session_bytes(directory: Path) -> int:
     """The size of a log holding one session that has written no episode yet, as a learner's
     log is before its first write."""
     path = directory / "empty-session.h5"
-    with LogWriter.open(
-        path,
-        world_name="square",
-        world_text=SQUARE.read_text(encoding="utf-8"),
-        seed=1,
-        parameters={},
-        robot_config=RobotConfig().to_dict(),
-        fam_config=SINGLE.to_dict(),
-    ):
+    with _open_log(path, RobotConfig()):
         size = path.stat().st_size
     path.unlink()
     return size
