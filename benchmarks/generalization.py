@@ -414,7 +414,11 @@ def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--set", choices=sorted(WORLD_SETS), default="test", dest="world_set")
     parser.add_argument("--quick", action="store_true", help="5 worlds, 2 trials")
-    parser.add_argument("--worlds", type=int, help="only the first N worlds of the set")
+    parser.add_argument(
+        "--worlds",
+        type=_world_span,
+        help="only the first N worlds of the set, or its worlds A to B (11-20)",
+    )
     parser.add_argument("--trials", type=int, default=3)
     parser.add_argument("--workers", type=int, default=2, help="parallel processes")
     parser.add_argument("--reflex", default=ALL, help="reflexes of the runs: all, none or names")
@@ -489,6 +493,18 @@ def _memory(args: argparse.Namespace) -> MemoryConfig:
     return MemoryConfig(**{k: v if v is not None else base[k] for k, v in given.items()})
 
 
+def _world_span(text: str) -> tuple[int, int]:
+    """`--worlds N` (the first N) or `A-B` (the set's A-th to B-th world, from 1)."""
+    first, _, last = text.rpartition("-") if "-" in text else ("1", "", text)
+    try:
+        span = int(first), int(last)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not N or A-B") from None
+    if not 1 <= span[0] <= span[1]:
+        raise argparse.ArgumentTypeError(f"{text!r}: worlds count from 1, A before B")
+    return span
+
+
 def main() -> None:
     parser = _parser()
     args = parser.parse_args()
@@ -508,7 +524,8 @@ def main() -> None:
     if args.quick:
         world_seeds, trials = world_seeds[:QUICK_WORLDS], range(1, QUICK_TRIALS + 1)
     if args.worlds:
-        world_seeds = world_seeds[: args.worlds]
+        first, last = args.worlds
+        world_seeds = world_seeds[first - 1 : last]
     try:
         memory = _memory(args)
         walls = Walls(args.roughness, Materials(args.rough_share) if args.rough_share else SMOOTH)

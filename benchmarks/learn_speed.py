@@ -1,57 +1,85 @@
-"""Learning speed: simulated seconds per wall second of `tvl learn` in the lab.
+"""Learning speed: simulated seconds per second of whole `tvl learn` processes in the lab.
 
-Runs the real command (log writing, online FAM, progress and all) once per configuration
-and divides the simulated time by the wall time of the whole process.
+Runs the real command (log writing, online FAM and all) with each configuration, R times,
+and takes the medians. The real-time factor is simulated seconds per CPU second of the
+whole process (start-up included), the wall-clock one printed beside it. With --against
+DIR, that checkout's tvl learns the same in turn with this one and each figure gets the
+paired ratio of their CPU seconds.
 
-    python benchmarks/learn_speed.py [--minutes 15] [--json]
+    python benchmarks/learn_speed.py [--minutes 30] [--repeats 3] [--against DIR] [--json]
 """
 
 from __future__ import annotations
 
 import argparse
 import json
-import subprocess
-import sys
 import tempfile
-import time
 from pathlib import Path
 
+from timing import (
+    TVL,
+    Seconds,
+    add_against_option,
+    figure_line,
+    paired,
+    realtime_against,
+    run_process,
+    tvl_in,
+)
+
 LAB = Path(__file__).resolve().parent.parent / "worlds" / "lab.txt"
-TVL = str(Path(sys.executable).with_name("tvl"))
+CONFIGS = ("single", "multi")
+TARGET_REALTIME = {"single": 1000.0}  # whole process, CPU seconds
 
 
-def realtime_factor(config: str, minutes: float, directory: Path) -> float:
-    """Simulated seconds per wall second of one `tvl learn` process."""
-    log = directory / f"{config}.h5"
-    started = time.perf_counter()
-    result = subprocess.run(
-        [TVL, "learn", str(LAB), "--log", str(log), "--minutes", str(minutes),
-         "--config", config, "--json"],
-        capture_output=True, text=True, check=True,
-    )  # fmt: skip
-    wall_s = time.perf_counter() - started
-    return json.loads(result.stdout)["sim_minutes"] * 60.0 / wall_s
+def learn(tvl: str, config: str, minutes: float) -> Seconds:
+    """One `tvl learn` into a new log."""
+    with tempfile.TemporaryDirectory() as directory:
+        log = Path(directory) / "lab.h5"
+        return run_process([tvl, "learn", LAB, "--log", log, "--minutes", minutes,
+                            "--config", config])  # fmt: skip
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--minutes", type=float, default=15.0, help="simulated minutes")
+    parser.add_argument("--minutes", type=float, default=30.0, help="simulated minutes")
+    parser.add_argument("--repeats", type=int, default=3, help="timed runs; medians count")
+    add_against_option(parser)
     parser.add_argument("--json", action="store_true", help="print the figures as JSON")
     args = parser.parse_args()
-    with tempfile.TemporaryDirectory() as directory:
-        figures = {
-            f"{config}_realtime_factor": realtime_factor(config, args.minutes, Path(directory))
-            for config in ("single", "multi")
+    theirs_tvl = tvl_in(args.against) if args.against else None
+    sim_s = args.minutes * 60.0
+    figures: dict[str, dict[str, float | None]] = {}
+    for config in CONFIGS:
+        ours, theirs, ratio = paired(
+            lambda config=config: learn(TVL, config, args.minutes),
+            (lambda config=config: learn(theirs_tvl, config, args.minutes)) if theirs_tvl else None,
+            args.repeats,
+        )
+        figures[config] = {
+            "realtime_cpu": sim_s / ours.cpu_s,
+            "realtime_wall": sim_s / ours.wall_s,
+            "against_realtime_cpu": sim_s / theirs.cpu_s if theirs else None,
+            "cpu_ratio_against": ratio,
         }
     if args.json:
-        print(json.dumps(figures))
+        print(json.dumps({"minutes": args.minutes, **figures}))
         return
-    for name, value in figures.items():
-        config = name.split("_")[0]
-        seconds = args.minutes * 60 / value
+    print(f"tvl learn in the lab, {args.minutes:g} simulated minutes, whole process, "
+          f"median of {args.repeats} (real time: simulated s per CPU s)")  # fmt: skip
+    for config, f in figures.items():
+        realtime = f["realtime_cpu"]
+        assert realtime is not None
+        target = TARGET_REALTIME.get(config)
+        note = realtime_against(f["cpu_ratio_against"], args.against, f["against_realtime_cpu"])
         print(
-            f"{config:>6}: {value:6.0f}x real time "
-            f"({args.minutes:g} simulated min in {seconds:.1f} s wall, lab)"
+            figure_line(
+                f"{config} (wall {f['realtime_wall']:,.0f}x)",
+                f"{realtime:,.0f}x real time",
+                None if target is None else f">= {target:,.0f}x",
+                None if target is None else realtime >= target,
+                note,
+            )
         )
 
 

@@ -1,74 +1,90 @@
-"""Run speed: simulated seconds per wall second of `tvl run` in the lab, whole process.
+"""Run speed: simulated seconds per second of whole `tvl run` processes in the lab.
 
-Learns 15 simulated minutes in worlds/lab.txt (not timed), trains a single and a multi FAM
-from the log, then times one `tvl run --behaviour avoid` of 30 simulated minutes with each,
-and one `tvl learn` of 30 simulated minutes with each configuration, so the behaving loop and
-the learning loop are measured in the same run on the same machine. Each figure is also given
-as wall microseconds per control step of the whole process (start-up included).
+Trains a single and a multi FAM from the example log logs/lab-s1.h5 (15 simulated minutes
+of learning in the lab, not timed); then times `tvl run --behaviour avoid` of 30 simulated
+minutes in the lab with each, R times, and takes the medians. The real-time factor is
+simulated seconds per CPU second of the whole process (start-up included), the wall-clock
+one printed beside it, with the CPU microseconds a control step. With --against DIR, that
+checkout's tvl runs the same commands in turn with this one and each figure gets the
+paired ratio of their CPU seconds.
 
-    python benchmarks/run_speed.py [--minutes 30] [--json]
+    python benchmarks/run_speed.py [--minutes 30] [--repeats 3] [--against DIR] [--json]
 """
 
 from __future__ import annotations
 
 import argparse
 import json
-import subprocess
-import sys
 import tempfile
-import time
 from pathlib import Path
 
-LAB = Path(__file__).resolve().parent.parent / "worlds" / "lab.txt"
-TVL = str(Path(sys.executable).with_name("tvl"))
+from timing import (
+    TVL,
+    add_against_option,
+    figure_line,
+    paired,
+    realtime_against,
+    run_process,
+    tvl_in,
+)
+
+ROOT = Path(__file__).resolve().parent.parent
+LAB = ROOT / "worlds" / "lab.txt"
+EXAMPLE_LOG = ROOT / "logs" / "lab-s1.h5"
 CONTROL_PERIOD_S = 0.1
-FAM_LEARN_MINUTES = 15.0
-
-
-def timed(*args: str | Path) -> tuple[float, str]:
-    """Wall seconds of one `tvl` process, and what it printed."""
-    started = time.perf_counter()
-    result = subprocess.run(
-        [TVL, *map(str, args)], capture_output=True, text=True, check=True, timeout=3600
-    )
-    return time.perf_counter() - started, result.stdout
+TARGET_REALTIME = {"single": 1000.0, "multi": 800.0}  # whole process, CPU seconds
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--minutes", type=float, default=30.0, help="simulated minutes")
+    parser.add_argument("--minutes", type=float, default=30.0, help="simulated minutes a run")
+    parser.add_argument("--repeats", type=int, default=3, help="timed runs; medians count")
+    add_against_option(parser)
     parser.add_argument("--json", action="store_true", help="print the figures as JSON")
     args = parser.parse_args()
+    theirs_tvl = tvl_in(args.against) if args.against else None
     sim_s = args.minutes * 60.0
-    figures: dict[str, float] = {}
+    steps = sim_s / CONTROL_PERIOD_S
+    figures: dict[str, dict[str, float | None]] = {}
     with tempfile.TemporaryDirectory() as name:
         directory = Path(name)
-        log = directory / "lab.h5"
-        timed("learn", LAB, "--log", log, "--minutes", FAM_LEARN_MINUTES)
-        for config in ("single", "multi"):
+        for config in TARGET_REALTIME:
             fam = directory / f"{config}.h5"
-            timed("train", log, "-o", fam, "--config", config)
-            run_s, _ = timed(
-                "run", fam, LAB, "--behaviour", "avoid", "--minutes", args.minutes, "--json"
+            run_process([TVL, "train", EXAMPLE_LOG, "-o", fam, "--config", config])
+
+            def run(tvl: str, fam: Path = fam) -> list[str | Path]:
+                return [tvl, "run", fam, LAB, "--behaviour", "avoid", "--minutes", args.minutes]
+
+            ours, theirs, ratio = paired(
+                lambda run=run: run_process(run(TVL)),
+                (lambda run=run: run_process(run(theirs_tvl))) if theirs_tvl else None,
+                args.repeats,
             )
-            learn_log = directory / f"learn-{config}.h5"
-            learn_s, _ = timed(
-                "learn", LAB, "--log", learn_log, "--minutes", args.minutes, "--config", config
-            )
-            figures[f"run_{config}_realtime_factor"] = sim_s / run_s
-            figures[f"learn_{config}_realtime_factor"] = sim_s / learn_s
-            steps = sim_s / CONTROL_PERIOD_S
-            figures[f"run_{config}_us_per_step"] = run_s / steps * 1e6
-            figures[f"learn_{config}_us_per_step"] = learn_s / steps * 1e6
+            figures[config] = {
+                "realtime_cpu": sim_s / ours.cpu_s,
+                "realtime_wall": sim_s / ours.wall_s,
+                "us_per_step_cpu": ours.cpu_s / steps * 1e6,
+                "against_realtime_cpu": sim_s / theirs.cpu_s if theirs else None,
+                "cpu_ratio_against": ratio,
+            }
     if args.json:
-        print(json.dumps(figures))
+        print(json.dumps({"minutes": args.minutes, **figures}))
         return
-    print(f"lab, {args.minutes:g} simulated minutes, whole process")
-    for config in ("single", "multi"):
-        for verb in ("run", "learn"):
-            factor = figures[f"{verb}_{config}_realtime_factor"]
-            per_step = figures[f"{verb}_{config}_us_per_step"]
-            print(f"  tvl {verb:<5} {config:<6} {factor:6.0f}x real time, {per_step:5.0f} µs/step")
+    print(f"tvl run in the lab, {args.minutes:g} simulated minutes, whole process, "
+          f"median of {args.repeats} (real time: simulated s per CPU s)")  # fmt: skip
+    for config, f in figures.items():
+        realtime, target = f["realtime_cpu"], TARGET_REALTIME[config]
+        assert realtime is not None
+        note = realtime_against(f["cpu_ratio_against"], args.against, f["against_realtime_cpu"])
+        print(
+            figure_line(
+                f"{config} (wall {f['realtime_wall']:,.0f}x, {f['us_per_step_cpu']:.0f} µs a step)",
+                f"{realtime:,.0f}x real time",
+                f">= {target:,.0f}x",
+                realtime >= target,
+                note,
+            )
+        )
 
 
 if __name__ == "__main__":

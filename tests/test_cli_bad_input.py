@@ -36,8 +36,8 @@ def _assert_refused(result: subprocess.CompletedProcess[str], *phrases: str) -> 
     assert "Traceback" not in result.stderr
 
 
-def _log(path: Path, robot: RobotConfig, episodes: int = 1) -> Path:
-    with LogWriter.open(
+def _open_log(path: Path, robot: RobotConfig) -> LogWriter:
+    return LogWriter.open(
         path,
         world_name="square",
         world_text=SQUARE.read_text(encoding="utf-8"),
@@ -45,7 +45,11 @@ def _log(path: Path, robot: RobotConfig, episodes: int = 1) -> Path:
         parameters={},
         robot_config=robot.to_dict(),
         fam_config=SINGLE.to_dict(),
-    ) as writer:
+    )
+
+
+def _log(path: Path, robot: RobotConfig, episodes: int = 1) -> Path:
+    with _open_log(path, robot) as writer:
         for index in range(episodes):
             n = 5
             writer.append_episode(
@@ -177,26 +181,37 @@ def test_run_refuses_an_existing_png_without_force(run_tvl, fam_file, tmp_path):
     assert png.read_bytes() == b"mine"
 
 
-def _start_learning(log: Path) -> subprocess.Popen[str]:
+def empty_session_bytes(directory: Path) -> int:
+    """The size of a log holding one session that has written no episode yet, as a learner's
+    log is before its first write."""
+    path = directory / "empty-session.h5"
+    with _open_log(path, RobotConfig()):
+        size = path.stat().st_size
+    path.unlink()
+    return size
+
+
+def start_learning(log: Path, *args: str) -> subprocess.Popen[str]:
+    """A `tvl learn` of the square that holds the lock on `log` and has written episodes."""
+    before_episodes = empty_session_bytes(log.parent) + 10_000  # bytes: room for attributes
     process = subprocess.Popen(
-        [TVL, "learn", str(SQUARE), "--log", str(log), "--minutes", "100000"],
+        [TVL, "learn", str(SQUARE), "--log", str(log), "--minutes", "100000", *args],
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
     )
-    # Wait until it holds the lock and has written a few whole episodes.
     deadline = time.monotonic() + 60
     while time.monotonic() < deadline:
-        if lock_path(log).exists() and log.exists() and log.stat().st_size > 20_000:
+        if lock_path(log).exists() and log.exists() and log.stat().st_size > before_episodes:
             return process
-        time.sleep(0.1)
+        time.sleep(0.01)
     process.kill()
     raise AssertionError("learning never started writing its log")
 
 
 def test_sigint_keeps_every_whole_episode(tmp_path):
     log = tmp_path / "log.h5"
-    process = _start_learning(log)
+    process = start_learning(log)
     time.sleep(1.0)
     process.send_signal(signal.SIGINT)
     process.communicate(timeout=60)
@@ -211,7 +226,7 @@ def test_sigint_keeps_every_whole_episode(tmp_path):
 
 def test_a_second_learner_on_a_locked_log_is_refused(run_tvl, tmp_path):
     log = tmp_path / "log.h5"
-    process = _start_learning(log)
+    process = start_learning(log)
     try:
         result = run_tvl("learn", SQUARE, "--log", log, "--minutes", "1")
         _assert_refused(result, str(log), "locked")

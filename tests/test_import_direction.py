@@ -41,6 +41,9 @@ BANNED: dict[str, set[str]] = {
 }
 # Only the optional extra's room may load Gymnasium: tvl works without it installed.
 OPTIONAL: dict[str, str] = {"gymnasium": "gym"}
+# Libraries one folder alone may load: numba compiles the hot loops in core/kernels, and no
+# other module should depend on it (nor load it, and its compiler, before a kernel runs).
+CONFINED: dict[str, str] = {"numba": "core/kernels"}
 
 
 def _imports(path: Path) -> list[str]:
@@ -53,6 +56,11 @@ def _imports(path: Path) -> list[str]:
             base = node.module
             names += [base] + [f"{base}.{alias.name}" for alias in node.names]
     return names
+
+
+def _confined_to(name: str) -> str | None:
+    """The folder of tvl_cli that alone may import the library `name`, if one is set."""
+    return CONFINED.get(name.split(".")[0])
 
 
 def _modules() -> list[tuple[str, Path]]:
@@ -80,6 +88,19 @@ def test_imports_point_one_way(room: str, path: Path) -> None:
         elif parts[0] in BANNED.get(room, set()) or OPTIONAL.get(parts[0], room) != room:
             wrong.append(name)
     assert not wrong, f"{path.relative_to(PACKAGE)} ({room}) imports {wrong}"
+
+
+@pytest.mark.parametrize(("room", "path"), _modules(), ids=lambda v: str(v))
+def test_confined_libraries_are_imported_only_in_their_folder(room: str, path: Path) -> None:
+    folder = path.parent.relative_to(PACKAGE).as_posix()
+    wrong = [n for n in _imports(path) if _confined_to(n) not in (None, folder)]
+    assert not wrong, f"{path.relative_to(PACKAGE)} imports {wrong}"
+
+
+def test_the_kernels_folder_imports_numba() -> None:
+    # Else the confinement above would hold of nothing.
+    kernels = PACKAGE / "core" / "kernels"
+    assert any("numba" in _imports(path) for path in kernels.glob("*.py"))
 
 
 def test_importing_the_run_loop_loads_no_file_or_terminal_library() -> None:

@@ -8,6 +8,7 @@ from pathlib import Path
 from tvl_cli.agent.motions import BACKOFF_M
 from tvl_cli.agent.novelty import BLOCKED_BEYOND_STOP_M, NOVELTY_BIN_M, NOVELTY_LOOKAHEAD_M
 from tvl_cli.agent.reflexes import BLOCKED_HALF_WIDTH_RAD, BLOCKED_S, REFLEXES
+from tvl_cli.commands.learn import LOG_WRITE_EVERY_S
 from tvl_cli.core.behaviours import LOOKAHEAD_M
 from tvl_cli.core.config import EDGE_ECHO_RANGE_M, SonarConfig
 from tvl_cli.core.contacts import NEAR_MISS_WITHIN_RAD
@@ -59,3 +60,11 @@ def test_the_novelty_rule_is_quoted_as_it_is() -> None:
     assert f"in {NOVELTY_BIN_M:g} m square bins" in section
     assert f"in the next {NOVELTY_LOOKAHEAD_M:g} m" in section
     assert f"`--near` and {BLOCKED_BEYOND_STOP_M * 100:g} cm" in " ".join(section.split())
+
+
+def test_what_a_kill_of_learning_may_lose_is_quoted_as_it_is() -> None:
+    files = README.split("## Files")[1].split("## Worlds")[0]
+    assert f"span\n  {LOG_WRITE_EVERY_S:g} simulated seconds" in files
+    assert f"ended in the last {LOG_WRITE_EVERY_S:g} simulated seconds" in files
+    stopping = README.split("Ctrl-C or SIGTERM stops learning")[1].split("\n\n")[0]
+    assert f"ended in the last {LOG_WRITE_EVERY_S:g} simulated seconds" in stopping

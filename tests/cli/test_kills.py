@@ -3,6 +3,7 @@ what it leaves is no log or a readable one, and the next write clears any leftov
 
 from __future__ import annotations
 
+import json
 import random
 import signal
 import subprocess
@@ -10,11 +11,16 @@ import time
 from pathlib import Path
 
 import h5py
+import pytest
 from conftest import TVL
 from test_bad_numbers import SQUARE
+from test_cli_bad_input import start_learning
 
 from tvl_cli.core.errors import BadInput
 from tvl_cli.io.logreader import read_log
+
+# Every test here starts the real `tvl` and waits on it.
+pytestmark = pytest.mark.slow
 
 
 def test_a_kill_as_the_log_appears_leaves_a_log_the_next_learn_continues(
@@ -64,3 +70,17 @@ def test_kills_at_any_moment_leave_a_readable_log_and_no_leftovers_after_the_nex
         assert again.returncode == 0, again.stderr
         assert read_log(log).exemplar_count > 0
         assert [p.name for p in tmp_path.iterdir() if p.name.startswith(f".{log.name}")] == []
+
+
+@pytest.mark.parametrize("stop", [signal.SIGINT, signal.SIGTERM])
+def test_a_stopped_learner_keeps_every_episode_it_finished(tmp_path: Path, stop) -> None:
+    # Learning writes episodes a few at a time; stopping it writes those it still holds.
+    log = tmp_path / "log.h5"
+    process = start_learning(log, "--json")
+    process.send_signal(stop)
+    printed, _ = process.communicate(timeout=60)
+    summary = json.loads(printed)
+    assert summary["status"] == f"interrupted: {stop.name}"
+    (session,) = read_log(log).sessions
+    assert len(session.episode_table) == summary["episodes"] > 0
+    assert session.exemplar_count == summary["exemplars"]

@@ -36,7 +36,9 @@ def sample_episode(index: int) -> Episode:
     )
 
 
-def open_sample_writer(path: Path | str, seed: int = 7, robot: RobotConfig = ROBOT) -> LogWriter:
+def open_sample_writer(
+    path: Path | str, seed: int = 7, robot: RobotConfig = ROBOT, write_every_s: float = 0.0
+) -> LogWriter:
     return LogWriter.open(
         path,
         world_name="box",
@@ -45,6 +47,7 @@ def open_sample_writer(path: Path | str, seed: int = 7, robot: RobotConfig = ROB
         parameters=PARAMETERS,
         robot_config=robot.to_dict(),
         fam_config=SINGLE.to_dict(),
+        write_every_s=write_every_s,
     )
 
 

@@ -32,13 +32,14 @@ from tvl_cli.io.schema import FormatError
 
 HERE = Path(__file__).parent
 
-# A child process that opens a sample log, appends `count` episodes, says so, then waits for
-# a line on stdin before it closes the log (or is killed while it waits).
+# A child process that opens a sample log, appends `count` episodes (writing them once they
+# span `write_every_s` simulated seconds, 0 by default), says so, then waits for a line on
+# stdin before it closes the log (or is killed while it waits).
 CHILD = """
 import sys
 sys.path.insert(0, sys.argv[1])
 from log_samples import open_sample_writer, sample_episode
-writer = open_sample_writer(sys.argv[2])
+writer = open_sample_writer(sys.argv[2], write_every_s=float(sys.argv[4]))
 for index in range(int(sys.argv[3])):
     writer.append_episode(sample_episode(index))
 print("written", flush=True)
@@ -60,6 +61,20 @@ while True:
     index += 1
 """
 
+# A child that appends 3 episodes, held (writes every 1000 simulated seconds), then a
+# minute's row, says so and waits to be killed.
+MINUTE_CHILD = """
+import sys
+sys.path.insert(0, sys.argv[1])
+from log_samples import open_sample_writer, sample_episode
+writer = open_sample_writer(sys.argv[2], write_every_s=1000.0)
+for index in range(3):
+    writer.append_episode(sample_episode(index))
+writer.append_minute(minute=0, episodes=3, collisions=1, exemplars=12, delta_v=0.01)
+print("written", flush=True)
+sys.stdin.readline()
+"""
+
 # A child that holds a file open read-write with plain h5py, as another HDF5 program would.
 H5PY_CHILD = """
 import sys, h5py
@@ -75,9 +90,9 @@ def write_sample_log(path: Path, episodes: int = 4) -> None:
             writer.append_episode(sample_episode(index))
 
 
-def start_child(path: Path, episodes: int) -> subprocess.Popen[str]:
+def start_child(path: Path, episodes: int, write_every_s: float = 0.0) -> subprocess.Popen[str]:
     child = subprocess.Popen(
-        [sys.executable, "-c", CHILD, str(HERE), str(path), str(episodes)],
+        [sys.executable, "-c", CHILD, str(HERE), str(path), str(episodes), str(write_every_s)],
         stdin=subprocess.PIPE,
         stdout=subprocess.PIPE,
         text=True,
@@ -329,6 +344,53 @@ def test_writer_killed_after_n_episodes_leaves_n_whole_episodes(tmp_path: Path) 
     for index, episode in enumerate(read):
         assert_same_episode(episode, sample_episode(index))
     assert session.status == "interrupted: not closed"
+
+
+def test_a_killed_writer_loses_at_most_the_episodes_held_since_its_last_write(
+    tmp_path: Path,
+) -> None:
+    # Sample episode i ends at 10 (i + 1) simulated seconds: with writes every 30 s, the
+    # episodes ending at 30 and 60 s wrote those before them, and the one ending at 70 s
+    # was still held when the writer was killed.
+    path = tmp_path / "x.h5"
+    every_s, appended = 30.0, 7
+    kill_child(start_child(path, episodes=appended, write_every_s=every_s))
+    (session,) = read_log(path).sessions
+    read = session.episodes()
+    for index, episode in enumerate(read):
+        assert_same_episode(episode, sample_episode(index))
+    last_end_s = sample_episode(appended - 1).end_time_s
+    bound = sum(sample_episode(i).end_time_s <= last_end_s - every_s for i in range(appended))
+    assert bound <= len(read) == appended - 1  # the one held was lost, as the bound allows
+
+
+def test_closing_writes_every_episode_held(tmp_path: Path) -> None:
+    path = tmp_path / "a.h5"
+    with pytest.raises(KeyboardInterrupt), open_sample_writer(path, write_every_s=1e9) as writer:
+        for index in range(5):
+            writer.append_episode(sample_episode(index))
+        raise KeyboardInterrupt
+    (session,) = read_log(path).sessions
+    assert session.status == "interrupted: SIGINT"
+    for index, episode in enumerate(session.episodes()):
+        assert_same_episode(episode, sample_episode(index))
+    assert len(session.episodes()) == 5
+
+
+def test_a_minutes_row_is_written_with_every_episode_held(tmp_path: Path) -> None:
+    path = tmp_path / "a.h5"
+    child = subprocess.Popen(
+        [sys.executable, "-c", MINUTE_CHILD, str(HERE), str(path)],
+        stdin=subprocess.PIPE,
+        stdout=subprocess.PIPE,
+        text=True,
+    )
+    assert child.stdout is not None
+    assert child.stdout.readline() == "written\n"
+    kill_child(child)
+    (session,) = read_log(path).sessions
+    assert len(session.episodes()) == 3
+    assert len(session.minutes) == 1
 
 
 def test_new_writer_after_a_killed_one_takes_the_lock(tmp_path: Path) -> None:

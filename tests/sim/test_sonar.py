@@ -8,6 +8,7 @@ import math
 import numpy as np
 import pymunk
 import pytest
+from cluttered_hall import cluttered_hall
 from test_world import room, square_block
 
 from tvl_cli.core.config import SonarConfig
@@ -120,7 +121,7 @@ def test_smooth_wall_at_a_grazing_angle_stays_silent_with_edge_echoes() -> None:
 
 
 def rough_wall(roughness: float) -> StaticGeometry:
-    return dataclasses.replace(LONG_WALL, roughness=roughness)
+    return LONG_WALL.with_roughness(roughness)
 
 
 def test_rough_wall_echoes_at_a_grazing_angle_within_its_diffuse_range() -> None:
@@ -144,7 +145,7 @@ def test_a_rough_ring_wall_echoes_at_a_grazing_angle() -> None:
     world = room(10, 10, rings=((5.0, 5.0, 2.0),), outline=False)
     pose = (5.0, 3.4, 0.0)
     smooth = read(QUIET, static_geometry(world), pose)[0]
-    rough = read(QUIET, dataclasses.replace(static_geometry(world), roughness=1.0), pose)[0]
+    rough = read(QUIET, static_geometry(world).with_roughness(1.0), pose)[0]
     assert rough < smooth
 
 
@@ -251,29 +252,17 @@ def test_ideal_readings_match_pymunk_ray_queries_in_the_lab() -> None:
         np.testing.assert_allclose(ring.read(geometry, pose, rng), expected, atol=1e-9)
 
 
-def _cluttered_hall(walls: int, seed: int) -> str:
-    """A 30 x 30 m hall holding short walls at random angles and a few large pillars."""
-    rng = np.random.default_rng(seed)
-    lines = ["cell: 0.5"]
-    for x, y, angle in rng.uniform((2, 2, 0), (28, 28, math.pi), (walls, 3)):
-        lines.append(f"wall: {x:.3f} {y:.3f} {x + math.cos(angle):.3f} {y + math.sin(angle):.3f}")
-    lines += [f"disc: {x:.2f} {y:.2f} 1.5" for x, y in rng.uniform(4, 26, (3, 2))]
-    grid = ["#" * 60] + ["#" + "." * 58 + "#"] * 58 + ["#" * 60]
-    grid[1] = "#>" + "." * 57 + "#"
-    return "\n".join([*lines, *grid, ""])
-
-
 def test_a_large_world_reads_exactly_as_if_every_wall_were_tested(monkeypatch) -> None:
     """Only the walls near the robot are tested in a large world, with the same readings."""
     from tvl_cli.sim import world as world_module
     from tvl_cli.sim.worldmap import parse_world
 
-    geometry = static_geometry(parse_world(_cluttered_hall(600, seed=3), "hall"))
+    geometry = static_geometry(parse_world(cluttered_hall(600, seed=3), "hall"))
     assert len(geometry.seg_len) >= world_module.NEAR_MIN_SEGMENTS
     sonar = SonarRing(SonarConfig(), 0.2)
     poses = np.random.default_rng(4).uniform((1, 1, -math.pi), (29, 29, math.pi), (300, 3))
     near = [sonar.read(geometry, tuple(p), np.random.default_rng(5)) for p in poses]
-    assert len(geometry.segments_near(15.0, 15.0, 5.0).seg_len) < len(geometry.seg_len) / 4
+    assert len(geometry.walls_near(15.0, 15.0, 5.0)) < len(geometry.seg_len) / 4
     monkeypatch.setattr(world_module, "NEAR_MIN_SEGMENTS", math.inf)
     every = [sonar.read(geometry, tuple(p), np.random.default_rng(5)) for p in poses]
     np.testing.assert_array_equal(near, every)

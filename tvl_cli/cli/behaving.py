@@ -1,4 +1,8 @@
-"""`tvl run`, `tvl replay` and `tvl demo`: behaviours, traces and the whole pipeline."""
+"""`tvl run`, `tvl replay` and `tvl demo`: behaviours, traces and the whole pipeline.
+
+Each command imports the modules that do its work when it runs, so that `--help` reads only
+the options (and loads neither HDF5 nor the physics).
+"""
 
 from __future__ import annotations
 
@@ -6,10 +10,10 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import asdict
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 
-from tvl_cli.agent.drive import StepSink
 from tvl_cli.agent.reflexes import ALL as ALL_REFLEXES
 from tvl_cli.cli import views
 from tvl_cli.cli.options import (
@@ -23,24 +27,15 @@ from tvl_cli.cli.options import (
     refuse_existing,
     refuse_shared_paths,
 )
-from tvl_cli.commands.autopsy import trace_autopsy
-from tvl_cli.commands.demo import run_demo
-from tvl_cli.commands.explain import EVENT_CHOICES, Moment, explain_run
-from tvl_cli.commands.replay import Animation
-from tvl_cli.commands.replay import replay as replay_file
-from tvl_cli.commands.run import (
-    DEFAULT_RUN_MINUTES,
-    OnlineLearning,
-    RunRequest,
-    parse_goal,
-    resolve_goal,
-    run_behaviour,
-)
 from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD
-from tvl_cli.core.config import SONAR_MODELS, RobotConfig
-from tvl_cli.core.errors import BadInput
+from tvl_cli.core.config import SONAR_MODELS
+from tvl_cli.core.contacts import EVENT_CHOICES
+from tvl_cli.core.errors import DEFAULT_RUN_MINUTES, BadInput
 from tvl_cli.core.memory import MemoryChoice
-from tvl_cli.sim.worldmap import load_world
+
+if TYPE_CHECKING:
+    from tvl_cli.agent.drive import StepSink
+    from tvl_cli.commands.run import RunRequest
 
 
 @click.command()
@@ -113,6 +108,8 @@ def run(
 
     Every rule beyond the paper's method is a reflex: --paper (or --reflex none) runs the
     paper's method alone."""
+    from tvl_cli.commands.run import OnlineLearning, RunRequest, parse_goal, run_behaviour
+
     refuse_both_formats(as_json, as_csv)
     # click hands an empty string for --learn given without a LOG.
     learning = None if learn_log is None else OnlineLearning(Path(learn_log) if learn_log else None)
@@ -208,6 +205,9 @@ def replay(
     as_json: bool,
 ) -> None:
     """Summarise a learning log or a run trace, and draw it."""
+    from tvl_cli.commands.replay import Animation
+    from tvl_cli.commands.replay import replay as replay_file
+
     outputs = {"--png": png, "--curves": curves, "--gif": gif, "--mp4": mp4}
     refuse_shared_paths(outputs, {"FILE": file})
     if gif is not None and mp4 is not None:
@@ -234,6 +234,8 @@ def replay(
 @click.option("--json", "as_json", is_flag=True, help="Print the results as JSON.")
 def demo(directory: Path, force: bool, as_json: bool) -> None:
     """Learn, train, run and draw on a bundled world, in seconds."""
+    from tvl_cli.commands.demo import run_demo
+
     result = run_demo(directory, force, views.say)
     if as_json:
         print_json(views.demo_json(result))
@@ -282,12 +284,16 @@ def explain(
     if contacts:
         if any(x is not None for x in (step, at_s, event)):
             raise BadInput("--contacts explains the whole run: give no --step, --at or --event")
+        from tvl_cli.commands.autopsy import trace_autopsy
+
         autopsy = trace_autopsy(trace)
         if as_json:
             print_json(autopsy.to_dict())
         else:
             views.autopsy(autopsy)
         return
+    from tvl_cli.commands.explain import Moment, explain_run
+
     found = explain_run(trace, Moment(step, at_s, event, index), fam_path)
     if as_json:
         print_json(found.to_dict())
@@ -304,6 +310,9 @@ def _watching(request: RunRequest, live: bool, pace: float | None) -> Iterator[S
             yield bar
         return
     from tvl_cli.cli.live import LiveView, live_view
+    from tvl_cli.commands.run import resolve_goal
+    from tvl_cli.core.config import RobotConfig
+    from tvl_cli.sim.worldmap import load_world
 
     world = load_world(request.world)
     robot = RobotConfig()

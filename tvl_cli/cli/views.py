@@ -6,26 +6,30 @@ from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import asdict
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from rich.console import Console
 from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, TimeElapsedColumn
 from rich.table import Table
 
-from tvl_cli.agent.drive import Step, StepSink
-from tvl_cli.agent.explore import MinuteStats
-from tvl_cli.analysis.autopsy import Autopsy
-from tvl_cli.analysis.famdiff import FamDifference
-from tvl_cli.commands.demo import DemoResult
-from tvl_cli.commands.explain import StepExplanation
-from tvl_cli.commands.learn import LearnResult
-from tvl_cli.commands.replay import Replay
-from tvl_cli.commands.run import RunResult
-from tvl_cli.commands.sweep import TABLE_CSV, SweepResult
-from tvl_cli.commands.train import TrainSummary
 from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
-from tvl_cli.core.explain import Explanation
-from tvl_cli.core.metrics import RunMetrics
+
+if TYPE_CHECKING:
+    # What is shown, named for its type only: a command's `--help` imports this module, and
+    # importing these would load every command's machinery.
+    from tvl_cli.agent.drive import Step, StepSink
+    from tvl_cli.agent.explore import MinuteStats
+    from tvl_cli.analysis.autopsy import Autopsy
+    from tvl_cli.analysis.famdiff import FamDifference
+    from tvl_cli.commands.demo import DemoResult
+    from tvl_cli.commands.explain import StepExplanation
+    from tvl_cli.commands.learn import LearnResult
+    from tvl_cli.commands.replay import Replay
+    from tvl_cli.commands.run import RunResult
+    from tvl_cli.commands.sweep import SweepResult
+    from tvl_cli.commands.train import TrainSummary
+    from tvl_cli.core.explain import Explanation
+    from tvl_cli.core.metrics import RunMetrics
 
 out = Console(highlight=False)
 err = Console(stderr=True, highlight=False)
@@ -365,6 +369,8 @@ def sweep_json(result: SweepResult) -> dict[str, Any]:
 
 
 def sweep(result: SweepResult) -> None:
+    from tvl_cli.commands.sweep import TABLE_CSV
+
     out.print(
         f"{result.cells} cells: {result.done} run now, {result.skipped} done before; "
         f"the table is {result.out / TABLE_CSV}"

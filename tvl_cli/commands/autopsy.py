@@ -107,7 +107,7 @@ def run_autopsy(
         j: (table_sonars or {}).get(name, every) for j, name in enumerate(trajectory_names)
     }
     min_range = robot.sonar.min_range_m
-    near_sonars = near_miss_sonars(robot.sonar.count)
+    near_sonars = np.array(near_miss_sonars(robot.sonar.count))  # (s,) sonar indices
     blind = read & np.asarray((ring_m[:, near_sonars] <= min_range).any(axis=1))  # (N,)
     window = max(1, round(AUDIBLE_S / dt))
     rating = max(1, round(RATING_S / dt))

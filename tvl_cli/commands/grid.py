@@ -27,10 +27,16 @@ from typing import Any
 from tvl_cli.agent.explore import PAPER_NEAR_M, LearnParams
 from tvl_cli.agent.reflexes import ALL, STACK_ORDER, parse_reflexes
 from tvl_cli.commands.learn import resolve_fam_config
-from tvl_cli.commands.run import DEFAULT_RUN_MINUTES, parse_goal
+from tvl_cli.commands.run import parse_goal
 from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD, is_threshold
 from tvl_cli.core.config import BUILTIN_FAM_CONFIGS, SINGLE, FamConfig, RobotConfig
-from tvl_cli.core.errors import MAX_SEED, BadInput, check_minutes, check_run_minutes
+from tvl_cli.core.errors import (
+    DEFAULT_RUN_MINUTES,
+    MAX_SEED,
+    BadInput,
+    check_minutes,
+    check_run_minutes,
+)
 from tvl_cli.core.labels import PAPER_DECEL_MPS2, PAPER_MARGIN_M
 from tvl_cli.core.training import TrainParams
 from tvl_cli.sim.worldgen import bundled_world_path

@@ -31,6 +31,11 @@ from tvl_cli.io.logreader import file_sha256, read_log
 from tvl_cli.sim.world import clearances_m, static_geometry
 from tvl_cli.sim.worldmap import WorldMap, load_world
 
+# Learning writes its episodes to the log a few at a time, once those held span this many
+# simulated seconds (and at every minute's row, and when it stops): one write instead of
+# several, and a kill loses at most the episodes of this last stretch.
+LOG_WRITE_EVERY_S = 30.0
+
 
 def resolve_fam_config(spec: str, robot: RobotConfig) -> FamConfig:
     """`single`, `multi`, or a JSON file of the user's own."""
@@ -166,6 +171,7 @@ def learn_to_log(
             parameters=parameters,
             robot_config=robot.to_dict(),
             fam_config=config.to_dict(),
+            write_every_s=LOG_WRITE_EVERY_S,
         ) as writer,
         _catching_signals() as interrupted,
     ):

@@ -25,8 +25,6 @@ from tvl_cli.io.logreader import file_sha256
 from tvl_cli.io.runfile import RunTraceWriter, run_trace_output
 from tvl_cli.sim.worldmap import WorldMap, check_goal, load_world
 
-DEFAULT_RUN_MINUTES = 5.0
-
 
 @dataclass(frozen=True, slots=True)
 class OnlineLearning:

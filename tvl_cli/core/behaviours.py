@@ -144,7 +144,9 @@ def choose(
     """
     n_sonars = velocities.shape[0]
     scorer = _wall_score(ctx.wall_side or 1) if behaviour == "wall" else BEHAVIOURS[behaviour]
-    if fast[0].any():
+    # (16,) whether each view has a fast trajectory, found at once rather than view by view
+    has_fast: list[bool] = fast.any(axis=1).tolist()  # type: ignore[assignment]
+    if has_fast[0]:
         scores = np.where(fast[0], scorer(headings[0], ctx), np.inf)
         pick = int(np.argmin(scores))
         return Choice(0, pick, float(min(velocities[0, pick], v_max[pick])))
@@ -155,7 +157,7 @@ def choose(
         best: tuple[float, int, int] | None = None
         for k in rotations:
             row = k % n_sonars
-            if not fast[row].any():
+            if not has_fast[row]:
                 continue
             scores = np.where(fast[row], scorer(headings[row], ctx), np.inf)
             j = int(np.argmin(scores))

@@ -27,6 +27,9 @@ SPIN = "spin"
 TRAPPED = "trapped"
 # Every event a run trace records, in the order of their bits.
 EVENTS = (BUMP, NEAR_MISS, BACKOFF, BACKOFF_END, SPIN, TRAPPED)
+# `tvl explain --event collision` is the bump event under the name a person looks for.
+EVENT_ALIASES = {"collision": BUMP}
+EVENT_CHOICES = (*EVENT_ALIASES, *EVENTS)
 
 
 def steps_beginning(events: np.ndarray, event: str) -> np.ndarray:
@@ -35,14 +38,16 @@ def steps_beginning(events: np.ndarray, event: str) -> np.ndarray:
     return np.flatnonzero(np.asarray(events) & (1 << EVENTS.index(event)))
 
 
-def near_miss_sonars(sonar_count: int) -> np.ndarray:
+def near_miss_sonars(sonar_count: int) -> tuple[int, ...]:
     """The sonars whose blind zone counts for a near miss."""
-    return np.array(sonars_within(NEAR_MISS_WITHIN_RAD, sonar_count))
+    return sonars_within(NEAR_MISS_WITHIN_RAD, sonar_count)
 
 
-def blind_ahead(ring_m: np.ndarray, sonars: np.ndarray, min_range_m: float) -> bool:
+def blind_ahead(ring_m: np.ndarray, sonars: tuple[int, ...], min_range_m: float) -> bool:
     """A sonar ahead reads its minimum range: something is inside its blind zone."""
-    return bool((ring_m[sonars] <= min_range_m).any())
+    # Asked several times a control step, of five readings: a Python loop costs a third of
+    # numpy's fancy indexing and reduction.
+    return any(ring_m[i] <= min_range_m for i in sonars)
 
 
 def drives_forward(command: Command | None) -> bool:
@@ -61,7 +66,7 @@ class EventDetector:
     sensor after the step, and whether the policy found itself trapped.
     """
 
-    def __init__(self, sonars: np.ndarray, min_range_m: float) -> None:
+    def __init__(self, sonars: tuple[int, ...], min_range_m: float) -> None:
         self._sonars = sonars
         self._min_range_m = min_range_m
         self._last: Command | None = None

@@ -27,6 +27,10 @@ def check_minutes(minutes: float, option: str = "--minutes", zero_allowed: bool 
         )
 
 
+# A run's simulated minutes when none are given (`tvl run`, a sweep's runs).
+DEFAULT_RUN_MINUTES = 5.0
+
+
 def check_run_minutes(minutes: float, control_period_s: float, option: str = "--minutes") -> None:
     """A run lasts at least one control step: a shorter one has nothing to measure."""
     check_minutes(minutes, option)

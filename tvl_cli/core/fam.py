@@ -12,8 +12,8 @@ perceived velocity is the w-weighted average of their V (eq. 3).
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
-from dataclasses import dataclass
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -31,11 +31,9 @@ from tvl_cli.core.fam_configs import validate_fam_config
 from tvl_cli.core.fuzzy import StackedPartitions
 
 DEFAULT_INIT_VELOCITY_MPS = 0.1  # paper §3.1: an unknown reading must be perceived as slow
-# Work per chunk, big enough that per-call costs vanish and small enough to bound memory:
-# corners (exemplars x 2^n) fired at once in training, and entries (rings x corners x
-# stored columns) gathered at once in inference.
+# Training sums this many corners (exemplars x 2^n) apart before adding them to a batch's sums:
+# the grouping decides the rounding, so it stays as FAMs were always trained.
 TRAIN_CHUNK_CORNERS = 2**18
-INFER_CHUNK_ENTRIES = 2**19
 
 # An input that always sits fully in its upper set, with stride 0: padding a table with it
 # leaves its rules and strengths unchanged (the lower corners get strength 0), so tables with
@@ -56,22 +54,31 @@ def _strides(shape: tuple[int, ...]) -> np.ndarray:
 
 
 @dataclass(frozen=True, slots=True, eq=False)
-class _Firing:
+class Firing:
     """Fires T tables side by side, padded to the same number n of inputs, so C = 2^n corners.
 
-    Arrays end with the tables and the exemplars (T, N), so that every step works on whole
-    contiguous rows of them.
+    Arrays end with the tables, so that firing N readings broadcasts over a last axis.
     """
 
-    sonars: np.ndarray  # (g, n, T, 1) ring indices; an input is the minimum over its g readings
+    sonars: np.ndarray  # (g, n, T) ring indices; an input is the minimum over its g readings
     partitions: StackedPartitions  # the n * T partitions, input by input
-    strides: np.ndarray  # (n, T, 1) index step of each input's set, times the row scale
-    corners: np.ndarray  # (C, T, 1) index offset of each corner from the lowest, plus first row
+    strides: np.ndarray  # (n, T) index step of each input's set, times the row scale
+    first_rows: np.ndarray  # (T,) each table's first rule, times the row scale
+    input_counts: np.ndarray  # (T,) each table's own inputs; the rest pad it
+    # (C, T) index offset of each corner from the lowest, plus the first row: corner c takes
+    # the upper set of input k when bit (n - 1 - k) of c is set, the order in which fire()
+    # builds its strengths.
+    corners: np.ndarray = field(init=False)
+
+    def __post_init__(self) -> None:
+        inputs = len(self.strides)
+        bits = (np.arange(2**inputs)[:, None] >> np.arange(inputs - 1, -1, -1)) & 1  # (C, n)
+        object.__setattr__(self, "corners", bits @ self.strides + self.first_rows)
 
     @classmethod
     def of(
         cls, tables: Sequence[FamTable], first_rows: Sequence[int], inputs: int, scale: int = 1
-    ) -> _Firing:
+    ) -> Firing:
         groups = max(len(i.sonars) for t in tables for i in t.inputs)
         sonars = np.zeros((groups, inputs, len(tables)), dtype=np.intp)
         strides = np.zeros((inputs, len(tables)), dtype=np.intp)
@@ -86,65 +93,78 @@ class _Firing:
                     partitions.append(table.inputs[k].partition)
                 else:
                     partitions.append(_PADDING)
-        # Corner c takes the upper set of input k when bit (n - 1 - k) of c is set, the order
-        # in which fire() builds its strengths.
-        bits = (np.arange(2**inputs)[:, None] >> np.arange(inputs - 1, -1, -1)) & 1  # (C, n)
-        corners = bits @ strides + np.asarray(first_rows, dtype=np.intp) * scale  # (C, T)
         return cls(
-            sonars[..., None],
+            sonars,
             StackedPartitions.of(partitions),
-            strides[..., None],
-            corners[..., None],
+            strides,
+            np.asarray(first_rows, dtype=np.intp) * scale,
+            np.array([len(t.inputs) for t in tables], dtype=np.intp),
         )
 
-    def mirrored(self) -> _Firing:
+    def mirrored(self) -> Firing:
         """The same firing of the mirror image of the ring (Si <-> S(16-i))."""
-        sonars = np.vectorize(mirror_sonar, otypes=[np.intp])(self.sonars)
-        return _Firing(sonars, self.partitions, self.strides, self.corners)
+        return replace(self, sonars=np.vectorize(mirror_sonar, otypes=[np.intp])(self.sonars))
 
-    def fire(self, x: np.ndarray, scratch: _Scratch | None = None) -> tuple[np.ndarray, np.ndarray]:
+    def kernel_inputs(self) -> tuple[np.ndarray, ...]:
+        """The arrays the compiled FAM kernels fire with (core.kernels.perception)."""
+        p = self.partitions
+        return (
+            self.sonars, p.interior_m, p.gap_start, p.gap_low_m, p.gap_width_m, self.strides,
+            self.first_rows, self.input_counts,
+        )  # fmt: skip
+
+    def fire(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Lowest corner index (T, N) and corner strengths (C, T, N) of inputs x (n, T, N) m.
 
-        Corner c's index is the lowest index plus corners[c]. The strengths are written into
-        `scratch` when given.
+        Corner c's index is the lowest index plus corners[c].
         """
         inputs, tables, count = x.shape
         lower, upper = self.partitions.fuzzify(x.reshape(inputs * tables, count))
         lower = lower.reshape(x.shape)
         upper = upper.reshape(x.shape)
-        base = (lower * self.strides).sum(axis=0)
+        base = (lower * self.strides[..., None]).sum(axis=0)
         degree = np.empty((inputs, 2, tables, count))  # (n, 2, T, N): lower set's, upper set's
         np.subtract(1.0, upper, out=degree[:, 0])
         degree[:, 1] = upper
         strength = degree[0]
         for k in range(1, inputs):
-            out = (
-                None if scratch is None else scratch.strengths[k - 1].reshape(-1, 2, tables, count)
-            )
-            strength = np.minimum(strength[:, None], degree[k], out=out).reshape(-1, tables, count)
+            strength = np.minimum(strength[:, None], degree[k]).reshape(-1, tables, count)
         return base, strength
 
 
-class _Scratch:
-    """Temporaries for inferring a fixed number of rings, kept from call to call.
+@dataclass(frozen=True, slots=True, eq=False)
+class _TableTraining:
+    """How training fires one table, unpadded, straight into its (rule, column) entries, and
+    the room it sums in."""
 
-    Perception runs every control step, and allocating arrays this size afresh each time
-    costs more in page faults than the arithmetic.
-    """
+    pass_sonars: np.ndarray  # (2, g, n) the inputs' sonar groups, as read and mirrored
+    partitions: tuple[np.ndarray, ...]  # the n inputs' StackedPartitions arrays
+    strides: np.ndarray  # (n,) entry step of each input's set
+    corner_offsets: np.ndarray  # (2^n,) each corner's entry from the lowest
+    chunk_rows: int  # exemplars summed apart before joining a batch's sums
+    sums: np.ndarray  # (4, E) a batch's and a chunk's sums of w and w * v; zero between batches
+    met: np.ndarray  # (2, E) the entries a batch and a chunk met
 
-    def __init__(self, firing: _Firing, stored_rows: int, count: int) -> None:
-        corners, tables = firing.corners.shape[:2]
-        inputs = firing.strides.shape[0]
-        # item k - 1: the (2^(k+1), T, N) corner strengths after combining inputs 0..k
-        self.strengths = [np.empty((2 ** (k + 1), tables, count)) for k in range(1, inputs)]
-        self.rules = np.empty((corners, tables, count), dtype=np.intp)  # (C, T, N) lookup columns
-        self.stored = np.empty((stored_rows, corners, tables, count))  # (2 cols, C, T, N)
+    @classmethod
+    def of(cls, table: FamTable) -> _TableTraining:
+        firing = Firing.of((table,), (0,), len(table.inputs), scale=len(table.trajectories))
+        p = firing.partitions
+        entries = table.rule_count * len(table.trajectories)
+        return cls(
+            np.stack([firing.sonars[..., 0], firing.mirrored().sonars[..., 0]]),
+            (p.interior_m, p.gap_start, p.gap_low_m, p.gap_width_m),
+            firing.strides[:, 0],
+            firing.corners[:, 0],
+            max(1, TRAIN_CHUNK_CORNERS // len(firing.corners)),
+            np.zeros((4, entries)),
+            np.empty((2, entries), dtype=np.intp),
+        )
 
 
 class Fam:
     """The tables of a FamConfig with their learnt velocities and experience.
 
-    perceive() reuses buffers of its own, so a Fam serves one thread at a time.
+    Training and perception work in buffers of its own, so a Fam serves one thread at a time.
     """
 
     def __init__(
@@ -174,15 +194,10 @@ class Fam:
         # each (R_t, traj_t): sum of w * v in m/s
 
         widest = max(len(t.inputs) for t in tables)
-        self._firing = _Firing.of(tables, self._first_rows[:-1].tolist(), widest)
-        # (g, n, T, 16): rotation k reads ring[(i + k) % 16] where it would read ring[i]
-        self._rotated_sonars = (self._firing.sonars + np.arange(SONAR_COUNT)) % SONAR_COUNT
+        self._firing = Firing.of(tables, self._first_rows[:-1].tolist(), widest)
+        self._firing_arrays = self._firing.kernel_inputs()
         # Training fires one table at a time, unpadded, straight into (rule, column) entries.
-        self._train_firings = [
-            _Firing.of((t,), (0,), len(t.inputs), scale=len(t.trajectories)) for t in tables
-        ]
-        self._mirror_firings = [f.mirrored() for f in self._train_firings]
-        self._perceive_scratch = _Scratch(self._firing, len(self._lookup), SONAR_COUNT)
+        self._training = [_TableTraining.of(t) for t in tables]
 
         where = {
             n: (t, table.trajectories.index(n))
@@ -191,9 +206,25 @@ class Fam:
         }
         self._table_of = np.array([where[n][0] for n in self._names], dtype=np.intp)
         self._column_of = np.array([where[n][1] for n in self._names], dtype=np.intp)
-        # Where trajectory j's averages land in the (2 cols * T, N) inference result.
-        self._velocity_at = self._column_of * len(tables) + self._table_of
-        self._experience_at = self._velocity_at + self._columns * len(tables)
+        # (T, cols): the trajectory each table's column holds, -1 where none
+        self._trajectory_at = np.full((len(tables), self._columns), -1, dtype=np.intp)
+        self._trajectory_at[self._table_of, self._column_of] = np.arange(len(self._names))
+        # Where each table's velocity entries start among all of them, table after table.
+        self._first_entry = np.cumsum([0] + [w.size for w in self._weighted_sum])
+        # (entries,) m/s: how much training changed each velocity entry, zero between batches
+        self._change = np.zeros(self._first_entry[-1])
+        # Room for each corner's firing strength and rule offset, for the widest table.
+        self._corner_strength = np.empty(len(self._firing.corners))  # (C,)
+        self._corner_offset = np.empty(len(self._firing.corners), dtype=np.intp)  # (C,)
+        # Perception's 16 views of one ring: rotation k faces sonar k.
+        self._all_rotations = np.arange(SONAR_COUNT)  # (16,)
+        self._one_ring = np.zeros(SONAR_COUNT, dtype=np.intp)  # (16,) every view reads ring 0
+        # Compiled kernels, loaded here rather than on import so that no `--help` loads them.
+        from tvl_cli.core.kernels.perception import infer_views
+        from tvl_cli.core.kernels.rule_updates import train_table
+
+        self._infer_views: Callable[..., None] = infer_views
+        self._train_table: Callable[..., int] = train_table
 
     @classmethod
     def from_tables(
@@ -270,12 +301,13 @@ class Fam:
         trajectories: np.ndarray,
         velocities_mps: np.ndarray,
         symmetric: bool = True,
-    ) -> None:
+    ) -> float:
         """Add exemplars (eq. 1-2): rings (N, 16) m, trajectory indices (N,), labels (N,) m/s.
 
         With `symmetric`, each exemplar also trains the mirror trajectory on the mirrored
         ring (paper §4.4). The sums are accumulated in a fixed order, so the same exemplars
-        in the same batches always give the same bits.
+        in the same batches always give the same bits. Returns the summed absolute change of
+        the velocity entries (m/s), added in the order numpy's sum adds all of them.
         """
         rings = np.asarray(rings, dtype=np.float64)
         trajectories = np.asarray(trajectories)
@@ -286,83 +318,107 @@ class Fam:
         if trajectories.shape != (count,) or velocities_mps.shape != (count,):
             raise ValueError("need one trajectory and one velocity per ring")
         if count == 0:
-            return
+            return 0.0
         if trajectories.min() < 0 or trajectories.max() >= len(self._names):
             raise ValueError(f"trajectory indices must be in 0..{len(self._names) - 1}")
         trajectories = trajectories.astype(np.intp)
-        mirrors = mirror_trajectory(trajectories, len(self._names))
+        passes = [trajectories]
+        if symmetric:
+            passes.append(mirror_trajectory(trajectories, len(self._names)))
+        readings = rings.ravel()
+        touched = []
         for t in range(len(self._config.tables)):
-            passes = [(self._train_firings[t], trajectories)]
-            if symmetric:
-                passes.append((self._mirror_firings[t], mirrors))
-            self._train_table(t, rings.ravel(), velocities_mps, passes)
+            entries, change = self._train_one_table(t, readings, velocities_mps, passes)
+            entries += self._first_entry[t]
+            self._change[entries] = change
+            touched.append(entries)
+        # Every entry summed, as numpy summed the change of a copy of them all (its pairwise
+        # order decides the rounding): a reduction of memory kept for it, not two copies.
+        summed = float(np.add.reduce(self._change))
+        for entries in touched:
+            self._change[entries] = 0.0
+        return summed
 
-    def _train_table(
+    @property
+    def entry_count(self) -> int:
+        """How many velocity entries the FAM holds: rules x trajectories, table by table."""
+        return int(self._first_entry[-1])
+
+    def _train_one_table(
         self,
         t: int,
         readings: np.ndarray,
         velocities_mps: np.ndarray,
-        passes: list[tuple[_Firing, np.ndarray]],
-    ) -> None:
-        weighted_sum = self._weighted_sum[t]
-        d_experience = np.zeros(weighted_sum.size)  # (R_t * traj_t,) this batch's sum of w
-        d_weighted = np.zeros(weighted_sum.size)  # (R_t * traj_t,) its sum of w * v, m/s
-        for firing, trajectories in passes:
-            mine = np.flatnonzero(self._table_of[trajectories] == t)
-            chunk = max(1, TRAIN_CHUNK_CORNERS // len(firing.corners))
-            for start in range(0, len(mine), chunk):
-                rows = mine[start : start + chunk]
-                # (n, 1, M) inputs, gathered straight from the row-major (N * 16,) readings
-                x = readings.take(rows * SONAR_COUNT + firing.sonars).min(axis=0)
-                base, strength = firing.fire(x)
-                base += self._column_of[trajectories[rows]]
-                index = (base + firing.corners).ravel()  # (C * M,) (rule, column) entries
-                d_experience += np.bincount(index, strength.ravel(), len(d_experience))
-                strength *= velocities_mps[rows]
-                d_weighted += np.bincount(index, strength.ravel(), len(d_weighted))
-        touched = (d_experience > 0).reshape(weighted_sum.shape)
-        experience = self._experience_view(t)
-        experience += d_experience.reshape(weighted_sum.shape)
-        weighted_sum += d_weighted.reshape(weighted_sum.shape)
-        # Only touched entries are recomputed: the others keep their exact stored values.
-        self._velocity_view(t)[touched] = weighted_sum[touched] / experience[touched]
-
-    def _infer(
-        self, x: np.ndarray, scratch: _Scratch | None = None
+        passes: list[np.ndarray],
     ) -> tuple[np.ndarray, np.ndarray]:
-        """Velocities (N, J) m/s and experience (N, J) of inputs x (n, T, N) (eq. 3)."""
-        base, strength = self._firing.fire(x, scratch)
-        if scratch is None:
-            stored = self._lookup.take(base + self._firing.corners, axis=1)  # (2 cols, C, T, N)
-        else:
-            rules = np.add(base, self._firing.corners, out=scratch.rules)
-            # mode="clip" lets take write straight into `out` (the rules are in range anyway)
-            stored = np.take(self._lookup, rules, axis=1, out=scratch.stored, mode="clip")
-        average = np.einsum("mctn,ctn->mtn", stored, strength)  # (2 cols, T, N)
-        average /= strength.sum(axis=0)
-        flat = average.reshape(-1, x.shape[-1])  # (2 cols * T, N)
-        return flat.take(self._velocity_at, axis=0).T, flat.take(self._experience_at, axis=0).T
+        """Train table t on each pass's exemplars (by their trajectories (N,), the second pass
+        on the mirrored ring); the entries recomputed (K,) and their absolute change (K,)."""
+        rows = [np.flatnonzero(self._table_of[trajectories] == t) for trajectories in passes]
+        training = self._training[t]
+        every_row = np.concatenate(rows)
+        exemplars = min(training.chunk_rows, len(every_row))
+        corners = len(training.corner_offsets)
+        change = np.empty(min(self._weighted_sum[t].size, len(every_row) * corners))  # m/s
+        recomputed = self._train_table(
+            readings,
+            velocities_mps,
+            every_row,
+            np.concatenate([self._column_of[j[r]] for j, r in zip(passes, rows, strict=True)]),
+            np.cumsum([len(r) for r in rows]),
+            training.pass_sonars[: len(passes)],
+            training.partitions,
+            training.strides,
+            training.corner_offsets,
+            training.chunk_rows,
+            self._lookup,
+            self._first_rows[t],
+            len(self._config.tables[t].trajectories),
+            self._weighted_sum[t].reshape(-1),
+            training.sums,
+            training.met,
+            np.empty((len(training.strides), exemplars)),  # (n, M) upper degrees
+            np.empty(exemplars, dtype=np.intp),  # (M,) each one's lowest corner's entry
+            np.empty((corners, exemplars)),  # (C, M) each corner's strength for each one
+            np.empty(exemplars),  # (M,) m/s each one's label
+            change,
+        )
+        return training.met[0, :recomputed].copy(), change[:recomputed]
 
     def _inputs(self, rings: np.ndarray, rotation: int) -> np.ndarray:
         """Inputs (n, T, N) metres of rings (N, 16) metres under a rotation."""
-        sonars = (self._firing.sonars + int(rotation)) % SONAR_COUNT
+        sonars = (self._firing.sonars[..., None] + int(rotation)) % SONAR_COUNT
         return rings.take(np.arange(len(rings)) * SONAR_COUNT + sonars).min(axis=0)
+
+    def inference_inputs(
+        self, rings: np.ndarray, ring_of_view: np.ndarray, rotation_of_view: np.ndarray
+    ) -> tuple[object, ...]:
+        """The arguments of core.kernels.perception.infer_views for V views, view v reading
+        ring rings[ring_of_view[v]] (N, 16) metres under rotation rotation_of_view[v], but
+        the (V, J) velocities and experience it fills."""
+        return (
+            rings, ring_of_view, rotation_of_view, self._firing_arrays, self._lookup,
+            self._trajectory_at, self._corner_strength, self._corner_offset,
+        )  # fmt: skip
+
+    def _infer(
+        self, rings: np.ndarray, ring_of_view: np.ndarray, rotation_of_view: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Velocities (V, J) m/s and experience (V, J) perceived by V views (inference_inputs)."""
+        views = (len(ring_of_view), len(self._names))
+        velocities, experience = np.empty(views), np.empty(views)  # (V, J) m/s, (V, J)
+        self._infer_views(
+            *self.inference_inputs(rings, ring_of_view, rotation_of_view), velocities, experience
+        )
+        return velocities, experience
 
     def _batch(self, rings: np.ndarray, rotation: int) -> tuple[np.ndarray, np.ndarray]:
         rings = np.asarray(rings, dtype=np.float64)
         if rings.shape[-1:] != (SONAR_COUNT,) or rings.ndim > 2:
             raise ValueError(f"rings must be (16,) or (N, 16), got {rings.shape}")
-        batch = rings.reshape(-1, SONAR_COUNT)
-        chunk = max(1, INFER_CHUNK_ENTRIES // (self._lookup.shape[0] * self._firing.corners.size))
-        parts = [
-            self._infer(self._inputs(batch[start : start + chunk], rotation))
-            for start in range(0, len(batch), chunk)
-        ]
-        if not parts:
-            empty = np.empty((0, len(self._names)))
-            return empty, empty.copy()
-        velocity = np.concatenate([p[0] for p in parts]) if len(parts) > 1 else parts[0][0]
-        experience = np.concatenate([p[1] for p in parts]) if len(parts) > 1 else parts[0][1]
+        batch = np.ascontiguousarray(rings.reshape(-1, SONAR_COUNT))
+        views = np.arange(len(batch))
+        rotations = np.full(len(batch), int(rotation) % SONAR_COUNT)
+        velocity, experience = self._infer(batch, views, rotations)
         if rings.ndim == 1:
             return velocity[0], experience[0]
         return velocity, experience
@@ -386,7 +442,7 @@ class Fam:
         ring = np.asarray(ring, dtype=np.float64)
         if ring.shape != (SONAR_COUNT,):
             raise ValueError(f"ring must be ({SONAR_COUNT},), got {ring.shape}")
-        return self._infer(ring.take(self._rotated_sonars).min(axis=0), self._perceive_scratch)
+        return self._infer(ring[None], self._one_ring, self._all_rotations)
 
     def explain(self, ring: np.ndarray) -> Explanation:
         """The memberships, fired rules and weighted averages behind velocities(ring)."""
@@ -395,7 +451,7 @@ class Fam:
             raise ValueError(f"ring must be ({SONAR_COUNT},), got {ring.shape}")
         x = self._inputs(ring[None], 0)  # (n, T, 1) metres
         base, strength = self._firing.fire(x)
-        velocity, experience = self._infer(x)
+        velocity, experience = self._batch(ring, 0)
         tables = self._config.tables
         return Explanation(
             tuple(
@@ -409,15 +465,15 @@ class Fam:
                 for rule in self._fired_rules(t, int(base[t, 0]), strength[:, t, 0])
             ),
             self._names,
-            tuple(velocity[0].tolist()),
-            tuple(experience[0].tolist()),
+            tuple(velocity.tolist()),
+            tuple(experience.tolist()),
         )
 
     def _fired_rules(self, t: int, base: int, strength: np.ndarray) -> list[FiredRule]:
         """Table t's rules among the corners from `base` with strengths (C,) above 0."""
         table = self._config.tables[t]
         live = np.flatnonzero(strength > 0)
-        rules = base + self._firing.corners[live, t, 0] - self._first_rows[t]
+        rules = base + self._firing.corners[live, t] - self._first_rows[t]
         velocity, experience = self._velocity_view(t), self._experience_view(t)
         return [
             FiredRule(

@@ -15,7 +15,10 @@ MM_MAX = np.iinfo(np.uint16).max
 def ring_to_mm(ring_m: np.ndarray) -> np.ndarray:
     """Sonar ranges in metres -> uint16 millimetres (nearest), the form the log keeps."""
     mm = np.rint(np.asarray(ring_m, dtype=np.float64) * MM_PER_M)
-    return np.clip(mm, 0, MM_MAX).astype(np.uint16)
+    # np.clip would do, at a quarter more of the cost of a learning step's conversion.
+    np.maximum(mm, 0, out=mm)
+    np.minimum(mm, MM_MAX, out=mm)
+    return mm.astype(np.uint16)
 
 
 def mm_to_ring(ring_mm: np.ndarray) -> np.ndarray:

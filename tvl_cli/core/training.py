@@ -48,9 +48,10 @@ def episode_labels(episode: Episode, robot: RobotConfig, params: TrainParams) ->
     return velocity_labels(episode.distances_m(), v_max, params.decel_mps2, params.margin_m)
 
 
-def train_episode(fam: Fam, episode: Episode, robot: RobotConfig, params: TrainParams) -> None:
+def train_episode(fam: Fam, episode: Episode, robot: RobotConfig, params: TrainParams) -> float:
     """Train on one whole episode, on exactly the ring values the log keeps (or the virtual
-    rings the echo memory made of them)."""
+    rings the echo memory made of them); the summed absolute change of the FAM's velocity
+    entries, m/s (Fam.train)."""
     labels = episode_labels(episode, robot, params)
     trajectories = np.full(len(labels), episode.trajectory)
-    fam.train(episode.fam_rings(), trajectories, labels, symmetric=params.symmetric)
+    return fam.train(episode.fam_rings(), trajectories, labels, symmetric=params.symmetric)

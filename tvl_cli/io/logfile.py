@@ -20,9 +20,12 @@ Surviving a killed learner: a session being written keeps its datasets chunked b
 uncompressed, so every chunk stays where it was first written and HDF5 never frees and
 reuses file space. (A gzip chunk moves whenever an episode makes it grow, and a kill between
 the reuse of its old place and the next flush leaves the last flushed metadata pointing at
-another chunk's bytes: a whole log lost.) After every episode the file is flushed, and only
-then are the session's `episodes_written` and `minutes_written` attributes raised to count
-the new rows; a reader trusts those counts. Closing the session rewrites the log with gzip
+another chunk's bytes: a whole log lost.) Episodes are written a few at a time (those that
+ended within `write_every_s` simulated seconds of each other, and every one held when a
+minute's row is written or the session closes); after every write the file is flushed, and
+only then are the session's `episodes_written` and `minutes_written` attributes raised to
+count the new rows; a reader trusts those counts. A kill loses at most the episodes held
+since the last write. Closing the session rewrites the log with gzip
 and shuffle into a temporary file renamed into place, so a finished log is compressed, and
 a killed one is whole, and compressed when the next session on it closes.
 
@@ -82,7 +85,9 @@ COMPRESSION: dict[str, Any] = {"compression": "gzip", "compression_opts": 4, "sh
 class LogWriter:
     """Appends one session to a learning log, holding the log's writer lock until close."""
 
-    def __init__(self, path: Path, lock: WriterLock, f: h5py.File, group: h5py.Group) -> None:
+    def __init__(
+        self, path: Path, lock: WriterLock, f: h5py.File, group: h5py.Group, write_every_s: float
+    ) -> None:
         self.path = path
         self._lock = lock
         self._file: h5py.File | None = f
@@ -90,9 +95,12 @@ class LogWriter:
         # Handles looked up once: a lookup by name costs about as much as a small write.
         self._datasets = {name: group[name] for name in (*EXEMPLAR_DATASETS, "episodes")}
         self._minutes_dataset = group["minutes"]
-        self._episodes = 0
-        self._exemplars = 0
+        self._episodes = 0  # written
+        self._exemplars = 0  # written
         self._minutes = 0
+        self._write_every_s = write_every_s
+        self._held: list[Episode] = []  # appended, not yet written
+        self._written_until_s = 0.0  # simulated time when the last episode written ended
 
     @classmethod
     def open(
@@ -106,10 +114,12 @@ class LogWriter:
         robot_config: dict[str, Any],
         fam_config: dict[str, Any],
         kind: str = KIND_LEARNING,
+        write_every_s: float = 0.0,
     ) -> LogWriter:
         """Create the log, or add a new session of `kind` (SESSION_KINDS) to an existing one
         (which must be a tvl-log of the same robot). BadInput if another process is writing
-        it."""
+        it. Episodes are written once those held span `write_every_s` simulated seconds
+        since the last write (0: each as it is appended)."""
         if kind not in SESSION_KINDS:
             raise ValueError(f"session kind {kind!r} is none of {', '.join(SESSION_KINDS)}")
         path = Path(path)
@@ -156,7 +166,7 @@ class LogWriter:
                 with contextlib.suppress(OSError, RuntimeError):
                     f.close()
             raise
-        return cls(path, lock, f, group)
+        return cls(path, lock, f, group, write_every_s)
 
     @property
     def session(self) -> str:
@@ -164,45 +174,19 @@ class LogWriter:
         return self._group.name.rsplit("/", 1)[-1]
 
     def append_episode(self, episode: Episode) -> None:
-        """Append one whole episode (one write per dataset) and flush it to the file."""
-        _check_episode(episode, self._episodes)
-        n = episode.exemplar_count
-        columns = {
-            "ring_mm": episode.ring_mm,
-            "pose": episode.pose,
-            "odometry": episode.odometry,
-            "arc_m": episode.arc_m,
-            "trajectory": np.full(n, episode.trajectory, dtype=np.int8),
-            "rotation": np.full(n, episode.rotation, dtype=np.int8),
-            "episode": np.full(n, episode.index, dtype=np.int32),
-        }
-        start = self._exemplars
-        for name, values in columns.items():
-            _append(self._datasets[name], values, start)
-        row = np.array(
-            [
-                (
-                    start,
-                    n,
-                    episode.trajectory,
-                    episode.rotation,
-                    episode.collided,
-                    episode.bumped,
-                    episode.end_time_s,
-                    episode.end_arc_m,
-                )
-            ],
-            dtype=EPISODE_DTYPE,
-        )
-        _append(self._datasets["episodes"], row, self._episodes)
-        self._exemplars += n
-        self._episodes += 1
-        self._commit()
+        """Take one whole episode; write it with those held since the last write once it
+        ended `write_every_s` simulated seconds or more after the last one written."""
+        _check_episode(episode, self._episodes + len(self._held))
+        self._held.append(episode)
+        if episode.end_time_s - self._written_until_s >= self._write_every_s:
+            self._write_held()
+            self._commit()
 
     def append_minute(
         self, *, minute: int, episodes: int, collisions: int, exemplars: int, delta_v: float
     ) -> None:
-        """Append one row of per-minute learning statistics."""
+        """Append one row of per-minute learning statistics, with every episode held."""
+        self._write_held()
         row = np.array([[minute, episodes, collisions, exemplars, delta_v]], dtype=np.float64)
         _append(self._minutes_dataset, row, self._minutes)
         self._minutes += 1
@@ -214,6 +198,9 @@ class LogWriter:
         if self._file is None:
             return
         try:
+            if self._held:
+                self._write_held()
+                self._commit()
             self._group.attrs.update(status=status, ended=utc_now())
             self._file.close()
             self._file = None
@@ -221,6 +208,44 @@ class LogWriter:
         finally:
             self._file = None
             self._lock.release()
+
+    def _write_held(self) -> None:
+        """Write the episodes held, one write per dataset for all of them."""
+        held, self._held = self._held, []
+        if not held:
+            return
+        columns = {
+            "ring_mm": [e.ring_mm for e in held],
+            "pose": [e.pose for e in held],
+            "odometry": [e.odometry for e in held],
+            "arc_m": [e.arc_m for e in held],
+            "trajectory": [np.full(e.exemplar_count, e.trajectory, np.int8) for e in held],
+            "rotation": [np.full(e.exemplar_count, e.rotation, np.int8) for e in held],
+            "episode": [np.full(e.exemplar_count, e.index, np.int32) for e in held],
+        }
+        for name, values in columns.items():
+            _append(self._datasets[name], np.concatenate(values), self._exemplars)
+        firsts = self._exemplars + np.cumsum([0] + [e.exemplar_count for e in held[:-1]])
+        rows = np.array(
+            [
+                (
+                    first,
+                    e.exemplar_count,
+                    e.trajectory,
+                    e.rotation,
+                    e.collided,
+                    e.bumped,
+                    e.end_time_s,
+                    e.end_arc_m,
+                )
+                for first, e in zip(firsts.tolist(), held, strict=True)
+            ],
+            dtype=EPISODE_DTYPE,
+        )
+        _append(self._datasets["episodes"], rows, self._episodes)
+        self._exemplars += sum(e.exemplar_count for e in held)
+        self._episodes += len(held)
+        self._written_until_s = held[-1].end_time_s
 
     def _commit(self) -> None:
         """Make the rows written so far durable, then count them in the session's attributes.

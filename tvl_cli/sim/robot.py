@@ -104,15 +104,16 @@ class Simulator:
         chord_speed = linear * _chord_ratio(half_turn)
         before = self.pose
         touched = False
+        body, space_step = self._body, self._space.step  # looked up once: four sub-steps a step
         for _ in range(robot.physics_substeps):
-            heading = self._body.angle + half_turn
-            self._body.velocity = self._slide(
+            heading = body.angle + half_turn
+            body.velocity = self._slide(
                 chord_speed * math.cos(heading), chord_speed * math.sin(heading)
             )
-            self._body.angular_velocity = angular
-            self._space.step(dt)
+            body.angular_velocity = angular
+            space_step(dt)
             self._contacts = []
-            self._body.each_arbiter(self._record_contact)
+            body.each_arbiter(self._record_contact)
             touched = touched or bool(self._contacts)
         self.bumped = touched
         self._steps += 1
@@ -125,6 +126,8 @@ class Simulator:
 
     def _slide(self, vx: float, vy: float) -> tuple[float, float]:
         """The velocity without its parts that go into touched obstacles; zero in a wedge."""
+        if not self._contacts:  # most sub-steps touch nothing
+            return (vx, vy)
         for nx, ny in self._contacts:
             into = vx * nx + vy * ny
             if into > 0.0:

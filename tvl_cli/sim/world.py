@@ -60,81 +60,84 @@ class StaticGeometry:
     corner_sides: np.ndarray
     max_disc_radius_m: float  # 0 without discs
     roughness: float  # the world's, 0 to 1: how much sound its walls scatter diffusely
-    segment_ids: np.ndarray  # (n,) each segment's index in the whole world's segments
-    segment_total: int  # segments in the whole world (segments_near keeps some of them)
-    # segments_near's last answer, by tile and reach: a robot stays in a tile for many steps.
-    _near: dict[tuple[int, int, float], StaticGeometry] = field(
-        default_factory=dict, repr=False, compare=False
+    seg_roughness: np.ndarray  # (n,) each wall's own (a `rough:` rectangle's, or the world's)
+    ring_roughness: np.ndarray = field(init=False)  # (k,) each ring wall's: the world's
+    _every_wall: np.ndarray = field(init=False, repr=False)  # (n,) indices 0 .. n - 1
+    # walls_near's last answer, by tile and reach: a robot stays in a tile for many steps.
+    _near: dict[tuple[int, int, float], np.ndarray] = field(
+        default_factory=dict, init=False, repr=False, compare=False
     )
 
-    def element_of(self, kind: str, index: np.ndarray) -> np.ndarray:
-        """Every obstacle of the world numbered once: its segments first (in the world's
-        order), then its discs, then its ring walls. `kind` is "segment", "disc" or "ring"."""
-        offset = {"segment": 0, "disc": self.segment_total, "ring": self.segment_total}[kind]
-        if kind == "ring":
-            offset += len(self.discs)
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "ring_roughness", np.full(len(self.rings), self.roughness))
+        object.__setattr__(self, "_every_wall", np.arange(len(self.seg_len)))
+
+    def with_roughness(self, roughness: float) -> StaticGeometry:
+        """The same obstacles with every wall, ring walls too, this rough."""
+        return replace(
+            self, roughness=roughness, seg_roughness=np.full(len(self.seg_len), roughness)
+        )
+
+    def element_of(self, kind: str, index: np.ndarray | int) -> np.ndarray:
+        """Every obstacle of the world numbered once: its segments first, in the world's
+        order, then its discs, then its ring walls. `kind` is "segment", "disc" or "ring"."""
+        offset = {"segment": 0, "disc": len(self.seg_len)}.get(kind)
+        if offset is None:
+            offset = len(self.seg_len) + len(self.discs)
         return np.asarray(index) + offset
 
     def element_kind(self, element: int) -> str:
         """ "segment", "disc" or "ring": what element_of numbered `element`."""
-        if element < self.segment_total:
+        if element < len(self.seg_len):
             return "segment"
-        return "disc" if element < self.segment_total + len(self.discs) else "ring"
+        return "disc" if element < len(self.seg_len) + len(self.discs) else "ring"
 
-    def segments_near(self, x: float, y: float, reach_m: float) -> StaticGeometry:
-        """This geometry keeping only the wall segments that may pass within `reach_m` of
-        (x, y), in their order (so that ties among them are broken as before); the whole of
-        it in a small world. Discs and rings are kept: there are few of them."""
+    def walls_near(self, x: float, y: float, reach_m: float) -> np.ndarray:
+        """Indices (in increasing order, so that ties are broken as among all of them) of the
+        wall segments that may pass within `reach_m` of (x, y); every one in a small world."""
         if len(self.seg_len) < NEAR_MIN_SEGMENTS:
-            return self
+            return self._every_wall
         tile = (math.floor(x / NEAR_TILE_M), math.floor(y / NEAR_TILE_M), reach_m)
         found = self._near.get(tile)
         if found is None:
-            # Segments whose bounding box meets the tile grown by reach_m: a few more than
-            # strictly within reach, never fewer.
-            low = np.array(tile[:2]) * NEAR_TILE_M - reach_m  # (2,) metres
-            high = low + NEAR_TILE_M + 2.0 * reach_m
-            ends = self.seg_ends  # (n, 2, 2) metres
-            keep = np.flatnonzero(
-                np.all(ends.max(axis=1) >= low, axis=1) & np.all(ends.min(axis=1) <= high, axis=1)
-            )
-            found = _some_segments(self, keep)
+            found = self._walls_in_tile(*tile)
             self._near.clear()  # one tile kept: memory stays bounded in a world of any size
             self._near[tile] = found
         return found
 
-
-def _some_segments(geometry: StaticGeometry, keep: np.ndarray) -> StaticGeometry:
-    """The geometry with only the segments indexed by keep."""
-    return replace(
-        geometry,
-        segments=geometry.segments[keep],
-        seg_start=np.ascontiguousarray(geometry.seg_start[:, keep]),
-        seg_delta=np.ascontiguousarray(geometry.seg_delta[:, keep]),
-        seg_len=geometry.seg_len[keep],
-        seg_normal=np.ascontiguousarray(geometry.seg_normal[:, keep]),
-        seg_moment=geometry.seg_moment[keep],
-        seg_ends=geometry.seg_ends[keep],
-        corner_sides=geometry.corner_sides[keep],
-        segment_ids=geometry.segment_ids[keep],
-        _near={},
-    )
+    def _walls_in_tile(self, column: int, row: int, reach_m: float) -> np.ndarray:
+        """Segments whose bounding box meets the tile grown by reach_m: a few more than
+        strictly within reach, never fewer."""
+        low = np.array([column, row]) * NEAR_TILE_M - reach_m  # (2,) metres
+        high = low + NEAR_TILE_M + 2.0 * reach_m
+        ends = self.seg_ends  # (n, 2, 2) metres
+        return np.flatnonzero(
+            np.all(ends.max(axis=1) >= low, axis=1) & np.all(ends.min(axis=1) <= high, axis=1)
+        )
 
 
 def static_geometry(world: WorldMap) -> StaticGeometry:
     """The arrays the sonar and clearance queries read; computed once per world."""
-    return geometry_of(world.segments, world.discs, world.rings, world.roughness)
+    return geometry_of(
+        world.segments, world.discs, world.rings, world.roughness, world.segment_roughness
+    )
 
 
 def geometry_of(
-    segments: object, discs: object = (), rings: object = (), roughness: float = 0.0
+    segments: object,
+    discs: object = (),
+    rings: object = (),
+    roughness: float = 0.0,
+    segment_roughness: object = (),
 ) -> StaticGeometry:
     """Obstacles as the queries read them: segments (n, 4) x1, y1, x2, y2, discs (m, 3) and
-    ring walls (k, 3) x, y, r, metres (anything numpy reads as such)."""
+    ring walls (k, 3) x, y, r, metres (anything numpy reads as such), with the world's
+    roughness and each segment's own (none given: the world's for all)."""
     segments = np.asarray(segments, dtype=np.float64).reshape(-1, 4)
     discs = np.asarray(discs, dtype=np.float64).reshape(-1, 3)
     start = np.ascontiguousarray(segments[:, :2].T)  # (2, n) metres
     delta = np.ascontiguousarray((segments[:, 2:] - segments[:, :2]).T)  # (2, n) metres
+    own = np.asarray(segment_roughness, dtype=np.float64)
     return StaticGeometry(
         segments=segments,
         discs=discs,
@@ -148,8 +151,7 @@ def geometry_of(
         corner_sides=_corner_sides(segments),
         max_disc_radius_m=float(discs[:, 2].max(initial=0.0)),
         roughness=roughness,
-        segment_ids=np.arange(len(segments)),
-        segment_total=len(segments),
+        seg_roughness=own if len(own) else np.full(len(segments), roughness),
     )
 
 
@@ -193,45 +195,34 @@ def _corner_sides(segments: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(sides.reshape(2, n).T)  # (n, 2) [start, end]
 
 
-def _element_gaps(geometry: StaticGeometry, points: np.ndarray) -> list[np.ndarray]:
-    """Metres from each of points (p, 2) to each segment (p, n), disc (p, m) and ring wall
-    (p, k), for the kinds the world has, in element_of's order."""
-    px = points[:, 0:1]  # (p, 1) metres
-    py = points[:, 1:2]
-    gaps = []
-    if len(geometry.seg_len):
-        # Closest point on each segment: the projection clamped to the segment.
-        (sx, sy), (ex, ey) = geometry.seg_start, geometry.seg_delta
-        rx, ry = px - sx, py - sy  # (p, n) metres
-        along = np.clip((rx * ex + ry * ey) / geometry.seg_len**2, 0.0, 1.0)
-        gaps.append(np.hypot(rx - along * ex, ry - along * ey))
-    if len(geometry.discs):
-        cx, cy, r = geometry.discs.T
-        gaps.append(np.hypot(px - cx, py - cy) - r)  # (p, m)
-    if len(geometry.rings):
-        cx, cy, r = geometry.rings.T
-        gaps.append(r - np.hypot(px - cx, py - cy))  # (p, k)
-    return gaps
-
-
 def clearances_m(geometry: StaticGeometry, points: np.ndarray, body_radius_m: float) -> np.ndarray:
     """(p,) metres from the edge of a body centred at each of points (p, 2) to the nearest
     obstacle; 0 where the body touches or overlaps one, inf in a world with no obstacles."""
-    nearest = np.full(len(points), np.inf)  # (p,) metres from the centre
-    for gap in _element_gaps(geometry, points):
-        nearest = np.minimum(nearest, gap.min(axis=1))
-    return np.maximum(nearest - body_radius_m, 0.0)
+    return _clearances(geometry, points, body_radius_m)[0]
 
 
 def nearest_element(geometry: StaticGeometry, x: float, y: float) -> tuple[int, float]:
     """The obstacle nearest (x, y), as StaticGeometry.element_of numbers it, and its distance
     in metres; (-1, inf) in a world with none."""
-    gaps = _element_gaps(geometry, np.array([[x, y]]))
-    if not gaps:
-        return -1, math.inf
-    every = np.concatenate([gap[0] for gap in gaps])  # (elements,) metres
-    element = int(every.argmin())
-    return element, float(every[element])
+    gap, element = _clearances(geometry, np.array([[x, y]]), 0.0)
+    return int(element[0]), float(gap[0])
+
+
+def _clearances(
+    geometry: StaticGeometry, points: np.ndarray, body_radius_m: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """clearances_m, and the nearest obstacle to each point (p,) as element_of numbers it."""
+    from tvl_cli.core.kernels.clearance import clearances  # compiled: loaded on first use
+
+    g = geometry
+    points = np.ascontiguousarray(points, dtype=np.float64)
+    found = np.empty(len(points))  # (p,) metres
+    nearest = np.empty(len(points), dtype=np.int64)  # (p,) obstacles
+    clearances(
+        points, g.seg_start, g.seg_delta, g.seg_len, g.discs, g.rings, body_radius_m, found,
+        nearest,
+    )  # fmt: skip
+    return found, nearest
 
 
 def clearance_m(geometry: StaticGeometry, x: float, y: float, body_radius_m: float) -> float:

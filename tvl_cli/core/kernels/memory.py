@@ -1,7 +1,7 @@
 """The echo memory's cast: the nearest remembered surface in each beam (core.memory).
 
-`remembered_ranges` is compiled; `remembered_ranges_reference` is the same in numpy, for
-the tests to hold the kernel to.
+`remembered_ranges` is compiled; `memory_reference` computes the same in numpy, for the
+tests to hold the kernel to.
 
 Arguments, for B beams of `rays_per_beam` rays each and a memory of K echoes:
     origins (B * rays, 2), directions (B * rays, 2): each ray's transducer (metres) and unit
@@ -23,8 +23,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
+from tvl_cli.core.kernels import kernel
 from tvl_cli.core.memory import POINTS
 
 
@@ -54,10 +54,10 @@ def remembered_ranges(
     return out
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _points_in_cones(
     origins, directions, rays_per_beam, cos_half_cone, centres, heard, since, out
-):  # pragma: no cover - compiled
+):  # fmt: skip
     middle = rays_per_beam // 2
     for b in range(out.shape[0]):
         ray = b * rays_per_beam + middle
@@ -74,10 +74,10 @@ def _points_in_cones(
         out[b] = best
 
 
-@njit(cache=True, nogil=True)
+@kernel
 def _patches_met(
     origins, directions, rays_per_beam, centres, axes, half_widths, heard, since, out
-):  # pragma: no cover - compiled
+):  # fmt: skip
     out[:] = np.inf
     for r in range(origins.shape[0]):
         ox, oy = origins[r, 0], origins[r, 1]
@@ -100,42 +100,3 @@ def _patches_met(
         b = r // rays_per_beam
         if best < out[b]:
             out[b] = best
-
-
-def remembered_ranges_reference(
-    kind: str,
-    origins: np.ndarray,
-    directions: np.ndarray,
-    rays_per_beam: int,
-    half_cone_rad: float,
-    centres: np.ndarray,
-    axes: np.ndarray,
-    half_widths: np.ndarray,
-    heard: np.ndarray,
-    since: int,
-) -> np.ndarray:
-    """remembered_ranges in numpy: every ray against every echo at once."""
-    live = heard >= since
-    centres, axes, half_widths = centres[live], axes[live], half_widths[live]
-    beams = len(origins) // rays_per_beam
-    if len(centres) == 0:
-        return np.full(beams, np.inf)
-    if kind == POINTS:
-        middle = rays_per_beam // 2
-        origin = origins[middle::rays_per_beam]  # (B, 2) metres
-        axis = directions[middle::rays_per_beam]  # (B, 2) unit vectors
-        offset = centres[None, :, :] - origin[:, None, :]  # (B, K, 2) metres
-        distance = np.hypot(offset[..., 0], offset[..., 1])  # (B, K) metres
-        along = offset[..., 0] * axis[:, None, 0] + offset[..., 1] * axis[:, None, 1]
-        inside = (along >= distance * math.cos(half_cone_rad)) & (distance > 0.0)
-        return np.where(inside, distance, np.inf).min(axis=1)
-    facing = directions @ axes.T  # (R, K) D . axis
-    to_centre = centres[None, :, :] - origins[:, None, :]  # (R, K, 2) metres
-    depth = to_centre[..., 0] * axes[:, 0] + to_centre[..., 1] * axes[:, 1]  # (R, K) metres
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t = depth / facing  # (R, K) metres along each ray
-    hit_x = origins[:, None, 0] + t * directions[:, None, 0] - centres[:, 0]  # (R, K) metres
-    hit_y = origins[:, None, 1] + t * directions[:, None, 1] - centres[:, 1]
-    across = -hit_x * axes[:, 1] + hit_y * axes[:, 0]  # (R, K) metres along each patch
-    met = (facing > 0.0) & (t >= 0.0) & (np.abs(across) <= half_widths)
-    return np.where(met, t, np.inf).min(axis=1).reshape(beams, rays_per_beam).min(axis=1)

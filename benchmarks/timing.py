@@ -1,0 +1,120 @@
+"""What the benchmarks share: timing whole `tvl` processes, medians, paired ratios against a
+baseline timed in the same run, and figures printed beside their targets.
+
+A process's CPU seconds (user + system, the operating system's own accounting) count the
+work it did whatever else the machine was running; its wall seconds include waiting for a
+shared processor. Targets are judged on CPU seconds and both are printed.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import resource
+import statistics
+import subprocess
+import sys
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+# The `tvl` installed beside the interpreter running the benchmark.
+TVL = str(Path(sys.executable).with_name("tvl"))
+
+
+@dataclass(frozen=True, slots=True)
+class Seconds:
+    """How long one whole process took."""
+
+    wall_s: float
+    cpu_s: float  # user + system
+
+
+def run_process(argv: Sequence[str | Path], env: dict[str, str] | None = None) -> Seconds:
+    """Run a command to its end (it must succeed) and time it."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    started = time.perf_counter()
+    subprocess.run(
+        [str(a) for a in argv],
+        check=True,
+        capture_output=True,
+        env=None if env is None else {**os.environ, **env},
+        timeout=3600,
+    )
+    wall_s = time.perf_counter() - started
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu_s = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return Seconds(wall_s, cpu_s)
+
+
+def median_seconds(times: Sequence[Seconds]) -> Seconds:
+    return Seconds(
+        statistics.median(t.wall_s for t in times), statistics.median(t.cpu_s for t in times)
+    )
+
+
+def paired(
+    ours: Callable[[], Seconds], theirs: Callable[[], Seconds] | None, repeats: int
+) -> tuple[Seconds, Seconds | None, float | None]:
+    """Medians of `ours` and `theirs` run in turn (ours, theirs, ours, ...) and the median of
+    the pairs' CPU ratios ours / theirs: pairing keeps the ratio steady while the machine's
+    speed drifts. Without `theirs`, only ours."""
+    mine: list[Seconds] = []
+    other: list[Seconds] = []
+    for _ in range(repeats):
+        mine.append(ours())
+        if theirs is not None:
+            other.append(theirs())
+    if theirs is None:
+        return median_seconds(mine), None, None
+    ratio = statistics.median(a.cpu_s / b.cpu_s for a, b in zip(mine, other, strict=True))
+    return median_seconds(mine), median_seconds(other), ratio
+
+
+def cpu_seconds(run: Callable[[], object], repeats: int) -> float:
+    """Median CPU seconds of `run`, in this process."""
+    times = []
+    for _ in range(repeats):
+        started = time.process_time()
+        run()
+        times.append(time.process_time() - started)
+    return statistics.median(times)
+
+
+def realtime_against(
+    ratio: float | None, against: Path | None, their_realtime: float | None
+) -> str:
+    """The note comparing a real-time factor with the baseline's, from the paired ratio of
+    CPU seconds ours / theirs; empty without a baseline."""
+    if ratio is None or their_realtime is None:
+        return ""
+    return f"{1.0 / ratio:.2f}x the speed of {against} ({their_realtime:,.0f}x), paired"
+
+
+def tvl_in(directory: Path) -> str:
+    """The `tvl` of another checkout (its .venv) or of a virtual environment."""
+    for candidate in (directory / ".venv" / "bin" / "tvl", directory / "bin" / "tvl"):
+        if candidate.is_file():
+            return str(candidate)
+    raise SystemExit(f"{directory}: no .venv/bin/tvl or bin/tvl to time against")
+
+
+def add_against_option(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--against",
+        type=Path,
+        default=None,
+        metavar="DIR",
+        help="another checkout (with its .venv) or virtual environment whose tvl is timed "
+        "in turn with this one, for paired ratios",
+    )
+
+
+def figure_line(
+    label: str, value: str, target: str | None, met: bool | None, note: str = ""
+) -> str:
+    """One printed figure: what it is, its value, its target and whether that is met, and a
+    note (a paired ratio against the baseline)."""
+    judged = "no target" if target is None else f"target {target}: {'met' if met else 'NOT met'}"
+    return f"  {label:<44} {value:>24}   {judged:<28} {note}".rstrip()

@@ -1,0 +1,58 @@
+"""Trained FAMs and rings for comparing the FAM kernels with their references: each shipped
+configuration and one of tables storing different numbers of trajectories, trained on the
+example log of the lab."""
+
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path
+
+import numpy as np
+
+from tvl_cli.commands.train import train_on
+from tvl_cli.core.config import DESIGNED, MULTI, SINGLE, FamConfig, RobotConfig
+from tvl_cli.core.fam import Fam
+from tvl_cli.core.ring import mm_to_ring
+from tvl_cli.core.training import TrainParams
+from tvl_cli.io.logreader import read_log
+
+LOG = Path(__file__).resolve().parents[3] / "logs" / "lab-s1.h5"
+ROBOT = RobotConfig()
+NAMES = [t.name for t in ROBOT.trajectories]
+# The single FAM's one table split in two: three trajectories in one, four in the other.
+SPLIT = FamConfig(
+    "split",
+    (
+        dataclasses.replace(SINGLE.tables[0], name="left", trajectories=tuple(NAMES[:3])),
+        dataclasses.replace(SINGLE.tables[0], name="right", trajectories=tuple(NAMES[3:])),
+    ),
+)
+CONFIGS = {c.name: c for c in (SINGLE, MULTI, DESIGNED, SPLIT)}
+
+
+def learnt_fam(name: str, minutes: float = 5.0) -> Fam:
+    """A FAM of the configuration trained on the first minutes of the example log."""
+    fam = Fam(CONFIGS[name], NAMES)
+    (session,) = read_log(LOG).sessions
+    episodes = [e for e in session.episodes() if e.end_time_s <= 60.0 * minutes]
+    train_on(fam, episodes, ROBOT, TrainParams())
+    return fam
+
+
+def logged_rings(count: int) -> np.ndarray:
+    """(count, 16) metres: rings the robot read in the lab, spread over the log."""
+    (session,) = read_log(LOG).sessions
+    rings = mm_to_ring(np.concatenate([e.ring_mm for e in session.episodes()]))
+    return rings[np.linspace(0, len(rings) - 1, count).astype(int)]
+
+
+def odd_rings(count: int, seed: int) -> np.ndarray:
+    """(count, 16) metres: uniform over the range, with readings exactly at the range's ends
+    and on the fuzzy sets' centres, where a set's degree is exactly 0 or 1."""
+    rng = np.random.default_rng(seed)
+    rings = rng.uniform(ROBOT.sonar.min_range_m, ROBOT.sonar.max_range_m, (count, 16))
+    centres = np.unique([c for t in SINGLE.tables for i in t.inputs for c in i.partition.centres_m])
+    special = np.concatenate([centres, [ROBOT.sonar.min_range_m, ROBOT.sonar.max_range_m]])
+    at = rng.random((count, 16)) < 0.3
+    rings[at] = rng.choice(special, at.sum())
+    return rings

@@ -1,0 +1,56 @@
+"""Real worlds for comparing kernels with their references: the shipped maps, generated
+rooms worlds and a hall large enough that each robot tests only the walls near it."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+from cluttered_hall import cluttered_hall
+
+from tvl_cli.sim.world import NEAR_MIN_SEGMENTS, StaticGeometry, static_geometry
+from tvl_cli.sim.worldgen import generate_world
+from tvl_cli.sim.worldmap import load_world, parse_world
+
+WORLDS = Path(__file__).resolve().parents[3] / "worlds"
+SHIPPED = sorted(p.stem for p in WORLDS.glob("*.txt"))
+ROOMS_SEEDS = (2, 5, 9)
+
+
+def shipped(name: str) -> StaticGeometry:
+    return static_geometry(load_world(WORLDS / f"{name}.txt"))
+
+
+def rooms(seed: int) -> StaticGeometry:
+    return static_geometry(parse_world(generate_world("rooms", None, None, seed), "rooms"))
+
+
+def hall() -> StaticGeometry:
+    geometry = static_geometry(parse_world(cluttered_hall(600, seed=3), "hall"))
+    assert len(geometry.seg_len) >= NEAR_MIN_SEGMENTS
+    return geometry
+
+
+def rough(geometry: StaticGeometry, roughness: float) -> StaticGeometry:
+    return geometry.with_roughness(roughness)
+
+
+def every_world() -> dict[str, StaticGeometry]:
+    """Each world by name: the shipped ones, rooms worlds, the hall, and a rough lab and
+    circle (rough walls and a rough ring wall)."""
+    worlds = {name: shipped(name) for name in SHIPPED}
+    worlds |= {f"rooms-{seed}": rooms(seed) for seed in ROOMS_SEEDS}
+    worlds["hall"] = hall()
+    worlds["rough-lab"] = rough(worlds["lab"], 0.3)
+    worlds["rough-circle"] = rough(worlds["circle"], 0.5)
+    return worlds
+
+
+def random_poses(geometry: StaticGeometry, count: int, seed: int) -> np.ndarray:
+    """(count, 3) x, y metres within the world's walls' extent, heading rad: anywhere, inside
+    obstacles too, where the ring reads surfaces behind its transducers."""
+    low = geometry.segments.reshape(-1, 2).min(axis=0)
+    high = geometry.segments.reshape(-1, 2).max(axis=0)
+    rng = np.random.default_rng(seed)
+    return rng.uniform((*low, -math.pi), (*high, math.pi), (count, 3))

@@ -1,0 +1,50 @@
+"""The echo memory's cast in plain numpy, every ray against every echo at once: what
+`memory.remembered_ranges` computes, kept for the tests that compare the two. Same arguments,
+same results."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from tvl_cli.core.memory import POINTS
+
+
+def remembered_ranges_reference(
+    kind: str,
+    origins: np.ndarray,
+    directions: np.ndarray,
+    rays_per_beam: int,
+    half_cone_rad: float,
+    centres: np.ndarray,
+    axes: np.ndarray,
+    half_widths: np.ndarray,
+    heard: np.ndarray,
+    since: int,
+) -> np.ndarray:
+    """remembered_ranges in numpy: every ray against every echo at once."""
+    live = heard >= since
+    centres, axes, half_widths = centres[live], axes[live], half_widths[live]
+    beams = len(origins) // rays_per_beam
+    if len(centres) == 0:
+        return np.full(beams, np.inf)
+    if kind == POINTS:
+        middle = rays_per_beam // 2
+        origin = origins[middle::rays_per_beam]  # (B, 2) metres
+        axis = directions[middle::rays_per_beam]  # (B, 2) unit vectors
+        offset = centres[None, :, :] - origin[:, None, :]  # (B, K, 2) metres
+        distance = np.hypot(offset[..., 0], offset[..., 1])  # (B, K) metres
+        along = offset[..., 0] * axis[:, None, 0] + offset[..., 1] * axis[:, None, 1]
+        inside = (along >= distance * math.cos(half_cone_rad)) & (distance > 0.0)
+        return np.where(inside, distance, np.inf).min(axis=1)
+    facing = directions @ axes.T  # (R, K) D . axis
+    to_centre = centres[None, :, :] - origins[:, None, :]  # (R, K, 2) metres
+    depth = to_centre[..., 0] * axes[:, 0] + to_centre[..., 1] * axes[:, 1]  # (R, K) metres
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = depth / facing  # (R, K) metres along each ray
+    hit_x = origins[:, None, 0] + t * directions[:, None, 0] - centres[:, 0]  # (R, K) metres
+    hit_y = origins[:, None, 1] + t * directions[:, None, 1] - centres[:, 1]
+    across = -hit_x * axes[:, 1] + hit_y * axes[:, 0]  # (R, K) metres along each patch
+    met = (facing > 0.0) & (t >= 0.0) & (np.abs(across) <= half_widths)
+    return np.where(met, t, np.inf).min(axis=1).reshape(beams, rays_per_beam).min(axis=1)

@@ -1,0 +1,120 @@
+"""Training's rule updates (paper eq. 1-2) of one table, and how much they changed each
+velocity they recomputed: bit for bit what `rule_updates_reference` computes.
+
+Sums are added in numpy's order: each chunk of exemplars corner by corner, exemplar by
+exemplar, into sums of its own (as np.bincount did), which are then added to the batch's.
+"""
+
+from __future__ import annotations
+
+from tvl_cli.core.kernels import kernel
+from tvl_cli.core.kernels.firing import fuzzify
+
+
+@kernel
+def train_table(
+    readings, velocities_mps, rows, columns, pass_ends, pass_sonars, partitions, strides,
+    corner_offsets, chunk_rows, lookup, first_row, table_columns, weighted_sum, sums, met,
+    upper, lowest, strength, weighted, change,
+):  # fmt: skip
+    """Add exemplars to one table; how many entries it recomputed (K), listed in met[0, :K]
+    in the order first met, with the absolute change of each one's velocity in change[:K] m/s.
+
+    readings (N * 16,) metres: the rings, row after row; velocities_mps (N,) their labels.
+    Pass p trains exemplars rows[pass_ends[p - 1]:pass_ends[p]] into the table's columns
+    columns[...] (same slice), reading its n inputs from the sonar groups pass_sonars[p]
+    (g, n) (a symmetric pass reads the mirrored ring). partitions: core.fuzzy.StackedPartitions'
+    (interior_m, gap_start, gap_low_m, gap_width_m) of the n inputs; strides (n,): each input's
+    entry step; corner_offsets (2^n,): each corner's entry from the lowest. chunk_rows:
+    exemplars summed apart before joining the batch's sums. lookup (2 cols, R): velocity rows
+    0 .. cols - 1, experience rows cols .. 2 cols - 1, the table's rules from first_row on.
+    weighted_sum (E,) = (R_t * traj_t,): the table's sums of w * v, entry = rule * traj_t +
+    column, traj_t = table_columns.
+    Room to work in: sums (4, E) zeros, left zero (the batch's and a chunk's sums of w and of
+    w * v); met (2, E) (the entries the batch and the chunk met); for M = min(chunk_rows,
+    rows) exemplars, upper (n, M), lowest (M,), strength (2^n, M) and weighted (M,) (each
+    one's upper degree in each input, its lowest corner's entry, each corner's strength, and
+    its label); change (K,) for K at most min(E, rows * 2^n).
+    """
+    interior, gap_start, gap_low, gap_width = partitions
+    passes, groups, inputs = pass_sonars.shape
+    count = readings.shape[0] // velocities_mps.shape[0]
+    lookup_columns = lookup.shape[0] // 2
+    batch_w, batch_wv, chunk_w, chunk_wv = sums[0], sums[1], sums[2], sums[3]
+    batch_met, chunk_met = met[0], met[1]
+    entries, corners = weighted_sum.shape[0], corner_offsets.shape[0]
+    met_count = 0
+    start = 0
+    for p in range(passes):
+        for chunk_start in range(start, pass_ends[p], chunk_rows):
+            chunk_end = chunk_start + chunk_rows
+            if chunk_end > pass_ends[p]:
+                chunk_end = pass_ends[p]
+            chunk = rows[chunk_start:chunk_end]
+            exemplars = chunk.shape[0]
+            for m in range(exemplars):
+                ring = chunk[m] * count
+                entry = columns[chunk_start + m]
+                for i in range(inputs):
+                    x = readings[ring + pass_sonars[p, 0, i]]
+                    for g in range(1, groups):
+                        other = readings[ring + pass_sonars[p, g, i]]
+                        if other < x:
+                            x = other
+                    lower, upper[i, m] = fuzzify(x, i, interior, gap_start, gap_low, gap_width)
+                    entry += lower * strides[i]
+                lowest[m] = entry
+                weighted[m] = velocities_mps[chunk[m]]
+                strength[0, m] = 1.0
+            # Each corner's strength, the least of its sets' degrees, input by input for every
+            # exemplar at once: corner c takes input i's lower set as 2c and its upper as 2c + 1,
+            # from the top so that each is read before it is written.
+            size = 1
+            for i in range(inputs):
+                for c in range(size - 1, -1, -1):
+                    for m in range(exemplars):
+                        s, u = strength[c, m], upper[i, m]
+                        strength[2 * c, m] = s if s < 1.0 - u else 1.0 - u
+                        strength[2 * c + 1, m] = s if s < u else u
+                size *= 2
+            # Summed as np.bincount sums: corner by corner, exemplar by exemplar, into the
+            # chunk's own sums, then added to the batch's. A chunk of fewer corners than the
+            # table has entries lists the entries it meets (skipping corners of strength 0,
+            # which add nothing: a reading in a shoulder fires half of them); a bigger one
+            # goes through every entry.
+            listing = exemplars * corners < entries
+            chunk_count = 0
+            for c in range(corners):
+                offset = corner_offsets[c]
+                for m in range(exemplars):
+                    at, w = lowest[m] + offset, strength[c, m]
+                    if listing:
+                        if w == 0.0:
+                            continue
+                        if chunk_w[at] == 0.0:
+                            chunk_met[chunk_count] = at
+                            chunk_count += 1
+                    chunk_w[at] += w
+                    chunk_wv[at] += w * weighted[m]
+            for k in range(chunk_count if listing else entries):
+                at = chunk_met[k] if listing else k
+                if chunk_w[at] == 0.0:
+                    continue
+                if batch_w[at] == 0.0:
+                    batch_met[met_count] = at
+                    met_count += 1
+                batch_w[at] += chunk_w[at]
+                batch_wv[at] += chunk_wv[at]
+                chunk_w[at] = chunk_wv[at] = 0.0
+        start = pass_ends[p]
+    for k in range(met_count):
+        at = batch_met[k]
+        rule, column = first_row + at // table_columns, at % table_columns
+        experience = lookup[lookup_columns + column, rule] + batch_w[at]
+        weighted_sum[at] += batch_wv[at]
+        velocity = weighted_sum[at] / experience
+        change[k] = abs(velocity - lookup[column, rule])
+        lookup[column, rule] = velocity
+        lookup[lookup_columns + column, rule] = experience
+        batch_w[at] = batch_wv[at] = 0.0
+    return met_count
