@@ -40,12 +40,16 @@ BANNED: dict[str, set[str]] = {
     "gym": {"click", "rich"},
 }
 # Libraries only one room may load: Gymnasium, the optional extra's, since tvl works without
-# it installed; and the libraries of other tools' file formats (map_server's YAML and
-# images), which belong with the files.
+# it installed; and the libraries of other tools' file formats (map_server's YAML and images,
+# MCAP and Foxglove's protobuf schemas), which belong with the files.
 ONLY_IN: dict[str, str] = {
     "gymnasium": "gym",
     "yaml": "io",
     "PIL": "io",
+    "mcap": "io",
+    "mcap_protobuf": "io",
+    "foxglove_schemas_protobuf": "io",
+    "google": "io",
 }
 
 

@@ -68,6 +68,11 @@ COMMANDS: dict[str, tuple[str, str, str]] = {
         "sweep",
         "Learn, train and run every combination of a grid's settings into one results table.",
     ),
+    "export": (
+        "tvl_cli.cli.export",
+        "export",
+        "Write a run trace as MCAP, in Foxglove's schemas, to play back in Foxglove.",
+    ),
     "figure": (
         "tvl_cli.cli.figure",
         "figure",
