@@ -39,8 +39,18 @@ BANNED: dict[str, set[str]] = {
     "analysis": {"h5py", "pymunk", "click", "rich", "matplotlib"},
     "gym": {"click", "rich"},
 }
-# Only the optional extra's room may load Gymnasium: tvl works without it installed.
-OPTIONAL: dict[str, str] = {"gymnasium": "gym"}
+# Libraries only one room may load: Gymnasium, the optional extra's, since tvl works without
+# it installed; and the libraries of other tools' file formats (map_server's YAML and images,
+# MCAP and Foxglove's protobuf schemas), which belong with the files.
+ONLY_IN: dict[str, str] = {
+    "gymnasium": "gym",
+    "yaml": "io",
+    "PIL": "io",
+    "mcap": "io",
+    "mcap_protobuf": "io",
+    "foxglove_schemas_protobuf": "io",
+    "google": "io",
+}
 # Libraries one folder alone may load: numba compiles the hot loops in core/kernels, and no
 # other module should depend on it (nor load it, and its compiler, before a kernel runs).
 CONFINED: dict[str, str] = {"numba": "core/kernels"}
@@ -85,7 +95,7 @@ def test_imports_point_one_way(room: str, path: Path) -> None:
             target = parts[1]
             if target != room and target not in ALLOWED[room]:
                 wrong.append(name)
-        elif parts[0] in BANNED.get(room, set()) or OPTIONAL.get(parts[0], room) != room:
+        elif parts[0] in BANNED.get(room, set()) or ONLY_IN.get(parts[0], room) != room:
             wrong.append(name)
     assert not wrong, f"{path.relative_to(PACKAGE)} ({room}) imports {wrong}"
 

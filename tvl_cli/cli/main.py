@@ -20,7 +20,11 @@ from tvl_cli.core.errors import BadInput
 # name -> (module, attribute, the line `tvl --help` shows for it). The line is kept here so
 # the top-level help needs no import; a test holds it to the command's own first line.
 COMMANDS: dict[str, tuple[str, str, str]] = {
-    "world": ("tvl_cli.cli.world", "world", "Make, check, show and draw text-map worlds."),
+    "world": (
+        "tvl_cli.cli.world",
+        "world",
+        "Make, check, show and draw text-map worlds; import and export occupancy grids.",
+    ),
     "learn": (
         "tvl_cli.cli.learning",
         "learn",
@@ -63,6 +67,11 @@ COMMANDS: dict[str, tuple[str, str, str]] = {
         "tvl_cli.cli.sweep",
         "sweep",
         "Learn, train and run every combination of a grid's settings into one results table.",
+    ),
+    "export": (
+        "tvl_cli.cli.export",
+        "export",
+        "Write a run trace as MCAP, in Foxglove's schemas, to play back in Foxglove.",
     ),
     "figure": (
         "tvl_cli.cli.figure",

@@ -1,4 +1,4 @@
-"""`tvl world`: make, check, show and draw worlds."""
+"""`tvl world`: make, check, show and draw worlds; import and export occupancy grids."""
 
 from __future__ import annotations
 
@@ -13,14 +13,17 @@ from tvl_cli.cli.options import (
     refuse_existing,
     refuse_shared_paths,
 )
+from tvl_cli.commands.world_export import export_map, image_beside
+from tvl_cli.commands.world_import import ImportRequest, import_map, parse_start
 from tvl_cli.io.atomic import atomic_output
+from tvl_cli.io.occupancy_map import SAVED_FREE_THRESH, UNKNOWN_PIXEL
 from tvl_cli.sim.worldgen import KINDS, SMOOTH, Materials, generate_world
 from tvl_cli.sim.worldmap import WorldMap, describe, load_world, parse_world, world_to_dict
 
 
 @click.group()
 def world() -> None:
-    """Make, check, show and draw text-map worlds."""
+    """Make, check, show and draw text-map worlds; import and export occupancy grids."""
 
 
 @world.command("new")
@@ -108,6 +111,76 @@ def world_render(file: Path, output: Path, force: bool, as_json: bool) -> None:
     render_world(loaded, output)
     if as_json:
         print_json({"file": str(file), "output": str(output), **counts(loaded)})
+
+
+@world.command("import")
+@click.argument("map_yaml", metavar="MAP.yaml", type=click.Path(path_type=Path))
+@click.option("-o", "--output", type=click.Path(path_type=Path), required=True, help="World file.")
+@click.option(
+    "--start",
+    required=True,
+    metavar="X,Y,HEADING_DEG",
+    help="Where the robot starts, in the map's frame (metres), facing 0, 90, 180 or 270°.",
+)
+@click.option("--name", default=None, help="The world's name (default: the map's file name).")
+@click.option("--force", is_flag=True, help="Overwrite OUTPUT.")
+@click.option("--json", "as_json", is_flag=True, help="Print what was written as JSON.")
+def world_import(
+    map_yaml: Path, output: Path, start: str, name: str | None, force: bool, as_json: bool
+) -> None:
+    """Make a world from a ROS map_server occupancy grid (a YAML file and its PGM or PNG).
+
+    Cells are read by map_server's rule (free below free_thresh, occupied above
+    occupied_thresh); every cell not free, unknown ones too, becomes a wall.
+    """
+    request = ImportRequest(map_yaml, output, parse_start(start), name, force)
+    refuse_shared_paths({"-o": output}, {"MAP.yaml": map_yaml})
+    refuse_existing(output, force)
+    imported = import_map(request)
+    grey = imported.map.unknown_grey_free
+    if grey:
+        click.echo(
+            f"tvl: warning: {map_yaml}: {grey:,} cells of grey {UNKNOWN_PIXEL} (map_saver's "
+            f"unknown) are free under free_thresh {imported.map.meta.free_thresh:g}, as "
+            f"map_server reads them; free_thresh {SAVED_FREE_THRESH:g} keeps them unknown",
+            err=True,
+        )
+    found = imported.to_dict(output)
+    if as_json:
+        print_json(found)
+    else:
+        click.echo(
+            f"{output}: {found['columns']} x {found['rows']} cells of {found['cell_m']:g} m, "
+            f"{found['free_cells']:,} free; map frame offset {found['offset_m']}"
+        )
+
+
+@world.command("export")
+@click.argument("file", type=click.Path(path_type=Path))
+@click.option(
+    "-o", "--output", type=click.Path(path_type=Path), required=True, help="MAP.yaml file."
+)
+@click.option("--force", is_flag=True, help="Overwrite OUTPUT and its PGM.")
+@click.option("--json", "as_json", is_flag=True, help="Print what was written as JSON.")
+def world_export(file: Path, output: Path, force: bool, as_json: bool) -> None:
+    """Write a world as a ROS map_server occupancy grid: MAP.yaml and MAP.pgm beside it.
+
+    The world's walls, pillars, discs and rings are drawn at its cell size, as map_saver
+    writes a map (254 free, 0 occupied, 205 outside the world), origin at the world's
+    bottom-left corner.
+    """
+    image = image_beside(output)
+    refuse_shared_paths({"-o": output, "its PGM": image}, {"FILE": file})
+    refuse_existing(output, force)
+    refuse_existing(image, force)
+    exported = export_map(file, output)
+    if as_json:
+        print_json(exported.to_dict())
+    else:
+        click.echo(
+            f"{output}, {image.name}: {exported.columns} x {exported.rows} cells of "
+            f"{exported.cell_m:g} m, {exported.free_cells:,} free"
+        )
 
 
 def counts(world: WorldMap) -> dict[str, int]:

@@ -83,7 +83,7 @@ def explain_run(trace_path: Path, moment: Moment, fam_path: Path | None = None) 
     reflex_index = int(arrays["reflex"][step])
     return StepExplanation(
         step=step,
-        time_s=(step + 1) * _period_s(trace),
+        time_s=(step + 1) * trace.period_s,
         ring_m=[float(r) for r in ring] if read else None,
         perceived_m=([float(r) for r in perceived] if read and _remembers(trace) else None),
         rotation=rotation,
@@ -103,10 +103,6 @@ def _remembers(trace: RunTrace) -> bool:
     return MemoryConfig.from_dict(trace.parameters.get("memory") or {}).remembers
 
 
-def _period_s(trace: RunTrace) -> float:
-    return float(trace.metrics["sim_s"]) / trace.steps
-
-
 def _step(trace: RunTrace, path: Path, moment: Moment) -> int:
     given = [x for x in (moment.step, moment.at_s, moment.event) if x is not None]
     if len(given) != 1:
@@ -117,11 +113,11 @@ def _step(trace: RunTrace, path: Path, moment: Moment) -> int:
             raise BadInput(f"--step {moment.step}: the run has steps 0 to {last}")
         return moment.step
     if moment.at_s is not None:
-        end_s = trace.steps * _period_s(trace)
+        end_s = trace.steps * trace.period_s
         if not (math.isfinite(moment.at_s) and 0 <= moment.at_s <= end_s):
             raise BadInput(f"--at {moment.at_s:g}: the run lasted {end_s:g} simulated seconds")
         # The step that ended nearest that moment (replay gives an event's time so).
-        return min(max(round(moment.at_s / _period_s(trace)) - 1, 0), last)
+        return min(max(round(moment.at_s / trace.period_s) - 1, 0), last)
     assert moment.event is not None
     event = EVENT_ALIASES.get(moment.event, moment.event)
     if event not in EVENTS:

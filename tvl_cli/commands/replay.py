@@ -115,8 +115,7 @@ def _events(trace: RunTrace) -> list[tuple[str, Any]]:
     """How many steps began each event, and when the contacts and traps happened."""
     if not trace.has_decisions:
         return [("decisions", "not recorded (a format_version 1 trace)")]
-    # The run's simulated time is its steps times the control period.
-    period_s = float(trace.metrics["sim_s"]) / trace.steps if trace.steps else 0.0
+    period_s = trace.period_s
     facts: list[tuple[str, Any]] = []
     for event in EVENTS:
         steps = trace.event_steps(event)

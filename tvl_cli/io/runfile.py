@@ -95,6 +95,12 @@ class RunTrace:
         return len(self.arrays["pose"])
 
     @property
+    def period_s(self) -> float:
+        """Simulated seconds a step: the run's simulated time over its steps (0 for none).
+        Step i ends at (i + 1) * period_s, the time its events are given at."""
+        return float(self.metrics["sim_s"]) / self.steps if self.steps else 0.0
+
+    @property
     def has_decisions(self) -> bool:
         """Whether the trace records why each step was taken (format_version 2)."""
         return "events" in self.arrays
@@ -198,7 +204,7 @@ def read_run(path: Path | str) -> RunTrace:
         _check_shapes(arrays, path)
         _check_finite(arrays, path)
         parameters, metrics = (read_json_attr(f, name, path) for name in ("parameters", "metrics"))
-        _check_records(parameters, metrics, path)
+        _check_records(parameters, metrics, len(arrays["pose"]), path)
         return RunTrace(
             world_name=read_str_attr(f, "world_name", path),
             world_text=read_str_attr(f, "world_text", path),
@@ -243,12 +249,17 @@ def _check_finite(arrays: dict[str, np.ndarray], path: Path | str) -> None:
             raise FormatError(f"{path}: run trace's {name} holds a value that is not finite")
 
 
-def _check_records(parameters: Any, metrics: Any, path: Path | str) -> None:
+def _check_records(parameters: Any, metrics: Any, steps: int, path: Path | str) -> None:
     """The run's parameters and metrics are JSON objects, the metrics' numbers finite (so
-    that `tvl replay --json` can print them)."""
+    that `tvl replay --json` can print them), and a run of any steps gives its simulated
+    time (which times its steps)."""
     for name, record in (("parameters", parameters), ("metrics", metrics)):
         if not isinstance(record, dict):
             raise FormatError(f"{path}: run trace's {name} is not a JSON object")
     for key, value in metrics.items():
         if isinstance(value, float) and not np.isfinite(value):
             raise FormatError(f"{path}: run trace's metric {key} is {value}, not a finite number")
+    sim_s = metrics.get("sim_s")
+    timed = isinstance(sim_s, (int, float)) and not isinstance(sim_s, bool) and sim_s > 0
+    if steps and not timed:
+        raise FormatError(f"{path}: run trace's metrics give no simulated time (sim_s)")

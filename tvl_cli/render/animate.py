@@ -23,6 +23,7 @@ from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.contacts import EVENTS
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
+from tvl_cli.core.ring import beam_lines, mm_to_ring
 from tvl_cli.core.training import TrainParams, episode_labels
 from tvl_cli.io.atomic import atomic_output
 from tvl_cli.io.logreader import Session
@@ -51,7 +52,7 @@ class Window:
         return (self.from_s or 0.0) <= time_s <= (math.inf if self.to_s is None else self.to_s)
 
     def steps(self, trace: RunTrace) -> np.ndarray:
-        period_s = float(trace.metrics["sim_s"]) / trace.steps
+        period_s = trace.period_s
         end_s = trace.steps * period_s
         start_s, stop_s = self.from_s or 0.0, end_s if self.to_s is None else self.to_s
         if not (math.isfinite(start_s) and math.isfinite(stop_s) and 0 <= start_s < stop_s):
@@ -118,13 +119,8 @@ def _save(
 
 def _rays(ring_mm: np.ndarray, pose: np.ndarray, robot: RobotConfig) -> tuple[list, list]:
     """Each transducer's reading as a line from the body's edge to its echo, and its colour."""
-    x, y, theta = pose
-    count = len(ring_mm)
-    angles = theta + 2.0 * math.pi * np.arange(count) / count
-    unit = np.stack([np.cos(angles), np.sin(angles)], axis=1)  # (16, 2)
-    start = np.array([x, y]) + robot.radius_m * unit
-    ranges = ring_mm / 1000.0  # metres; 0 where nobody read the ring
-    end = start + ranges[:, None] * unit
+    ranges = mm_to_ring(ring_mm)  # metres; 0 where nobody read the ring
+    start, end = beam_lines(ranges, pose, robot.radius_m)
     heard = ranges < robot.sonar.max_range_m
     return list(np.stack([start, end], axis=1)), [
         RAY_COLOUR if h else NO_ECHO_COLOUR for h in heard
@@ -156,7 +152,7 @@ class _Frame:
 
     def __init__(self, trace: RunTrace, robot: RobotConfig) -> None:
         self.trace, self.robot = trace, robot
-        self.period_s = float(trace.metrics["sim_s"]) / trace.steps
+        self.period_s = trace.period_s
         self.threshold = float(trace.parameters.get("threshold", 0.0))
         self.figure = Figure(figsize=FIGURE_SIZE_IN)
         FigureCanvasAgg(self.figure)

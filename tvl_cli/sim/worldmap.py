@@ -123,6 +123,13 @@ def check_goal(world: WorldMap, x: float, y: float, where: str) -> None:
             )
 
 
+def layout(world: WorldMap) -> tuple[tuple[str, ...], Header]:
+    """The world's map rows (top first) and its header, as written: what its geometry was
+    built from, for a reader that needs the cells rather than the outlines."""
+    grid, header = _split(world.text, world.name)
+    return grid.rows, header
+
+
 def _split(text: str, source: str) -> tuple[_Grid, Header]:
     """The header and the grid of a world text, checked for form only."""
     lines = [line.rstrip("\r") for line in text.split("\n")]

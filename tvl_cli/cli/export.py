@@ -1,0 +1,38 @@
+"""`tvl export`: a run trace for other tools."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+
+from tvl_cli.cli.options import print_json, refuse_existing, refuse_shared_paths
+from tvl_cli.commands.export import export_mcap
+
+
+@click.command()
+@click.argument("run", metavar="RUN.h5", type=click.Path(path_type=Path))
+@click.option(
+    "--mcap",
+    "output",
+    type=click.Path(path_type=Path),
+    required=True,
+    metavar="OUT.mcap",
+    help="MCAP file for Foxglove.",
+)
+@click.option("--force", is_flag=True, help="Overwrite OUT.mcap.")
+@click.option("--json", "as_json", is_flag=True, help="Print what was written as JSON.")
+def export(run: Path, output: Path, force: bool, as_json: bool) -> None:
+    """Write a run trace as MCAP, in Foxglove's schemas, to play back in Foxglove.
+
+    Topics: /world (the scene), /tf, /pose and /odometry, /sonar (the echo points),
+    /perceived (the seven perceived velocities) and /events, on the run's simulated clock.
+    """
+    refuse_shared_paths({"--mcap": output}, {"RUN.h5": run})
+    refuse_existing(output, force)
+    exported = export_mcap(run, output)
+    if as_json:
+        print_json(exported.to_dict())
+    else:
+        counts = ", ".join(f"{topic} {n}" for topic, n in exported.messages.items())
+        click.echo(f"{output}: {exported.steps} steps ({counts})")

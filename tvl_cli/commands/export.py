@@ -1,0 +1,52 @@
+"""`tvl export`: a run trace in a standard format for other tools (MCAP, for Foxglove)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.errors import BadInput
+from tvl_cli.io.mcapfile import Robot, Scene, write_run_mcap
+from tvl_cli.io.runfile import read_run
+from tvl_cli.io.schema import LOG_FORMAT, FormatError, file_format
+from tvl_cli.sim.worldmap import parse_world
+
+
+@dataclass(frozen=True, slots=True)
+class Exported:
+    run: Path
+    output: Path
+    steps: int
+    messages: dict[str, int]  # by topic
+
+    def to_dict(self) -> dict[str, object]:
+        return {
+            "run": str(self.run),
+            "output": str(self.output),
+            "steps": self.steps,
+            "messages": self.messages,
+        }
+
+
+def export_mcap(run: Path, output: Path) -> Exported:
+    """Write a run trace as MCAP: poses, the sonar ring, the world, perceived velocities and
+    events, timed by the run's simulated clock."""
+    if file_format(run) == LOG_FORMAT:
+        raise BadInput(
+            f"{run}: is a learning log; tvl export writes run traces (tvl run --log RUN.h5)"
+        )
+    trace = read_run(run)
+    try:
+        robot = RobotConfig.from_dict(trace.robot_config)
+    except (KeyError, TypeError, ValueError) as error:
+        raise FormatError(f"{run}: run trace's robot_config is malformed ({error})") from None
+    names = tuple(t.name for t in robot.trajectories)
+    if trace.arrays["velocities"].shape[1:] != (len(names),):
+        raise FormatError(f"{run}: run trace's velocities are not one per trajectory")
+    world = parse_world(trace.world_text, f"{run}: its world")
+    scene = Scene(world.segments, world.discs, world.rings)
+    messages = write_run_mcap(
+        output, trace, scene, Robot(robot.radius_m, robot.sonar.max_range_m, names)
+    )
+    return Exported(run, output, trace.steps, messages)

@@ -1,0 +1,64 @@
+"""`tvl world export`: a world file -> a ROS map_server occupancy grid (YAML and PGM)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+from tvl_cli.core.errors import BadInput
+from tvl_cli.io.occupancy_map import write_occupancy_map
+from tvl_cli.sim.maps.raster import rasterise
+from tvl_cli.sim.worldmap import load_world
+
+YAML_SUFFIXES = (".yaml", ".yml")
+
+
+@dataclass(frozen=True, slots=True)
+class Exported:
+    world: Path
+    map_yaml: Path
+    image: Path
+    cell_m: float
+    columns: int
+    rows: int
+    free_cells: int
+    occupied_cells: int
+
+    def to_dict(self) -> dict[str, object]:
+        return {
+            "world": str(self.world),
+            "output": str(self.map_yaml),
+            "image": str(self.image),
+            "cell_m": self.cell_m,
+            "columns": self.columns,
+            "rows": self.rows,
+            "free_cells": self.free_cells,
+            "occupied_cells": self.occupied_cells,
+        }
+
+
+def image_beside(map_yaml: Path) -> Path:
+    """The PGM written with a map's YAML file: its name with the suffix .pgm."""
+    if map_yaml.suffix.lower() not in YAML_SUFFIXES:
+        raise BadInput(f"{map_yaml}: a map_server map is a .yaml file (its PGM goes beside it)")
+    return map_yaml.with_suffix(".pgm")
+
+
+def export_map(world_path: Path, map_yaml: Path) -> Exported:
+    """Rasterise a world at its cell size and write it as map_saver writes a map."""
+    world = load_world(world_path)
+    raster = rasterise(world)
+    free = ~(raster.occupied | raster.outside)
+    image = image_beside(map_yaml)
+    write_occupancy_map(map_yaml, image, free, raster.occupied, world.cell_m)
+    rows, columns = free.shape
+    return Exported(
+        world_path,
+        map_yaml,
+        image,
+        world.cell_m,
+        columns,
+        rows,
+        int(free.sum()),
+        int(raster.occupied.sum()),
+    )

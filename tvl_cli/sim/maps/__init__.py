@@ -1,0 +1,1 @@
+"""Worlds to and from other map formats (occupancy grids), as pure conversions."""
