@@ -22,7 +22,7 @@ from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_configs import fam_config_from_json
-from tvl_cli.core.memory import NO_MEMORY, MemoryConfig
+from tvl_cli.core.memory import DEFAULT_MEMORY, MemoryConfig
 from tvl_cli.core.training import TrainParams
 from tvl_cli.io.famfile import read_fam, write_fam
 from tvl_cli.io.logfile import LogWriter
@@ -65,7 +65,7 @@ class LearnRequest:
     fam_out: Path | None = None
     sonar: str = "real"  # one of SONAR_MODELS
     from_fam: Path | None = None  # start from this trained FAM (a new log only)
-    memory: MemoryConfig = NO_MEMORY  # what the FAM reads through
+    memory: MemoryConfig = DEFAULT_MEMORY  # what the FAM reads through, as `tvl learn`
 
 
 @dataclass(frozen=True, slots=True)
