@@ -12,17 +12,13 @@ from collections.abc import Sequence
 import pymunk
 
 from tvl_cli.sim.motion import Contacts
-from tvl_cli.sim.world import ROBOT_COLLISION_TYPE
 
 
 def place_body(
     space: pymunk.Space, body: pymunk.Body, x: float, y: float, theta: float
 ) -> Contacts:
     """Put a robot's body at rest at a pose; the normals of what it touches there."""
-    body.position = (x, y)
-    body.angle = theta
-    body.velocity = (0.0, 0.0)
-    body.angular_velocity = 0.0
+    rest_at(body, x, y, theta)
     space.reindex_shapes_for_body(body)
     (disc,) = body.shapes
     # The disc's own filter keeps other robots out of the query, as out of the physics.
@@ -32,19 +28,30 @@ def place_body(
     ]
 
 
+def rest_at(body: pymunk.Body, x: float, y: float, theta: float) -> None:
+    """Set a body at rest at a pose, leaving its space to learn of it."""
+    body.position = (x, y)
+    body.angle = theta
+    body.velocity = (0.0, 0.0)
+    body.angular_velocity = 0.0
+
+
 class ContactRecorder:
     """The unit normals (body -> obstacle) of the contacts each robot body in a space made
     in the last physics sub-step, in the order pymunk's Body.each_arbiter lists them.
 
-    Recorded by one collision handler as the space steps, so that a sub-step costs nothing
-    for the bodies that touch nothing.
+    Recorded by collision handlers as the space steps, so that a sub-step costs nothing for
+    the bodies that touch nothing. Each body's shapes get a collision type of their own
+    (obstacles keep type 0), whose handler is told the body's number.
     """
 
     def __init__(self, space: pymunk.Space, bodies: Sequence[pymunk.Body]) -> None:
-        self._index = {shape: i for i, body in enumerate(bodies) for shape in body.shapes}
         self.normals: list[Contacts] = [[] for _ in bodies]
         self.touching: list[int] = []  # the bodies with contacts, each once
-        space.on_collision(ROBOT_COLLISION_TYPE, None, post_solve=self._record)
+        for i, body in enumerate(bodies):
+            for shape in body.shapes:
+                shape.collision_type = i + 1
+            space.on_collision(i + 1, None, post_solve=self._record, data=i)
 
     def clear(self) -> None:
         """Forget the contacts, before the next sub-step records its own."""
@@ -60,10 +67,9 @@ class ContactRecorder:
             self.touching.remove(i)
         self.normals[i] = normals
 
-    def _record(self, arbiter: pymunk.Arbiter, space: pymunk.Space, data: object) -> None:
+    def _record(self, arbiter: pymunk.Arbiter, space: pymunk.Space, robot: int) -> None:
         # The handler's own type comes first in its arbiters: the normal points to the
         # obstacle, as Body.each_arbiter gives it.
-        robot = self._index[arbiter.shapes[0]]
         normals = self.normals[robot]
         if not normals:
             self.touching.append(robot)

@@ -33,10 +33,9 @@ CORNER_TOLERANCE_M = 1e-6
 # Two walls meeting at a smaller angle than this (as its sine) are one straight wall.
 _COLLINEAR_SINE = 1e-9
 _ROBOT_MASS_KG = 10.0
-# Every robot's disc is in this shape group (pymunk never collides shapes of one group), and
-# of this collision type; obstacles are in neither (group and type 0).
+# Every robot's disc is in this shape group (pymunk never collides shapes of one group);
+# obstacles are in none (group 0).
 ROBOT_GROUP = 1
-ROBOT_COLLISION_TYPE = 1
 # Walls near the robot are chosen for the squares of this side it stands in, once a square.
 NEAR_TILE_M = 1.0
 # Below this many wall segments, testing every one costs less than choosing the near ones
@@ -276,14 +275,12 @@ def add_robot_body(
     space: pymunk.Space, robot: RobotConfig, pose: tuple[float, float, float]
 ) -> pymunk.Body:
     """A robot's disc added to the space at rest at a pose. Robot discs share a group, so
-    that robots in one space never touch one another, and a collision type, so that their
-    contacts can be recorded (sim.bodies.ContactRecorder)."""
+    that robots in one space never touch one another."""
     body_radius = robot.radius_m - skin_m(robot)
     body = pymunk.Body(_ROBOT_MASS_KG, pymunk.moment_for_circle(_ROBOT_MASS_KG, 0, body_radius))
     disc = pymunk.Circle(body, body_radius)
     disc.friction = 0.0
     disc.filter = pymunk.ShapeFilter(group=ROBOT_GROUP)
-    disc.collision_type = ROBOT_COLLISION_TYPE
     x, y, theta = pose
     body.position = (x, y)
     body.angle = theta
