@@ -10,6 +10,7 @@ along it but never enters it.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from typing import NamedTuple
 
 import numpy as np
@@ -67,10 +68,14 @@ def slide(vx: float, vy: float, contacts: Contacts) -> tuple[float, float]:
 
 
 def odometry_after(
-    odometry: Pose, before: Pose, after: Pose, robot: RobotConfig, rng: np.random.Generator
+    odometry: Pose,
+    before: Sequence[float],
+    after: Sequence[float],
+    robot: RobotConfig,
+    rng: np.random.Generator,
 ) -> Pose:
     """Dead reckoning from the wheels' measured travel between two true poses, each wheel
-    with seeded noise (two normal draws from rng).
+    with seeded noise (two normal draws from rng). Poses are x, y metres and heading.
 
     The wheels measure the body's real motion along its heading (they do not slip; sliding
     sideways along a wall is not seen). The track is the body's diameter.
