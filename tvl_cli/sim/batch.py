@@ -21,9 +21,9 @@ import numpy as np
 import pymunk
 import pymunk.batch
 
-from tvl_cli.core.command import Command
+from tvl_cli.core.command import STOP, Command
 from tvl_cli.core.config import RobotConfig
-from tvl_cli.sim.bodies import ContactRecorder, place_body, rest_at
+from tvl_cli.sim.bodies import ContactRecorder, place_body
 from tvl_cli.sim.motion import Pose, odometry_after, substep_motion, wheel_velocity
 from tvl_cli.sim.sonar import SonarRing
 from tvl_cli.sim.world import add_robot_body, clearances_m, static_geometry, static_space
@@ -60,20 +60,13 @@ class RobotBatch:
         self._bodies = [add_robot_body(self._space, robot, world.start) for _ in self.rngs]
         self._contacts = ContactRecorder(self._space, self._bodies)
         self._read_buffer = pymunk.batch.Buffer()
-        # Row of each robot's body in pymunk's listing of the space's bodies, which also
-        # holds the static body the obstacles hang on.
-        listed = self._read(pymunk.batch.BodyFields.BODY_ID, dtype=np.uintp)
-        row_of = {int(body_id): row for row, body_id in enumerate(listed)}
-        rows = [row_of[body.id] for body in self._bodies]
-        # pymunk lists bodies in the order they were added: a slice then picks them cheaper.
-        self._rows: slice | np.ndarray = (
-            slice(0, self.count) if rows == list(range(self.count)) else np.array(rows)
-        )
         # (bodies, 3) velocity x, y (m/s) and angular velocity (rad/s) for every body in
-        # pymunk's order; the static body's row stays zero.
-        self._wheels = np.zeros((len(listed), 3))
+        # pymunk's listing of the space's bodies, which also holds the static body that the
+        # obstacles hang on: its row stays zero.
+        self._wheels = np.zeros((self.count + 1, 3))
         self._wheel_buffer = pymunk.batch.Buffer()
         self._wheel_buffer.set_float_buf(self._wheels.reshape(-1))
+        self._rows = self._find_rows()
         self._poses = np.empty((self.count, 3))  # (N, 3) x, y metres, heading rad
         self._steps = np.zeros(self.count, dtype=np.int64)  # control periods each has run
         self.bumped = np.zeros(self.count, dtype=bool)
@@ -102,15 +95,14 @@ class RobotBatch:
 
     def restart(self, i: int, rng: np.random.Generator) -> None:
         """Robot i begins again as a new Simulator with generator rng would: at the world's
-        start, its clock at zero and no contact remembered from before."""
-        body = self._bodies[i]
-        shapes = list(body.shapes)
-        # Taken out and put back, the disc leaves pymunk's memory of its past contacts (used
-        # to warm-start the solver) behind, and goes back in at rest at the start, as into a
-        # new space.
-        self._space.remove(*shapes)
-        rest_at(body, *self.world.start)
-        self._space.add(*shapes)
+        start, its clock at zero and nothing of its past left in the physics."""
+        # A new body: the old one may still carry the solver's push out of a contact (pymunk
+        # keeps it for the next step), and its disc pymunk's memory of past contacts.
+        old = self._bodies[i]
+        self._space.remove(old, *old.shapes)
+        self._bodies[i] = add_robot_body(self._space, self.robot, self.world.start)
+        self._contacts.adopt(i, self._bodies[i])
+        self._rows = self._find_rows()  # pymunk moved its last body into the old one's row
         self.rngs[i] = rng
         self._steps[i] = 0
         self.place(i, *self.world.start)
@@ -123,12 +115,17 @@ class RobotBatch:
         """(N,) metres from each body's edge to the nearest obstacle (0 when touching)."""
         return clearances_m(self.geometry, self._poses[:, :2], self.robot.radius_m)
 
-    def step(self, commands: Sequence[Command]) -> None:
-        """Hold each robot's command for one control period, then update bumps and odometry."""
+    def step(self, commands: Sequence[Command | None]) -> None:
+        """Hold each robot's command for one control period, then update bumps and odometry.
+
+        A robot whose command is None sits the step out, to be restarted or placed after it
+        (as a vector environment's robot that is reset instead): its wheels hold still, and
+        its clock, its odometry and its generator are left as they were.
+        """
         if len(commands) != self.count:
             raise ValueError(f"{len(commands)} commands for {self.count} robots")
         robot = self.robot
-        motions = [substep_motion(command, robot) for command in commands]
+        motions = [substep_motion(command or STOP, robot) for command in commands]
         dt = robot.control_period_s / robot.physics_substeps
         rows, wheels, contacts = self._rows, self._wheels, self._contacts
         wheels[rows, 2] = [motion.angular_radps for motion in motions]
@@ -148,14 +145,22 @@ class RobotBatch:
             self._space.step(dt)
             touched[contacts.touching] = True
         self.bumped = touched
-        self._steps += 1
+        self._steps += [command is not None for command in commands]
         self._poses = self._read(_POSE).reshape(-1, 3)[rows]
         self.odometry = [
-            odometry_after(odometry, start, end, robot, rng)
-            for odometry, start, end, rng in zip(
-                self.odometry, before, self._poses.tolist(), self.rngs, strict=True
+            odometry if command is None else odometry_after(odometry, start, end, robot, rng)
+            for odometry, start, end, rng, command in zip(
+                self.odometry, before, self._poses.tolist(), self.rngs, commands, strict=True
             )
         ]
+
+    def _find_rows(self) -> slice | np.ndarray:
+        """Each robot's row (N,) in pymunk's listing of the space's bodies."""
+        listed = self._read(pymunk.batch.BodyFields.BODY_ID, dtype=np.uintp)
+        row_of = {int(body_id): row for row, body_id in enumerate(listed)}
+        rows = [row_of[body.id] for body in self._bodies]
+        # pymunk lists bodies in the order they were added: a slice then picks them cheaper.
+        return slice(0, self.count) if rows == list(range(self.count)) else np.array(rows)
 
     def _read(self, fields: pymunk.batch.BodyFields, dtype: type = np.float64) -> np.ndarray:
         """The fields of every body in the space, in pymunk's order, as a new array."""

@@ -18,7 +18,10 @@ def place_body(
     space: pymunk.Space, body: pymunk.Body, x: float, y: float, theta: float
 ) -> Contacts:
     """Put a robot's body at rest at a pose; the normals of what it touches there."""
-    rest_at(body, x, y, theta)
+    body.position = (x, y)
+    body.angle = theta
+    body.velocity = (0.0, 0.0)
+    body.angular_velocity = 0.0
     space.reindex_shapes_for_body(body)
     (disc,) = body.shapes
     # The disc's own filter keeps other robots out of the query, as out of the physics.
@@ -26,14 +29,6 @@ def place_body(
         (info.contact_point_set.normal.x, info.contact_point_set.normal.y)
         for info in space.shape_query(disc)
     ]
-
-
-def rest_at(body: pymunk.Body, x: float, y: float, theta: float) -> None:
-    """Set a body at rest at a pose, leaving its space to learn of it."""
-    body.position = (x, y)
-    body.angle = theta
-    body.velocity = (0.0, 0.0)
-    body.angular_velocity = 0.0
 
 
 class ContactRecorder:
@@ -49,9 +44,13 @@ class ContactRecorder:
         self.normals: list[Contacts] = [[] for _ in bodies]
         self.touching: list[int] = []  # the bodies with contacts, each once
         for i, body in enumerate(bodies):
-            for shape in body.shapes:
-                shape.collision_type = i + 1
+            self.adopt(i, body)
             space.on_collision(i + 1, None, post_solve=self._record, data=i)
+
+    def adopt(self, i: int, body: pymunk.Body) -> None:
+        """Record body's contacts as body i's (a new body in place of the old)."""
+        for shape in body.shapes:
+            shape.collision_type = i + 1
 
     def clear(self) -> None:
         """Forget the contacts, before the next sub-step records its own."""
