@@ -28,7 +28,7 @@ from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD, is_thres
 from tvl_cli.core.config import SINGLE
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
-from tvl_cli.gym.env import ROBOT, SONARS, SPIN_LEFT, SPIN_RIGHT
+from tvl_cli.gym.episode import ROBOT, SONARS, SPIN_LEFT, SPIN_RIGHT
 from tvl_cli.io.famfile import read_fam
 
 TRAJECTORIES = len(ROBOT.trajectories)

@@ -21,7 +21,7 @@ a compiled kernel, core.kernels.ring.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
@@ -111,9 +111,31 @@ class SonarRing:
         """
         walls = geometry.walls_near(pose[0], pose[1], self._reach_m(geometry))
         noise = self._quiet
-        if not self.config.ideal and (len(walls) or len(geometry.discs) or len(geometry.rings)):
+        if self._noisy(geometry, walls):
             noise = rng.standard_normal(self.config.count)[None, :]
         return self._cast(geometry, pose, noise, walls)[0]
+
+    def read_many(
+        self, geometry: StaticGeometry, poses: np.ndarray, rngs: Sequence[np.random.Generator]
+    ) -> np.ndarray:
+        """(N, 16) float64 metres read by N robots at poses (N, 3) (x, y metres, heading rad)
+        in one kernel call, robot i's noise drawn from rngs[i] just as `read` draws it."""
+        walls = self._walls_near_each(geometry, poses)
+        noise = np.zeros((len(poses), self.config.count))  # (N, 16) standard normal draws
+        for row, near, rng in zip(noise, walls, rngs, strict=True):
+            if self._noisy(geometry, near):
+                rng.standard_normal(out=row)
+        readings = np.empty((len(poses), self.config.count))  # (N, 16) metres
+        sources = np.empty((len(poses), self.config.count), dtype=np.int64)  # (N, 16)
+        self._ring_ranges(*self._inputs_near(geometry, poses, noise, walls), readings, sources)
+        return readings
+
+    def _noisy(self, geometry: StaticGeometry, walls: np.ndarray) -> bool:
+        """Whether a reading among these walls draws noise: not from an ideal ring, nor where
+        there is nothing near to hear."""
+        return not self.config.ideal and bool(
+            len(walls) or len(geometry.discs) or len(geometry.rings)
+        )
 
     def echo_sources(
         self, geometry: StaticGeometry, pose: tuple[float, float, float]
@@ -152,8 +174,21 @@ class SonarRing:
     ) -> tuple[object, ...]:
         """The arguments of core.kernels.ring.ring_ranges for N robots at poses (N, 3), but
         the readings (N, 16) it fills."""
+        return self._inputs_near(geometry, poses, noise, self._walls_near_each(geometry, poses))
+
+    def _walls_near_each(self, geometry: StaticGeometry, poses: np.ndarray) -> list[np.ndarray]:
+        """The walls (indices) near each of the robots at poses (N, 3)."""
         reach_m = self._reach_m(geometry)
-        walls = [geometry.walls_near(x, y, reach_m) for x, y, _ in poses]
+        return [geometry.walls_near(x, y, reach_m) for x, y, _ in poses]
+
+    def _inputs_near(
+        self,
+        geometry: StaticGeometry,
+        poses: np.ndarray,
+        noise: np.ndarray,
+        walls: list[np.ndarray],
+    ) -> tuple[object, ...]:
+        """The kernel's arguments for robots at poses (N, 3), each among its walls near."""
         starts = np.cumsum([0, *(len(w) for w in walls)])  # (N + 1,)
         ids = np.concatenate(walls) if walls else np.empty(0, dtype=np.intp)
         return self._inputs(geometry, poses, noise, ids, starts)

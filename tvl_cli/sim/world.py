@@ -33,6 +33,9 @@ CORNER_TOLERANCE_M = 1e-6
 # Two walls meeting at a smaller angle than this (as its sine) are one straight wall.
 _COLLINEAR_SINE = 1e-9
 _ROBOT_MASS_KG = 10.0
+# Every robot's disc is in this shape group (pymunk never collides shapes of one group);
+# obstacles are in none (group 0).
+ROBOT_GROUP = 1
 # Walls near the robot are chosen for the squares of this side it stands in, once a square.
 NEAR_TILE_M = 1.0
 # Below this many wall segments, testing every one costs less than choosing the near ones
@@ -236,7 +239,13 @@ def skin_m(robot: RobotConfig) -> float:
 
 
 def build_space(world: WorldMap, robot: RobotConfig) -> tuple[pymunk.Space, pymunk.Body]:
-    """A space holding the world's static obstacles and the robot's disc at the start pose.
+    """A space holding the world's static obstacles and the robot's disc at the start pose."""
+    space = static_space(world, robot)
+    return space, add_robot_body(space, robot, world.start)
+
+
+def static_space(world: WorldMap, robot: RobotConfig) -> pymunk.Space:
+    """A space holding the world's static obstacles, inflated by the robot's skin.
 
     Shapes have no friction: the robot's velocity is set by its wheels every sub-step and a
     contact only removes the part of it that goes into an obstacle.
@@ -256,16 +265,27 @@ def build_space(world: WorldMap, robot: RobotConfig) -> tuple[pymunk.Space, pymu
             pymunk.Segment(space.static_body, a, b, skin)
             for a, b in zip(points, points[1:] + points[:1], strict=True)
         ]
-    body_radius = robot.radius_m - skin
+    for shape in static:
+        shape.friction = 0.0
+    space.add(*static)
+    return space
+
+
+def add_robot_body(
+    space: pymunk.Space, robot: RobotConfig, pose: tuple[float, float, float]
+) -> pymunk.Body:
+    """A robot's disc added to the space at rest at a pose. Robot discs share a group, so
+    that robots in one space never touch one another."""
+    body_radius = robot.radius_m - skin_m(robot)
     body = pymunk.Body(_ROBOT_MASS_KG, pymunk.moment_for_circle(_ROBOT_MASS_KG, 0, body_radius))
     disc = pymunk.Circle(body, body_radius)
-    for shape in [*static, disc]:
-        shape.friction = 0.0
-    x, y, theta = world.start
+    disc.friction = 0.0
+    disc.filter = pymunk.ShapeFilter(group=ROBOT_GROUP)
+    x, y, theta = pose
     body.position = (x, y)
     body.angle = theta
-    space.add(*static, body, disc)
-    return space, body
+    space.add(body, disc)
+    return body
 
 
 def _ring_points(x: float, y: float, r: float) -> list[tuple[float, float]]:

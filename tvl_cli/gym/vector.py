@@ -1,0 +1,170 @@
+"""tvl/SonarRing-v0 as a Gymnasium vector environment: N copies of its task in one world,
+every robot stepped by one RobotBatch (one physics space, one ring kernel call a step).
+
+Each copy follows the single environment's rules (gym.episode) and its robot moves bit for
+bit as the single environment's Simulator would, so copy i with seed s and the same actions
+gives what `SonarRingEnv` reset with seed s gives, step by step, through Gymnasium's
+next-step autoreset (as `SyncVectorEnv` over single environments runs them).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from gymnasium.error import ResetNeeded
+from gymnasium.utils import seeding
+from gymnasium.vector import AutoresetMode, VectorEnv
+from gymnasium.vector.utils import batch_space
+
+from tvl_cli.core.memory import NO_MEMORY, MemoryConfig
+from tvl_cli.gym.episode import ROBOT, RobotEpisode, RobotNow, RobotTask
+from tvl_cli.sim.batch import RobotBatch
+from tvl_cli.sim.worldmap import WorldMap
+
+
+class SonarRingVectorEnv(VectorEnv[np.ndarray, np.ndarray, np.ndarray]):
+    """`num_envs` robots in one world, each on its own episode of the task.
+
+    No robot sees or touches another. Each draws its noise from its own generator, seeded
+    by `reset(seed=s)` with s + i for copy i (or a list of seeds, one a copy). An episode that
+    ends is reset at the copy's next step, whose action is then ignored (reward 0).
+    """
+
+    # Gymnasium declares metadata on its VectorEnv as a mutable class default; typed as it is.
+    metadata: dict[str, Any] = {  # noqa: RUF012
+        "autoreset_mode": AutoresetMode.NEXT_STEP,
+        "render_modes": [],
+    }
+
+    def __init__(
+        self,
+        num_envs: int = 1,
+        world: str | Path | WorldMap = "square",
+        task: str = "avoid",
+        *,
+        goal: tuple[float, float] | None = None,
+        speed_fraction: float = 1.0,
+        memory: MemoryConfig | str = NO_MEMORY,
+        max_episode_steps: int | None = None,
+    ) -> None:
+        """The single environment's arguments (SonarRingEnv), and `max_episode_steps`, after
+        which an episode is truncated (none by default; `gymnasium.make_vec` passes the
+        registered one, as `gymnasium.make` wraps the single environment in its TimeLimit)."""
+        if num_envs < 1:
+            raise ValueError(f"num_envs {num_envs!r} is not a positive number of copies")
+        self.robot_task = RobotTask.of(world, task, goal, speed_fraction, memory)
+        self.num_envs = num_envs
+        self.max_episode_steps = max_episode_steps
+        self.single_observation_space = self.robot_task.observation_space()
+        self.single_action_space = self.robot_task.action_space()
+        self.observation_space = batch_space(self.single_observation_space, num_envs)
+        self.action_space = batch_space(self.single_action_space, num_envs)
+        self._rngs: list[np.random.Generator | None] = [None] * num_envs
+        self._batch: RobotBatch | None = None
+        self._episodes = [RobotEpisode(self.robot_task) for _ in range(num_envs)]
+        self._elapsed = np.zeros(num_envs, dtype=np.int64)  # steps of each episode so far
+        self._ended = np.zeros(num_envs, dtype=bool)  # to be reset at the next step
+
+    def reset(
+        self,
+        *,
+        seed: int | list[int | None] | None = None,
+        options: dict[str, Any] | None = None,
+    ) -> tuple[np.ndarray, dict[str, Any]]:
+        """Every copy from the world's start. `seed`: s seeds copy i with s + i, a list one
+        seed a copy; without one a copy goes on with its generator (a fresh one at first)."""
+        if options:
+            raise ValueError(f"reset takes no options here (got {sorted(options)})")
+        seeds = self._seeds(seed)
+        for i, copy_seed in enumerate(seeds):
+            if copy_seed is not None or self._rngs[i] is None:
+                self._rngs[i] = seeding.np_random(copy_seed)[0]
+        rngs = [rng for rng in self._rngs if rng is not None]
+        if self._batch is None:
+            self._batch = RobotBatch(self.robot_task.world, ROBOT, rngs)
+        else:
+            for i, rng in enumerate(rngs):
+                self._batch.restart(i, rng)
+        self._elapsed[:] = 0
+        self._ended[:] = False
+        rings = self._batch.read_sonar()
+        now = self._now()
+        observations = []
+        infos: dict[str, Any] = {}
+        for i, episode in enumerate(self._episodes):
+            observation, info = episode.begin(rings[i], now[i])
+            observations.append(observation)
+            infos = self._add_info(infos, info, i)
+        return np.stack(observations), infos
+
+    def step(
+        self, actions: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
+        batch = self._running()
+        actions = np.asarray(actions)
+        if actions.shape != (self.num_envs,):
+            raise ValueError(f"actions of shape {actions.shape} for {self.num_envs} copies")
+        restarting = self._ended.copy()
+        batch.step(
+            [
+                None if restarting[i] else episode.command(int(actions[i]))
+                for i, episode in enumerate(self._episodes)
+            ]
+        )
+        for k in np.flatnonzero(restarting).tolist():
+            rng = self._rngs[k]
+            assert rng is not None
+            batch.restart(k, rng)  # a reset without a seed goes on with the generator
+        rings = batch.read_sonar()
+        now = self._now()
+        observations = []
+        rewards = np.zeros(self.num_envs)
+        terminations = np.zeros(self.num_envs, dtype=bool)
+        infos: dict[str, Any] = {}
+        for i, episode in enumerate(self._episodes):
+            if restarting[i]:
+                observation, info = episode.begin(rings[i], now[i])
+                self._elapsed[i] = 0
+            else:
+                observation, reward, terminated, info = episode.after(
+                    int(actions[i]), rings[i], now[i]
+                )
+                rewards[i], terminations[i] = reward, terminated
+                self._elapsed[i] += 1
+            observations.append(observation)
+            infos = self._add_info(infos, info, i)
+        truncations = np.zeros(self.num_envs, dtype=bool)
+        if self.max_episode_steps is not None:
+            truncations = ~restarting & (self._elapsed >= self.max_episode_steps)
+        self._ended = terminations | truncations
+        return np.stack(observations), rewards, terminations, truncations, infos
+
+    def _seeds(self, seed: int | list[int | None] | None) -> list[int | None]:
+        if seed is None:
+            return [None] * self.num_envs
+        if isinstance(seed, int):
+            return [seed + i for i in range(self.num_envs)]
+        if len(seed) != self.num_envs:
+            raise ValueError(f"{len(seed)} seeds for {self.num_envs} copies")
+        return list(seed)
+
+    def _running(self) -> RobotBatch:
+        if self._batch is None:
+            raise ResetNeeded("call reset() before step()")
+        return self._batch
+
+    def _now(self) -> list[RobotNow]:
+        """What the batch says of each robot now, as a Simulator would say it."""
+        batch = self._running()
+        return [
+            RobotNow(time_s, (x, y, heading), odometry, bumped)
+            for time_s, (x, y, heading), odometry, bumped in zip(
+                batch.time_s.tolist(),
+                batch.poses.tolist(),
+                batch.odometry,
+                batch.bumped.tolist(),
+                strict=True,
+            )
+        ]
