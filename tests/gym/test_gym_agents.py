@@ -19,6 +19,7 @@ from tvl_cli.core.competence import MAX_CONTACTS_PER_MIN, MIN_MEAN_SPEED_MPS, is
 from tvl_cli.core.config import SINGLE
 from tvl_cli.core.contacts import BUMP, NEAR_MISS
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.memory import NONE, MemoryChoice
 from tvl_cli.core.training import TrainParams
 from tvl_cli.gym import ENV_ID, MAX_EPISODE_STEPS, QTableAgent, TvlGymPolicy
 from tvl_cli.gym.env import ROBOT, SPIN_LEFT, SPIN_RIGHT
@@ -31,8 +32,12 @@ T0 = ROBOT.trajectory_index("T0")
 
 @pytest.fixture(scope="module")
 def square_fam() -> Fam:
-    """The single FAM trained from the example log of learning in the square."""
-    return train_from_logs([ROOT / "logs" / "square-s1.h5"], SINGLE, TrainParams()).fam
+    """The single FAM trained from the example log of learning in the square, reading the
+    live ring as the paper's method does (the policy is the paper's)."""
+    paper = MemoryChoice(NONE)
+    return train_from_logs(
+        [ROOT / "logs" / "square-s1.h5"], SINGLE, TrainParams(), memory=paper
+    ).fam
 
 
 def test_the_tvl_policy_is_competent_in_the_square(square_fam: Fam) -> None:
