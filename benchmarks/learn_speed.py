@@ -6,7 +6,10 @@ whole process (start-up included), the wall-clock one printed beside it. With --
 DIR, that checkout's tvl learns the same in turn with this one and each figure gets the
 paired ratio of their CPU seconds.
 
-    python benchmarks/learn_speed.py [--minutes 30] [--repeats 3] [--against DIR] [--json]
+`--memory KIND` learns through that echo memory (`tvl learn`'s own default without it).
+
+    python benchmarks/learn_speed.py [--minutes 30] [--repeats 3] [--memory KIND]
+                                     [--against DIR] [--json]
 """
 
 from __future__ import annotations
@@ -32,18 +35,20 @@ CONFIGS = ("single", "multi")
 TARGET_REALTIME = {"single": 1000.0}  # whole process, CPU seconds
 
 
-def learn(tvl: str, config: str, minutes: float) -> Seconds:
+def learn(tvl: str, config: str, minutes: float, memory: str | None) -> Seconds:
     """One `tvl learn` into a new log."""
     with tempfile.TemporaryDirectory() as directory:
         log = Path(directory) / "lab.h5"
+        remembering = ["--memory", memory] if memory else []
         return run_process([tvl, "learn", LAB, "--log", log, "--minutes", minutes,
-                            "--config", config])  # fmt: skip
+                            "--config", config, *remembering])  # fmt: skip
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--minutes", type=float, default=30.0, help="simulated minutes")
     parser.add_argument("--repeats", type=int, default=3, help="timed runs; medians count")
+    parser.add_argument("--memory", help="the echo memory learnt through (default: tvl's)")
     add_against_option(parser)
     parser.add_argument("--json", action="store_true", help="print the figures as JSON")
     args = parser.parse_args()
@@ -52,8 +57,10 @@ def main() -> None:
     figures: dict[str, dict[str, float | None]] = {}
     for config in CONFIGS:
         ours, theirs, ratio = paired(
-            lambda config=config: learn(TVL, config, args.minutes),
-            (lambda config=config: learn(theirs_tvl, config, args.minutes)) if theirs_tvl else None,
+            lambda config=config: learn(TVL, config, args.minutes, args.memory),
+            (lambda config=config: learn(theirs_tvl, config, args.minutes, args.memory))
+            if theirs_tvl
+            else None,
             args.repeats,
         )
         figures[config] = {
@@ -63,10 +70,13 @@ def main() -> None:
             "cpu_ratio_against": ratio,
         }
     if args.json:
-        print(json.dumps({"minutes": args.minutes, **figures}))
+        print(json.dumps({"minutes": args.minutes, "memory": args.memory, **figures}))
         return
-    print(f"tvl learn in the lab, {args.minutes:g} simulated minutes, whole process, "
-          f"median of {args.repeats} (real time: simulated s per CPU s)")  # fmt: skip
+    remembering = f"--memory {args.memory}" if args.memory else "the default memory"
+    print(
+        f"tvl learn in the lab, {args.minutes:g} simulated minutes, {remembering}, "
+        f"whole process, median of {args.repeats} (real time: simulated s per CPU s)"
+    )
     for config, f in figures.items():
         realtime = f["realtime_cpu"]
         assert realtime is not None

@@ -6,9 +6,12 @@ minutes in the lab with each, R times, and takes the medians. The real-time fact
 simulated seconds per CPU second of the whole process (start-up included), the wall-clock
 one printed beside it, with the CPU microseconds a control step. With --against DIR, that
 checkout's tvl runs the same commands in turn with this one and each figure gets the
-paired ratio of their CPU seconds.
+paired ratio of their CPU seconds. `--memory KIND` trains the FAMs to read through that echo
+memory (`tvl train --memory`; the example log was learnt through none, so without it the
+FAMs remember nothing).
 
-    python benchmarks/run_speed.py [--minutes 30] [--repeats 3] [--against DIR] [--json]
+    python benchmarks/run_speed.py [--minutes 30] [--repeats 3] [--memory KIND]
+                                   [--against DIR] [--json]
 """
 
 from __future__ import annotations
@@ -39,6 +42,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--minutes", type=float, default=30.0, help="simulated minutes a run")
     parser.add_argument("--repeats", type=int, default=3, help="timed runs; medians count")
+    parser.add_argument("--memory", help="the echo memory the FAMs read through")
     add_against_option(parser)
     parser.add_argument("--json", action="store_true", help="print the figures as JSON")
     args = parser.parse_args()
@@ -50,7 +54,8 @@ def main() -> None:
         directory = Path(name)
         for config in TARGET_REALTIME:
             fam = directory / f"{config}.h5"
-            run_process([TVL, "train", EXAMPLE_LOG, "-o", fam, "--config", config])
+            remembering = ["--memory", args.memory] if args.memory else []
+            run_process([TVL, "train", EXAMPLE_LOG, "-o", fam, "--config", config, *remembering])
 
             def run(tvl: str, fam: Path = fam) -> list[str | Path]:
                 return [tvl, "run", fam, LAB, "--behaviour", "avoid", "--minutes", args.minutes]
@@ -68,10 +73,13 @@ def main() -> None:
                 "cpu_ratio_against": ratio,
             }
     if args.json:
-        print(json.dumps({"minutes": args.minutes, **figures}))
+        print(json.dumps({"minutes": args.minutes, "memory": args.memory, **figures}))
         return
-    print(f"tvl run in the lab, {args.minutes:g} simulated minutes, whole process, "
-          f"median of {args.repeats} (real time: simulated s per CPU s)")  # fmt: skip
+    remembering = f", --memory {args.memory}" if args.memory else ""
+    print(
+        f"tvl run in the lab, {args.minutes:g} simulated minutes{remembering}, whole process, "
+        f"median of {args.repeats} (real time: simulated s per CPU s)"
+    )
     for config, f in figures.items():
         realtime, target = f["realtime_cpu"], TARGET_REALTIME[config]
         assert realtime is not None
