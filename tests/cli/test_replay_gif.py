@@ -67,3 +67,15 @@ def test_a_video_without_ffmpeg_is_one_line_and_leaves_nothing(tmp_path: Path) -
         assert not video.exists()
     both = tvl("replay", EXAMPLE_LOG, "--mp4", video, "--gif", tmp_path / "x.gif")
     assert_one_line_refusal(both, "give --gif or --mp4, not both")
+
+
+@pytest.mark.parametrize(
+    "option", [["--from", "2"], ["--to", "8"], ["--every", "3"], ["--fps", "5"]]
+)
+def test_an_animation_option_without_an_animation_is_refused(
+    tmp_path: Path, option: list[str]
+) -> None:
+    png = tmp_path / "paths.png"
+    done = tvl("replay", EXAMPLE_LOG, "--png", png, *option)
+    assert_one_line_refusal(done, f"{option[0]} applies only with --gif or --mp4")
+    assert not png.exists()  # refused before anything is drawn

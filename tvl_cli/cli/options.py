@@ -125,13 +125,21 @@ def training_options(command: Callable[..., None]) -> Callable[..., None]:
     return with_params
 
 
+def given_on_command_line(*options: str) -> list[str]:
+    """Those of `options` (as "--from") that the user typed, rather than left at a default."""
+    ctx = click.get_current_context()
+    names = {flag: param.name for param in ctx.command.params for flag in param.opts}
+    return [
+        option
+        for option in options
+        if ctx.get_parameter_source(names[option]) is ParameterSource.COMMANDLINE
+    ]
+
+
 def refuse_beside_paper(*options: str) -> None:
     """--paper fixes these options: giving one as well is a contradiction, not a choice."""
-    ctx = click.get_current_context()
-    for option in options:
-        name = option.lstrip("-").replace("-", "_")
-        if ctx.get_parameter_source(name) is ParameterSource.COMMANDLINE:
-            raise BadInput(f"{option} cannot be given with --paper, which fixes it")
+    for option in given_on_command_line(*options):
+        raise BadInput(f"{option} cannot be given with --paper, which fixes it")
 
 
 def reflex_options(default: str) -> Callable[[Callable[..., None]], Callable[..., None]]:
