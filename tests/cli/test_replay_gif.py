@@ -79,3 +79,11 @@ def test_an_animation_option_without_an_animation_is_refused(
     done = tvl("replay", EXAMPLE_LOG, "--png", png, *option)
     assert_one_line_refusal(done, f"{option[0]} applies only with --gif or --mp4")
     assert not png.exists()  # refused before anything is drawn
+
+
+@pytest.mark.skipif(not Path("/proc/self").is_dir(), reason="needs Linux's /proc")
+@pytest.mark.parametrize("option, name", [("--gif", "log.gif"), ("--png", "log.png")])
+def test_a_picture_into_a_directory_that_takes_no_files_is_one_line(option: str, name: str) -> None:
+    # /proc refuses a new file even to root, who may write in any directory of its own.
+    done = tvl("replay", EXAMPLE_LOG, option, f"/proc/{name}")
+    assert_one_line_refusal(done, f"/proc/{name}: cannot write")
