@@ -87,3 +87,15 @@ def test_a_picture_into_a_directory_that_takes_no_files_is_one_line(option: str,
     # /proc refuses a new file even to root, who may write in any directory of its own.
     done = tvl("replay", EXAMPLE_LOG, option, f"/proc/{name}")
     assert_one_line_refusal(done, f"/proc/{name}: cannot write")
+
+
+@pytest.mark.parametrize(
+    "option, name", [("--gif", "log.png"), ("--mp4", "log.gif"), ("--gif", "log")]
+)
+def test_an_animation_named_for_another_format_is_refused(
+    tmp_path: Path, option: str, name: str
+) -> None:
+    out = tmp_path / name
+    done = tvl("replay", EXAMPLE_LOG, option, out, "--to", "20")
+    assert_one_line_refusal(done, f"{out}: it is written as .{option[2:]}")
+    assert not out.exists()

@@ -17,6 +17,9 @@ import click
 from tvl_cli.agent.reflexes import ALL as ALL_REFLEXES
 from tvl_cli.cli import views
 from tvl_cli.cli.options import (
+    GIF,
+    MP4,
+    PICTURE,
     SEED,
     given_on_command_line,
     live_options,
@@ -59,7 +62,7 @@ if TYPE_CHECKING:
     help="Simulated minutes.",
 )
 @click.option("--seed", type=SEED, default=1, show_default=True)
-@click.option("--png", type=click.Path(path_type=Path), default=None, help="Draw the path.")
+@click.option("--png", type=PICTURE, default=None, help="Draw the path.")
 @click.option(
     "--log", "trace", type=click.Path(path_type=Path), default=None, help="Write a run trace."
 )
@@ -153,10 +156,10 @@ ANIMATION_OPTIONS = ("--from", "--to", "--every", "--fps")
 
 @click.command()
 @click.argument("file", type=click.Path(path_type=Path))
-@click.option("--png", type=click.Path(path_type=Path), default=None, help="Draw the paths.")
+@click.option("--png", type=PICTURE, default=None, help="Draw the paths.")
 @click.option(
     "--curves",
-    type=click.Path(path_type=Path),
+    type=PICTURE,
     default=None,
     help="Draw the learning curves (learning logs).",
 )
@@ -168,13 +171,13 @@ ANIMATION_OPTIONS = ("--from", "--to", "--every", "--fps")
 )
 @click.option(
     "--gif",
-    type=click.Path(path_type=Path),
+    type=GIF,
     default=None,
     help="Animate a run: robot, sonar rays and perceived velocities.",
 )
 @click.option(
     "--mp4",
-    type=click.Path(path_type=Path),
+    type=MP4,
     default=None,
     help="As --gif, as an MP4 video (needs ffmpeg).",
 )

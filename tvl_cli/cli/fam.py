@@ -11,6 +11,7 @@ from tvl_cli.analysis.rules import SORT_KEYS, parse_ring, select_rules
 from tvl_cli.analysis.surface import velocity_surfaces
 from tvl_cli.cli import views
 from tvl_cli.cli.options import (
+    PICTURE,
     memory_options,
     print_csv,
     print_json,
@@ -94,7 +95,7 @@ def train(
 @click.option("--csv", "as_csv", is_flag=True, help="Print the rules as CSV, a row each.")
 @click.option(
     "--png",
-    type=click.Path(path_type=Path),
+    type=PICTURE,
     default=None,
     help="Draw the learnt velocity over the two inputs of --over, a panel per trajectory.",
 )
