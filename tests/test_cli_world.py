@@ -219,6 +219,41 @@ def test_render_writes_a_png(run_tvl: RunTvl, tmp_path: Path) -> None:
     assert run_tvl("world", "render", ROOT / "worlds" / "lab.txt", "-o", png).returncode == 2
 
 
+@pytest.mark.parametrize(
+    "name, starts",
+    [
+        ("lab.svg", (b"<?xml", b"<svg")),
+        ("lab.pdf", (b"%PDF",)),
+        ("lab.jpg", (b"\xff\xd8\xff",)),
+        ("LAB.JPEG", (b"\xff\xd8\xff",)),
+    ],
+)
+def test_render_writes_the_format_the_extension_names(
+    run_tvl: RunTvl, tmp_path: Path, name: str, starts: tuple[bytes, ...]
+) -> None:
+    picture = tmp_path / name
+    done = run_tvl("world", "render", ROOT / "worlds" / "lab.txt", "-o", picture)
+    assert done.returncode == 0, done.stderr
+    assert picture.read_bytes().startswith(starts)
+
+
+@pytest.mark.parametrize(
+    "name, problem",
+    [
+        ("lab.bmp", ".bmp is no picture format tvl writes"),
+        ("lab", "no extension names its picture format"),
+    ],
+)
+def test_render_refuses_a_name_that_names_no_picture_format(
+    run_tvl: RunTvl, tmp_path: Path, name: str, problem: str
+) -> None:
+    picture = tmp_path / name
+    done = run_tvl("world", "render", ROOT / "worlds" / "lab.txt", "-o", picture)
+    assert done.returncode == 2 and done.stderr.count("\n") == 1, done.stderr
+    assert f"{picture}: {problem} (give .png, .svg, .pdf, .jpg, .jpeg)" in done.stderr
+    assert not picture.exists()
+
+
 def test_show_json_lists_header_walls_among_the_segments(run_tvl: RunTvl, tmp_path: Path) -> None:
     path = tmp_path / "walls.txt"
     path.write_text("wall: 0.3 0.3 0.6 0.9\nwall: 1.2 0.3 1.2 0.9 0.1\n" + ROOM, encoding="utf-8")

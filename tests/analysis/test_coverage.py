@@ -2,8 +2,11 @@
 
 from __future__ import annotations
 
+import tracemalloc
+
 import numpy as np
 import pytest
+from cluttered_hall import cluttered_hall
 
 from tvl_cli.analysis.coverage import (
     CoverageTracker,
@@ -14,6 +17,8 @@ from tvl_cli.analysis.coverage import (
 )
 from tvl_cli.commands.learn import world_floor
 from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.kernels.clearance_reference import clearances_reference
+from tvl_cli.sim.world import static_geometry
 from tvl_cli.sim.worldmap import parse_world
 
 ROBOT = RobotConfig()
@@ -79,3 +84,35 @@ def test_a_step_between_cells_needs_the_body_to_fit_halfway_too() -> None:
     clearance = np.array([[0.1, 0.0, 0.1]])  # (1, 3): centre, midpoint, centre
     floor = reachable_floor(grid, clearance, (0.25, 0.25))
     assert floor.reachable.tolist() == [True, False]
+
+
+def test_the_floor_of_a_world_of_many_walls_takes_memory_for_its_cells_not_their_product() -> None:
+    # A 30 m hall of 3,000 walls at half-metre cells: 14,161 lattice points. Every point
+    # against every wall at once, in numpy, would take 324 MiB an array (a 100 m hall of
+    # 10,000 walls, 47.5 GiB); one point at a time, the floor's own arrays.
+    world = parse_world(cluttered_hall(3000, seed=1), "hall")
+    world_floor(parse_world(ROOM, "room"), ROBOT)  # the kernel compiled and loaded first
+    tracemalloc.start()
+    try:
+        floor = world_floor(world, ROBOT)
+        peak_mib = tracemalloc.get_traced_memory()[1] / 2**20
+    finally:
+        tracemalloc.stop()
+    assert peak_mib < 32, peak_mib
+    assert floor.cells > 0
+
+
+@pytest.mark.parametrize("walls", [0, 40])
+def test_the_floor_is_the_one_all_points_against_all_obstacles_at_once_give(walls: int) -> None:
+    world = parse_world(cluttered_hall(walls, seed=2), "hall")
+    floor = world_floor(world, ROBOT)
+    geometry = static_geometry(world)
+    lattice = floor.grid.lattice_xy()
+    points = lattice.reshape(-1, 2)
+    clearance, nearest = np.empty(len(points)), np.empty(len(points), dtype=np.int64)
+    clearances_reference(
+        points, geometry.seg_start, geometry.seg_delta, geometry.seg_len, geometry.discs,
+        geometry.rings, ROBOT.radius_m, clearance, nearest,
+    )  # fmt: skip
+    expected = reachable_floor(floor.grid, clearance.reshape(lattice.shape[:2]), world.start[:2])
+    np.testing.assert_array_equal(floor.reachable, expected.reachable)

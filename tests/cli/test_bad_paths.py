@@ -20,9 +20,12 @@ def test_an_output_named_like_an_input_or_another_output_is_refused(
 ) -> None:
     from test_bad_numbers import SQUARE
 
-    log, fam, out = tmp_path / "log.h5", tmp_path / "fam.h5", tmp_path / "out"
+    log, fam, out = tmp_path / "log.h5", tmp_path / "fam.h5", tmp_path / "out.png"
     assert run_tvl("learn", SQUARE, "--log", log, "--minutes", "0.5", "--fam", fam).returncode == 0
-    kept = {path: path.read_bytes() for path in (log, fam)}
+    # A world named as a picture, so that drawing it over itself passes the picture's check.
+    world = tmp_path / "square.png"
+    world.write_bytes(SQUARE.read_bytes())
+    kept = {path: path.read_bytes() for path in (log, fam, world)}
     avoid = ["run", fam, SQUARE, "--behaviour", "avoid"]
     for args, message in (
         (["train", log, "-o", log, "--force"], "given as both -o and LOG 1"),
@@ -30,11 +33,11 @@ def test_an_output_named_like_an_input_or_another_output_is_refused(
         ([*avoid, "--log", fam, "--force"], "given as both --log and FAM"),
         ([*avoid, "--png", out, "--log", out], "given as both --png and --log"),
         (["replay", log, "--png", out, "--curves", out], "given as both --png and --curves"),
-        (["world", "render", SQUARE, "-o", SQUARE, "--force"], "given as both -o and FILE"),
+        (["world", "render", world, "-o", world, "--force"], "given as both -o and FILE"),
     ):
         result = run_tvl(*args)
         assert_one_line_refusal(result, "", message)
-    assert {path: path.read_bytes() for path in (log, fam)} == kept
+    assert {path: path.read_bytes() for path in (log, fam, world)} == kept
     assert not out.exists()
 
 

@@ -155,6 +155,20 @@ def test_a_run_trace_with_impossible_values_is_refused(
     assert not (tmp_path / "path.png").exists()
 
 
+def test_a_run_trace_without_a_dataset_of_its_version_is_one_line_naming_it(
+    run_tvl, good_log: Path, tmp_path: Path
+) -> None:
+    trace = _trace(run_tvl, good_log, tmp_path)
+    for dataset in ("fast", "reflex"):
+        damaged = tmp_path / f"no-{dataset}.h5"
+        shutil.copy(trace, damaged)
+        with h5py.File(damaged, "r+") as f:
+            del f[dataset]
+        for command in (["explain", damaged, "--step", "0"], ["replay", damaged, "--json"]):
+            refused = run_tvl(*command)
+            assert_one_line_refusal(refused, f"{damaged}: run trace has no {dataset} dataset")
+
+
 @pytest.mark.parametrize(
     "velocities, phrase",
     [

@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 from conftest import TVL
 
-from tvl_cli.io.famfile import read_fam
+from tvl_cli.io.famfile import read_fam, write_fam
 
 EXAMPLE_LOG = Path(__file__).resolve().parents[2] / "logs" / "square-s1.h5"
 
@@ -35,10 +35,29 @@ def fams(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
     return {name: directory / f"{name}.h5" for name in made}
 
 
-def test_a_fam_agrees_with_itself(fams: dict[str, Path]) -> None:
-    printed = json.loads(tvl("diff", fams["late"], fams["late"], "--json").stdout)
+def test_a_fam_agrees_with_itself(fams: dict[str, Path], tmp_path: Path) -> None:
+    # The same rules in another file: one file given twice is refused (below).
+    late = read_fam(fams["late"])
+    again = tmp_path / "again.h5"
+    write_fam(
+        again,
+        late.fam,
+        robot_config=late.robot_config,
+        provenance={**late.provenance, "copied": True},
+        memory=late.memory,
+    )
+    printed = json.loads(tvl("diff", fams["late"], again, "--json").stdout)
     assert printed["differing"] == 0 and printed["rules_differing_most"] == []
     assert {t["mean_abs_change"] for t in printed["trajectories"]} == {0.0}
+
+
+def test_one_fam_given_twice_is_refused_as_train_refuses_one_log_twice(
+    fams: dict[str, Path],
+) -> None:
+    done = tvl("diff", fams["late"], fams["late"])
+    assert done.returncode == 2 and done.stderr.count("\n") == 1, done.stderr
+    assert done.stderr.startswith(f"tvl: error: {fams['late']}: the same FAM as ")
+    assert "given twice" in done.stderr
 
 
 def test_more_learning_changes_rules_named_largest_first(fams: dict[str, Path]) -> None:

@@ -7,8 +7,11 @@ import shutil
 import subprocess
 from pathlib import Path
 
+import h5py
 import pytest
 from conftest import TVL
+
+from tvl_cli.io.famfile import read_fam, write_fam
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -80,3 +83,37 @@ def test_a_moved_fam_is_named_and_can_be_given(collided: dict[str, Path]) -> Non
         assert tvl("explain", collided["trace"], "--step", "0", "--fam", moved).returncode == 0
     finally:
         shutil.move(moved, collided["fam"])
+
+
+def _another_fam(collided: dict[str, Path]) -> Path:
+    """The run's FAM written again with other provenance: the same rules, another SHA-256."""
+    used = read_fam(collided["fam"])
+    other = collided["directory"] / "other.h5"
+    write_fam(
+        other,
+        used.fam,
+        robot_config=used.robot_config,
+        provenance={**used.provenance, "copied": True},
+        memory=used.memory,
+    )
+    return other
+
+
+def test_a_fam_the_run_was_not_made_with_is_refused(collided: dict[str, Path]) -> None:
+    other = _another_fam(collided)
+    done = tvl("explain", collided["trace"], "--step", "0", "--fam", other)
+    assert done.returncode == 2 and done.stderr.count("\n") == 1, done.stderr
+    assert done.stderr.startswith(f"tvl: error: {other}: not the FAM {collided['trace']} was run")
+
+
+def test_a_trace_that_records_no_fam_sha256_takes_the_fam_given(
+    collided: dict[str, Path], tmp_path: Path
+) -> None:
+    trace = tmp_path / "no-sha.h5"
+    shutil.copy(collided["trace"], trace)
+    with h5py.File(trace, "r+") as f:
+        parameters = json.loads(f.attrs["parameters"])
+        del parameters["fam_sha256"]
+        f.attrs["parameters"] = json.dumps(parameters)
+    done = tvl("explain", trace, "--step", "0", "--fam", _another_fam(collided), "--json")
+    assert done.returncode == 0, done.stderr

@@ -67,3 +67,35 @@ def test_a_video_without_ffmpeg_is_one_line_and_leaves_nothing(tmp_path: Path) -
         assert not video.exists()
     both = tvl("replay", EXAMPLE_LOG, "--mp4", video, "--gif", tmp_path / "x.gif")
     assert_one_line_refusal(both, "give --gif or --mp4, not both")
+
+
+@pytest.mark.parametrize(
+    "option", [["--from", "2"], ["--to", "8"], ["--every", "3"], ["--fps", "5"]]
+)
+def test_an_animation_option_without_an_animation_is_refused(
+    tmp_path: Path, option: list[str]
+) -> None:
+    png = tmp_path / "paths.png"
+    done = tvl("replay", EXAMPLE_LOG, "--png", png, *option)
+    assert_one_line_refusal(done, f"{option[0]} applies only with --gif or --mp4")
+    assert not png.exists()  # refused before anything is drawn
+
+
+@pytest.mark.skipif(not Path("/proc/self").is_dir(), reason="needs Linux's /proc")
+@pytest.mark.parametrize("option, name", [("--gif", "log.gif"), ("--png", "log.png")])
+def test_a_picture_into_a_directory_that_takes_no_files_is_one_line(option: str, name: str) -> None:
+    # /proc refuses a new file even to root, who may write in any directory of its own.
+    done = tvl("replay", EXAMPLE_LOG, option, f"/proc/{name}")
+    assert_one_line_refusal(done, f"/proc/{name}: cannot write")
+
+
+@pytest.mark.parametrize(
+    "option, name", [("--gif", "log.png"), ("--mp4", "log.gif"), ("--gif", "log")]
+)
+def test_an_animation_named_for_another_format_is_refused(
+    tmp_path: Path, option: str, name: str
+) -> None:
+    out = tmp_path / name
+    done = tvl("replay", EXAMPLE_LOG, option, out, "--to", "20")
+    assert_one_line_refusal(done, f"{out}: it is written as .{option[2:]}")
+    assert not out.exists()

@@ -12,6 +12,7 @@ from tvl_cli.baselines.dwa import BEHAVIOURS as DWA_BEHAVIOURS
 from tvl_cli.baselines.dwa import SENSORS as DWA_SENSORS
 from tvl_cli.cli import views
 from tvl_cli.cli.options import (
+    PICTURE,
     SEED,
     memory_options,
     print_json,
@@ -35,7 +36,7 @@ def baseline() -> None:
 @click.option("--goal", default=None, metavar="X,Y", help="Goal in metres (default: the world's).")
 @click.option("--minutes", type=float, default=5.0, show_default=True, help="Simulated minutes.")
 @click.option("--seed", type=SEED, default=1, show_default=True)
-@click.option("--png", type=click.Path(path_type=Path), default=None, help="Draw the path.")
+@click.option("--png", type=PICTURE, default=None, help="Draw the path.")
 @reflex_options(default=NO_REFLEXES)
 @click.option(
     "--sensor",
@@ -98,7 +99,7 @@ def baseline_dwa(
     metavar="K",
     help="Judge competence with a 5-minute greedy run every K learning minutes.",
 )
-@click.option("--png", type=click.Path(path_type=Path), default=None, help="Draw the greedy run.")
+@click.option("--png", type=PICTURE, default=None, help="Draw the greedy run.")
 @reflex_options(default=NO_REFLEXES)
 @click.option("--force", is_flag=True, help="Overwrite the --png file.")
 @click.option("--json", "as_json", is_flag=True, help="Print the metrics as JSON.")

@@ -17,7 +17,11 @@ import click
 from tvl_cli.agent.reflexes import ALL as ALL_REFLEXES
 from tvl_cli.cli import views
 from tvl_cli.cli.options import (
+    GIF,
+    MP4,
+    PICTURE,
     SEED,
+    given_on_command_line,
     live_options,
     memory_options,
     print_csv,
@@ -58,7 +62,7 @@ if TYPE_CHECKING:
     help="Simulated minutes.",
 )
 @click.option("--seed", type=SEED, default=1, show_default=True)
-@click.option("--png", type=click.Path(path_type=Path), default=None, help="Draw the path.")
+@click.option("--png", type=PICTURE, default=None, help="Draw the path.")
 @click.option(
     "--log", "trace", type=click.Path(path_type=Path), default=None, help="Write a run trace."
 )
@@ -146,12 +150,16 @@ def run(
         views.run_learning(result, learning.log if learning else None)
 
 
+# replay's options that shape an animation, and nothing else.
+ANIMATION_OPTIONS = ("--from", "--to", "--every", "--fps")
+
+
 @click.command()
 @click.argument("file", type=click.Path(path_type=Path))
-@click.option("--png", type=click.Path(path_type=Path), default=None, help="Draw the paths.")
+@click.option("--png", type=PICTURE, default=None, help="Draw the paths.")
 @click.option(
     "--curves",
-    type=click.Path(path_type=Path),
+    type=PICTURE,
     default=None,
     help="Draw the learning curves (learning logs).",
 )
@@ -163,13 +171,13 @@ def run(
 )
 @click.option(
     "--gif",
-    type=click.Path(path_type=Path),
+    type=GIF,
     default=None,
     help="Animate a run: robot, sonar rays and perceived velocities.",
 )
 @click.option(
     "--mp4",
-    type=click.Path(path_type=Path),
+    type=MP4,
     default=None,
     help="As --gif, as an MP4 video (needs ffmpeg).",
 )
@@ -212,10 +220,14 @@ def replay(
     refuse_shared_paths(outputs, {"FILE": file})
     if gif is not None and mp4 is not None:
         raise click.UsageError("give --gif or --mp4, not both")
+    moving = gif or mp4
+    if moving is None:
+        # Options of the animation alone: silently ignoring one would hide a mistyped command.
+        for option in given_on_command_line(*ANIMATION_OPTIONS):
+            raise click.UsageError(f"{option} applies only with --gif or --mp4")
     for output in outputs.values():
         if output is not None:
             refuse_existing(output, force)
-    moving = gif or mp4
     animation = (
         Animation(moving, from_s, to_s, every, fps, video=mp4 is not None)
         if moving is not None

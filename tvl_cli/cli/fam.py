@@ -11,6 +11,7 @@ from tvl_cli.analysis.rules import SORT_KEYS, parse_ring, select_rules
 from tvl_cli.analysis.surface import velocity_surfaces
 from tvl_cli.cli import views
 from tvl_cli.cli.options import (
+    PICTURE,
     memory_options,
     print_csv,
     print_json,
@@ -20,12 +21,13 @@ from tvl_cli.cli.options import (
     training_options,
 )
 from tvl_cli.commands.learn import resolve_fam_config
-from tvl_cli.commands.train import train_from_logs
+from tvl_cli.commands.train import refuse_repeated, train_from_logs
 from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.memory import MemoryChoice
 from tvl_cli.core.training import TrainParams
 from tvl_cli.io.famfile import FamFile, read_fam, write_fam
+from tvl_cli.io.logreader import file_sha256
 
 
 @click.command()
@@ -93,7 +95,7 @@ def train(
 @click.option("--csv", "as_csv", is_flag=True, help="Print the rules as CSV, a row each.")
 @click.option(
     "--png",
-    type=click.Path(path_type=Path),
+    type=PICTURE,
     default=None,
     help="Draw the learnt velocity over the two inputs of --over, a panel per trajectory.",
 )
@@ -171,7 +173,10 @@ def inspect(
 @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
 def diff(first: Path, second: Path, tolerance: float, top: int, as_json: bool) -> None:
     """Show where two FAM files of one configuration disagree, rule by rule."""
-    difference = diff_fams(read_fam(first).fam, read_fam(second).fam, tolerance, top)
+    fams = read_fam(first).fam, read_fam(second).fam
+    # As train refuses one log given twice: a FAM compared with itself tells nothing.
+    refuse_repeated([(path, file_sha256(path)) for path in (first, second)], "FAM")
+    difference = diff_fams(*fams, tolerance, top)
     if as_json:
         print_json(difference.to_dict())
     else:

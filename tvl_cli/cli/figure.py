@@ -7,6 +7,8 @@ from pathlib import Path
 import click
 
 from tvl_cli.cli.options import (
+    PICTURE,
+    PICTURE_HELP,
     print_json,
     refuse_existing,
     refuse_shared_paths,
@@ -16,9 +18,9 @@ from tvl_cli.cli.options import (
 @click.command()
 @click.argument("name", metavar="NAME")
 @click.argument("results", type=click.Path(path_type=Path))
-@click.option("-o", "--output", type=click.Path(path_type=Path), required=True, help="PNG file.")
+@click.option("-o", "--output", type=PICTURE, required=True, help=PICTURE_HELP)
 @click.option("--table", type=click.Path(path_type=Path), default=None, help="Markdown file.")
-@click.option("--force", is_flag=True, help="Overwrite the PNG and table files.")
+@click.option("--force", is_flag=True, help="Overwrite the picture and table files.")
 @click.option("--json", "as_json", is_flag=True, help="Print the files and the table as JSON.")
 def figure(
     name: str, results: Path, output: Path, table: Path | None, force: bool, as_json: bool

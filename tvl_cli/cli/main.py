@@ -11,6 +11,7 @@ import importlib
 import os
 import re
 import sys
+from typing import NoReturn
 
 import click
 
@@ -135,11 +136,29 @@ class TvlGroup(click.Group):
             click.echo(f"tvl: error: {where}{error.strerror or error}", err=True)
             sys.exit(1 if error.errno in ENVIRONMENT_ERRNOS else 2)
         except click.UsageError as error:
-            # One line like every other bad input; `tvl COMMAND --help` shows the usage.
-            command = f" {error.ctx.command_path}" if error.ctx else ""
-            message = " ".join(error.format_message().split())  # click lists choices on lines
-            click.echo(f"tvl: error:{command}: {message}", err=True)
-            sys.exit(2)
+            _refuse_usage(error)
+
+    def parse_args(self, ctx: click.Context, args: list[str]) -> list[str]:
+        # The group's own options are parsed before invoke: their errors too are one line.
+        try:
+            return super().parse_args(ctx, args)
+        except click.UsageError as error:
+            _refuse_usage(error)
+
+
+# What click (8.2 on) raises for a group given no command, to show its help: not an error.
+_HELP_FOR_NO_COMMAND = getattr(click.exceptions, "NoArgsIsHelpError", ())
+
+
+def _refuse_usage(error: click.UsageError) -> NoReturn:
+    """A usage error in one line like every other bad input, exit 2. Click's "Try 'tvl
+    COMMAND --help' for help." is left out, as it would be a second line."""
+    if isinstance(error, _HELP_FOR_NO_COMMAND):
+        raise error  # click prints the help
+    command = f" {error.ctx.command_path}" if error.ctx else ""
+    message = " ".join(error.format_message().split())  # click lists choices on lines
+    click.echo(f"tvl: error:{command}: {message}", err=True)
+    sys.exit(2)
 
 
 def _refused_write(error: BaseException) -> str | None:
@@ -164,7 +183,8 @@ def _file_of(error: BaseException) -> str:
     return f"{output_named_by(named.group(1))}: " if named else ""
 
 
-@click.group(cls=TvlGroup)
+# -h as well as --help, for the group and (inherited through the context) every command.
+@click.group(cls=TvlGroup, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(__version__, prog_name="tvl")
 @click.option("--debug", is_flag=True, help="Show the traceback of an error.")
 @click.pass_context

@@ -5,6 +5,7 @@ from __future__ import annotations
 import functools
 import json
 import math
+import os
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -33,8 +34,33 @@ from tvl_cli.core.memory import (
 from tvl_cli.core.training import TrainParams
 from tvl_cli.io.atomic import refuse_non_file
 from tvl_cli.io.table import csv_text
+from tvl_cli.render.formats import picture_format, refuse_other_extension
 
 SEED = click.IntRange(0, MAX_SEED)
+
+
+class FormattedPath(click.Path):
+    """An output whose name's extension says its format: `check` (render.formats) refuses
+    a name that does not, on parsing, before any work."""
+
+    def __init__(self, check: Callable[[str], object]) -> None:
+        super().__init__(path_type=Path)
+        self.check = check
+
+    def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> Any:
+        path = super().convert(value, param, ctx)
+        try:
+            self.check(os.fsdecode(path))
+        except BadInput as error:
+            self.fail(str(error), param, ctx)
+        return path
+
+
+# A picture in the format its extension names; an animation named for its one format.
+PICTURE = FormattedPath(picture_format)
+PICTURE_HELP = "Picture file: .png, .svg, .pdf or .jpg."
+GIF = FormattedPath(functools.partial(refuse_other_extension, extension=".gif"))
+MP4 = FormattedPath(functools.partial(refuse_other_extension, extension=".mp4"))
 
 
 def refuse_existing(path: Path, force: bool) -> None:
@@ -125,13 +151,21 @@ def training_options(command: Callable[..., None]) -> Callable[..., None]:
     return with_params
 
 
+def given_on_command_line(*options: str) -> list[str]:
+    """Those of `options` (as "--from") that the user typed, rather than left at a default."""
+    ctx = click.get_current_context()
+    names = {flag: param.name for param in ctx.command.params for flag in param.opts}
+    return [
+        option
+        for option in options
+        if ctx.get_parameter_source(names[option]) is ParameterSource.COMMANDLINE
+    ]
+
+
 def refuse_beside_paper(*options: str) -> None:
     """--paper fixes these options: giving one as well is a contradiction, not a choice."""
-    ctx = click.get_current_context()
-    for option in options:
-        name = option.lstrip("-").replace("-", "_")
-        if ctx.get_parameter_source(name) is ParameterSource.COMMANDLINE:
-            raise BadInput(f"{option} cannot be given with --paper, which fixes it")
+    for option in given_on_command_line(*options):
+        raise BadInput(f"{option} cannot be given with --paper, which fixes it")
 
 
 def reflex_options(default: str) -> Callable[[Callable[..., None]], Callable[..., None]]:

@@ -8,6 +8,8 @@ from pathlib import Path
 import click
 
 from tvl_cli.cli.options import (
+    PICTURE,
+    PICTURE_HELP,
     SEED,
     print_json,
     refuse_existing,
@@ -98,11 +100,11 @@ def world_check(file: Path, as_json: bool) -> None:
 
 @world.command("render")
 @click.argument("file", type=click.Path(path_type=Path))
-@click.option("-o", "--output", type=click.Path(path_type=Path), required=True, help="PNG file.")
+@click.option("-o", "--output", type=PICTURE, required=True, help=PICTURE_HELP)
 @click.option("--force", is_flag=True, help="Overwrite OUTPUT.")
 @click.option("--json", "as_json", is_flag=True, help="Print what was drawn as JSON.")
 def world_render(file: Path, output: Path, force: bool, as_json: bool) -> None:
-    """Draw a world file as a PNG picture."""
+    """Draw a world file as a picture."""
     from tvl_cli.render.plot import render_world  # matplotlib is slow to import; only this needs it
 
     refuse_shared_paths({"-o": output}, {"FILE": file})

@@ -38,7 +38,7 @@ def design_from_logs(
     if not paths:
         raise BadInput("no learning log given: name at least one LOG")
     logs = [read_log(path) for path in paths]
-    refuse_repeated(logs)
+    refuse_repeated([(log.path, log.sha256) for log in logs], "log")
     robot = common_robot(logs)
     sessions, repeats = distinct_sessions(logs)
     design = design_inputs(

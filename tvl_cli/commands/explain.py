@@ -133,6 +133,7 @@ def _step(trace: RunTrace, path: Path, moment: Moment) -> int:
 def _fam_of(trace: RunTrace, path: Path, fam_path: Path | None) -> Path:
     """The FAM the run used: `fam_path`, else the one it names, if it is still that file."""
     if fam_path is not None:
+        _refuse_another_fam(trace, path, fam_path)
         return fam_path
     named = Path(str(trace.parameters.get("fam", "")))
     if not named.is_file():
@@ -143,6 +144,17 @@ def _fam_of(trace: RunTrace, path: Path, fam_path: Path | None) -> Path:
             "the run used with --fam"
         )
     return named
+
+
+def _refuse_another_fam(trace: RunTrace, path: Path, fam_path: Path) -> None:
+    """Another FAM's rules would explain the run wrongly, yet without a word: refuse a FAM
+    whose SHA-256 is not the one the trace records (traces that record none: any FAM)."""
+    recorded = trace.parameters.get("fam_sha256")
+    if recorded is not None and file_sha256(fam_path) != recorded:
+        raise BadInput(
+            f"{fam_path}: not the FAM {path} was run with (that FAM had another SHA-256); "
+            "give the FAM the run used"
+        )
 
 
 def _name(names: tuple[str, ...], index: Any) -> str | None:

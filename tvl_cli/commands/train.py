@@ -53,13 +53,15 @@ def common_robot(logs: Sequence[LearningLog]) -> RobotConfig:
     return first
 
 
-def refuse_repeated(logs: Sequence[LearningLog]) -> None:
-    """The same log given twice would train every exemplar twice."""
+def refuse_repeated(files: Sequence[tuple[Path, str]], what: str) -> None:
+    """Refuse one file given twice, by content: (path, SHA-256) pairs, `what` naming the kind
+    ("log"). The same log twice would train every exemplar twice; the same FAM twice would
+    be compared with itself."""
     seen: dict[str, Path] = {}
-    for log in logs:
-        if log.sha256 in seen:
-            raise BadInput(f"{log.path}: the same log as {seen[log.sha256]}, given twice")
-        seen[log.sha256] = log.path
+    for path, sha256 in files:
+        if sha256 in seen:
+            raise BadInput(f"{path}: the same {what} as {seen[sha256]}, given twice")
+        seen[sha256] = path
 
 
 def distinct_sessions(logs: Sequence[LearningLog]) -> tuple[list[Session], list[str]]:
@@ -203,7 +205,7 @@ def train_from_logs(
     if until_minute is not None and not (math.isfinite(until_minute) and until_minute >= 0):
         raise BadInput(f"--until-minute {until_minute:g} must be a number of minutes >= 0")
     logs = [read_log(path) for path in paths]
-    refuse_repeated(logs)
+    refuse_repeated([(log.path, log.sha256) for log in logs], "log")
     robot = common_robot(logs)
     memory_read = training_memory(logs, memory)
     fam = Fam(config, [t.name for t in robot.trajectories], params.init_velocity_mps)

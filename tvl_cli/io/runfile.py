@@ -76,6 +76,9 @@ _PERCEPTION_DATASETS: dict[str, tuple[str, str]] = {
     "perceived_mm": ("mm", "what the choice read of the ring: the echo memory's virtual ring"),
 }
 _OPTIONAL_DATASETS = {**_DECISION_DATASETS, **_PERCEPTION_DATASETS}
+# The format_version that added each of those groups: a trace of that version or later
+# holds every dataset of it.
+_ADDED_IN_VERSION = {2: _DECISION_DATASETS, 3: _PERCEPTION_DATASETS}
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -190,10 +193,12 @@ def run_trace_output(
 def read_run(path: Path | str) -> RunTrace:
     """Read a run trace; FormatError if it is not a readable tvl-run file."""
     with open_for_reading(path, RUN_FORMAT) as f:
-        missing = [name for name in _DATASETS if name not in f]
+        names = _datasets_of_version(int(f.attrs["format_version"]))  # checked on opening
+        # Found missing here, not as a KeyError in whatever reads the trace.
+        missing = [name for name in names if name not in f]
         if missing:
-            raise FormatError(f"{path}: run trace has no {', '.join(missing)} dataset")
-        names = [*_DATASETS, *(n for n in _OPTIONAL_DATASETS if n in f)]
+            plural = "s" if len(missing) > 1 else ""
+            raise FormatError(f"{path}: run trace has no {', '.join(missing)} dataset{plural}")
         try:
             arrays = {name: f[name][()] for name in names}
             reflex_names = (
@@ -214,6 +219,12 @@ def read_run(path: Path | str) -> RunTrace:
             reflex_names=reflex_names,
             robot_config=read_json_attr(f, "robot_config", path),
         )
+
+
+def _datasets_of_version(version: int) -> list[str]:
+    """The datasets a trace of this format_version holds."""
+    added = (list(group) for since, group in _ADDED_IN_VERSION.items() if version >= since)
+    return [*_DATASETS, *(name for group in added for name in group)]
 
 
 # Datasets with a row per step rather than a value: their rows' shapes, when fixed.

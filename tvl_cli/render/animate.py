@@ -7,8 +7,10 @@ from __future__ import annotations
 
 import math
 import tempfile
+from collections.abc import Callable
 from dataclasses import dataclass, fields
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from matplotlib.animation import FFMpegWriter, FuncAnimation, PillowWriter
@@ -75,7 +77,7 @@ def animate_run(
     writer = _writer(gif, fps, video)
     steps = window.steps(trace)
     frame = _Frame(trace, RobotConfig.from_dict(trace.robot_config))
-    _save(FuncAnimation(frame.figure, frame.draw, frames=steps.tolist()), gif, writer, video)
+    _save(frame.figure, frame.draw, steps.tolist(), gif, writer, video)
     return len(steps)
 
 
@@ -91,8 +93,7 @@ def animate_session(
     exemplars = [(e, i) for e in episodes for i in range(e.exemplar_count)]
     every = window.every or max(1, math.ceil(len(exemplars) / DEFAULT_MAX_FRAMES))
     frame = _EpisodeFrame(session)
-    animation = FuncAnimation(frame.figure, frame.draw, frames=exemplars[::every])
-    _save(animation, gif, writer, video)
+    _save(frame.figure, frame.draw, exemplars[::every], gif, writer, video)
     return len(exemplars[::every])
 
 
@@ -107,11 +108,20 @@ def _writer(out: Path, fps: int, video: bool) -> FFMpegWriter | PillowWriter:
 
 
 def _save(
-    animation: FuncAnimation, out: Path, writer: FFMpegWriter | PillowWriter, video: bool
+    figure: Figure,
+    draw: Callable[[Any], list[Artist]],
+    frames: list[Any],
+    out: Path,
+    writer: FFMpegWriter | PillowWriter,
+    video: bool,
 ) -> None:
+    """Draw `figure` once for each of `frames` with `draw`, into `out` as the writer's format."""
     # The writers name the format by the file's extension, and the file being written has a
     # temporary name: it is made under its own name in a scratch folder, then copied.
     with tempfile.TemporaryDirectory() as scratch, atomic_output(out) as temporary:
+        # Made only once the output is open: an animation dropped unsaved, as when the output
+        # is refused, has matplotlib print a warning under the error's one line.
+        animation = FuncAnimation(figure, draw, frames=frames)
         made = Path(scratch) / ("replay.mp4" if video else "replay.gif")
         animation.save(made, writer=writer, dpi=DPI)
         temporary.write_bytes(made.read_bytes())

@@ -60,6 +60,7 @@ from tvl_cli.core import competence
 from tvl_cli.core.errors import BadInput
 from tvl_cli.io.atomic import atomic_output
 from tvl_cli.io.runfile import read_run
+from tvl_cli.render.formats import save_picture
 from tvl_cli.render.plot import draw_world
 from tvl_cli.sim.worldmap import parse_world
 
@@ -544,7 +545,8 @@ FIGURES: dict[str, Callable[[list[Row], Path], tuple[Figure, str]]] = {
 
 
 def draw_figure(name: str, results: Path, png: Path, table: Path | None = None) -> str:
-    """Draw figure NAME from a results file into PNG; return (and write) its markdown table."""
+    """Draw figure NAME from a results file into the picture `png` (in the format its
+    extension names); return (and write) its markdown table."""
     if name not in FIGURES:
         raise BadInput(f"unknown figure {name!r} (choose from {', '.join(FIGURES)})")
     by_line = read_results(results)
@@ -555,8 +557,7 @@ def draw_figure(name: str, results: Path, png: Path, table: Path | None = None) 
         figure, summary = FIGURES[name](list(by_line.values()), results.parent)
     except KeyError as error:
         raise BadInput(f"{results}: a run lacks the key {error} that {name} needs") from None
-    with atomic_output(png) as temporary:
-        figure.savefig(temporary, format="png", dpi=DPI)
+    save_picture(figure, png, dpi=DPI)
     if table is not None:
         with atomic_output(table) as temporary:
             temporary.write_text(summary, encoding="utf-8")

@@ -17,7 +17,7 @@ from matplotlib.path import Path as DrawPath
 from tvl_cli.analysis.surface import Surface
 from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.contacts import BACKOFF, BUMP, NEAR_MISS, steps_beginning
-from tvl_cli.io.atomic import atomic_output
+from tvl_cli.render.formats import save_picture
 from tvl_cli.sim.worldmap import WorldMap
 
 WALL_COLOUR = "#2b2b2b"
@@ -113,12 +113,12 @@ def _world_figure(world: WorldMap, extra_width_in: float = 0.0) -> tuple[Figure,
 
 
 def _save(figure: Figure, png_path: str | Path) -> None:
-    with atomic_output(png_path) as temporary:
-        figure.savefig(temporary, format="png", dpi=120, bbox_inches="tight")
+    """In the format the file's extension names (PNG for .png), cropped to what is drawn."""
+    save_picture(figure, png_path, dpi=120, bbox_inches="tight")
 
 
 def render_world(world: WorldMap, png_path: str | Path) -> None:
-    """Write a PNG picture of the world."""
+    """Write a picture of the world."""
     figure, _ = _world_figure(world)
     _save(figure, png_path)
 
