@@ -21,12 +21,12 @@ from tvl_cli.cli.options import (
     training_options,
 )
 from tvl_cli.commands.learn import resolve_fam_config
-from tvl_cli.commands.train import refuse_repeated, train_from_logs
+from tvl_cli.commands.train import refuse_repeated, train_from_logs, write_trained
 from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.memory import MemoryChoice
 from tvl_cli.core.training import TrainParams
-from tvl_cli.io.famfile import FamFile, read_fam, write_fam
+from tvl_cli.io.famfile import FamFile, read_fam
 from tvl_cli.io.logreader import file_sha256
 
 
@@ -59,14 +59,7 @@ def train(
     fam_config = resolve_fam_config(config, RobotConfig())
     with views.progress("training") as bar:
         summary = train_from_logs(list(logs), fam_config, train_params, bar, until_minute, memory)
-    write_fam(
-        output,
-        summary.fam,
-        robot_config=summary.robot,
-        provenance=summary.provenance,
-        memory=summary.memory,
-        overwrite=force,
-    )
+    write_trained(output, summary, overwrite=force)
     if as_json:
         print_json(views.train_json(summary, output))
     else:

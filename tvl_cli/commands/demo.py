@@ -10,13 +10,12 @@ from pathlib import Path
 from tvl_cli.agent.explore import LearnParams
 from tvl_cli.commands.learn import LearnRequest, LearnResult, learn_to_log
 from tvl_cli.commands.run import RunRequest, run_fam
-from tvl_cli.commands.train import train_from_logs
+from tvl_cli.commands.train import train_from_logs, write_trained
 from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
 from tvl_cli.core.config import MULTI, SINGLE
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.core.training import TrainParams
-from tvl_cli.io.famfile import write_fam
 from tvl_cli.sim.worldgen import bundled_world_path
 
 DEMO_WORLD = "square"
@@ -61,9 +60,8 @@ def run_demo(directory: Path, force: bool, say: Callable[[str], None]) -> DemoRe
     rows = []
     for config in (SINGLE, MULTI):
         say(f"training the {config.name} FAM from {log} ...")
-        trained = train_from_logs([log], config, TrainParams())
         fam_path = directory / f"{config.name}.h5"
-        write_fam(fam_path, trained.fam, robot_config=trained.robot, provenance=trained.provenance)
+        write_trained(fam_path, train_from_logs([log], config, TrainParams()))
         for behaviour in BEHAVIOURS:
             say(f"running {behaviour} with the {config.name} FAM ...")
             png = directory / f"{config.name}-{behaviour}.png"

@@ -21,13 +21,12 @@ from tvl_cli.analysis.results import read_results
 from tvl_cli.commands.grid import COLUMNS, Cell, Grid, read_grid
 from tvl_cli.commands.learn import LearnRequest, learn_to_log
 from tvl_cli.commands.run import RunRequest, RunResult, run_behaviour
-from tvl_cli.commands.train import train_from_logs
+from tvl_cli.commands.train import train_from_logs, write_trained
 from tvl_cli.commands.workers import dask_cluster, local_processes
 from tvl_cli.core.config import SINGLE, FamConfig
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.training import TrainParams
 from tvl_cli.io.atomic import atomic_output
-from tvl_cli.io.famfile import write_fam
 from tvl_cli.io.loglayout import STATUS_FINISHED
 from tvl_cli.io.table import Row, append_row, write_csv, write_parquet
 
@@ -261,8 +260,7 @@ def learn_log(request: LearnRequest) -> None:
 
 def train_fam(fam: Path, log: Path, config: FamConfig, params: TrainParams) -> None:
     """Train a FAM from a log, as `tvl train LOG -o FAM` does."""
-    trained = train_from_logs([log], config, params)
-    write_fam(fam, trained.fam, robot_config=trained.robot, provenance=trained.provenance)
+    write_trained(fam, train_from_logs([log], config, params))
 
 
 def _write_tables(root: Path, rows: list[Row]) -> list[Path]:

@@ -21,6 +21,7 @@ from tvl_cli.core.fam import Fam
 from tvl_cli.core.memory import NO_MEMORY, NOT_CHOSEN, MemoryChoice, MemoryConfig
 from tvl_cli.core.ring import mm_to_ring
 from tvl_cli.core.training import TrainParams, train_episode
+from tvl_cli.io.famfile import write_fam
 from tvl_cli.io.loglayout import KIND_LEARNING
 from tvl_cli.io.logreader import LearningLog, Session, read_log
 
@@ -231,4 +232,17 @@ def train_from_logs(
         rules_total=config.rule_count,
         wall_s=time.perf_counter() - started,
         repeated_sessions=repeats,
+    )
+
+
+def write_trained(path: Path, trained: TrainSummary, overwrite: bool = True) -> None:
+    """Write a trained FAM as `tvl train` does: with its robot, its provenance and the echo
+    memory it was trained to read through, which a run then reads through."""
+    write_fam(
+        path,
+        trained.fam,
+        robot_config=trained.robot,
+        provenance=trained.provenance,
+        memory=trained.memory,
+        overwrite=overwrite,
     )
