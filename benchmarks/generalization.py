@@ -1,7 +1,7 @@
 """Generalization: how competent the robot is in generated worlds nobody tuned on.
 
     python benchmarks/generalization.py [--set test|tuning] [--quick] [--trials 3]
-                                        [--worlds N] [--reflex NAMES | --paper] [--workers 2]
+                                        [--worlds N|A-B] [--reflex NAMES | --paper] [--workers 2]
                                         [--json] [--config NAME=FILE.json ...] [--near M]
                                         [--sonar real|edges|ideal] [--decel A]
                                         [--threshold T] [--learn]
@@ -26,8 +26,9 @@ goal with each trial's seed.
 
 The test worlds are rooms seeds 1001-1020 and are for reporting only: develop and tune on
 `--set tuning` (seeds 1-20). `--quick` takes the first 5 worlds of the set and 2 trials,
-`--worlds N` the first N. `--paper` runs the paper's whole method (its labels, bump-only
-collision points, no reflexes, no memory); `--reflex` picks the reflexes of the behaviour runs
+`--worlds N` the first N, `--worlds A-B` the A-th to B-th. `--paper` runs the paper's whole
+method (its labels, bump-only collision points, no reflexes, no memory); `--reflex` picks the
+reflexes of the behaviour runs
 (all by default). `--config NAME=FILE.json` (repeatable) adds a configuration of your own
 (from `tvl design`, say), trained from the same log as the others. `--near M` sets the
 learner's sonar collision point (`tvl learn --near`), `--decel A` the labels' deceleration,
