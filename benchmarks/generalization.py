@@ -27,18 +27,16 @@ goal with each trial's seed.
 The test worlds are rooms seeds 1001-1020 and are for reporting only: develop and tune on
 `--set tuning` (seeds 1-20). `--quick` takes the first 5 worlds of the set and 2 trials,
 `--worlds N` the first N, `--worlds A-B` the A-th to B-th. `--paper` runs the paper's whole
-method (its labels, bump-only collision points, no reflexes, no memory); `--reflex` picks the
-reflexes of the behaviour runs
-(all by default). `--config NAME=FILE.json` (repeatable) adds a configuration of your own
-(from `tvl design`, say), trained from the same log as the others. `--near M` sets the
-learner's sonar collision point (`tvl learn --near`), `--decel A` the labels' deceleration,
-`--sonar MODEL` the sonar of learning and runs, `--threshold T` the runs' threshold,
-`--memory ...` the echo memory of learning and runs (`tvl learn --memory`), and `--learn`
-makes every run go on learning while it behaves, from a copy of the FAM exploring learnt
-(`tvl run --learn`). `--roughness R` makes every wall of every world rough; `--rough-share S`
-makes that share of each world's rooms rough (`tvl world new rooms --rough S`), the rest
-smooth.
-"""
+method (its labels, bump-only collision points, no reflexes, no memory); `--reflex` picks
+the reflexes of the behaviour runs (all by default). `--config NAME=FILE.json` (repeatable)
+adds a configuration of your own (from `tvl design`, say), trained from the same log as the
+others. `--near M` sets the learner's sonar collision point (`tvl learn --near`), `--decel
+A` the labels' deceleration, `--sonar MODEL` the sonar of learning and runs, `--threshold T`
+the runs' threshold, `--memory ...` the echo memory of learning and runs (`tvl learn
+--memory`), and `--learn` makes every run go on learning while it behaves, from a copy of
+the FAM exploring learnt (`tvl run --learn`). `--roughness R` makes every wall of every
+world rough; `--rough-share S` makes that share of each world's rooms rough (`tvl world new
+rooms --rough S`), the rest smooth."""
 
 from __future__ import annotations
 
