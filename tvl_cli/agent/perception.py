@@ -45,8 +45,12 @@ class EchoMemory:
 
     def remember(self, step: int, odometry: Pose, ring_m: np.ndarray) -> None:
         """Keep the echoes of a reading taken at `odometry` on control step `step`."""
+        self._remember(step, *self._ring.rays(odometry), ring_m)
+
+    def _remember(
+        self, step: int, origins: np.ndarray, directions: np.ndarray, ring_m: np.ndarray
+    ) -> None:
         heard = np.flatnonzero((ring_m < self._sonar.max_range_m) & (ring_m <= self.config.range_m))
-        origins, directions = self._ring.rays(odometry)
         axis_rows = heard * self._rays + self._middle
         axes = directions[axis_rows]  # (h, 2)
         ranges = ring_m[heard]  # (h,) metres
@@ -61,7 +65,11 @@ class EchoMemory:
     def virtual(self, step: int, odometry: Pose, ring_m: np.ndarray) -> np.ndarray:
         """(16,) metres: each sonar's live range or the nearest remembered surface in its
         cone from `odometry`, whichever is nearer."""
-        origins, directions = self._ring.rays(odometry)
+        return self._virtual(step, *self._ring.rays(odometry), ring_m)
+
+    def _virtual(
+        self, step: int, origins: np.ndarray, directions: np.ndarray, ring_m: np.ndarray
+    ) -> np.ndarray:
         remembered = self._cast(
             self.config.kind,
             origins,
@@ -94,8 +102,9 @@ class EchoMemory:
 
     def sense(self, step: int, odometry: Pose, ring_m: np.ndarray) -> np.ndarray:
         """Remember a reading, then the virtual ring it makes."""
-        self.remember(step, odometry, ring_m)
-        return self.virtual(step, odometry, ring_m)
+        rays = self._ring.rays(odometry)  # the same beams for both, cast once a step
+        self._remember(step, *rays, ring_m)
+        return self._virtual(step, *rays, ring_m)
 
 
 class Perception:
