@@ -1,29 +1,40 @@
-"""The figures the README quotes for the rules beyond the paper are the code's own."""
+"""The figures the documentation quotes for the code's constants are the code's own."""
 
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
+from doc_pages import page, section
+
+from tvl_cli.agent.explore import LearnParams
 from tvl_cli.agent.motions import BACKOFF_M
 from tvl_cli.agent.novelty import BLOCKED_BEYOND_STOP_M, NOVELTY_BIN_M, NOVELTY_LOOKAHEAD_M
-from tvl_cli.agent.reflexes import BLOCKED_HALF_WIDTH_RAD, BLOCKED_S, REFLEXES
+from tvl_cli.agent.reflexes import BLOCKED_HALF_WIDTH_RAD, BLOCKED_S, STACK_ORDER
 from tvl_cli.commands.learn import LOG_WRITE_EVERY_S
 from tvl_cli.core.behaviours import LOOKAHEAD_M
 from tvl_cli.core.config import EDGE_ECHO_RANGE_M, SonarConfig
 from tvl_cli.core.contacts import NEAR_MISS_WITHIN_RAD
-from tvl_cli.core.labels import PAPER_DECEL_MPS2, PAPER_MARGIN_M
+from tvl_cli.core.labels import (
+    DEFAULT_DECEL_MPS2,
+    DEFAULT_MARGIN_M,
+    PAPER_DECEL_MPS2,
+    PAPER_MARGIN_M,
+)
+from tvl_cli.core.memory import DEFAULT_RANGE_M, DEFAULT_WINDOW_S
+from tvl_cli.io.schema import FAM_FORMAT, FORMAT_VERSIONS, LOG_FORMAT, RUN_FORMAT
 
-README = (Path(__file__).resolve().parents[1] / "README.md").read_text(encoding="utf-8")
+METHOD = page("method.md")
+# The reflex table, between the markers that let it be written from the code.
+REFLEX_TABLE = METHOD.split("<!-- additions:start -->\n")[1].split("<!-- additions:end -->")[0]
 
 
 def _row(reflex: str) -> str:
-    return next(line for line in README.splitlines() if line.startswith(f"| `{reflex}` |"))
+    return next(line for line in REFLEX_TABLE.splitlines() if line.startswith(f"| `{reflex}` |"))
 
 
-def test_every_reflex_has_a_row_in_the_readme_table() -> None:
-    for name in REFLEXES:
-        assert _row(name)
+def test_every_reflex_has_a_row_in_the_reflex_table_in_stacking_order() -> None:
+    rows = [line.split("`")[1] for line in REFLEX_TABLE.splitlines() if line.startswith("| `")]
+    assert rows == list(STACK_ORDER)
 
 
 def test_blocked_ways_are_quoted_with_their_width_and_time() -> None:
@@ -38,33 +49,57 @@ def test_near_misses_are_quoted_with_their_angle_and_blind_zone() -> None:
     assert f"within {math.degrees(NEAR_MISS_WITHIN_RAD):g}° of straight ahead" in row
     assert f"its {SonarConfig().min_range_m:g} m minimum range" in row
     assert f"reverses {BACKOFF_M:g} m" in row
-    assert (
-        f"within {math.degrees(NEAR_MISS_WITHIN_RAD):g}° of straight ahead"
-        in README.split("### What a run counts")[1]
+    assert f"within {math.degrees(NEAR_MISS_WITHIN_RAD):g}° of straight ahead" in section(
+        page("guide/behaving.md"), "What a run counts"
     )
 
 
 def test_the_paper_labels_and_the_lookahead_are_quoted_as_they_are() -> None:
-    assert f"deceleration\n  {PAPER_DECEL_MPS2:g} m/s², margin {PAPER_MARGIN_M:g} m" in README
-    assert f"judged {LOOKAHEAD_M:g} m along itself" in README
+    labels = f"deceleration\n  {PAPER_DECEL_MPS2:g} m/s², margin {PAPER_MARGIN_M:g} m"
+    assert labels in page("guide/behaving.md")
+    assert f"judged {LOOKAHEAD_M:g} m along itself" in METHOD
+
+
+def test_the_additions_table_quotes_our_defaults_beside_the_papers() -> None:
+    additions = section(METHOD, "What is added, and how to turn it off")
+    ours = f"{DEFAULT_DECEL_MPS2:g} m/s², {DEFAULT_MARGIN_M:g} m (`--decel`, `--margin`)"
+    assert f"| {ours} | {PAPER_DECEL_MPS2:g} m/s², {PAPER_MARGIN_M:g} m |" in additions
+    assert f"under {LearnParams().near_m:g} m (`--near`) | bumps only |" in additions
+    assert (
+        f"| {DEFAULT_WINDOW_S:g} s of patches out to {DEFAULT_RANGE_M:g} m (`--memory`)"
+        in additions
+    )
 
 
 def test_the_edge_echo_range_is_quoted_as_it_is() -> None:
-    section = README.split("### What real sonars hear beyond the specular rule")[1]
-    assert f"within {EDGE_ECHO_RANGE_M:.1f} m (a quarter of the maximum range)" in section
+    sonars = section(page("guide/robot.md"), "What real sonars hear beyond the specular rule")
+    assert f"within {EDGE_ECHO_RANGE_M:.1f} m (a quarter of the maximum range)" in sonars
     assert SonarConfig().max_range_m / 4 == EDGE_ECHO_RANGE_M
 
 
 def test_the_novelty_rule_is_quoted_as_it_is() -> None:
-    section = README.split("**Where to learn next (`--explore`).**")[1].split("**Coverage.**")[0]
-    assert f"in {NOVELTY_BIN_M:g} m square bins" in section
-    assert f"in the next {NOVELTY_LOOKAHEAD_M:g} m" in section
-    assert f"`--near` and {BLOCKED_BEYOND_STOP_M * 100:g} cm" in " ".join(section.split())
+    learning = page("guide/learning.md")
+    novelty = learning.split("**Where to learn next (`--explore`).**")[1].split("**Coverage.**")[0]
+    assert f"in {NOVELTY_BIN_M:g} m square bins" in novelty
+    assert f"in the next {NOVELTY_LOOKAHEAD_M:g} m" in novelty
+    assert f"`--near` and {BLOCKED_BEYOND_STOP_M * 100:g} cm" in " ".join(novelty.split())
 
 
 def test_what_a_kill_of_learning_may_lose_is_quoted_as_it_is() -> None:
-    files = README.split("## Files")[1].split("## Worlds")[0]
+    files = page("guide/files.md")
     assert f"span\n  {LOG_WRITE_EVERY_S:g} simulated seconds" in files
     assert f"ended in the last {LOG_WRITE_EVERY_S:g} simulated seconds" in files
-    stopping = README.split("Ctrl-C or SIGTERM stops learning")[1].split("\n\n")[0]
+    stopping = (
+        page("guide/learning.md").split("Ctrl-C or SIGTERM stops learning")[1].split("\n\n")[0]
+    )
     assert f"ended in the last {LOG_WRITE_EVERY_S:g} simulated seconds" in stopping
+
+
+def test_the_file_format_versions_are_quoted_as_they_are() -> None:
+    files = " ".join(page("guide/files.md").split())
+    log, fam, run = (FORMAT_VERSIONS[f] for f in (LOG_FORMAT, FAM_FORMAT, RUN_FORMAT))
+    assert (
+        f"logs of format version {log}, FAM files of version {fam} and run traces of version {run}"
+        in files
+    )
+    assert f"Run trace (`tvl run --log`, format version {run})" in files

@@ -1,23 +1,22 @@
-"""The README's Python examples run as printed, from the repository's top folder."""
+"""The documentation's Python examples run as printed, from the repository's top folder."""
 
 from __future__ import annotations
 
-import re
 import subprocess
 import sys
 from pathlib import Path
 
 import pytest
+from doc_pages import ROOT, code_blocks, every_page, page
 
-ROOT = Path(__file__).resolve().parent.parent
+# The pages with a Python example, each run by a test below.
+EXAMPLES = ("guide/python-api.md", "guide/gym.md")
 
 
-def _run_example(section: str, tmp_path: Path) -> list[str]:
-    """Run the one Python block of a README section (`## ...`) in a copy of the top folder's
+def _run_example(name: str, tmp_path: Path) -> list[str]:
+    """Run the one Python block of a documentation page in a copy of the top folder's
     example inputs; its output lines."""
-    readme = (ROOT / "README.md").read_text(encoding="utf-8")
-    (text,) = re.findall(rf"^## {re.escape(section)}\n(.*?)(?=^## )", readme, re.M | re.S)
-    (example,) = re.findall(r"```python\n(.*?)```", text, flags=re.DOTALL)
+    (example,) = code_blocks(page(name), "python")
     for folder in ("worlds", "logs"):
         (tmp_path / folder).symlink_to(ROOT / folder)
     done = subprocess.run(
@@ -27,14 +26,14 @@ def _run_example(section: str, tmp_path: Path) -> list[str]:
     return done.stdout.splitlines()
 
 
-def test_every_python_block_of_the_readme_is_run_here() -> None:
-    readme = (ROOT / "README.md").read_text(encoding="utf-8")
-    assert len(re.findall(r"```python\n", readme)) == 2
+def test_every_python_block_of_the_documentation_is_run_here() -> None:
+    blocks = {name: len(code_blocks(text, "python")) for name, text in every_page().items()}
+    assert {name: n for name, n in blocks.items() if n} == dict.fromkeys(EXAMPLES, 1)
 
 
 @pytest.mark.slow  # over a second
-def test_the_readme_python_example_runs(tmp_path: Path) -> None:
-    episodes, velocities, metrics = _run_example("Python API and shell completion", tmp_path)
+def test_the_python_api_example_runs(tmp_path: Path) -> None:
+    episodes, velocities, metrics = _run_example("guide/python-api.md", tmp_path)
     assert int(episodes.split()[0]) > 0
     assert len(velocities.strip("[]").split()) == 7
     contacts_per_min, speed = map(float, metrics.split())
@@ -43,8 +42,8 @@ def test_the_readme_python_example_runs(tmp_path: Path) -> None:
 
 
 @pytest.mark.slow  # over a second
-def test_the_readme_gymnasium_example_runs(tmp_path: Path) -> None:
-    episode, learning = _run_example("Gymnasium environment", tmp_path)
+def test_the_gymnasium_example_runs(tmp_path: Path) -> None:
+    episode, learning = _run_example("guide/gym.md", tmp_path)
     # TVL drove the whole 5-minute episode without a bump, forward most of the time.
     assert episode.startswith("300 s, bumped False, return ")
     assert float(episode.split()[-1]) > 60.0  # metres forward: 0.2 m/s or more on average

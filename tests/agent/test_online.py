@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from doc_pages import page, section
 
 from tvl_cli.agent.behave import behave
 from tvl_cli.agent.drive import Step, drive
@@ -228,11 +229,10 @@ def test_the_same_seed_learns_the_same_episodes() -> None:
         assert (a.trajectory, a.end_arc_m, a.collided) == (b.trajectory, b.end_arc_m, b.collided)
 
 
-def test_the_readme_quotes_the_readings_the_estimate_uses() -> None:
-    readme = (ROOT / "README.md").read_text(encoding="utf-8")
-    section = readme.split("### Learning while behaving (`tvl run --learn`)")[1]
-    assert f"estimated {ECHO_AFTER_S:g} s later" in section
+def test_the_docs_quote_the_readings_the_estimate_uses() -> None:
+    behaving = section(page("guide/behaving.md"), "Learning while behaving (`tvl run --learn`)")
+    assert f"estimated {ECHO_AFTER_S:g} s later" in behaving
     assert (
         f"from {ECHO_BEFORE_S:g} s before the\n  stretch ended to {ECHO_AFTER_S:g} s after"
-        in section
+        in behaving
     )

@@ -2,10 +2,9 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 import pytest
+from doc_pages import page, section
 
 from tvl_cli.analysis.design import (
     DEFAULT_BUDGET_RULES,
@@ -162,14 +161,13 @@ def test_a_trajectory_pair_with_one_episode_is_refused() -> None:
         design_inputs(episodes, ROBOT, TrainParams())
 
 
-def test_the_readme_quotes_the_choices_constants() -> None:
-    readme = (Path(__file__).resolve().parents[2] / "README.md").read_text(encoding="utf-8")
-    section = readme.split("### Inputs chosen from data")[1].split("\n## ")[0]
-    assert f"lowers its table's error by {MIN_GAIN_MPS:g} m/s" in section
-    assert HELDOUT_FRACTION == 0.25 and "a quarter held out" in section
-    assert f"Past {MAX_TRAIN_EXEMPLARS:,} exemplars" in section
-    assert f"the `multi` FAM's {DEFAULT_BUDGET_RULES:,}" in section
-    assert f"per table needs {least_budget_rules(ROBOT)} rules" in section
-    assert f"with {', '.join(map(str, SET_COUNTS[:-1]))} or {SET_COUNTS[-1]} fuzzy sets" in section
-    assert GROUP_SIZES == (1, 2, 3) and "one sonar or the nearest reading" in section
-    assert "of two or three adjacent ones" in section
+def test_the_docs_quote_the_choices_constants() -> None:
+    design = section(page("guide/learning.md"), "Inputs chosen from data")
+    assert f"lowers its table's error by {MIN_GAIN_MPS:g} m/s" in design
+    assert HELDOUT_FRACTION == 0.25 and "a quarter held out" in design
+    assert f"Past {MAX_TRAIN_EXEMPLARS:,} exemplars" in design
+    assert f"the `multi` FAM's {DEFAULT_BUDGET_RULES:,}" in design
+    assert f"per table needs {least_budget_rules(ROBOT)} rules" in design
+    assert f"with {', '.join(map(str, SET_COUNTS[:-1]))} or {SET_COUNTS[-1]} fuzzy sets" in design
+    assert GROUP_SIZES == (1, 2, 3) and "one sonar or the nearest reading" in design
+    assert "of two or three adjacent ones" in design

@@ -135,7 +135,7 @@ def test_q_learning_through_the_env_is_deterministic() -> None:
 def test_q_learning_through_the_env_is_competent_in_the_circle_as_the_baselines(
     seed: int,
 ) -> None:
-    # The circle is where the baseline's Q-learning becomes competent (README, Experiments);
+    # The circle is where the baseline's Q-learning becomes competent (docs/results.md, Headlines);
     # a table learnt through the env passes the same judge: the baseline's greedy run.
     agent = QTableAgent()
     agent.learn(gymnasium.make(ENV_ID, world="circle"), minutes=4.0, seed=seed)

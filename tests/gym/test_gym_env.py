@@ -10,6 +10,7 @@ from pathlib import Path
 import gymnasium
 import numpy as np
 import pytest
+from doc_pages import page
 from gymnasium.utils.env_checker import check_env
 
 from tvl_cli.agent.drive import GOAL_RADIUS_M
@@ -227,20 +228,18 @@ def test_it_runs_under_sync_vector_env_with_each_copy_seeded_apart() -> None:
     envs.close()
 
 
-def test_the_readme_quotes_the_envs_own_numbers() -> None:
-    readme = (ROOT / "README.md").read_text(encoding="utf-8")
-    section = readme.split("\n## Gymnasium environment\n")[1].split("\n## ")[0]
+def test_the_docs_quote_the_envs_own_numbers() -> None:
+    gym = page("guide/gym.md")
     sonar = ROBOT.sonar
     assert (
-        f"{sonar.min_range_m:g}–{sonar.max_range_m:.1f} ({sonar.max_range_m:.1f}: no echo)"
-        in section
+        f"{sonar.min_range_m:g}–{sonar.max_range_m:.1f} ({sonar.max_range_m:.1f}: no echo)" in gym
     )
-    assert f"`Discrete({len(ACTION_NAMES)})`" in section
-    assert f"at {ROBOT.spin_rate_radps:g} rad/s" in section
-    assert section.count(f"less {DEFAULT_Q.collision_penalty:g} for a bump") == 2
-    assert f"within {GOAL_RADIUS_M:g} m of the goal" in section
-    assert f"after {MAX_EPISODE_STEPS:,} steps" in section
-    assert f"backed off {BACKOFF_M:g} m after a bump" in section
+    assert f"`Discrete({len(ACTION_NAMES)})`" in gym
+    assert f"at {ROBOT.spin_rate_radps:g} rad/s" in gym
+    assert gym.count(f"less {DEFAULT_Q.collision_penalty:g} for a bump") == 2
+    assert f"within {GOAL_RADIUS_M:g} m of the goal" in gym
+    assert f"after {MAX_EPISODE_STEPS:,} steps" in gym
+    assert f"backed off {BACKOFF_M:g} m after a bump" in gym
 
 
 def test_the_gymnasium_observation_can_be_the_virtual_ring() -> None:
