@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 from gymnasium import spaces
 
-from tvl_cli.agent.drive import GOAL_RADIUS_M
+from tvl_cli.agent.engine import GOAL_RADIUS_M
 from tvl_cli.agent.perception import Perception
 from tvl_cli.agent.tvl import goal_bearing
 from tvl_cli.baselines.qlearning import DEFAULT_Q, step_reward
