@@ -13,7 +13,7 @@ import pytest
 from doc_pages import page
 from gymnasium.utils.env_checker import check_env
 
-from tvl_cli.agent.drive import GOAL_RADIUS_M
+from tvl_cli.agent.engine import GOAL_RADIUS_M
 from tvl_cli.agent.motions import BACKOFF_M
 from tvl_cli.baselines.qlearning import DEFAULT_Q, step_reward
 from tvl_cli.core.command import STOP, Command

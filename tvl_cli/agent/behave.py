@@ -3,9 +3,8 @@ world's start for some simulated minutes."""
 
 from __future__ import annotations
 
-import numpy as np
-
-from tvl_cli.agent.drive import StepSink, drive
+from tvl_cli.agent.drive import StepSink, drive_engine
+from tvl_cli.agent.engine import StepEngine
 from tvl_cli.agent.perception import Perception
 from tvl_cli.agent.reflexes import STACK_ORDER, wrap
 from tvl_cli.agent.tvl import TvlPolicy
@@ -14,7 +13,6 @@ from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.memory import NO_MEMORY, MemoryConfig
 from tvl_cli.core.metrics import RunMetrics
-from tvl_cli.sim.robot import Simulator
 from tvl_cli.sim.worldmap import WorldMap
 
 
@@ -34,7 +32,8 @@ def behave(
 ) -> RunMetrics:
     """Perform `behaviour` with a FAM perceiving through `memory`; the simulator's generator
     is seeded with `seed`."""
-    sim = Simulator(world, robot, np.random.default_rng(seed))
+    engine = StepEngine(world, robot, goal_xy=goal_xy, measure=True)
+    engine.reset(seed)
     tvl = TvlPolicy(fam, robot, behaviour, threshold, Perception(memory, robot))
     policy = wrap(tvl, reflexes, robot, behaviour)
-    return drive(sim, policy, minutes, goal_xy=goal_xy, on_step=on_step)
+    return drive_engine(engine, policy, minutes, on_step=on_step)

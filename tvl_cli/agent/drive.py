@@ -1,23 +1,22 @@
-"""The one step loop: learning's episodes, `tvl run` and every baseline drive through it.
+"""The drive loop: learning's episodes, `tvl run` and every baseline drive through it.
 
-Each control step: observe, let the policy decide, step the simulator, detect the events the
-step began (core.contacts), measure (core.metrics), and hand the step to an optional sink.
+Each control step the policy decides from what the robot knows, the engine (agent.engine)
+steps the robot and judges the step, the metrics (core.metrics) take it in, and an optional
+sink sees it.
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 
-from tvl_cli.agent.policy import Decision, LazyRing, Observation, Policy
-from tvl_cli.core.contacts import EventDetector, drives_forward, near_miss_sonars
+from tvl_cli.agent.engine import StepEngine
+from tvl_cli.agent.policy import Decision, Policy
+from tvl_cli.core.contacts import drives_forward
 from tvl_cli.core.metrics import MetricsRecorder, RunMetrics
 from tvl_cli.sim.robot import Pose, Simulator
-
-GOAL_RADIUS_M = 0.3  # a goal counts as reached this near
 
 
 @dataclass(frozen=True, slots=True)
@@ -47,42 +46,57 @@ def drive(
     stop: Callable[[], bool] | None = None,
     measure: bool = True,
 ) -> RunMetrics:
-    """Drive for `minutes` of simulated time, until the goal is reached, or until `stop()`.
+    """Drive a simulator on from where its robot is (agent.engine judges the goal and the
+    events; `measure=False` skips the true clearance, which learning needs none of)."""
+    engine = StepEngine.over(
+        sim, goal_xy=goal_xy, goal_by_odometry=goal_by_odometry, measure=measure
+    )
+    return drive_engine(engine, policy, minutes, on_step=on_step, stop=stop)
 
-    The goal is judged by odometry, as a robot would (TVL); `goal_by_odometry=False` judges
-    it on the true pose, for a baseline that localises by knowing the world. `measure=False`
-    skips the true clearance, which costs a geometry query a step (learning needs none).
-    """
-    robot = sim.robot
-    dt = robot.control_period_s
-    metrics = MetricsRecorder(sim.pose[:2])
-    detector = EventDetector(near_miss_sonars(robot.sonar.count), robot.sonar.min_range_m)
+
+def drive_engine(
+    engine: StepEngine,
+    policy: Policy,
+    minutes: float,
+    *,
+    on_step: StepSink | None = None,
+    stop: Callable[[], bool] | None = None,
+) -> RunMetrics:
+    """Drive for `minutes` of simulated time, until the goal is reached, or until `stop()`."""
+    dt = engine.robot.control_period_s
+    obs = engine.observation
+    metrics = MetricsRecorder(engine.sim.pose[:2])
     for _ in range(round(minutes * 60 / dt)):
         if stop is not None and stop():
             break
-        time_s = sim.time_s
-        ring = LazyRing(sim.read_sonar)
-        if detector.needs_ring():
-            ring.get()
-        obs = Observation(time_s, ring, sim.odometry, sim.bumped, goal_xy)
         decision = policy.decide(obs)
-        sim.step(decision.command)
-        events = detector.step(ring.value, decision.command, sim.bumped, decision.trapped)
-        pose = sim.pose
+        step = engine.step(decision.command, trapped=decision.trapped)
+        pose = step.truth.pose
+        after = step.observation
+        clearance_m = step.truth.clearance_m
         metrics.record(
             pose[:2],
             dt,
-            sim.clearance_m() if measure else 0.0,
+            0.0 if clearance_m is None else clearance_m,
             decision.following_wall,
             drives_forward(decision.command),
-            events,
+            step.events,
         )
         if on_step is not None:
-            on_step(Step(time_s, ring.value, decision, pose, sim.odometry, sim.bumped, events))
-        if goal_xy is not None:
-            where = sim.odometry if goal_by_odometry else pose
-            if math.dist(where[:2], goal_xy) <= GOAL_RADIUS_M:
-                metrics.goal_reached()
-                break
-    metrics.count(detector.finish())
+            on_step(
+                Step(
+                    obs.time_s,
+                    step.ring_m,
+                    decision,
+                    pose,
+                    after.odometry,
+                    after.bumped,
+                    step.events,
+                )
+            )
+        if step.done:
+            metrics.goal_reached()
+            break
+        obs = after
+    metrics.count(engine.finish())
     return metrics.result()

@@ -50,7 +50,7 @@ class Reflex:
 
 
 class _BackOff(Reflex):
-    """Reverses 0.15 m along the arc the robot was driving when `triggered` says so, then
+    """Reverses BACKOFF_M along the arc the robot was driving when `triggered` says so, then
     hands back to the policy it wraps, which starts afresh."""
 
     def __init__(self, inner: Policy, robot: RobotConfig, behaviour: str) -> None:

@@ -11,9 +11,12 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from tvl_cli.agent.drive import Step
+from tvl_cli.core.config import DEFAULT_TRAJECTORIES
 from tvl_cli.core.contacts import EVENTS
 from tvl_cli.core.ring import ring_to_mm
 
+# A view's columns: the robot's trajectories, one velocity and one fast flag each.
+TRAJECTORIES = len(DEFAULT_TRAJECTORIES)
 NOT_READ_MM = 0  # ring_mm of a step where no one read the sonars: below any real range
 NO_REFLEX = -1
 # Steps turned into columns at once: about a simulated minute, a few hundred kB of Python
@@ -77,8 +80,8 @@ def step_columns(rows: list[Step], reflex_names: tuple[str, ...], sonars: int) -
             for i, s in enumerate(rows)
         ]
     ).reshape(n, sonars)
-    no_view = np.full(7, np.nan)
-    no_fast = np.zeros(7, dtype=bool)
+    no_view = np.full(TRAJECTORIES, np.nan)
+    no_fast = np.zeros(TRAJECTORIES, dtype=bool)
     reflex_index = {name: i for i, name in enumerate(reflex_names)}
     bits = {name: 1 << i for i, name in enumerate(EVENTS)}
     decisions = [s.decision for s in rows]
@@ -89,10 +92,10 @@ def step_columns(rows: list[Step], reflex_names: tuple[str, ...], sonars: int) -
         "perceived_mm": ring_to_mm(np.nan_to_num(perceived, nan=NOT_READ_MM)),
         "velocities": np.array(
             [d.velocities if d.velocities is not None else no_view for d in decisions]
-        ).reshape(n, 7),
+        ).reshape(n, TRAJECTORIES),
         "fast": np.array(
             [d.fast if d.fast is not None else no_fast for d in decisions], dtype=bool
-        ).reshape(n, 7),
+        ).reshape(n, TRAJECTORIES),
         "rotation": np.array([d.rotation for d in decisions], dtype=np.int8),
         "choice": np.array([d.choice for d in decisions], dtype=np.int8),
         "trajectory": np.array([d.trajectory for d in decisions], dtype=np.int8),

@@ -9,7 +9,7 @@ import math
 
 import numpy as np
 
-from tvl_cli.agent.motions import spin_commands
+from tvl_cli.agent.motions import BACKOFF_M, spin_commands
 from tvl_cli.agent.perception import Perception
 from tvl_cli.agent.policy import Decision, Observation
 from tvl_cli.core.angles import wrap_rad
@@ -30,8 +30,8 @@ from tvl_cli.core.memory import NO_MEMORY
 # Trapped (nothing fast in any direction): turn slowly on the spot so the ring sees anew.
 TRAPPED_SPIN_RADPS = 0.3
 # How far trajectories are judged where they set off, for advice that leaves ways out: the
-# stretch in which an obstacle just met lies (the distance the robot backs off).
-SET_OFF_M = 0.15
+# stretch in which an obstacle just met lies, which is the distance the robot backs off.
+SET_OFF_M = BACKOFF_M
 
 
 def goal_bearing(odometry: tuple[float, float, float], goal_xy: tuple[float, float]) -> float:

@@ -16,16 +16,10 @@ from itertools import pairwise
 import numpy as np
 
 from tvl_cli.agent.drive import StepSink, drive
+from tvl_cli.agent.motions import backoff_commands
 from tvl_cli.agent.policy import Decision, Observation
 from tvl_cli.agent.reflexes import wrap
-from tvl_cli.baselines.qtable import (
-    QParams,
-    RuleStates,
-    epsilon_greedy,
-    greedy,
-    preference_order,
-    q_update,
-)
+from tvl_cli.baselines.qtable import QParams, QTable, RuleStates
 from tvl_cli.core.command import Command
 from tvl_cli.core.competence import COMPETENCE_RUN_MINUTES, is_competent
 from tvl_cli.core.config import SINGLE, FamTable, RobotConfig
@@ -59,13 +53,12 @@ class QPolicy:
         params: QParams,
         rng: np.random.Generator | None = None,
     ) -> None:
-        """`rng` draws the exploration; without one the policy is greedy and never learns."""
-        self.q = q  # (S, A) shared with the owner, updated in place
-        self.states = states
+        """`q` (rules, trajectories) is learnt in place, shared with the owner; `rng` draws the
+        exploration: without one the policy is greedy and never learns."""
+        self.table = QTable(states, len(robot.trajectories), params, q)
         self.robot = robot
         self.params = params
         self.rng = rng
-        self._order = preference_order(len(robot.trajectories))
         self._actions = [Command.follow(t, t.v_max_mps) for t in robot.trajectories]
         self._queue: list[Command] = []  # backing off after a bump, while learning
         self._pending: tuple[int, int, Pose] | None = None  # state, action, odometry at choice
@@ -80,26 +73,21 @@ class QPolicy:
         if self._pending is not None and obs.bumped and self.rng is not None:
             self._end_episode(obs, *self._pending)
             return Decision(self._queue.pop())
-        state = self.states.one(obs.ring_m)
+        state = self.table.state(obs.ring_m)
         if self._pending is not None and self.rng is not None:
             last_state, action, odometry = self._pending
             reward = step_reward(odometry, obs.odometry, False, self.params)
-            q_update(self.q, last_state, action, reward, state, self.params)
-        if self.rng is None:
-            action = greedy(self.q[state], self._order)
-        else:
-            action = epsilon_greedy(self.q[state], self._order, self.params.epsilon, self.rng)
+            self.table.learn(last_state, action, reward, state)
+        action = self.table.act(state, self.rng)
         self._pending = (state, action, obs.odometry)
         return Decision(self._actions[action], trajectory=action, choice=action)
 
     def _end_episode(self, obs: Observation, state: int, action: int, odometry: Pose) -> None:
         """Punish the action that bumped, with nothing after it, and back off along the arc."""
         reward = step_reward(odometry, obs.odometry, True, self.params)
-        q_update(self.q, state, action, reward, None, self.params)
+        self.table.learn(state, action, reward, None)
         self._pending = None
-        last = self._actions[action]
-        steps = math.ceil(self.params.reverse_m / (last.linear_mps * self.robot.control_period_s))
-        self._queue = [Command(-last.linear_mps, -last.angular_radps)] * steps
+        self._queue = backoff_commands(self._actions[action], self.robot, self.params.reverse_m)
 
 
 class QLearning:

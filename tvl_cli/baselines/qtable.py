@@ -1,4 +1,6 @@
-"""Tabular Q-learning over the rules of a FAM table: states, greedy choice and the update.
+"""Tabular Q-learning over the rules of a FAM table: states, greedy choice and the update,
+and the learner that holds them (QTable), which the baseline's policy and the Gymnasium
+agent both learn with.
 
 A ring's state is the table's rule that fires strongest for it. A rule's strength is the
 minimum of its inputs' memberships, and each input picks its fuzzy set independently, so the
@@ -12,6 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from tvl_cli.agent.motions import BACKOFF_M
 from tvl_cli.core.config import FamTable
 from tvl_cli.core.fuzzy import StackedPartitions
 
@@ -28,7 +31,7 @@ class QParams:
     # A bump costs as much as 100 control periods of driving at top speed: no progress is
     # worth one.
     collision_penalty: float = 6.0
-    reverse_m: float = 0.15  # backed off along the path after a bump, as TVL learning does
+    reverse_m: float = BACKOFF_M  # backed off along the path after a bump, as TVL learning does
 
 
 class RuleStates:
@@ -99,3 +102,35 @@ def q_update(
     """
     future = 0.0 if next_state is None else params.discount * float(q[next_state].max())
     q[state, action] += params.learning_rate * (reward + future - q[state, action])
+
+
+class QTable:
+    """A table of action values over a FAM table's rules, learnt one step at a time.
+
+    Actions are tried straight ahead first (preference_order): a state never visited drives
+    straight on.
+    """
+
+    def __init__(
+        self, states: RuleStates, actions: int, params: QParams, q: np.ndarray | None = None
+    ) -> None:
+        """`q` (rules, actions) to learn into in place, shared with its owner; a zero table
+        by default."""
+        self.states = states
+        self.params = params
+        self.q = np.zeros((states.count, actions)) if q is None else q
+        self._order = preference_order(actions)
+
+    def state(self, ring_m: np.ndarray) -> int:
+        """The state of a ring (16,) metres: its strongest rule."""
+        return self.states.one(ring_m)
+
+    def act(self, state: int, rng: np.random.Generator | None = None) -> int:
+        """The action for a state: epsilon-greedy drawing from `rng`, greedy without one."""
+        if rng is None:
+            return greedy(self.q[state], self._order)
+        return epsilon_greedy(self.q[state], self._order, self.params.epsilon, rng)
+
+    def learn(self, state: int, action: int, reward: float, next_state: int | None) -> None:
+        """One step's update; `next_state` None ends the episode (a bump)."""
+        q_update(self.q, state, action, reward, next_state, self.params)

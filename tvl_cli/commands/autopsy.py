@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from tvl_cli.agent.drive import GOAL_RADIUS_M
+from tvl_cli.agent.engine import GOAL_RADIUS_M
 from tvl_cli.agent.trace import Columns
 from tvl_cli.analysis.autopsy import (
     AUDIBLE_S,

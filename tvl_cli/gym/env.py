@@ -1,8 +1,11 @@
-"""The simulator `tvl run` drives, as a Gymnasium environment: one step is one control period.
+"""The simulator `tvl run` drives, as a Gymnasium environment: one step is one control period
+of the step engine (agent.engine), the one `tvl run` steps.
 
-Observations are the sonar ring (and, seeking a goal, the goal's bearing and distance by
-odometry); actions are the seven trajectories at one speed, a spin either way, and a stop.
-A bump ends an episode in both tasks.
+The environment adds only what Gymnasium asks for: spaces, a reward and an end for each task
+(gym.episode), and rendering. Observations are the sonar ring (and, seeking a goal, the goal's
+bearing and distance by odometry); actions are the trajectories at one speed, a spin either
+way and a stop, or with `action_type="continuous"` any (speed, turn rate) within the robot's
+limits. A bump ends an episode in every task.
 """
 
 from __future__ import annotations
@@ -15,24 +18,27 @@ from typing import TYPE_CHECKING, Any, SupportsFloat
 import gymnasium
 import numpy as np
 
+from tvl_cli.agent.engine import StepEngine
 from tvl_cli.agent.motions import BACKOFF_M, backoff_commands
 from tvl_cli.agent.tvl import goal_bearing
-from tvl_cli.core.command import STOP
+from tvl_cli.core.config import RobotConfig, SonarConfig
 from tvl_cli.core.contacts import drives_forward
 from tvl_cli.core.memory import NO_MEMORY, MemoryConfig
 from tvl_cli.gym.episode import (
     ACTION_NAMES,
+    DISCRETE,
     ROBOT,
     SPIN_LEFT,
     SPIN_RIGHT,
     STOP_ACTION,
     TASKS,
+    WALL,
     RobotEpisode,
     RobotNow,
     RobotTask,
+    reset_option,
     resolve_world,
 )
-from tvl_cli.sim.robot import Simulator
 from tvl_cli.sim.worldmap import WorldMap
 
 if TYPE_CHECKING:
@@ -46,21 +52,17 @@ __all__ = [
     "STOP_ACTION",
     "TASKS",
     "SonarRingEnv",
-    "now_of",
     "resolve_world",
 ]
 
 
-def now_of(sim: Simulator) -> RobotNow:
-    """What a simulator says of its robot now."""
-    return RobotNow(sim.time_s, sim.pose, sim.odometry, sim.bumped)
-
-
-class SonarRingEnv(gymnasium.Env[np.ndarray, np.int64]):
-    """The robot in a world, avoiding obstacles (`avoid`) or seeking a goal (`goal`).
+class SonarRingEnv(gymnasium.Env[np.ndarray, Any]):
+    """The robot in a world, avoiding obstacles (`avoid`), seeking a goal (`goal`) or
+    following a wall at a set distance (`wall`).
 
     The simulator draws all its noise from the environment's generator, seeded by
-    `reset(seed=...)`: the same seed and actions give the same episode.
+    `reset(seed=...)`: the same seed and actions give the same episode, and the same seed
+    and commands as `tvl run` give its run, step for step.
     """
 
     # Gymnasium declares metadata on its Env as a mutable instance default; typed as it is.
@@ -75,18 +77,37 @@ class SonarRingEnv(gymnasium.Env[np.ndarray, np.int64]):
         task: str = "avoid",
         *,
         goal: tuple[float, float] | None = None,
-        speed_fraction: float = 1.0,
+        wall_distance_m: float | None = None,
+        action_type: str = DISCRETE,
+        speed_fraction: float | None = None,
         memory: MemoryConfig | str = NO_MEMORY,
+        robot: RobotConfig | None = None,
+        sonar: str | SonarConfig | None = None,
         render_mode: str | None = None,
     ) -> None:
         """`goal` (x, y metres) for the `goal` task, by default the world's first;
-        `speed_fraction` of each trajectory's maximum speed is what its action drives at;
-        `memory` (a MemoryConfig, or the name of a kind with its default settings) makes the
-        observed ring the echo memory's virtual ring, as a FAM trained through it reads."""
+        `wall_distance_m` for the `wall` task, body edge to wall (default 0.4);
+        `action_type` `discrete` or `continuous`; `speed_fraction` (discrete only, default
+        1) of each trajectory's maximum speed is what its action drives at; `memory` (a
+        MemoryConfig, or the name of a kind with its default settings) makes the observed
+        ring the echo memory's virtual ring, as a FAM trained through it reads; `robot` (a
+        RobotConfig, by default `tvl run`'s) with `sonar` (a model's name, `real`, `edges`
+        or `ideal`, or a SonarConfig) in place of its own."""
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(f"unknown render_mode {render_mode!r} (choose from ansi, rgb_array)")
-        self.robot_task = RobotTask.of(world, task, goal, speed_fraction, memory)
+        self.robot_task = RobotTask.of(
+            world,
+            task,
+            goal=goal,
+            wall_distance_m=wall_distance_m,
+            speed_fraction=speed_fraction,
+            memory=memory,
+            action_type=action_type,
+            robot=robot,
+            sonar=sonar,
+        )
         self.world = self.robot_task.world
+        self.robot = self.robot_task.robot
         self.memory = self.robot_task.memory
         self.task = task
         self.goal_xy = self.robot_task.goal_xy
@@ -94,7 +115,7 @@ class SonarRingEnv(gymnasium.Env[np.ndarray, np.int64]):
         self.commands = self.robot_task.commands
         self.action_space = self.robot_task.action_space()
         self.observation_space = self.robot_task.observation_space()
-        self._sim: Simulator | None = None
+        self._engine: StepEngine | None = None
         self._episode = RobotEpisode(self.robot_task)
         self._frame: RobotFrame | None = None
 
@@ -104,29 +125,41 @@ class SonarRingEnv(gymnasium.Env[np.ndarray, np.int64]):
         """A new episode from the world's start; with `options={"continue": True}`, from where
         the last one ended instead, backed off 0.15 m along its path if it ended in a bump
         (as the robot learns in the paper, and as the Q-learning baseline does)."""
-        going_on = bool((options or {}).get("continue"))
+        going_on = reset_option(options)
         if going_on and seed is not None:
             raise ValueError("a seed starts afresh: reset with continue takes none")
-        if going_on and self._sim is None:
+        if going_on and self._engine is None:
             raise ValueError("nothing to continue: reset() without it first")
         super().reset(seed=seed)
         if going_on:
-            sim = self._running()
-            last = self.commands[self._episode.last[0]] if self._episode.last else STOP
-            if sim.bumped and drives_forward(last):
-                for command in backoff_commands(last, ROBOT, BACKOFF_M):
-                    sim.step(command)
+            engine = self._running()
+            last = self._episode.last_command
+            if engine.sim.bumped and drives_forward(last):
+                for command in backoff_commands(last, self.robot, BACKOFF_M):
+                    engine.step(command)
+            observation = engine.go_on()
         else:
-            sim = self._sim = Simulator(self.world, ROBOT, self.np_random)
-        return self._episode.begin(sim.read_sonar(), now_of(sim), remember=going_on)
+            engine = self._engine = StepEngine(
+                self.world,
+                self.robot,
+                goal_xy=self.goal_xy,
+                measure=self.task == WALL,
+            )
+            observation = engine.reset(self.np_random)
+        sim = engine.sim
+        clearance_m = sim.clearance_m() if self.task == WALL else None
+        now = RobotNow(sim.time_s, sim.pose, sim.odometry, sim.bumped, clearance_m)
+        return self._episode.begin(observation.ring_m, now, remember=going_on)
 
-    def step(
-        self, action: np.int64 | int
-    ) -> tuple[np.ndarray, SupportsFloat, bool, bool, dict[str, Any]]:
-        sim = self._running()
-        sim.step(self._episode.command(int(action)))
+    def step(self, action: Any) -> tuple[np.ndarray, SupportsFloat, bool, bool, dict[str, Any]]:
+        engine = self._running()
+        outcome = engine.step(self._episode.command(action))
+        seen = outcome.observation
+        now = RobotNow(
+            seen.time_s, outcome.truth.pose, seen.odometry, seen.bumped, outcome.truth.clearance_m
+        )
         obs, reward, terminated, info = self._episode.after(
-            int(action), sim.read_sonar(), now_of(sim)
+            action, seen.ring_m, now, outcome.events, outcome.done
         )
         return obs, reward, terminated, False, info
 
@@ -140,25 +173,20 @@ class SonarRingEnv(gymnasium.Env[np.ndarray, np.int64]):
     def close(self) -> None:
         self._frame = None
 
-    def _running(self) -> Simulator:
-        if self._sim is None:
+    def _running(self) -> StepEngine:
+        if self._engine is None:
             raise gymnasium.error.ResetNeeded("call reset() before step() or render()")
-        return self._sim
+        return self._engine
 
-    def _caption(self) -> str:
-        if self._episode.last is None:
-            return "episode start"
-        action, reward, _ = self._episode.last
-        return f"action {ACTION_NAMES[action]}, reward {reward:+.3f}"
-
-    def _text(self, sim: Simulator) -> str:
+    def _text(self, engine: StepEngine) -> str:
+        sim = engine.sim
         x, y, heading = sim.pose
         last = self._episode.last
         events = " ".join(last[2]) if last else ""
         lines = [
             f"{sim.time_s:.1f} s  x {x:.2f} m  y {y:.2f} m  heading {math.degrees(heading):.0f}°"
             f"  {events}".rstrip(),
-            self._caption(),
+            self._episode.caption(),
             "sonar m  " + " ".join(f"{r:.2f}" for r in self._episode.ring),
         ]
         if self.goal_xy is not None:
@@ -167,15 +195,16 @@ class SonarRingEnv(gymnasium.Env[np.ndarray, np.int64]):
             lines.append(f"goal {distance_m:.2f} m at {bearing:+.0f}° by odometry")
         return "\n".join(lines) + "\n"
 
-    def _picture(self, sim: Simulator) -> np.ndarray:
+    def _picture(self, engine: StepEngine) -> np.ndarray:
         # matplotlib only when a picture is wanted
         from tvl_cli.render.animate import RobotFrame
 
+        sim = engine.sim
         if self._frame is None:
             world = (
                 self.world if self.goal_xy is None else replace(self.world, goals=(self.goal_xy,))
             )
-            self._frame = RobotFrame(world, ROBOT)
+            self._frame = RobotFrame(world, self.robot)
         last = self._episode.last
         events = " ".join(last[2]) if last else ""
         return self._frame.draw(
@@ -183,5 +212,5 @@ class SonarRingEnv(gymnasium.Env[np.ndarray, np.int64]):
             np.array(sim.pose),
             self._episode.ring,
             f"{sim.time_s:.1f} s  {events}",
-            self._caption(),
+            self._episode.caption(),
         )

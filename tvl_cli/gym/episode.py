@@ -1,41 +1,58 @@
-"""One robot's part of the Gymnasium task, whatever steps its simulator: the command an action
-asks for, and after the physics what the robot observes, its reward, whether the episode has
-ended and the truth beside it. SonarRingEnv runs one over a Simulator; SonarRingVectorEnv
-runs one a robot over a RobotBatch, so both follow the same rules.
+"""One robot's part of the Gymnasium task, whatever steps its physics: the command an action
+asks for, and after the step what the robot observes, its reward, whether the episode has
+ended and the truth beside it. SonarRingEnv runs one over the step engine (agent.engine);
+SonarRingVectorEnv runs one a robot over a RobotBatch, each judged by the engine's StepJudge,
+so both follow the same rules.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+import numbers
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 from gymnasium import spaces
 
-from tvl_cli.agent.drive import GOAL_RADIUS_M
+from tvl_cli.agent.engine import within_goal
 from tvl_cli.agent.perception import Perception
 from tvl_cli.agent.tvl import goal_bearing
-from tvl_cli.baselines.qlearning import DEFAULT_Q, step_reward
-from tvl_cli.core.behaviours import is_threshold
+from tvl_cli.baselines.qlearning import DEFAULT_Q, forward_travel_m, step_reward
 from tvl_cli.core.command import STOP, Command
-from tvl_cli.core.config import RobotConfig
-from tvl_cli.core.contacts import EventDetector, near_miss_sonars
+from tvl_cli.core.config import SONAR_MODELS, RobotConfig, SonarConfig
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.memory import MemoryConfig
 from tvl_cli.sim.motion import Pose
 from tvl_cli.sim.worldgen import bundled_world_path
 from tvl_cli.sim.worldmap import WorldMap, check_goal, load_world
 
-TASKS = ("avoid", "goal")
+AVOID, GOAL, WALL = "avoid", "goal", "wall"
+TASKS = (AVOID, GOAL, WALL)
+DISCRETE, CONTINUOUS = "discrete", "continuous"
+ACTION_TYPES = (DISCRETE, CONTINUOUS)
 ROBOT = RobotConfig()  # the robot of `tvl run`, with the real (noisy, specular) sonar ring
 SONARS = ROBOT.sonar.count
-# Actions 0-6 are the trajectories T3L..T3R; then a spin on the spot each way, and a stop.
+# Discrete actions 0-6 are the trajectories T3L..T3R; then a spin on the spot each way, and a
+# stop. (Numbered for the default robot; another robot's trajectories come first the same way.)
 SPIN_LEFT = len(ROBOT.trajectories)
 SPIN_RIGHT = SPIN_LEFT + 1
 STOP_ACTION = SPIN_LEFT + 2
-ACTION_NAMES = (*(t.name for t in ROBOT.trajectories), "spin-left", "spin-right", "stop")
+
+
+def action_names(robot: RobotConfig) -> tuple[str, ...]:
+    """The discrete actions' names: the robot's trajectories, the spins and the stop."""
+    return (*(t.name for t in robot.trajectories), "spin-left", "spin-right", "stop")
+
+
+ACTION_NAMES = action_names(ROBOT)
+# The wall task's distance, body edge to the nearest obstacle: about what the paper's wall
+# following keeps at threshold 0.85 (README, Experiments: 0.40 m).
+WALL_DISTANCE_M = 0.4
+# Each metre off that distance costs this much reward a step: at the top speed (0.06 m a step)
+# a robot 0.6 m off earns nothing for its progress, and one standing still pays for its error.
+WALL_ERROR_WEIGHT = 0.1
 
 
 def resolve_world(world: str | Path | WorldMap) -> WorldMap:
@@ -43,6 +60,8 @@ def resolve_world(world: str | Path | WorldMap) -> WorldMap:
     name when no such file exists and the name has no extension. ValueError if neither."""
     if isinstance(world, WorldMap):
         return world
+    if not isinstance(world, str | Path):
+        raise TypeError(f"world {world!r} is not a world's name, a path or a WorldMap")
     path = Path(world)
     try:
         return load_world(path if path.is_file() or path.suffix else bundled_world_path(str(path)))
@@ -50,15 +69,63 @@ def resolve_world(world: str | Path | WorldMap) -> WorldMap:
         raise ValueError(str(problem)) from None
 
 
+def resolve_robot(robot: RobotConfig | None, sonar: str | SonarConfig | None) -> RobotConfig:
+    """The robot (by default `tvl run`'s), with the sonar model named or given, if one is."""
+    if robot is None:
+        robot = ROBOT
+    elif not isinstance(robot, RobotConfig):
+        raise TypeError(f"robot {robot!r} is not a RobotConfig")
+    if sonar is None:
+        return robot
+    if isinstance(sonar, str):
+        if sonar not in SONAR_MODELS:
+            raise ValueError(f"unknown sonar {sonar!r} (choose from {', '.join(SONAR_MODELS)})")
+        sonar = SONAR_MODELS[sonar]
+    if not isinstance(sonar, SonarConfig):
+        raise TypeError(f"sonar {sonar!r} is neither a sonar model's name nor a SonarConfig")
+    return replace(robot, sonar=sonar)
+
+
+def _real(value: object) -> bool:
+    """A finite real number, not a truth value."""
+    return (
+        isinstance(value, numbers.Real)
+        and not isinstance(value, bool | np.bool_)
+        and math.isfinite(float(value))
+    )
+
+
+def _pair(goal: object) -> tuple[float, float]:
+    """(x, y) metres from a goal as given; ValueError or TypeError naming it."""
+    if isinstance(goal, str | bytes) or not isinstance(goal, tuple | list | np.ndarray):
+        raise TypeError(f"goal {goal!r} is not a pair (x, y) of metres")
+    if len(goal) != 2 or not all(_real(v) for v in goal):
+        raise ValueError(f"goal {goal!r} is not a pair (x, y) of finite metres")
+    return float(goal[0]), float(goal[1])
+
+
+def _speed_fraction(value: object, action_type: str) -> float:
+    if value is None:
+        return 1.0
+    if action_type != DISCRETE:
+        raise ValueError("speed_fraction is for discrete actions only")
+    if not _real(value) or not 0 < float(value) <= 1:  # type: ignore[arg-type]
+        raise ValueError(f"speed_fraction {value!r} is outside (0, 1]")
+    return float(value)  # type: ignore[arg-type]
+
+
 @dataclass(frozen=True, slots=True, eq=False)
 class RobotTask:
-    """What each robot is asked: its world, the task, the commands its actions stand for and
-    how it perceives (the echo memory)."""
+    """What each robot is asked: its world, the robot, the task, what its actions stand for
+    and how it perceives (the echo memory)."""
 
     world: WorldMap
+    robot: RobotConfig
     task: str  # one of TASKS
     goal_xy: tuple[float, float] | None  # metres; the `goal` task's only
-    commands: tuple[Command, ...]  # by action
+    wall_distance_m: float | None  # body edge to the wall; the `wall` task's only
+    action_type: str  # one of ACTION_TYPES
+    commands: tuple[Command, ...]  # by discrete action; empty for continuous actions
     memory: MemoryConfig
     # Odometry drifts, so its distance to the goal has no bound of its own: the world's
     # diagonal is as far as two points of the world can be, and the distance is capped there.
@@ -69,41 +136,111 @@ class RobotTask:
         cls,
         world: str | Path | WorldMap,
         task: str,
-        goal: tuple[float, float] | None,
-        speed_fraction: float,
+        *,
+        goal: object = None,
+        wall_distance_m: object = None,
+        speed_fraction: object = None,
         memory: MemoryConfig | str,
+        action_type: str = DISCRETE,
+        robot: RobotConfig | None = None,
+        sonar: str | SonarConfig | None = None,
     ) -> RobotTask:
         """The task from the environments' arguments (SonarRingEnv documents them); a
-        ValueError names what is wrong."""
+        ValueError (a TypeError for a value of the wrong kind) names what is wrong."""
         if task not in TASKS:
             raise ValueError(f"unknown task {task!r} (choose from {', '.join(TASKS)})")
-        if not is_threshold(speed_fraction):
-            raise ValueError(f"speed_fraction {speed_fraction!r} is outside (0, 1]")
+        if action_type not in ACTION_TYPES:
+            raise ValueError(
+                f"unknown action_type {action_type!r} (choose from {', '.join(ACTION_TYPES)})"
+            )
+        fraction = _speed_fraction(speed_fraction, action_type)
         resolved = resolve_world(world)
+        body = resolve_robot(robot, sonar)
         try:
             remembering = memory if isinstance(memory, MemoryConfig) else MemoryConfig(memory)
         except BadInput as problem:
             raise ValueError(str(problem)) from None
         commands = (
-            *(Command.follow(t, speed_fraction * t.v_max_mps) for t in ROBOT.trajectories),
-            Command.spin(ROBOT.spin_rate_radps),
-            Command.spin(-ROBOT.spin_rate_radps),
-            STOP,
+            (
+                *(Command.follow(t, fraction * t.v_max_mps) for t in body.trajectories),
+                Command.spin(body.spin_rate_radps),
+                Command.spin(-body.spin_rate_radps),
+                STOP,
+            )
+            if action_type == DISCRETE
+            else ()
         )
         far_m = math.hypot(resolved.width_m, resolved.height_m)
-        goal_xy = _goal(resolved, task, goal)
-        return cls(resolved, task, goal_xy, commands, remembering, far_m)
+        return cls(
+            resolved,
+            body,
+            task,
+            _goal(resolved, task, goal),
+            _wall_distance(body, task, wall_distance_m),
+            action_type,
+            commands,
+            remembering,
+            far_m,
+        )
+
+    @property
+    def top_speed_mps(self) -> float:
+        """The fastest the robot drives, forward or back: its fastest trajectory's speed."""
+        return max(self.robot.v_max_mps)
 
     def observation_space(self) -> spaces.Box:
-        low, high = [ROBOT.sonar.min_range_m] * SONARS, [ROBOT.sonar.max_range_m] * SONARS
+        sonar = self.robot.sonar
+        low, high = [sonar.min_range_m] * sonar.count, [sonar.max_range_m] * sonar.count
         if self.goal_xy is not None:
             low, high = [*low, -math.pi, 0.0], [*high, math.pi, self.far_m]
         return spaces.Box(
             np.array(low, dtype=np.float32), np.array(high, dtype=np.float32), dtype=np.float32
         )
 
-    def action_space(self) -> spaces.Discrete:
-        return spaces.Discrete(len(self.commands))
+    def action_space(self) -> spaces.Discrete | spaces.Box:
+        """The discrete commands; or (speed m/s, turn rate rad/s) within the robot's limits,
+        in float64 so that any command a run gave can be given again exactly."""
+        if self.action_type == DISCRETE:
+            return spaces.Discrete(len(self.commands))
+        v, w = self.top_speed_mps, self.robot.spin_rate_radps
+        return spaces.Box(np.array([-v, -w]), np.array([v, w]), dtype=np.float64)
+
+    def command(self, action: object) -> Command:
+        """The command an action stands for; ValueError (TypeError for one of the wrong
+        kind) naming the action if the action space holds no such action."""
+        if self.action_type == DISCRETE:
+            return self.commands[self.action_index(action)]
+        return self._continuous(action)
+
+    def action_index(self, action: object) -> int:
+        """A discrete action as an index of `commands`; ValueError or TypeError naming it."""
+        n = len(self.commands)
+        if isinstance(action, np.ndarray) and action.shape == ():
+            action = action[()]
+        if not isinstance(action, int | np.integer) or isinstance(action, bool | np.bool_):
+            raise TypeError(f"action {action!r} is not an int of Discrete({n}) (0 to {n - 1})")
+        if not 0 <= action < n:
+            raise ValueError(f"action {action!r} is not in Discrete({n}) (0 to {n - 1})")
+        return int(action)
+
+    def _continuous(self, action: object) -> Command:
+        values = np.asarray(action)
+        if values.dtype.kind not in "fiu":
+            raise TypeError(f"action {action!r} is not (speed m/s, turn rad/s) in numbers")
+        if values.shape != (2,) or not np.isfinite(values).all():
+            raise ValueError(f"action {action!r} is not a finite (speed m/s, turn rad/s)")
+        space = self.action_space()
+        assert isinstance(space, spaces.Box)
+        # Judged in the action's own precision: a float32 agent's 0.6 m/s is 0.6000000238.
+        precision = values.dtype if values.dtype.kind == "f" else np.float64
+        if ((values < space.low.astype(precision)) | (values > space.high.astype(precision))).any():
+            v, w = space.high
+            raise ValueError(
+                f"action {action!r} is outside the robot's limits: speed -{v:g} to {v:g} m/s, "
+                f"turn -{w:g} to {w:g} rad/s"
+            )
+        speed, turn = np.clip(values.astype(np.float64), space.low, space.high).tolist()
+        return Command(speed, turn)
 
     def goal_m(self, odometry: Pose) -> float:
         """Metres from the odometry's position to the goal."""
@@ -111,15 +248,13 @@ class RobotTask:
         return math.dist(odometry[:2], self.goal_xy)
 
 
-def _goal(
-    world: WorldMap, task: str, goal: tuple[float, float] | None
-) -> tuple[float, float] | None:
-    if task != "goal":
+def _goal(world: WorldMap, task: str, goal: object) -> tuple[float, float] | None:
+    if task != GOAL:
         if goal is not None:
             raise ValueError("goal is for task 'goal' only")
         return None
     if goal is not None:
-        x, y = goal
+        x, y = _pair(goal)
         try:
             check_goal(world, x, y, where=f"goal {x:g},{y:g}")
         except BadInput as problem:
@@ -130,32 +265,63 @@ def _goal(
     return world.goals[0]
 
 
+def _wall_distance(robot: RobotConfig, task: str, distance_m: object) -> float | None:
+    if task != WALL:
+        if distance_m is not None:
+            raise ValueError("wall_distance_m is for task 'wall' only")
+        return None
+    if distance_m is None:
+        return WALL_DISTANCE_M
+    # Farther than the ring ranges, the robot could not see the wall it is to keep.
+    reach_m = robot.sonar.max_range_m
+    if not _real(distance_m) or not 0 < float(distance_m) < reach_m:  # type: ignore[arg-type]
+        raise ValueError(f"wall_distance_m {distance_m!r} is outside (0, {reach_m:g}) m")
+    return float(distance_m)  # type: ignore[arg-type]
+
+
+def reset_option(options: object) -> bool:
+    """Whether `reset(options=...)` asks to go on from where the last episode ended; a
+    TypeError or ValueError naming the options if they are not `{"continue": bool}`."""
+    if options is None:
+        return False
+    if not isinstance(options, dict):
+        raise TypeError(f"reset options {options!r} are not a dict")
+    unknown = sorted(str(key) for key in options if key != "continue")
+    if unknown:
+        raise ValueError(f"reset options {unknown} are unknown (the one option is 'continue')")
+    going_on = options.get("continue", False)
+    if not isinstance(going_on, bool | np.bool_):
+        raise TypeError(f"reset option continue={going_on!r} is not True or False")
+    return bool(going_on)
+
+
 @dataclass(frozen=True, slots=True)
 class RobotNow:
-    """What the simulator says of one robot after a step (or a reset)."""
+    """What the physics says of one robot after a step (or a reset)."""
 
     time_s: float
     pose: Pose  # the truth
     odometry: Pose
     bumped: bool
+    clearance_m: float | None  # the truth, body edge to the nearest obstacle: the wall task's
 
 
 class RobotEpisode:
-    """One robot's episode of a task: its perception, contact events, rewards and end.
+    """One robot's episode of a task: its perception, rewards and end.
 
     Fed in order: `begin` after the robot is (re)set, then for each step `command` before
-    the physics and `after` with the ring read after it.
+    the physics and `after` with the ring read after it and what the step's judge
+    (agent.engine.StepJudge) made of it.
     """
 
     def __init__(self, task: RobotTask) -> None:
         self.task = task
-        self.ring = np.empty(SONARS)  # (16,) metres read after the last step
-        self.last: tuple[int, float, tuple[str, ...]] | None = None  # action, reward, events
+        self.ring = np.empty(task.robot.sonar.count)  # (16,) metres read after the last step
+        self.last: tuple[object, float, tuple[str, ...]] | None = None  # action, reward, events
+        self.last_command = STOP  # the last step's
         self.trail: list[tuple[float, float]] = []  # true positions this episode, metres
-        self._perception = Perception(task.memory, ROBOT)
-        self._events = EventDetector(near_miss_sonars(SONARS), ROBOT.sonar.min_range_m)
+        self._perception = Perception(task.memory, task.robot)
         self._odometry: Pose = task.world.start
-        self._command = STOP
 
     def begin(
         self, ring: np.ndarray, now: RobotNow, remember: bool = False
@@ -163,36 +329,61 @@ class RobotEpisode:
         """A new episode from where the robot is: the observation and info. `remember`: a
         robot going on keeps what it heard; one starting afresh has heard nothing."""
         if not remember:
-            self._perception = Perception(self.task.memory, ROBOT)
-        self._events = EventDetector(near_miss_sonars(SONARS), ROBOT.sonar.min_range_m)
+            self._perception = Perception(self.task.memory, self.task.robot)
         perceived = self._sense(ring, now)
         self.last = None
         self.trail = [now.pose[:2]]
-        return self._observation(perceived, now), self._info(now, ())
+        reached = self.task.goal_xy is not None and within_goal(now.odometry[:2], self.task.goal_xy)
+        return self._observation(perceived, now), self._info(now, (), reached)
 
-    def command(self, action: int) -> Command:
+    def command(self, action: object) -> Command:
         """The command of an action, for the physics to hold for a step."""
-        self._command = self.task.commands[action]
-        return self._command
+        self.last_command = self.task.command(action)
+        return self.last_command
 
     def after(
-        self, action: int, ring: np.ndarray, now: RobotNow
+        self,
+        action: object,
+        ring: np.ndarray,
+        now: RobotNow,
+        events: tuple[str, ...],
+        reached: bool,
     ) -> tuple[np.ndarray, float, bool, dict[str, Any]]:
-        """After the physics of a step: observation, reward, terminated and info."""
+        """After the physics of a step: observation, reward, terminated and info. `events`
+        and `reached` are the judge's: what the step began, and the goal reached."""
         before = self._odometry
-        events = self._events.step(self.ring, self._command, now.bumped, False)
         perceived = self._sense(ring, now)
         task = self.task
-        if task.goal_xy is None:
-            reward = step_reward(before, now.odometry, now.bumped)
-            terminated = now.bumped
+        penalty = DEFAULT_Q.collision_penalty if now.bumped else 0.0
+        terminated = now.bumped
+        if task.task == GOAL:
+            reward = task.goal_m(before) - task.goal_m(now.odometry) - penalty
+            terminated = now.bumped or reached
+        elif task.task == WALL:
+            reward = forward_travel_m(before, now.odometry) - penalty
+            reward -= WALL_ERROR_WEIGHT * abs(self._wall_error_m(now))
         else:
-            progress_m = task.goal_m(before) - task.goal_m(now.odometry)
-            reward = progress_m - (DEFAULT_Q.collision_penalty if now.bumped else 0.0)
-            terminated = now.bumped or task.goal_m(now.odometry) <= GOAL_RADIUS_M
+            reward = step_reward(before, now.odometry, now.bumped)
         self.last = (action, reward, events)
         self.trail.append(now.pose[:2])
-        return self._observation(perceived, now), reward, terminated, self._info(now, events)
+        info = self._info(now, events, reached)
+        return self._observation(perceived, now), reward, terminated, info
+
+    def caption(self) -> str:
+        """The last step's action and reward, as the renderings caption them."""
+        if self.last is None:
+            return "episode start"
+        action, reward, _ = self.last
+        if self.task.action_type == DISCRETE:
+            name = action_names(self.task.robot)[self.task.action_index(action)]
+        else:
+            command = self.last_command
+            name = f"{command.linear_mps:+.2f} m/s {command.angular_radps:+.2f} rad/s"
+        return f"action {name}, reward {reward:+.3f}"
+
+    def _wall_error_m(self, now: RobotNow) -> float:
+        assert now.clearance_m is not None and self.task.wall_distance_m is not None
+        return now.clearance_m - self.task.wall_distance_m
 
     def _sense(self, ring: np.ndarray, now: RobotNow) -> np.ndarray:
         """Take the ring read where the robot is; what perception makes of it."""
@@ -211,17 +402,23 @@ class RobotEpisode:
         distance = min(task.goal_m(now.odometry), task.far_m)
         return np.array([*perceived, bearing, distance], dtype=np.float32)
 
-    def _info(self, now: RobotNow, events: tuple[str, ...]) -> dict[str, Any]:
+    def _info(self, now: RobotNow, events: tuple[str, ...], reached: bool) -> dict[str, Any]:
         """The truth beside the observation: simulated time, true pose and odometry (x, y
         metres, heading radians, not wrapped), the bump sensor, and the contact events
-        (core.contacts) the step began."""
-        info = {
+        (core.contacts) the step began; seeking a goal, whether it is reached (also as
+        `is_success`, the key RL libraries read); following a wall, the true clearance and
+        its error from the set distance."""
+        info: dict[str, Any] = {
             "time_s": now.time_s,
             "pose": np.array(now.pose),
             "odometry": np.array(now.odometry),
             "bumped": now.bumped,
             "events": events,
         }
-        if self.task.goal_xy is not None:
-            info["goal_reached"] = self.task.goal_m(now.odometry) <= GOAL_RADIUS_M
+        if self.task.task == GOAL:
+            info["goal_reached"] = reached
+            info["is_success"] = reached
+        elif self.task.task == WALL:
+            info["clearance_m"] = now.clearance_m
+            info["wall_error_m"] = self._wall_error_m(now)
         return info

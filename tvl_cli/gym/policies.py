@@ -16,19 +16,12 @@ import numpy as np
 from tvl_cli.agent.policy import LazyRing, Observation
 from tvl_cli.agent.tvl import TvlPolicy
 from tvl_cli.baselines.qlearning import DEFAULT_Q
-from tvl_cli.baselines.qtable import (
-    QParams,
-    RuleStates,
-    epsilon_greedy,
-    greedy,
-    preference_order,
-    q_update,
-)
+from tvl_cli.baselines.qtable import QParams, QTable, RuleStates
 from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD, is_threshold
 from tvl_cli.core.config import SINGLE
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
-from tvl_cli.gym.episode import ROBOT, SONARS, SPIN_LEFT, SPIN_RIGHT
+from tvl_cli.gym.episode import AVOID, DISCRETE, ROBOT, SONARS, SPIN_LEFT, SPIN_RIGHT
 from tvl_cli.io.famfile import read_fam
 
 TRAJECTORIES = len(ROBOT.trajectories)
@@ -87,8 +80,9 @@ class TvlGymPolicy:
 
 
 class QTableAgent:
-    """The Q-learning baseline's table (baselines.qtable) over the single FAM's 720 rules and
-    the seven trajectories, learnt by stepping an `avoid` environment; called, it acts greedily.
+    """The Q-learning baseline's learner (baselines.qtable.QTable) over the single FAM's 720
+    rules and the seven trajectories, learnt by stepping an `avoid` environment of discrete
+    actions; called, it acts greedily.
 
     Its learning settings are `params`'; the reward, the bump penalty and the back-off after a
     bump are the environment's, which are the baseline's defaults.
@@ -96,12 +90,15 @@ class QTableAgent:
 
     def __init__(self, params: QParams = DEFAULT_Q) -> None:
         self.params = params
-        self.states = RuleStates(SINGLE.tables[0])
-        self.q = np.zeros((self.states.count, TRAJECTORIES))  # (rules, trajectories)
-        self._order = preference_order(TRAJECTORIES)
+        self.table = QTable(RuleStates(SINGLE.tables[0]), TRAJECTORIES, params)
+
+    @property
+    def q(self) -> np.ndarray:
+        """(rules, trajectories) the learnt action values."""
+        return self.table.q
 
     def __call__(self, obs: np.ndarray) -> int:
-        return greedy(self.q[self.states.one(obs[:SONARS])], self._order)
+        return self.table.act(self.table.state(obs[:SONARS]))
 
     def learn(self, env: gymnasium.Env[np.ndarray, Any], minutes: float, seed: int) -> int:
         """Learn for `minutes` of simulated time from the world's start, epsilon-greedy, going
@@ -109,26 +106,26 @@ class QTableAgent:
 
         `seed` seeds the environment and, apart from it, the exploration.
         """
-        if getattr(env.unwrapped, "task", None) != "avoid":
-            raise ValueError("Q-learning learns the avoid task of tvl/SonarRing-v0")
+        task = getattr(env.unwrapped, "robot_task", None)
+        if task is None or task.task != AVOID or task.action_type != DISCRETE:
+            raise ValueError("Q-learning learns the avoid task of tvl/SonarRing-v0, discrete")
         env_seed, explore_seed = np.random.SeedSequence(seed).generate_state(2)
         explore = np.random.default_rng(explore_seed)
         obs, info = env.reset(seed=int(env_seed))
-        state = self.states.one(obs[:SONARS])
+        table = self.table
+        state = table.state(obs[:SONARS])
         bumps = 0
         period_s = ROBOT.control_period_s
         # Simulated time, as the baseline counts it: the back-offs take some of it.
         while round(info["time_s"] / period_s) < round(minutes * 60.0 / period_s):
-            action = epsilon_greedy(self.q[state], self._order, self.params.epsilon, explore)
+            action = table.act(state, explore)
             obs, reward, terminated, truncated, info = env.step(action)
-            after = self.states.one(obs[:SONARS])
+            after = table.state(obs[:SONARS])
             # A bump ends the episode: nothing is bootstrapped after it. A time limit does not.
-            q_update(
-                self.q, state, action, float(reward), None if terminated else after, self.params
-            )
+            table.learn(state, action, float(reward), None if terminated else after)
             if terminated or truncated:
                 bumps += terminated
                 obs, info = env.reset(options={"continue": True})
-                after = self.states.one(obs[:SONARS])
+                after = table.state(obs[:SONARS])
             state = after
         return bumps

@@ -1,10 +1,11 @@
 """tvl/SonarRing-v0 as a Gymnasium vector environment: N copies of its task in one world,
 every robot stepped by one RobotBatch (one physics space, one ring kernel call a step).
 
-Each copy follows the single environment's rules (gym.episode) and its robot moves bit for
-bit as the single environment's Simulator would, so copy i with seed s and the same actions
-gives what `SonarRingEnv` reset with seed s gives, step by step, through Gymnasium's
-next-step autoreset (as `SyncVectorEnv` over single environments runs them).
+Each copy follows the single environment's rules (gym.episode), each step judged by the step
+engine's StepJudge (agent.engine), and its robot moves bit for bit as the single
+environment's Simulator would, so copy i with seed s and the same actions gives what
+`SonarRingEnv` reset with seed s gives, step by step, through Gymnasium's next-step
+autoreset (as `SyncVectorEnv` over single environments runs them).
 """
 
 from __future__ import annotations
@@ -18,8 +19,10 @@ from gymnasium.utils import seeding
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
+from tvl_cli.agent.engine import StepJudge
+from tvl_cli.core.config import RobotConfig, SonarConfig
 from tvl_cli.core.memory import NO_MEMORY, MemoryConfig
-from tvl_cli.gym.episode import ROBOT, RobotEpisode, RobotNow, RobotTask
+from tvl_cli.gym.episode import DISCRETE, WALL, RobotEpisode, RobotNow, RobotTask, reset_option
 from tvl_cli.sim.batch import RobotBatch
 from tvl_cli.sim.worldmap import WorldMap
 
@@ -45,8 +48,12 @@ class SonarRingVectorEnv(VectorEnv[np.ndarray, np.ndarray, np.ndarray]):
         task: str = "avoid",
         *,
         goal: tuple[float, float] | None = None,
-        speed_fraction: float = 1.0,
+        wall_distance_m: float | None = None,
+        action_type: str = DISCRETE,
+        speed_fraction: float | None = None,
         memory: MemoryConfig | str = NO_MEMORY,
+        robot: RobotConfig | None = None,
+        sonar: str | SonarConfig | None = None,
         max_episode_steps: int | None = None,
     ) -> None:
         """The single environment's arguments (SonarRingEnv), and `max_episode_steps`, after
@@ -54,7 +61,17 @@ class SonarRingVectorEnv(VectorEnv[np.ndarray, np.ndarray, np.ndarray]):
         registered one, as `gymnasium.make` wraps the single environment in its TimeLimit)."""
         if num_envs < 1:
             raise ValueError(f"num_envs {num_envs!r} is not a positive number of copies")
-        self.robot_task = RobotTask.of(world, task, goal, speed_fraction, memory)
+        self.robot_task = RobotTask.of(
+            world,
+            task,
+            goal=goal,
+            wall_distance_m=wall_distance_m,
+            speed_fraction=speed_fraction,
+            memory=memory,
+            action_type=action_type,
+            robot=robot,
+            sonar=sonar,
+        )
         self.num_envs = num_envs
         self.max_episode_steps = max_episode_steps
         self.single_observation_space = self.robot_task.observation_space()
@@ -64,6 +81,7 @@ class SonarRingVectorEnv(VectorEnv[np.ndarray, np.ndarray, np.ndarray]):
         self._rngs: list[np.random.Generator | None] = [None] * num_envs
         self._batch: RobotBatch | None = None
         self._episodes = [RobotEpisode(self.robot_task) for _ in range(num_envs)]
+        self._judges = [self._judge() for _ in range(num_envs)]
         self._elapsed = np.zeros(num_envs, dtype=np.int64)  # steps of each episode so far
         self._ended = np.zeros(num_envs, dtype=bool)  # to be reset at the next step
 
@@ -75,15 +93,15 @@ class SonarRingVectorEnv(VectorEnv[np.ndarray, np.ndarray, np.ndarray]):
     ) -> tuple[np.ndarray, dict[str, Any]]:
         """Every copy from the world's start. `seed`: s seeds copy i with s + i, a list one
         seed a copy; without one a copy goes on with its generator (a fresh one at first)."""
-        if options:
-            raise ValueError(f"reset takes no options here (got {sorted(options)})")
+        if reset_option(options):
+            raise ValueError("reset takes no continue here: every copy starts afresh")
         seeds = self._seeds(seed)
         for i, copy_seed in enumerate(seeds):
             if copy_seed is not None or self._rngs[i] is None:
                 self._rngs[i] = seeding.np_random(copy_seed)[0]
         rngs = [rng for rng in self._rngs if rng is not None]
         if self._batch is None:
-            self._batch = RobotBatch(self.robot_task.world, ROBOT, rngs)
+            self._batch = RobotBatch(self.robot_task.world, self.robot_task.robot, rngs)
         else:
             for i, rng in enumerate(rngs):
                 self._batch.restart(i, rng)
@@ -94,6 +112,7 @@ class SonarRingVectorEnv(VectorEnv[np.ndarray, np.ndarray, np.ndarray]):
         observations = []
         infos: dict[str, Any] = {}
         for i, episode in enumerate(self._episodes):
+            self._judges[i] = self._judge()
             observation, info = episode.begin(rings[i], now[i])
             observations.append(observation)
             infos = self._add_info(infos, info, i)
@@ -104,15 +123,17 @@ class SonarRingVectorEnv(VectorEnv[np.ndarray, np.ndarray, np.ndarray]):
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
         batch = self._running()
         actions = np.asarray(actions)
-        if actions.shape != (self.num_envs,):
-            raise ValueError(f"actions of shape {actions.shape} for {self.num_envs} copies")
+        shape = (self.num_envs, *(self.single_action_space.shape or ()))
+        if actions.shape != shape:
+            raise ValueError(
+                f"actions of shape {actions.shape} for {shape} ({self.num_envs} copies)"
+            )
         restarting = self._ended.copy()
-        batch.step(
-            [
-                None if restarting[i] else episode.command(int(actions[i]))
-                for i, episode in enumerate(self._episodes)
-            ]
-        )
+        commands = [
+            None if restarting[i] else episode.command(actions[i])
+            for i, episode in enumerate(self._episodes)
+        ]
+        batch.step(commands)
         for k in np.flatnonzero(restarting).tolist():
             rng = self._rngs[k]
             assert rng is not None
@@ -124,12 +145,17 @@ class SonarRingVectorEnv(VectorEnv[np.ndarray, np.ndarray, np.ndarray]):
         terminations = np.zeros(self.num_envs, dtype=bool)
         infos: dict[str, Any] = {}
         for i, episode in enumerate(self._episodes):
-            if restarting[i]:
+            command = commands[i]
+            if command is None:
+                self._judges[i] = self._judge()
                 observation, info = episode.begin(rings[i], now[i])
                 self._elapsed[i] = 0
             else:
+                events, reached = self._judges[i].judge(
+                    episode.ring, command, now[i].bumped, False, now[i].pose, now[i].odometry
+                )
                 observation, reward, terminated, info = episode.after(
-                    int(actions[i]), rings[i], now[i]
+                    actions[i], rings[i], now[i], events, reached
                 )
                 rewards[i], terminations[i] = reward, terminated
                 self._elapsed[i] += 1
@@ -155,16 +181,28 @@ class SonarRingVectorEnv(VectorEnv[np.ndarray, np.ndarray, np.ndarray]):
             raise ResetNeeded("call reset() before step()")
         return self._batch
 
+    def _judge(self) -> StepJudge:
+        """A copy's judge of its steps for an episode, as the single environment's engine
+        judges them."""
+        task = self.robot_task
+        return StepJudge(task.robot, task.goal_xy)
+
     def _now(self) -> list[RobotNow]:
         """What the batch says of each robot now, as a Simulator would say it."""
         batch = self._running()
+        clearances: list[float | None] = (
+            batch.clearances_m().tolist()
+            if self.robot_task.task == WALL
+            else [None] * self.num_envs
+        )
         return [
-            RobotNow(time_s, (x, y, heading), odometry, bumped)
-            for time_s, (x, y, heading), odometry, bumped in zip(
+            RobotNow(time_s, (x, y, heading), odometry, bumped, clearance_m)
+            for time_s, (x, y, heading), odometry, bumped, clearance_m in zip(
                 batch.time_s.tolist(),
                 batch.poses.tolist(),
                 batch.odometry,
                 batch.bumped.tolist(),
+                clearances,
                 strict=True,
             )
         ]

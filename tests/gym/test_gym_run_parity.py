@@ -1,0 +1,122 @@
+"""One step body: `tvl run` and tvl/SonarRing-v0 step the same engine, so a run's commands
+given again to the environment, from the same seed, move, sense and count contacts as the run
+did, step for step."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from tvl_cli.agent.trace import NOT_READ_MM
+from tvl_cli.cli import main
+from tvl_cli.commands.train import train_from_logs
+from tvl_cli.core.config import SINGLE
+from tvl_cli.core.contacts import BUMP, EVENTS, NEAR_MISS, TRAPPED
+from tvl_cli.core.memory import NONE, MemoryChoice
+from tvl_cli.core.training import TrainParams
+from tvl_cli.gym import SonarRingEnv
+from tvl_cli.gym.env import ROBOT
+from tvl_cli.io.famfile import write_fam
+from tvl_cli.io.runfile import RunTrace, read_run
+
+ROOT = Path(__file__).resolve().parents[2]
+CIRCLE = ROOT / "worlds" / "circle.txt"
+# Every event but `trapped`, which is the policy's own verdict and no part of a command.
+STEP_EVENTS = sum(1 << i for i, name in enumerate(EVENTS) if name != TRAPPED)
+CONTACTS = (1 << EVENTS.index(BUMP)) | (1 << EVENTS.index(NEAR_MISS))
+
+
+@pytest.fixture(scope="module")
+def fam_path(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The single FAM trained from the example log of learning in the square."""
+    fam = train_from_logs(
+        [ROOT / "logs" / "square-s1.h5"], SINGLE, TrainParams(), memory=MemoryChoice(NONE)
+    ).fam
+    path = tmp_path_factory.mktemp("fam") / "square.h5"
+    write_fam(path, fam, robot_config=ROBOT, provenance={})
+    return path
+
+
+def tvl_run(fam: Path, tmp_path: Path, sonar: str, seed: int, threshold: float) -> RunTrace:
+    """`tvl run`, in process, for half a simulated minute of avoiding in the circle."""
+    trace = tmp_path / f"{sonar}-{seed}.h5"
+    done = CliRunner().invoke(
+        main,
+        ["run", str(fam), str(CIRCLE), "--behaviour", "avoid", "--minutes", "0.5",
+         "--seed", str(seed), "--sonar", sonar, "--threshold", str(threshold),
+         "--log", str(trace)],
+    )  # fmt: skip
+    assert done.exit_code == 0, done.output
+    return read_run(trace)
+
+
+def env_rollout(run: RunTrace, sonar: str, seed: int) -> dict[str, np.ndarray]:
+    """The run's commands, one a step, through the environment reset with the run's seed."""
+    env = SonarRingEnv(str(CIRCLE), action_type="continuous", sonar=sonar)
+    obs, _ = env.reset(seed=seed)
+    rings, poses, odometry, events = [obs], [], [], []
+    commands = np.stack([run.arrays["speed_mps"], run.arrays["turn_radps"]], axis=1)
+    for command in commands:
+        obs, _, terminated, _, info = env.step(command)
+        assert not terminated  # no bump: the run's avoiding kept clear of the wall
+        rings.append(obs)
+        poses.append(info["pose"])
+        odometry.append(info["odometry"])
+        events.append(sum(1 << EVENTS.index(e) for e in info["events"]))
+    return {
+        # The ring before each step, as the trace keeps it: read after the step before.
+        "ring_m": np.array(rings[:-1], dtype=np.float64),
+        "pose": np.array(poses),
+        "odometry": np.array(odometry),
+        "events": np.array(events),
+    }
+
+
+def assert_same_readings(run_mm: np.ndarray, env_m: np.ndarray) -> None:
+    """The trace keeps whole millimetres, the environment float32 metres: the same reading
+    rounds to the same millimetre, where noise drawn apart differs by centimetres."""
+    np.testing.assert_allclose(env_m, run_mm / 1000.0, rtol=0, atol=0.0005 + 1e-6)
+
+
+def test_with_the_ideal_ring_the_env_gives_the_run_step_for_step(
+    fam_path: Path, tmp_path: Path
+) -> None:
+    # The ideal ring draws no noise, so odometry alone draws from the generator: the run and
+    # the environment draw alike whichever steps read the ring. A low threshold drives fast
+    # enough to meet the wall: near misses, back-offs and spins.
+    run = tvl_run(fam_path, tmp_path, "ideal", seed=3, threshold=0.3)
+    ours = env_rollout(run, "ideal", seed=3)
+    arrays = run.arrays
+    assert len(ours["pose"]) == run.steps == 300
+    np.testing.assert_array_equal(ours["pose"], arrays["pose"])
+    np.testing.assert_array_equal(ours["odometry"], arrays["odometry"])
+    read = (arrays["ring_mm"] != NOT_READ_MM).all(axis=1)
+    assert_same_readings(arrays["ring_mm"][read], ours["ring_m"][read])
+    np.testing.assert_array_equal(ours["events"], arrays["events"] & STEP_EVENTS)
+    # What was compared holds more than driving on: steps that read nothing (spins, back-offs)
+    # and contacts.
+    assert (~read).sum() > 10 and (arrays["events"] & CONTACTS).any()
+    assert (arrays["speed_mps"] < 0).any() and (arrays["speed_mps"] == 0).any()
+
+
+def test_with_the_noisy_ring_the_env_gives_the_run_until_the_run_leaves_a_reading(
+    fam_path: Path, tmp_path: Path
+) -> None:
+    run = tvl_run(fam_path, tmp_path, "real", seed=2, threshold=0.85)
+    ours = env_rollout(run, "real", seed=2)
+    arrays = run.arrays
+    # The run reads the ring only when something looks at it; the environment returns it
+    # every step. They draw the same noise until the first step the run left unread; after
+    # it, odometry and readings draw apart. The true pose is the commands' alone.
+    read = (arrays["ring_mm"] != NOT_READ_MM).all(axis=1)
+    first_unread = int(np.argmin(read))
+    assert not read[first_unread] and first_unread > 20
+    same = slice(0, first_unread)
+    np.testing.assert_array_equal(ours["pose"], arrays["pose"])
+    np.testing.assert_array_equal(ours["odometry"][same], arrays["odometry"][same])
+    assert_same_readings(arrays["ring_mm"][same], ours["ring_m"][same])
+    np.testing.assert_array_equal(ours["events"][same], arrays["events"][same] & STEP_EVENTS)
+    assert not np.array_equal(ours["odometry"], arrays["odometry"])
