@@ -10,7 +10,7 @@ import pytest
 from doc_pages import ROOT, code_blocks, every_page, page
 
 # The pages with a Python example, each run by a test below.
-EXAMPLES = ("guide/python-api.md", "guide/gym.md")
+EXAMPLES = ("guide/python-api.md", "guide/gym.md", "guide/engine.md")
 
 
 def _run_example(name: str, tmp_path: Path) -> list[str]:
@@ -49,3 +49,12 @@ def test_the_gymnasium_example_runs(tmp_path: Path) -> None:
     assert float(episode.split()[-1]) > 60.0  # metres forward: 0.2 m/s or more on average
     bumps, *_, first_action = learning.split()
     assert int(bumps) > 0 and 0 <= int(first_action) <= 6
+
+
+@pytest.mark.slow  # over a second
+def test_the_step_engine_example_runs(tmp_path: Path) -> None:
+    start, *events, end = _run_example("guide/engine.md", tmp_path)
+    assert start.startswith("0.0 s, ring ahead ")
+    # Straight on at 0.5 m/s for 3 s from the square's start meets the wall ahead once.
+    assert len(events) == 1 and events[0].split(": ")[1].startswith("bump at x ")
+    assert end.startswith("clearance 0.00 m") and end.endswith("bumped True")
