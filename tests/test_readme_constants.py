@@ -12,7 +12,7 @@ from tvl_cli.commands.learn import LOG_WRITE_EVERY_S
 from tvl_cli.core.behaviours import LOOKAHEAD_M
 from tvl_cli.core.config import EDGE_ECHO_RANGE_M, SonarConfig
 from tvl_cli.core.contacts import NEAR_MISS_WITHIN_RAD
-from tvl_cli.core.labels import PAPER_DECEL_MPS2, PAPER_MARGIN_M
+from tvl_cli.core.method import PAPER
 
 README = (Path(__file__).resolve().parents[1] / "README.md").read_text(encoding="utf-8")
 
@@ -45,7 +45,7 @@ def test_near_misses_are_quoted_with_their_angle_and_blind_zone() -> None:
 
 
 def test_the_paper_labels_and_the_lookahead_are_quoted_as_they_are() -> None:
-    assert f"deceleration\n  {PAPER_DECEL_MPS2:g} m/s², margin {PAPER_MARGIN_M:g} m" in README
+    assert f"deceleration\n  {PAPER.decel_mps2:g} m/s², margin {PAPER.margin_m:g} m" in README
     assert f"judged {LOOKAHEAD_M:g} m along itself" in README
 
 
