@@ -118,6 +118,20 @@ def test_train_keeps_the_logs_collision_points_and_takes_its_own_labels(
     assert read_fam(tmp_path / "f.h5").method == made
 
 
+def test_a_fam_from_logs_that_learnt_differently_says_so_and_is_no_preset(
+    learnt: dict[str, Path], tmp_path: Path
+) -> None:
+    fam = tmp_path / "f.h5"
+    logs = (learnt["paper_log"], learnt["ours_log"])
+    made = printed("train", *logs, "-o", fam, "--paper")["method"]
+    assert made == method_record(PAPER, LEARNING_FIELDS) | {
+        "preset": None,
+        "sessions_differ_in": ["near_m"],
+    }
+    ran = printed("run", fam, SQUARE, *RUN, "--paper")["method"]
+    assert ran == method_record(PAPER) | {"preset": None}
+
+
 def test_every_file_records_the_method_it_was_made_by(
     learnt: dict[str, Path], tmp_path: Path
 ) -> None:

@@ -17,6 +17,7 @@ from tvl_cli.core.errors import BadInput, check_run_minutes
 from tvl_cli.core.method import (
     BEHAVING_FIELDS,
     DEFAULT,
+    FIELDS,
     NOT_GIVEN,
     Method,
     MethodChoice,
@@ -137,7 +138,9 @@ def run_method(fam_file: FamFile, fam_path: Path, choice: MethodChoice) -> Metho
     settings given."""
     made_by = fam_file.method
     if made_by is not None:
-        inherited = method_from_dict(made_by, f"{fam_path}: method")
+        # Its fields: the record's notes (the preset, sessions that learnt otherwise) aside.
+        fields = {k: v for k, v in made_by.items() if k in FIELDS}
+        inherited = method_from_dict(fields, f"{fam_path}: method")
     else:
         training = training_params(fam_file, fam_path)
         inherited = Method(
