@@ -28,12 +28,11 @@ from typing import Any
 import numpy as np
 
 from tvl_cli.agent.behave import behave
-from tvl_cli.agent.explore import PAPER_NEAR_M, Learner, LearnParams
-from tvl_cli.agent.reflexes import ALL, parse_reflexes
+from tvl_cli.agent.explore import Learner, LearnParams
 from tvl_cli.core.config import SINGLE, RobotConfig
-from tvl_cli.core.fam import Fam
-from tvl_cli.core.labels import PAPER_DECEL_MPS2, PAPER_MARGIN_M
-from tvl_cli.core.training import TrainParams
+from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS, Fam
+from tvl_cli.core.memory import NO_MEMORY
+from tvl_cli.core.method import ALL, DEFAULT, PAPER, Method, parse_reflexes
 from tvl_cli.sim.worldmap import WorldMap, load_world
 
 WORLDS = Path(__file__).resolve().parent.parent / "worlds"
@@ -47,12 +46,12 @@ def learn(
     world: WorldMap,
     minutes: float,
     seed: int,
-    train: TrainParams,
+    method: Method,
     explore: LearnParams,
     robot: RobotConfig,
 ) -> Fam:
-    fam = Fam(SINGLE, [t.name for t in robot.trajectories], train.init_velocity_mps)
-    learner = Learner(world, robot, fam, replace(explore, minutes=minutes), train, seed)
+    fam = Fam(SINGLE, [t.name for t in robot.trajectories], DEFAULT_INIT_VELOCITY_MPS)
+    learner = Learner(world, robot, fam, replace(explore, minutes=minutes), method, seed)
     learner.run(lambda _episode: None, lambda _minute: None)
     return fam
 
@@ -65,8 +64,8 @@ def run(
     minutes: float,
     seed: int,
     robot: RobotConfig,
+    method: Method,
     goal: tuple[float, float] | None = None,
-    reflexes: tuple[str, ...] = (),
 ) -> dict[str, Any]:
     metrics = behave(
         world,
@@ -77,7 +76,7 @@ def run(
         seed=seed,
         threshold=threshold,
         goal_xy=goal,
-        reflexes=reflexes,
+        method=method,
     )
     return {**asdict(metrics), "near_misses_per_min": metrics.near_misses / (metrics.sim_s / 60)}
 
@@ -86,9 +85,8 @@ def seed_figures(
     seed: int,
     learn_minutes: float,
     run_minutes: float,
-    train: TrainParams,
+    method: Method,
     explore: LearnParams | None = None,
-    reflexes: tuple[str, ...] = (),
 ) -> dict[str, Any]:
     """Every run of the protocol for one seed: {"square": {...}, "circle": .., "goals": [..]}."""
     robot = RobotConfig()
@@ -104,16 +102,21 @@ def seed_figures(
         threshold: float = THRESHOLD,
         goal: tuple[float, float] | None = None,
     ) -> dict[str, Any]:
-        return run(world, fam, behaviour, threshold, run_minutes, seed, robot, goal, reflexes)
+        return run(world, fam, behaviour, threshold, run_minutes, seed, robot, method, goal)
 
-    fam = learn(square, learn_minutes, seed, train, explore, robot)
+    fam = learn(square, learn_minutes, seed, method, explore, robot)
     runs: dict[str, Any] = {"avoid@0.85": one_run(square, fam, "avoid")}
     for behaviour in WALLS:
         for threshold in (LOW, THRESHOLD, HIGH):
             runs[f"{behaviour}@{threshold:g}"] = one_run(square, fam, behaviour, threshold)
     circle_run = one_run(circle, fam, "avoid")
     goal_fam = learn(
-        obstacles, learn_minutes * GOAL_LEARN_MINUTES_PER_SQUARE_MINUTE, seed, train, explore, robot
+        obstacles,
+        learn_minutes * GOAL_LEARN_MINUTES_PER_SQUARE_MINUTE,
+        seed,
+        method,
+        explore,
+        robot,
     )
     goals = [one_run(obstacles, goal_fam, "goal", goal=goal) for goal in obstacles.goals]
     return {"seed": seed, "square": runs, "circle": circle_run, "goals": goals}
@@ -268,10 +271,10 @@ def main() -> None:
     parser.add_argument("--learn-minutes", type=float, default=15.0)
     parser.add_argument("--run-minutes", type=float, default=10.0)
     parser.add_argument("--workers", type=int, default=2, help="parallel processes")
-    parser.add_argument("--decel", type=float, default=TrainParams().decel_mps2, help="m/s²")
-    parser.add_argument("--margin", type=float, default=TrainParams().margin_m, help="m")
+    parser.add_argument("--decel", type=float, default=DEFAULT.decel_mps2, help="m/s²")
+    parser.add_argument("--margin", type=float, default=DEFAULT.margin_m, help="m")
     parser.add_argument(
-        "--near", type=float, default=LearnParams().near_m, help="m, 0: collisions are bumps"
+        "--near", type=float, default=DEFAULT.near_m, help="m, 0: collisions are bumps"
     )
     parser.add_argument(
         "--learn-speed", type=float, default=LearnParams().learn_speed_mps, help="m/s"
@@ -280,25 +283,27 @@ def main() -> None:
     parser.add_argument(
         "--paper",
         action="store_true",
-        help="the paper's method: its labels, bump-only collision points and no reflexes",
+        help="the paper's method (core.method.PAPER) in place of the options above",
     )
     parser.add_argument("--json", action="store_true", help="print the figures as JSON")
     args = parser.parse_args()
-    if args.paper:
-        args.decel, args.margin, args.near, args.reflex = (
-            PAPER_DECEL_MPS2,
-            PAPER_MARGIN_M,
-            PAPER_NEAR_M,
-            "none",
+    # This benchmark perceives the live ring, as it did before there was an echo memory.
+    method = (
+        PAPER
+        if args.paper
+        else replace(
+            DEFAULT,
+            decel_mps2=args.decel,
+            margin_m=args.margin,
+            near_m=args.near,
+            reflexes=parse_reflexes(args.reflex),
+            memory=NO_MEMORY,
         )
-    reflexes = parse_reflexes(args.reflex)
-    train = TrainParams(decel_mps2=args.decel, margin_m=args.margin)
-    explore = LearnParams(near_m=args.near, learn_speed_mps=args.learn_speed)
+    )
+    reflexes = method.reflexes
+    explore = LearnParams(learn_speed_mps=args.learn_speed)
     started = time.perf_counter()
-    jobs = [
-        (seed, args.learn_minutes, args.run_minutes, train, explore, reflexes)
-        for seed in args.seeds
-    ]
+    jobs = [(seed, args.learn_minutes, args.run_minutes, method, explore) for seed in args.seeds]
     with ProcessPoolExecutor(max_workers=args.workers) as pool:
         per_seed = list(pool.map(seed_figures, *zip(*jobs, strict=True)))
     summary = summarise(per_seed, reflexes)
@@ -307,7 +312,8 @@ def main() -> None:
         return
     print(
         f"seeds {args.seeds}, learning {args.learn_minutes:g} min, runs {args.run_minutes:g} min, "
-        f"decel {args.decel:g} m/s², margin {args.margin:g} m, near {args.near:g} m, "
+        f"decel {method.decel_mps2:g} m/s², margin {method.margin_m:g} m, "
+        f"near {method.near_m:g} m, "
         f"learning speed {args.learn_speed:g} m/s, "
         f"reflexes {', '.join(reflexes) or 'none'} "
         f"({time.perf_counter() - started:.0f} s)"

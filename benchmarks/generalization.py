@@ -52,9 +52,8 @@ import numpy as np
 
 from tvl_cli.agent.behave import behave
 from tvl_cli.agent.drive import Step, StepSink
-from tvl_cli.agent.explore import PAPER_NEAR_M, Learner, LearnParams
+from tvl_cli.agent.explore import Learner, LearnParams
 from tvl_cli.agent.online import OnlineLearner
-from tvl_cli.agent.reflexes import ALL, parse_reflexes
 from tvl_cli.agent.trace import Columns, TraceRecorder
 from tvl_cli.analysis.autopsy import CAUSES, GOAL_FAILURES, TIME_CLASSES, tally
 from tvl_cli.baselines.dwa import MAP, RING, run_dwa
@@ -71,16 +70,11 @@ from tvl_cli.core.config import (
 )
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
-from tvl_cli.core.fam import Fam
-from tvl_cli.core.labels import PAPER_DECEL_MPS2, PAPER_MARGIN_M
-from tvl_cli.core.memory import (
-    DEFAULT_MEMORY,
-    MEMORY_KINDS,
-    NO_MEMORY,
-    MemoryConfig,
-)
+from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS, Fam
+from tvl_cli.core.memory import MEMORY_KINDS, NO_MEMORY, MemoryConfig
+from tvl_cli.core.method import ALL, DEFAULT, PAPER, Method, parse_reflexes
 from tvl_cli.core.metrics import RunMetrics
-from tvl_cli.core.training import TrainParams, train_episode
+from tvl_cli.core.training import TrainParams, train_episode, train_params
 from tvl_cli.sim.worldgen import DEFAULT_ROUGHNESS, SMOOTH, Materials, generate_world
 from tvl_cli.sim.worldmap import WorldMap, parse_world
 
@@ -120,15 +114,19 @@ class Setup:
     """How one trial is learnt and run."""
 
     name: str  # RUNS or CEILING
-    train: TrainParams
-    explore: LearnParams
-    reflexes: tuple[str, ...]
+    method: Method
     configs: dict[str, FamConfig]
-    robot: RobotConfig
     threshold: float
     learn_while_behaving: bool
-    memory: MemoryConfig
     walls: Walls
+
+    @property
+    def robot(self) -> RobotConfig:
+        return self.method.robot()
+
+    @property
+    def train(self) -> TrainParams:
+        return train_params(self.method)
 
 
 def is_competent(metrics: RunMetrics, behaviour: str) -> bool:
@@ -144,16 +142,15 @@ def learn_and_train(world: WorldMap, seed: int, setup: Setup) -> dict[str, Fam]:
     learner = Learner(
         world,
         setup.robot,
-        Fam(SINGLE, names, setup.train.init_velocity_mps),
-        replace(setup.explore, minutes=LEARN_MINUTES),
-        setup.train,
+        Fam(SINGLE, names, DEFAULT_INIT_VELOCITY_MPS),
+        LearnParams(minutes=LEARN_MINUTES),
+        setup.method,
         seed,
-        memory=setup.memory,
     )
     learner.run(episodes.append, lambda _minute: None)
     fams = {}
     for name, config in setup.configs.items():
-        fam = Fam(config, names, setup.train.init_velocity_mps)
+        fam = Fam(config, names, DEFAULT_INIT_VELOCITY_MPS)
         for episode in episodes:
             train_episode(fam, episode, setup.robot, setup.train)
         fams[name] = fam
@@ -163,7 +160,7 @@ def learn_and_train(world: WorldMap, seed: int, setup: Setup) -> dict[str, Fam]:
 def trial_runs(world_seed: int, trial: int, setup: Setup) -> list[dict[str, Any]]:
     """Every behaviour run of one trial in one world, as rows."""
     world = world_of(world_seed, setup.walls)
-    robot = setup.robot
+    robot, method = setup.robot, setup.method
     rows = []
     for config, learnt in learn_and_train(world, trial, setup).items():
         for behaviour in BEHAVIOURS:
@@ -174,9 +171,9 @@ def trial_runs(world_seed: int, trial: int, setup: Setup) -> list[dict[str, Any]
             if setup.learn_while_behaving:
                 # Each run starts from what exploring learnt, as `tvl run --learn` from a file.
                 fam = copy.deepcopy(learnt)
-                learner = OnlineLearner(fam, robot, setup.train, world.start, memory=setup.memory)
+                learner = OnlineLearner(fam, robot, setup.train, world.start, memory=method.memory)
             chunks: list[Columns] = []
-            recorder = TraceRecorder(setup.reflexes, robot.sonar.count, [chunks.append])
+            recorder = TraceRecorder(method.reflexes, robot.sonar.count, [chunks.append])
             metrics = behave(
                 world,
                 robot,
@@ -186,16 +183,15 @@ def trial_runs(world_seed: int, trial: int, setup: Setup) -> list[dict[str, Any]
                 seed=trial,
                 threshold=setup.threshold,
                 goal_xy=goal,
-                reflexes=setup.reflexes,
                 on_step=_both(recorder, learner),
-                memory=setup.memory,
+                method=method,
             )
             recorder.close()
             autopsy = run_autopsy(
                 world,
                 robot,
                 {name: np.concatenate([c[name] for c in chunks]) for name in chunks[0]},
-                reflex_names=setup.reflexes,
+                reflex_names=method.reflexes,
                 trajectory_names=tuple(t.name for t in robot.trajectories),
                 table_sonars=setup.configs[config].sonars_read(),
                 goal_xy=goal,
@@ -424,18 +420,18 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument(
         "--paper",
         action="store_true",
-        help="the paper's method: its labels, bump-only collision points, no reflexes, no memory",
+        help="the paper's method (core.method.PAPER) in place of the options of the method",
     )
     parser.add_argument(
         "--near",
         type=float,
-        default=LearnParams().near_m,
+        default=DEFAULT.near_m,
         help="metres: a sonar ahead reading this close marks a collision point while learning",
     )
     parser.add_argument(
         "--decel",
         type=float,
-        default=TrainParams().decel_mps2,
+        default=DEFAULT.decel_mps2,
         help="m/s²: the deceleration of the training labels",
     )
     parser.add_argument(
@@ -453,7 +449,7 @@ def _parser() -> argparse.ArgumentParser:
         help="the behaviour runs learn while behaving, as `tvl run --learn` does",
     )
     parser.add_argument(
-        "--memory", choices=MEMORY_KINDS, default=DEFAULT_MEMORY.kind, help="the echo memory"
+        "--memory", choices=MEMORY_KINDS, default=DEFAULT.memory.kind, help="the echo memory"
     )
     parser.add_argument("--memory-window", type=float, help="seconds of echoes remembered")
     parser.add_argument("--memory-range", type=float, help="metres: farther echoes are not")
@@ -488,7 +484,7 @@ def _memory(args: argparse.Namespace) -> MemoryConfig:
         "range_m": args.memory_range,
         "patch_m": args.memory_patch,
     }
-    base = DEFAULT_MEMORY.to_dict()
+    base = DEFAULT.memory.to_dict()
     return MemoryConfig(**{k: v if v is not None else base[k] for k, v in given.items()})
 
 
@@ -530,30 +526,20 @@ def main() -> None:
         walls = Walls(args.roughness, Materials(args.rough_share) if args.rough_share else SMOOTH)
     except BadInput as error:
         parser.error(str(error))
-    train, explore = TrainParams(decel_mps2=args.decel), LearnParams(near_m=args.near)
-    if args.paper:
-        train = TrainParams(decel_mps2=PAPER_DECEL_MPS2, margin_m=PAPER_MARGIN_M)
-        explore = LearnParams(near_m=PAPER_NEAR_M)
-        args.reflex = "none"
-        memory = NO_MEMORY
-    reflexes = parse_reflexes(args.reflex)
+    ours = replace(
+        DEFAULT,
+        decel_mps2=args.decel,
+        near_m=args.near,
+        reflexes=parse_reflexes(args.reflex),
+        memory=memory,
+    )
+    # The sonar model is the benchmark's, whichever the method.
+    method = replace(PAPER if args.paper else ours, sonar=args.sonar)
+    memory, reflexes = method.memory, method.reflexes
     started = time.perf_counter()
-    runs = Setup(
-        RUNS,
-        train,
-        explore,
-        reflexes,
-        configs,
-        RobotConfig(sonar=SONAR_MODELS[args.sonar]),
-        args.threshold,
-        args.learn,
-        memory,
-        walls,
-    )
+    runs = Setup(RUNS, method, configs, args.threshold, args.learn, walls)
     # The same method with a sensor that hears everything, no memory needed.
-    ceiling = replace(
-        runs, name=CEILING, robot=RobotConfig(sonar=SONAR_MODELS["ideal"]), memory=NO_MEMORY
-    )
+    ceiling = replace(runs, name=CEILING, method=replace(method, sonar="ideal", memory=NO_MEMORY))
     setups = [runs] if args.no_ceiling else [runs, ceiling]
     jobs = [(w, t, setup) for setup in setups for w in world_seeds for t in trials]
     references = [(w, 1, "dwa-map", NO_MEMORY, walls) for w in world_seeds]
@@ -573,7 +559,7 @@ def main() -> None:
     if args.json:
         print(json.dumps({"summary": summary, "runs": rows, "references": reference_rows}))
         return
-    method = "the paper's method" if args.paper else f"reflexes {', '.join(reflexes) or 'none'}"
+    described = "the paper's method" if args.paper else f"reflexes {', '.join(reflexes) or 'none'}"
     made_of = (
         f"walls of roughness {args.roughness:g}"
         if args.roughness
@@ -584,12 +570,12 @@ def main() -> None:
     print(
         f"{KIND} worlds {world_seeds[0]}-{world_seeds[-1]} ({args.world_set}, "
         f"{len(world_seeds)} worlds, {made_of}), trials {trials.start}-{trials.stop - 1}, "
-        f"learning {LEARN_MINUTES:g} min (near {explore.near_m:g} m, decel "
-        f"{train.decel_mps2:g} m/s²), runs {RUN_MINUTES:g} min at threshold {args.threshold:g}"
+        f"learning {LEARN_MINUTES:g} min (near {method.near_m:g} m, decel "
+        f"{method.decel_mps2:g} m/s²), runs {RUN_MINUTES:g} min at threshold {args.threshold:g}"
         f"{' learning while behaving' if args.learn else ''}, {args.sonar} sonar, memory "
         f"{memory.kind}"
         f"{f' ({memory.window_s:g} s, {memory.range_m:g} m)' if memory.remembers else ''}, "
-        f"{method} ({time.perf_counter() - started:.0f} s)"
+        f"{described} ({time.perf_counter() - started:.0f} s)"
     )
     print(table(summary, configs))
     print()

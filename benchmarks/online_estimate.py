@@ -21,6 +21,7 @@ import json
 import math
 import time
 from concurrent.futures import ProcessPoolExecutor
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -38,7 +39,9 @@ from tvl_cli.core.config import SINGLE, RobotConfig
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.labels import velocity_labels
-from tvl_cli.core.training import TrainParams, episode_labels
+from tvl_cli.core.memory import NO_MEMORY
+from tvl_cli.core.method import DEFAULT
+from tvl_cli.core.training import TrainParams, episode_labels, train_params
 from tvl_cli.sim.worldgen import generate_world
 from tvl_cli.sim.worldmap import WorldMap, parse_world
 
@@ -68,14 +71,18 @@ def horizon_m(robot: RobotConfig, trajectory: int, params: TrainParams) -> float
 
 def trial(job: tuple[int, int, float, float, float]) -> dict[str, Any]:
     world_seed, seed, minutes, before_s, after_s = job
-    robot, params = RobotConfig(), TrainParams()
+    # Our method on the live ring, as this estimate was first measured.
+    robot, method = RobotConfig(), replace(DEFAULT, memory=NO_MEMORY)
+    params = train_params(method)
     world = parse_world(generate_world("rooms", None, None, world_seed), f"rooms-s{world_seed}")
     fam = Fam(SINGLE, [t.name for t in robot.trajectories])
-    learner = Learner(world, robot, fam, LearnParams(minutes=LEARN_MINUTES), params, seed)
+    learner = Learner(world, robot, fam, LearnParams(minutes=LEARN_MINUTES), method, seed)
     learner.run(lambda _episode: None, lambda _minute: None)
     episodes: list[Episode] = []
     online = OnlineLearner(fam, robot, params, world.start, episodes.append, before_s, after_s)
-    metrics = behave(world, robot, fam, "avoid", minutes=minutes, seed=seed, on_step=online)
+    metrics = behave(
+        world, robot, fam, "avoid", minutes=minutes, seed=seed, on_step=online, method=method
+    )
     online.finish(metrics.sim_s)
     walls = wall_points(world)
     distance_errors, label_errors = [], []

@@ -3,7 +3,7 @@
 # rule beyond the paper adds. In the square, the lab and a generated lab (seed 7) nobody tuned
 # on: for each trial (seed), learn with our defaults and train a single and a multi FAM, then
 # avoid and follow the left wall with no reflex, each reflex alone, and all of them; and learn,
-# train and run with --paper (the paper's labels, bump-only collision points, no reflexes).
+# train and run by the paper's method (`--method paper`: core.method.PAPER).
 #
 #            trials  learning minutes  runs
 #   --tiny   1       1 (square only)   0.2 min, avoid only
@@ -33,12 +33,12 @@ world() {
 }
 
 fam_job() { # WORLD SEED LEARNING (ours|paper)
-    local log=$OUT/work/$1-$3-s$2.h5 paper=()
-    [[ $3 == paper ]] && paper=(--paper)
+    local log=$OUT/work/$1-$3-s$2.h5 method=(--method default)
+    [[ $3 == paper ]] && method=(--method paper)
     if [[ ! -s $log ]]; then
         rm -f "$log.part"
         "$TVL" learn "$(world "$1")" --log "$log.part" --minutes "$LEARN_MINUTES" --seed "$2" \
-            "${paper[@]}" --json >/dev/null 2>"$log.err" || {
+            "${method[@]}" --json >/dev/null 2>"$log.err" || {
             echo "failed: tvl learn $1 seed $2 $3 (see $log.err)" >&2
             return 1
         }
@@ -48,7 +48,7 @@ fam_job() { # WORLD SEED LEARNING (ours|paper)
     for config in "${CONFIGS[@]}"; do
         local fam=$OUT/work/$1-$3-$config-s$2-fam.h5
         [[ -s $fam ]] && continue
-        "$TVL" train "$log" -o "$fam" --config "$config" "${paper[@]}" --force >/dev/null ||
+        "$TVL" train "$log" -o "$fam" --config "$config" "${method[@]}" --force >/dev/null ||
             return 1
     done
 }
@@ -56,7 +56,7 @@ fam_job() { # WORLD SEED LEARNING (ours|paper)
 run_job() { # WORLD SEED CONFIG BEHAVIOUR SETTING
     local learning=ours method=(--reflex "$5")
     if [[ $5 == paper ]]; then
-        learning=paper method=(--paper)
+        learning=paper method=(--method paper)
     fi
     once "$OUT/runs/$4-$1-$3-s$2-$5.json" \
         "$(params kind tvl world "$1" seed "$2" config "$3" learning "$learning" \

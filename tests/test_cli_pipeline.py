@@ -88,8 +88,9 @@ def test_train_refuses_an_existing_output_without_force(run_tvl, learnt, tmp_pat
 
 def test_inspect_prints_readable_rules(run_tvl, learnt):
     result = run_tvl("inspect", learnt["online"], "--trajectory", "T1L", "--top", "3")
-    lines = result.stdout.strip().splitlines()
+    method, *lines = result.stdout.strip().splitlines()
     assert result.returncode == 0 and len(lines) == 3
+    assert method == "method: default"  # the method the FAM was made by comes first
     for line in lines:
         assert line.startswith("IF front is ")
         assert " THEN T1L = " in line and "m/s" in line and "(experience " in line
@@ -98,7 +99,8 @@ def test_inspect_prints_readable_rules(run_tvl, learnt):
 def test_inspect_json_lists_rules_with_their_conditions(run_tvl, learnt):
     result = run_tvl("inspect", learnt["online"], "--json", "--top", "5", "--sort", "velocity")
     data = json.loads(result.stdout)
-    assert set(data) == {"config", "provenance", "rules"}
+    assert set(data) == {"config", "method", "provenance", "rules"}
+    assert data["method"]["preset"] == "default"
     velocities = [rule["velocity"] for rule in data["rules"]]
     assert velocities == sorted(velocities, reverse=True) and len(velocities) == 5
     assert set(data["rules"][0]["if"]) == {
@@ -145,8 +147,9 @@ def test_run_prints_the_metrics_json(run_tvl, learnt, tmp_path):
         "sim_s", "distance_m", "mean_speed_mps", "mean_drive_speed_mps", "collisions",
         "near_misses", "contacts", "contacts_per_min", "collisions_per_min", "backoffs",
         "spins", "trapped", "mean_clearance_m", "mean_wall_clearance_m", "goal_reached",
-        "time_to_goal_s", "minutes",
+        "time_to_goal_s", "minutes", "method",
     }  # fmt: skip
+    assert metrics["method"]["preset"] == "default"
     assert metrics["contacts"] == metrics["collisions"] + metrics["near_misses"]
     assert metrics["sim_s"] == pytest.approx(30.0)
     assert png.stat().st_size > 1000

@@ -6,7 +6,6 @@ import math
 
 from doc_pages import page, section
 
-from tvl_cli.agent.explore import LearnParams
 from tvl_cli.agent.motions import BACKOFF_M
 from tvl_cli.agent.novelty import BLOCKED_BEYOND_STOP_M, NOVELTY_BIN_M, NOVELTY_LOOKAHEAD_M
 from tvl_cli.agent.reflexes import BLOCKED_HALF_WIDTH_RAD, BLOCKED_S, STACK_ORDER
@@ -14,18 +13,11 @@ from tvl_cli.commands.learn import LOG_WRITE_EVERY_S
 from tvl_cli.core.behaviours import LOOKAHEAD_M
 from tvl_cli.core.config import EDGE_ECHO_RANGE_M, SonarConfig
 from tvl_cli.core.contacts import NEAR_MISS_WITHIN_RAD
-from tvl_cli.core.labels import (
-    DEFAULT_DECEL_MPS2,
-    DEFAULT_MARGIN_M,
-    PAPER_DECEL_MPS2,
-    PAPER_MARGIN_M,
-)
-from tvl_cli.core.memory import DEFAULT_RANGE_M, DEFAULT_WINDOW_S
+from tvl_cli.core.method import PAPER
 from tvl_cli.io.schema import FAM_FORMAT, FORMAT_VERSIONS, LOG_FORMAT, RUN_FORMAT
 
 METHOD = page("method.md")
-# The reflex table, between the markers that let it be written from the code.
-REFLEX_TABLE = METHOD.split("<!-- additions:start -->\n")[1].split("<!-- additions:end -->")[0]
+REFLEX_TABLE = section(METHOD, "Reflexes: every rule beyond the paper")
 
 
 def _row(reflex: str) -> str:
@@ -55,20 +47,9 @@ def test_near_misses_are_quoted_with_their_angle_and_blind_zone() -> None:
 
 
 def test_the_paper_labels_and_the_lookahead_are_quoted_as_they_are() -> None:
-    labels = f"deceleration\n  {PAPER_DECEL_MPS2:g} m/s², margin {PAPER_MARGIN_M:g} m"
+    labels = f"deceleration\n  {PAPER.decel_mps2:g} m/s², margin {PAPER.margin_m:g} m"
     assert labels in page("guide/behaving.md")
     assert f"judged {LOOKAHEAD_M:g} m along itself" in METHOD
-
-
-def test_the_additions_table_quotes_our_defaults_beside_the_papers() -> None:
-    additions = section(METHOD, "What is added, and how to turn it off")
-    ours = f"{DEFAULT_DECEL_MPS2:g} m/s², {DEFAULT_MARGIN_M:g} m (`--decel`, `--margin`)"
-    assert f"| {ours} | {PAPER_DECEL_MPS2:g} m/s², {PAPER_MARGIN_M:g} m |" in additions
-    assert f"under {LearnParams().near_m:g} m (`--near`) | bumps only |" in additions
-    assert (
-        f"| {DEFAULT_WINDOW_S:g} s of patches out to {DEFAULT_RANGE_M:g} m (`--memory`)"
-        in additions
-    )
 
 
 def test_the_edge_echo_range_is_quoted_as_it_is() -> None:

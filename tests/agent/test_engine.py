@@ -15,7 +15,6 @@ from tvl_cli.agent.behave import behave
 from tvl_cli.agent.drive import drive
 from tvl_cli.agent.engine import GOAL_RADIUS_M, StepEngine, within_goal
 from tvl_cli.agent.policy import Decision, Observation
-from tvl_cli.agent.reflexes import STACK_ORDER
 from tvl_cli.agent.trace import Columns, TraceRecorder
 from tvl_cli.baselines.dwa import MAP, RING, run_dwa
 from tvl_cli.baselines.qlearning import learn_and_evaluate
@@ -25,8 +24,8 @@ from tvl_cli.core.config import SINGLE, RobotConfig
 from tvl_cli.core.contacts import BUMP, SPIN
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.memory import NONE, PATCHES, MemoryChoice, MemoryConfig
+from tvl_cli.core.method import REFLEX_NAMES, Method, MethodChoice
 from tvl_cli.core.metrics import RunMetrics
-from tvl_cli.core.training import TrainParams
 from tvl_cli.sim.robot import Simulator
 from tvl_cli.sim.worldmap import WorldMap, load_world
 
@@ -129,9 +128,8 @@ def test_an_engine_not_reset_refuses_to_step() -> None:
 @pytest.fixture(scope="module")
 def square_fam() -> Fam:
     """The single FAM trained from the example log of learning in the square."""
-    return train_from_logs(
-        [ROOT / "logs" / "square-s1.h5"], SINGLE, TrainParams(), memory=MemoryChoice(NONE)
-    ).fam
+    live_ring = MethodChoice(memory=MemoryChoice(NONE))
+    return train_from_logs([ROOT / "logs" / "square-s1.h5"], SINGLE, live_ring).fam
 
 
 def digest(chunks: list[Columns], metrics: RunMetrics) -> str:
@@ -147,11 +145,11 @@ def digest(chunks: list[Columns], metrics: RunMetrics) -> str:
 @pytest.mark.parametrize(
     ("name", "behaviour", "seed", "reflexes", "memory", "expected"),
     [
-        ("square", "avoid", 1, STACK_ORDER, NONE, "dc7392cb81f431bc"),
-        ("lab", "avoid", 2, STACK_ORDER, NONE, "065c6dc32469fdf7"),
-        ("obstacles", "goal", 3, STACK_ORDER, NONE, "7c64a002e4db5120"),
+        ("square", "avoid", 1, REFLEX_NAMES, NONE, "dc7392cb81f431bc"),
+        ("lab", "avoid", 2, REFLEX_NAMES, NONE, "065c6dc32469fdf7"),
+        ("obstacles", "goal", 3, REFLEX_NAMES, NONE, "7c64a002e4db5120"),
         ("corridor", "wall-left", 4, (), NONE, "5bbdec03b66da6c0"),
-        ("lab", "avoid", 5, STACK_ORDER, PATCHES, "5f8b99865048d580"),
+        ("lab", "avoid", 5, REFLEX_NAMES, PATCHES, "5f8b99865048d580"),
     ],
 )
 def test_a_run_gives_the_trace_it_gave_before_the_engine(
@@ -175,9 +173,8 @@ def test_a_run_gives_the_trace_it_gave_before_the_engine(
         seed=seed,
         threshold=0.85,
         goal_xy=where.goals[0] if behaviour == "goal" else None,
-        reflexes=reflexes,
+        method=Method(reflexes=reflexes, memory=MemoryConfig(memory)),
         on_step=recorder,
-        memory=MemoryConfig(memory),
     )
     recorder.close()
     assert sum(len(chunk["pose"]) for chunk in chunks) == 300

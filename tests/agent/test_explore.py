@@ -3,18 +3,23 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 
-from tvl_cli.agent.explore import Learner, LearnParams, least_experienced, spin_commands
+from tvl_cli.agent.explore import Learner, LearnParams, spin_commands
+from tvl_cli.agent.explore_rules import least_experienced
 from tvl_cli.core.config import SINGLE, RobotConfig
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.fam import Fam
-from tvl_cli.core.training import TrainParams, episode_labels
+from tvl_cli.core.memory import NO_MEMORY
+from tvl_cli.core.method import DEFAULT
+from tvl_cli.core.training import episode_labels
 from tvl_cli.sim.worldmap import load_world, parse_world
 
 ROBOT = RobotConfig()
+LIVE_RING = replace(DEFAULT, memory=NO_MEMORY)  # our method, perceiving the live ring
 SQUARE = Path(__file__).resolve().parents[2] / "worlds" / "square.txt"
 # A 12 m hall: room for T3's full circle (1 m across) from its middle.
 HALL = "version: 1\nname: hall\ncell: 0.5\n\n" + "\n".join(
@@ -30,7 +35,7 @@ def _learner(world_text_or_path: str | Path, minutes: float, seed: int = 1) -> L
         else parse_world(world_text_or_path, "hall")
     )
     fam = Fam(SINGLE, [t.name for t in ROBOT.trajectories])
-    return Learner(world, ROBOT, fam, LearnParams(minutes=minutes), TrainParams(), seed)
+    return Learner(world, ROBOT, fam, LearnParams(minutes=minutes), LIVE_RING, seed)
 
 
 def _episodes(learner: Learner) -> list[Episode]:

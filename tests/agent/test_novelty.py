@@ -1,29 +1,27 @@
-"""The choice rules beyond the paper (`tvl learn --explore`): random and novelty."""
+"""The exploration rules beyond least experience (`tvl learn --explore`): random and novelty."""
 
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 from tvl_cli.agent.explore import ExplorePolicy, Learner, LearnParams
-from tvl_cli.agent.novelty import (
-    NOVELTY,
-    NOVELTY_BIN_M,
-    NOVELTY_LOOKAHEAD_M,
-    Places,
-    explore_rule,
-    random_pair,
-)
+from tvl_cli.agent.explore_rules import Novelty, random_pair
+from tvl_cli.agent.novelty import NOVELTY_BIN_M, NOVELTY_LOOKAHEAD_M, Places
+from tvl_cli.commands.train import explore_rule
 from tvl_cli.core.config import SINGLE, RobotConfig
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
-from tvl_cli.core.training import TrainParams
+from tvl_cli.core.memory import NO_MEMORY
+from tvl_cli.core.method import DEFAULT, NOVELTY, Method
 from tvl_cli.sim.worldmap import load_world
 
 ROBOT = RobotConfig()
+LIVE_RING = replace(DEFAULT, memory=NO_MEMORY)  # our method, perceiving the live ring
 SQUARE = Path(__file__).resolve().parents[2] / "worlds" / "square.txt"
 OPEN_RING = np.full(16, ROBOT.sonar.max_range_m)  # (16,) metres: nothing echoes
 T0 = ROBOT.trajectory_index("T0")
@@ -35,9 +33,8 @@ def _fam() -> Fam:
 
 def _choices(rule: str, seed: int) -> list[tuple[int, int, float]]:
     """Each episode's pair and end time over a minute of learning in the square."""
-    learner = Learner(
-        load_world(SQUARE), ROBOT, _fam(), LearnParams(minutes=1, explore=rule), TrainParams(), seed
-    )
+    method = replace(LIVE_RING, exploration=rule)
+    learner = Learner(load_world(SQUARE), ROBOT, _fam(), LearnParams(minutes=1), method, seed)
     episodes: list = []
     learner.run(episodes.append, lambda minute: None)
     return [(e.rotation, e.trajectory, e.end_time_s) for e in episodes]
@@ -66,10 +63,11 @@ def _policy(rule: str, seed: int) -> ExplorePolicy:
     return ExplorePolicy(
         ROBOT,
         _fam(),
-        LearnParams(explore=rule),
+        LearnParams(),
         np.random.default_rng(seed),
         true_pose=lambda: (0.0, 0.0, 0.0),
         on_episode=lambda episode: None,
+        method=replace(LIVE_RING, exploration=rule),
     )
 
 
@@ -96,8 +94,8 @@ def _visit_the_south(places: Places) -> None:
 def test_novelty_sets_off_towards_the_bins_never_visited() -> None:
     for seed in range(10):
         policy = _policy(NOVELTY, seed)
-        assert policy.places is not None
-        _visit_the_south(policy.places)
+        assert isinstance(policy.rule, Novelty)
+        _visit_the_south(policy.rule.places)
         rotation, trajectory = policy.choose(OPEN_RING, (0.0, 0.0, 0.0))
         assert _reaches_north(rotation, trajectory), (seed, rotation, trajectory)
 
@@ -132,10 +130,12 @@ def test_a_place_aimed_at_no_longer_pulls() -> None:
 
 
 def test_an_unknown_rule_is_refused() -> None:
-    with pytest.raises(BadInput, match="--explore bogus: choose least-experience, novelty, random"):
-        LearnParams(explore="bogus")
+    with pytest.raises(
+        BadInput, match="--explore 'bogus': choose least-experience, novelty, random"
+    ):
+        Method(exploration="bogus")
 
 
 def test_a_session_without_a_rule_followed_the_papers() -> None:
     assert explore_rule({"near_m": 0.16}) == "least-experience"
-    assert explore_rule(LearnParams(explore=NOVELTY).to_dict()) == NOVELTY
+    assert explore_rule({"explore": NOVELTY}) == NOVELTY

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import functools
 import math
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -29,6 +30,8 @@ from tvl_cli.core.command import Command
 from tvl_cli.core.config import SINGLE, RobotConfig
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.memory import NO_MEMORY
+from tvl_cli.core.method import DEFAULT
 from tvl_cli.core.training import TrainParams
 from tvl_cli.sim.robot import Simulator
 from tvl_cli.sim.worldmap import load_world
@@ -41,13 +44,14 @@ T0 = ROBOT.trajectory_index("T0")
 R = ROBOT.radius_m
 # The square's walls are one 0.25 m cell thick round a 4 m map: inner faces at 0.25 and 3.75.
 EAST_WALL_X, SOUTH_WALL_Y = 3.75, 0.25
+LIVE_RING = replace(DEFAULT, memory=NO_MEMORY)  # our method, perceiving the live ring
 
 
 @functools.cache
 def _learnt_tables() -> tuple[list[np.ndarray], list[np.ndarray]]:
     """A minute of exploring the square: velocity and experience tables."""
     fam = Fam(SINGLE, NAMES)
-    learner = Learner(SQUARE, ROBOT, fam, LearnParams(minutes=1), TrainParams(), seed=1)
+    learner = Learner(SQUARE, ROBOT, fam, LearnParams(minutes=1), LIVE_RING, seed=1)
     learner.run(lambda _episode: None, lambda _minute: None)
     tables = range(len(SINGLE.tables))
     return [fam.velocity_table(t) for t in tables], [fam.experience_table(t) for t in tables]
@@ -198,7 +202,7 @@ def test_the_policy_drives_with_the_fam_as_it_learns() -> None:
         seen.append(s)
         learner(s)
 
-    behave(SQUARE, ROBOT, fam, "avoid", minutes=1.0, seed=2, on_step=watch)
+    behave(SQUARE, ROBOT, fam, "avoid", minutes=1.0, seed=2, on_step=watch, method=LIVE_RING)
     assert learner.summary().episodes > 10
     perceived = [
         (s.decision.velocities, untouched.perceive(s.ring_m)[0][s.decision.rotation % 16])
@@ -218,7 +222,9 @@ def test_the_same_seed_learns_the_same_episodes() -> None:
         episodes: list[Episode] = []
         fam = trained_fam()
         learner = OnlineLearner(fam, ROBOT, TrainParams(), SQUARE.start, episodes.append)
-        behave(SQUARE, ROBOT, fam, "wall-left", minutes=0.5, seed=4, on_step=learner)
+        behave(
+            SQUARE, ROBOT, fam, "wall-left", minutes=0.5, seed=4, on_step=learner, method=LIVE_RING
+        )
         return episodes
 
     first, second = learnt(), learnt()

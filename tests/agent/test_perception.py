@@ -4,6 +4,7 @@ moment ago, placed by odometry alone."""
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -26,8 +27,8 @@ from tvl_cli.core.memory import (
     MemoryChoice,
     MemoryConfig,
 )
+from tvl_cli.core.method import DEFAULT
 from tvl_cli.core.ring import mm_to_ring
-from tvl_cli.core.training import TrainParams
 from tvl_cli.sim.worldmap import load_world
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -141,9 +142,8 @@ def _session_steps(minutes: float, memory: MemoryConfig) -> tuple[list[Episode],
         ROBOT,
         Fam(SINGLE, NAMES),
         LearnParams(minutes=minutes),
-        TrainParams(),
+        replace(DEFAULT, memory=memory),
         3,
-        memory=memory,
     )
     learner.run(episodes.append, lambda _minute: None, on_step=steps.append)
     return episodes, steps
@@ -187,7 +187,7 @@ def test_a_run_through_a_memory_reads_nearer_than_the_ring_and_differs_from_one_
         minutes=1.0,
         seed=2,
         on_step=perceived.append,
-        memory=PATCH_MEMORY,
+        method=replace(DEFAULT, memory=PATCH_MEMORY),
     )
     virtual = [s for s in perceived if s.decision.perceived_m is not None]
     assert virtual
@@ -229,8 +229,7 @@ def test_replaying_a_log_session_gives_each_episode_its_virtual_rings(tmp_path: 
             3,
             "single",
             LearnParams(minutes=1.0),
-            TrainParams(),
-            memory=PATCH_MEMORY,
+            replace(DEFAULT, memory=PATCH_MEMORY),
         )
     )
     (session,) = read_log(log).sessions

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -12,17 +13,19 @@ from tvl_cli.agent.drive import Step
 from tvl_cli.agent.policy import Decision, Observation
 from tvl_cli.agent.reflexes import (
     BLOCKED_S,
+    REFLEXES,
     STACK_ORDER,
     BlockedWays,
     TieToLastTurn,
     WallStart,
-    parse_reflexes,
     wrap,
 )
 from tvl_cli.core.command import Command
 from tvl_cli.core.config import SINGLE, RobotConfig
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.memory import NO_MEMORY
+from tvl_cli.core.method import DEFAULT, REFLEX_NAMES, parse_reflexes
 from tvl_cli.sim.worldmap import parse_world
 
 ROBOT = RobotConfig()
@@ -69,8 +72,8 @@ def run(reflexes: tuple[str, ...], minutes: float = TO_THE_END_WALL_MIN, world=H
         "avoid",
         minutes=minutes,
         seed=1,
-        reflexes=reflexes,
         on_step=steps.append,
+        method=replace(DEFAULT, reflexes=reflexes, memory=NO_MEMORY),
     )
     return metrics, steps
 
@@ -205,6 +208,11 @@ def test_reflexes_stack_in_one_order_whatever_order_they_are_named_in() -> None:
     assert parse_reflexes("tie,bump,blocked-ways") == ("blocked-ways", "bump", "tie")
     assert parse_reflexes("all") == STACK_ORDER
     assert parse_reflexes("none") == ()
+
+
+def test_the_registry_holds_every_reflex_a_method_can_name_in_its_stacking_order() -> None:
+    assert tuple(REFLEXES) == REFLEX_NAMES == STACK_ORDER
+    assert all(reflex.name == name for name, reflex in REFLEXES.items())
 
 
 def test_an_unknown_reflex_is_bad_input() -> None:

@@ -3,6 +3,8 @@ does with no reflex to help it."""
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import pytest
 
 from tvl_cli.agent.behave import behave
@@ -10,10 +12,12 @@ from tvl_cli.agent.drive import Step
 from tvl_cli.agent.explore import Learner, LearnParams
 from tvl_cli.core.config import SINGLE, RobotConfig
 from tvl_cli.core.fam import Fam
-from tvl_cli.core.training import TrainParams
+from tvl_cli.core.memory import NO_MEMORY
+from tvl_cli.core.method import DEFAULT, REFLEX_NAMES
 from tvl_cli.sim.worldmap import WorldMap, parse_world
 
 ROBOT = RobotConfig()
+LIVE_RING = replace(DEFAULT, memory=NO_MEMORY)  # our method, perceiving the live ring
 # A hall 7.5 m long with its north wall's face at y = 2.0 m and south wall's at y = 0.25 m.
 HALL = parse_world(
     "version: 1\nname: hall\ncell: 0.25\n\n"
@@ -33,7 +37,7 @@ Y_M = 1.45  # the robot's centre: its edge 0.35 m from the north wall, 1.0 m fro
 
 def learnt_fam(world: WorldMap) -> Fam:
     fam = Fam(SINGLE, [t.name for t in ROBOT.trajectories])
-    learner = Learner(world, ROBOT, fam, LearnParams(minutes=2.0), TrainParams(), seed=3)
+    learner = Learner(world, ROBOT, fam, LearnParams(minutes=2.0), LIVE_RING, seed=3)
     learner.run(lambda _episode: None, lambda _minute: None)
     return fam
 
@@ -44,11 +48,26 @@ def fast_everywhere_fam() -> Fam:
 
 
 def run(
-    world: WorldMap, fam: Fam, behaviour: str, minutes: float, seed: int = 1, **options
+    world: WorldMap,
+    fam: Fam,
+    behaviour: str,
+    minutes: float,
+    seed: int = 1,
+    reflexes: tuple[str, ...] = REFLEX_NAMES,
+    **options,
 ) -> tuple[object, list[Step]]:
     steps: list[Step] = []
+    method = replace(LIVE_RING, reflexes=reflexes)
     metrics = behave(
-        world, ROBOT, fam, behaviour, minutes=minutes, seed=seed, on_step=steps.append, **options
+        world,
+        ROBOT,
+        fam,
+        behaviour,
+        minutes=minutes,
+        seed=seed,
+        on_step=steps.append,
+        method=method,
+        **options,
     )
     return metrics, steps
 

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import pytest
 
 from tvl_cli.agent.explore import Learner, LearnParams
@@ -9,6 +11,8 @@ from tvl_cli.analysis.design import design_inputs
 from tvl_cli.core.config import DESIGNED, SINGLE, RobotConfig
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.memory import NO_MEMORY
+from tvl_cli.core.method import DEFAULT
 from tvl_cli.core.training import TrainParams
 from tvl_cli.sim.worldgen import generate_world
 from tvl_cli.sim.worldmap import parse_world
@@ -20,13 +24,14 @@ TUNING_MINUTES = 15.0
 
 
 def tuning_episodes() -> list[Episode]:
-    robot, train = RobotConfig(), TrainParams()
+    # Our method on the live ring, as the design was made before there was an echo memory.
+    robot, method = RobotConfig(), replace(DEFAULT, memory=NO_MEMORY)
     names = [t.name for t in robot.trajectories]
     episodes: list[Episode] = []
     for world_seed in TUNING_WORLD_SEEDS:
         world = parse_world(generate_world("rooms", None, None, world_seed), "rooms")
-        fam = Fam(SINGLE, names, train.init_velocity_mps)
-        learner = Learner(world, robot, fam, LearnParams(minutes=TUNING_MINUTES), train, 1)
+        fam = Fam(SINGLE, names)
+        learner = Learner(world, robot, fam, LearnParams(minutes=TUNING_MINUTES), method, 1)
         learner.run(episodes.append, lambda _minute: None)
     return episodes
 

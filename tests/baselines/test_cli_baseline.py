@@ -20,7 +20,9 @@ def test_dwa_json_prints_the_run_metrics_keys(run_tvl: Tvl) -> None:
     done = run_tvl("baseline", "dwa", SQUARE, "--minutes", "0.5", "--json")
     assert done.returncode == 0, done.stderr
     metrics = json.loads(done.stdout)
-    assert set(metrics) == RUN_KEYS
+    assert set(metrics) == RUN_KEYS | {"method"}
+    # By the map, the DWA takes only its reflexes of a method: none unless chosen.
+    assert metrics["method"] == {"preset": None, "reflexes": []}
     assert abs(metrics["sim_s"] - 30.0) < 1e-9
     assert metrics["collisions"] == 0
 
@@ -42,7 +44,13 @@ def test_qlearn_json_adds_what_learning_cost(run_tvl: Tvl) -> None:
     )  # fmt: skip
     assert done.returncode == 0, done.stderr
     report = json.loads(done.stdout)
-    extra = {"learn_minutes", "learn_collisions", "time_to_competence_min", "competence_checks"}
+    extra = {
+        "learn_minutes",
+        "learn_collisions",
+        "time_to_competence_min",
+        "competence_checks",
+        "method",
+    }
     assert set(report) == RUN_KEYS | extra
     assert report["learn_minutes"] == 0.2
     assert [c["learn_minutes"] for c in report["competence_checks"]] == [0.1, 0.2]
@@ -53,7 +61,8 @@ def test_qlearn_without_competence_checks_prints_only_the_learning_keys(run_tvl:
         "baseline", "qlearn", SQUARE, "--learn-minutes", "0.1", "--minutes", "0.1", "--json"
     )
     assert done.returncode == 0, done.stderr
-    assert set(json.loads(done.stdout)) == RUN_KEYS | {"learn_minutes", "learn_collisions"}
+    printed = json.loads(done.stdout)
+    assert set(printed) == RUN_KEYS | {"learn_minutes", "learn_collisions", "method"}
 
 
 def test_qlearn_without_learning_runs_the_untrained_table(run_tvl: Tvl) -> None:

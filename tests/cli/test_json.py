@@ -53,8 +53,9 @@ def test_train_prints_its_summary(learnt: Path, tmp_path: Path) -> None:
     printed = tvl_json("train", learnt, "-o", fam, "--config", "multi")
     assert printed.keys() == {
         "output", "config", "episodes", "exemplars", "rules_touched", "rules_total", "wall_s",
-        "repeated_sessions",
+        "repeated_sessions", "method",
     }  # fmt: skip
+    assert printed["method"]["preset"] == "default"
     assert (printed["output"], printed["config"]) == (str(fam), "multi")
     assert 0 < printed["rules_touched"] <= printed["rules_total"] and printed["exemplars"] > 0
     assert fam.exists()

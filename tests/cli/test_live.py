@@ -13,7 +13,7 @@ from tvl_cli.cli.live import ARROWS, LiveView
 from tvl_cli.commands.run import RunRequest, run_fam
 from tvl_cli.commands.train import train_from_logs
 from tvl_cli.core.config import SINGLE, RobotConfig
-from tvl_cli.core.training import TrainParams
+from tvl_cli.core.method import DEFAULT
 from tvl_cli.io.famfile import write_fam
 from tvl_cli.sim.worldmap import load_world
 
@@ -23,7 +23,7 @@ LAB = ROOT / "worlds" / "lab.txt"
 
 @pytest.fixture(scope="module")
 def fam(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    trained = train_from_logs([ROOT / "logs" / "lab-s1.h5"], SINGLE, TrainParams())
+    trained = train_from_logs([ROOT / "logs" / "lab-s1.h5"], SINGLE)
     path = tmp_path_factory.mktemp("live") / "fam.h5"
     write_fam(path, trained.fam, robot_config=trained.robot, provenance=trained.provenance)
     return path
@@ -68,9 +68,7 @@ def test_learning_shows_the_trajectory_followed_and_the_last_minute(tmp_path: Pa
 
     view = LiveView(load_world(LAB), RobotConfig(), 0.85, None, pace=None)
     view.caption = "minute 1: 3 episodes, 0 collisions"
-    request = LearnRequest(
-        LAB, tmp_path / "log.h5", 1, "single", LearnParams(minutes=0.3), TrainParams()
-    )
+    request = LearnRequest(LAB, tmp_path / "log.h5", 1, "single", LearnParams(minutes=0.3), DEFAULT)
     learn_to_log(request, watch=view)
     console = Console(record=True, width=80, height=24, color_system=None)
     console.print(view.panel())

@@ -7,6 +7,7 @@ import json
 import os
 import shutil
 import subprocess
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -21,6 +22,8 @@ from tvl_cli.cli import main
 from tvl_cli.commands.train import distinct_sessions, train_from_logs, train_on
 from tvl_cli.core.config import SINGLE, RobotConfig
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.memory import NO_MEMORY
+from tvl_cli.core.method import DEFAULT
 from tvl_cli.core.training import TrainParams
 from tvl_cli.io.lock import WriterLock
 from tvl_cli.io.logfile import LogWriter
@@ -119,10 +122,13 @@ def test_the_log_replays_into_the_fam_the_run_ended_with(learnt_live: Path, tmp_
         kind=KIND_BEHAVING,
     ) as writer:
         learner = OnlineLearner(fam, robot, TrainParams(), world.start, writer.append_episode)
-        metrics = behave(world, robot, fam, "wall-left", minutes=0.5, seed=3, on_step=learner)
+        live_ring = replace(DEFAULT, memory=NO_MEMORY)
+        metrics = behave(
+            world, robot, fam, "wall-left", minutes=0.5, seed=3, on_step=learner, method=live_ring
+        )
         learner.finish(metrics.sim_s)
     assert learner.summary().episodes > 5
-    rebuilt = train_from_logs([log], SINGLE, TrainParams()).fam
+    rebuilt = train_from_logs([log], SINGLE).fam
     np.testing.assert_array_equal(rebuilt.velocity_table(0), fam.velocity_table(0))
     np.testing.assert_array_equal(rebuilt.experience_table(0), fam.experience_table(0))
 

@@ -10,14 +10,13 @@ from test_bad_numbers import SQUARE
 from tvl_cli.commands.run import RunRequest, run_fam
 from tvl_cli.commands.train import train_from_logs
 from tvl_cli.core.config import SINGLE
-from tvl_cli.core.training import TrainParams
 from tvl_cli.io.famfile import write_fam
 
 EXAMPLE_LOG = Path(__file__).resolve().parents[2] / "logs" / "square-s1.h5"
 
 
 def test_a_watcher_sees_every_step_in_order_beside_the_trace(tmp_path: Path) -> None:
-    trained = train_from_logs([EXAMPLE_LOG], SINGLE, TrainParams())
+    trained = train_from_logs([EXAMPLE_LOG], SINGLE)
     fam = tmp_path / "fam.h5"
     write_fam(fam, trained.fam, robot_config=trained.robot, provenance=trained.provenance)
     seen: list[float] = []

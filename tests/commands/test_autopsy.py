@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import math
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -28,6 +29,8 @@ from tvl_cli.commands.autopsy import run_autopsy
 from tvl_cli.core.config import SINGLE, RobotConfig
 from tvl_cli.core.contacts import BUMP
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.memory import NO_MEMORY
+from tvl_cli.core.method import DEFAULT
 from tvl_cli.io.famfile import write_fam
 from tvl_cli.sim.worldmap import WorldMap, parse_world
 
@@ -63,8 +66,10 @@ def fast_fam() -> Fam:
 def driven(world: WorldMap, minutes: float) -> tuple[Columns, object]:
     chunks: list[Columns] = []
     recorder = TraceRecorder((), ROBOT.sonar.count, [chunks.append])
+    # The paper's choice rule alone, on the live ring.
+    method = replace(DEFAULT, reflexes=(), memory=NO_MEMORY)
     metrics = behave(
-        world, ROBOT, fast_fam(), "avoid", minutes=minutes, seed=1, reflexes=(), on_step=recorder
+        world, ROBOT, fast_fam(), "avoid", minutes=minutes, seed=1, on_step=recorder, method=method
     )
     recorder.close()
     return {k: np.concatenate([c[k] for c in chunks]) for k in chunks[0]}, metrics

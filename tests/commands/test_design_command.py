@@ -11,7 +11,6 @@ from tvl_cli.commands.learn import resolve_fam_config
 from tvl_cli.commands.train import train_from_logs
 from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.errors import BadInput
-from tvl_cli.core.training import TrainParams
 from tvl_cli.io.logreader import file_sha256, read_log
 
 EXAMPLE_LOG = Path(__file__).resolve().parents[2] / "logs" / "square-s1.h5"
@@ -34,7 +33,7 @@ def test_the_file_written_is_the_configuration_chosen(designed: DesignSummary) -
 
 def test_the_configuration_trains_on_every_exemplar_of_the_log(designed: DesignSummary) -> None:
     config = resolve_fam_config(str(designed.output), RobotConfig())
-    summary = train_from_logs([EXAMPLE_LOG], config, TrainParams())
+    summary = train_from_logs([EXAMPLE_LOG], config)
     assert summary.exemplars == read_log(EXAMPLE_LOG).exemplar_count
     assert summary.rules_total == config.rule_count
     assert 0 < summary.rules_touched <= summary.rules_total

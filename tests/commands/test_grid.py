@@ -1,6 +1,6 @@
 """A sweep's grid: its cells are every combination of its values, goals multiply only the
-goal runs, `paper` is the paper's whole method, and worlds and configurations are known by
-their names."""
+goal runs, a method is a preset or a file beside the grid, and worlds and configurations are
+known by their names."""
 
 from __future__ import annotations
 
@@ -9,13 +9,11 @@ from pathlib import Path
 
 import pytest
 
-from tvl_cli.agent.explore import PAPER_NEAR_M, LearnParams
-from tvl_cli.agent.reflexes import STACK_ORDER
+from tvl_cli.agent.explore import LearnParams
 from tvl_cli.commands.grid import Cell, read_grid
 from tvl_cli.core.config import SINGLE
 from tvl_cli.core.errors import BadInput
-from tvl_cli.core.labels import PAPER_DECEL_MPS2, PAPER_MARGIN_M
-from tvl_cli.core.training import TrainParams
+from tvl_cli.core.method import DEFAULT, PAPER, MethodChoice
 
 WORLDS = Path(__file__).resolve().parents[2] / "worlds"
 
@@ -41,7 +39,10 @@ def test_cells_are_every_combination_with_the_last_key_fastest(tmp_path: Path) -
         for threshold in (0.7, 0.9)
     ]
     # What the grid leaves out is what `tvl learn`, `train` and `run` do by default.
-    assert grid.cells[0] == Cell("square", 1, "single", 15.0, "avoid", 0.7, None, 5.0, "all")
+    assert grid.cells[0] == Cell(
+        "square", 1, "single", 15.0, "avoid", 0.7, None, 5.0, "default", "all"
+    )
+    assert grid.methods == {"default": DEFAULT}
     assert grid.configs == {"single": SINGLE}
 
 
@@ -65,14 +66,41 @@ def test_a_goal_run_without_a_goal_seeks_the_worlds_first(tmp_path: Path) -> Non
         read_grid(grid_of(tmp_path, square))
 
 
-def test_paper_is_the_papers_labels_collision_points_and_no_reflexes(tmp_path: Path) -> None:
-    text = 'world = "square"\nseed = 1\nbehaviour = "avoid"\nreflexes = ["all", "paper"]\n'
-    ours, paper = read_grid(grid_of(tmp_path, text)).cells
-    assert (ours.learn_params(), ours.train_params()) == (LearnParams(), TrainParams())
-    assert ours.run_reflexes() == STACK_ORDER
-    assert paper.learn_params() == LearnParams(near_m=PAPER_NEAR_M)
-    assert paper.train_params() == TrainParams(decel_mps2=PAPER_DECEL_MPS2, margin_m=PAPER_MARGIN_M)
-    assert paper.run_reflexes() == ()
+def test_each_method_runs_with_its_own_reflexes_unless_the_grid_gives_some(
+    tmp_path: Path,
+) -> None:
+    text = 'world = "square"\nseed = 1\nbehaviour = "avoid"\nmethod = ["default", "paper"]\n'
+    grid = read_grid(grid_of(tmp_path, text))
+    ours, paper = grid.cells
+    assert (ours.method, ours.reflexes, paper.method, paper.reflexes) == (
+        "default", "all", "paper", "none"
+    )  # fmt: skip
+    assert grid.methods == {"default": DEFAULT, "paper": PAPER}
+    assert ours.learn_params() == paper.learn_params() == LearnParams()
+    assert paper.run_method(PAPER) == MethodChoice(PAPER, "paper", (("reflexes", ()),))
+    mixed = text + 'reflexes = ["none", "bump,tie"]\n'
+    with pytest.raises(BadInput, match="reflexes 'bump,tie' contradicts method \"paper\""):
+        read_grid(grid_of(tmp_path, mixed.replace('["default", "paper"]', '"paper"')))
+    ours_only = read_grid(grid_of(tmp_path, mixed.replace('["default", "paper"]', '"default"')))
+    assert [c.reflexes for c in ours_only.cells] == ["none", "bump,tie"]
+    assert ours_only.cells[1].run_method(DEFAULT).settings == (("reflexes", ("bump", "tie")),)
+
+
+def test_a_method_file_beside_the_grid_is_its_method(tmp_path: Path) -> None:
+    (tmp_path / "slow.toml").write_text("decel_mps2 = 0.3\n")
+    text = 'world = "square"\nseed = 1\nbehaviour = "avoid"\nmethod = "slow.toml"\n'
+    grid = read_grid(grid_of(tmp_path, text))
+    assert grid.methods["slow.toml"].decel_mps2 == 0.3
+    assert grid.cells[0].reflexes == "all"
+    (tmp_path / "bad.toml").write_text("decell = 0.3\n")
+    with pytest.raises(BadInput, match=r"bad\.toml: unknown key 'decell' \(did you mean"):
+        read_grid(grid_of(tmp_path, text.replace("slow", "bad")))
+
+
+def test_the_paper_as_a_reflex_setting_points_to_the_method(tmp_path: Path) -> None:
+    text = 'world = "square"\nseed = 1\nbehaviour = "avoid"\nreflexes = "paper"\n'
+    with pytest.raises(BadInput, match='the paper\'s whole method is method = "paper"'):
+        read_grid(grid_of(tmp_path, text))
 
 
 def test_a_configuration_file_beside_the_grid_is_known_by_its_name(tmp_path: Path) -> None:

@@ -105,6 +105,8 @@ def test_a_row_holds_what_tvl_run_prints_for_its_cell(swept: Path, tmp_path: Pat
     assert ran.returncode == 0, ran.stderr
     printed = json.loads(ran.stdout)
     row = next(r for r in journal(swept) if (r["config"], r["threshold"]) == ("multi", 0.9))
+    # The row names the cell's method as the grid does; the run records it whole.
+    assert printed.pop("method")["preset"] == row["method"] == "default"
     assert row == {"kind": "tvl", **{column: row[column] for column in COLUMNS}, **printed}
     assert printed["distance_m"] > 0
 

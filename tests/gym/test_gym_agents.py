@@ -20,7 +20,7 @@ from tvl_cli.core.config import SINGLE
 from tvl_cli.core.contacts import BUMP, NEAR_MISS
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.memory import NONE, MemoryChoice
-from tvl_cli.core.training import TrainParams
+from tvl_cli.core.method import MethodChoice
 from tvl_cli.gym import ENV_ID, MAX_EPISODE_STEPS, QTableAgent, TvlGymPolicy
 from tvl_cli.gym.env import ROBOT, SPIN_LEFT, SPIN_RIGHT
 from tvl_cli.io.famfile import write_fam
@@ -34,10 +34,8 @@ T0 = ROBOT.trajectory_index("T0")
 def square_fam() -> Fam:
     """The single FAM trained from the example log of learning in the square, reading the
     live ring as the paper's method does (the policy is the paper's)."""
-    paper = MemoryChoice(NONE)
-    return train_from_logs(
-        [ROOT / "logs" / "square-s1.h5"], SINGLE, TrainParams(), memory=paper
-    ).fam
+    live_ring = MethodChoice(memory=MemoryChoice(NONE))
+    return train_from_logs([ROOT / "logs" / "square-s1.h5"], SINGLE, live_ring).fam
 
 
 def test_the_tvl_policy_is_competent_in_the_square(square_fam: Fam) -> None:

@@ -16,7 +16,7 @@ from tvl_cli.commands.train import train_from_logs
 from tvl_cli.core.config import SINGLE
 from tvl_cli.core.contacts import BUMP, EVENTS, NEAR_MISS, TRAPPED
 from tvl_cli.core.memory import NONE, MemoryChoice
-from tvl_cli.core.training import TrainParams
+from tvl_cli.core.method import MethodChoice
 from tvl_cli.gym import SonarRingEnv
 from tvl_cli.gym.env import ROBOT
 from tvl_cli.io.famfile import write_fam
@@ -32,9 +32,8 @@ CONTACTS = (1 << EVENTS.index(BUMP)) | (1 << EVENTS.index(NEAR_MISS))
 @pytest.fixture(scope="module")
 def fam_path(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """The single FAM trained from the example log of learning in the square."""
-    fam = train_from_logs(
-        [ROOT / "logs" / "square-s1.h5"], SINGLE, TrainParams(), memory=MemoryChoice(NONE)
-    ).fam
+    live_ring = MethodChoice(memory=MemoryChoice(NONE))
+    fam = train_from_logs([ROOT / "logs" / "square-s1.h5"], SINGLE, live_ring).fam
     path = tmp_path_factory.mktemp("fam") / "square.h5"
     write_fam(path, fam, robot_config=ROBOT, provenance={})
     return path

@@ -1,4 +1,4 @@
-"""A behaviour run: the paper's TVL policy inside the chosen reflexes, driven from the
+"""A behaviour run: the paper's TVL policy inside a method's reflexes, driven from the
 world's start for some simulated minutes."""
 
 from __future__ import annotations
@@ -6,12 +6,12 @@ from __future__ import annotations
 from tvl_cli.agent.drive import StepSink, drive_engine
 from tvl_cli.agent.engine import StepEngine
 from tvl_cli.agent.perception import Perception
-from tvl_cli.agent.reflexes import STACK_ORDER, wrap
+from tvl_cli.agent.reflexes import wrap
 from tvl_cli.agent.tvl import TvlPolicy
 from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
 from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.fam import Fam
-from tvl_cli.core.memory import NO_MEMORY, MemoryConfig
+from tvl_cli.core.method import Method
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.sim.worldmap import WorldMap
 
@@ -24,16 +24,17 @@ def behave(
     *,
     minutes: float,
     seed: int,
+    method: Method,
     threshold: float = DEFAULT_THRESHOLD,
     goal_xy: tuple[float, float] | None = None,
-    reflexes: tuple[str, ...] = STACK_ORDER,
     on_step: StepSink | None = None,
-    memory: MemoryConfig = NO_MEMORY,
 ) -> RunMetrics:
-    """Perform `behaviour` with a FAM perceiving through `memory`; the simulator's generator
-    is seeded with `seed`."""
+    """Perform `behaviour` with a FAM by `method`'s choices of behaving: perceiving through
+    its echo memory, finding walls by its wall rule, inside its reflexes. The simulator's
+    generator is seeded with `seed`."""
     engine = StepEngine(world, robot, goal_xy=goal_xy, measure=True)
     engine.reset(seed)
-    tvl = TvlPolicy(fam, robot, behaviour, threshold, Perception(memory, robot))
-    policy = wrap(tvl, reflexes, robot, behaviour)
+    perception = Perception(method.memory, robot)
+    tvl = TvlPolicy(fam, robot, behaviour, threshold, perception, method.wall_rule)
+    policy = wrap(tvl, method.reflexes, robot, behaviour)
     return drive_engine(engine, policy, minutes, on_step=on_step)

@@ -1,6 +1,10 @@
 """Exploratory learning (paper §4.1, Figure 14): follow the least experienced trajectory
 slowly until it collides or closes a circle, label every point by deceleration to the
-collision point, and train the FAM with the whole episode."""
+collision point, and train the FAM with the whole episode.
+
+Where a method chooses otherwise, the choice comes from the registries beside this module:
+which pair to follow (agent.explore_rules) and where else a collision point is placed
+(agent.collision_points)."""
 
 from __future__ import annotations
 
@@ -10,55 +14,39 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
+from tvl_cli.agent.collision_points import sonar_collision_points
 from tvl_cli.agent.drive import StepSink, drive
+from tvl_cli.agent.explore_rules import EXPLORATION_RULES
 from tvl_cli.agent.motions import BACKOFF_M, backoff_commands, spin_commands
-from tvl_cli.agent.novelty import (
-    EXPLORE_RULES,
-    LEAST_EXPERIENCE,
-    NOVELTY,
-    RANDOM,
-    Places,
-    random_pair,
-)
 from tvl_cli.agent.perception import Perception
 from tvl_cli.agent.policy import Decision, Observation, Pose
 from tvl_cli.agent.recording import EpisodeRecord
 from tvl_cli.core.command import Command
-from tvl_cli.core.config import RobotConfig, sonars_within
+from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput, check_minutes
 from tvl_cli.core.fam import Fam
-from tvl_cli.core.memory import NO_MEMORY, MemoryConfig
+from tvl_cli.core.method import DEFAULT, Method
 from tvl_cli.core.ring import mm_to_ring, ring_to_mm
-from tvl_cli.core.training import TrainParams, train_episode
+from tvl_cli.core.training import train_episode, train_params
 from tvl_cli.sim.robot import Simulator
 from tvl_cli.sim.worldmap import WorldMap
 
 
 @dataclass(frozen=True, slots=True)
 class LearnParams:
-    """How the robot explores; stored with each log session beside the TrainParams."""
+    """How long and how fast the robot explores; stored with each log session beside its
+    method. (Where collision points fall and which pair comes next are the method's.)"""
 
     minutes: float = 15.0
     learn_speed_mps: float = 0.2
     straight_run_m: float = 8.0  # a T0 run this long without a bump counts as free
     reverse_m: float = BACKOFF_M  # backed off along the path after a collision
-    # A sonar facing ahead of the body's middle reading this close, once the robot has closed
-    # in on it, marks a collision point before any bump (paper §5.1: a collision placed
-    # further from objects when learning helps). Just above the 0.15 m minimum range, it fires
-    # as an object enters the ring's blind zone, so a wall the arc runs into alongside, unseen
-    # ahead by the specular ring, counts as a collision too. 0 waits for bumps.
-    near_m: float = 0.16
-    explore: str = LEAST_EXPERIENCE  # one of EXPLORE_RULES
 
     def __post_init__(self) -> None:
         check_minutes(self.minutes)
         if not (math.isfinite(self.learn_speed_mps) and self.learn_speed_mps > 0):
             raise BadInput(f"--learn-speed {self.learn_speed_mps:g} must be > 0 m/s")
-        if not (math.isfinite(self.near_m) and self.near_m >= 0):
-            raise BadInput(f"--near {self.near_m:g} must be >= 0 m")
-        if self.explore not in EXPLORE_RULES:
-            raise BadInput(f"--explore {self.explore}: choose {', '.join(EXPLORE_RULES)}")
 
     def to_dict(self) -> dict[str, float | str]:
         return asdict(self)
@@ -85,23 +73,6 @@ class LearnSummary:
     stopped_by: str | None = None  # what cut learning short (a signal name), if anything
 
 
-# How much nearer than at the episode's start a sonar must read before `near_m` counts: well
-# above the noise (about 1.2 cm close in), so a wall the robot runs beside but does not
-# approach never ends an episode, and one it is leaving behind never does either.
-NEAR_CLOSING_M = 0.05
-# The paper's learner (`--paper`): collision points by bumps only.
-PAPER_NEAR_M = 0.0
-
-
-def least_experienced(experience: np.ndarray, rng: np.random.Generator) -> tuple[int, int]:
-    """(rotation, trajectory) of the least experienced pair; ties drawn by the generator."""
-    flat = experience.ravel()
-    candidates = np.flatnonzero(flat == flat.min())
-    pick = int(candidates[rng.integers(len(candidates))])
-    rotation, trajectory = divmod(pick, experience.shape[1])
-    return rotation, trajectory
-
-
 EpisodeSink = Callable[[Episode], None]
 MinuteSink = Callable[[MinuteStats], None]
 StopCheck = Callable[[], str | None]
@@ -109,9 +80,10 @@ StopCheck = Callable[[], str | None]
 
 class ExplorePolicy:
     """Figure 14 as a policy: face the least experienced of the 112 (rotation, trajectory)
-    pairs (or another, by `params.explore`), follow it slowly recording every step, end the
-    episode at a collision point or a full circle, hand it on, and after a collision reverse
-    along the path."""
+    pairs (or another, by the method's exploration rule), follow it slowly recording every
+    step, end the episode at a collision point (a bump, or where the method's sonar
+    collision points say) or a full circle, hand it on, and after a collision reverse along
+    the path."""
 
     def __init__(
         self,
@@ -122,6 +94,7 @@ class ExplorePolicy:
         true_pose: Callable[[], Pose],
         on_episode: EpisodeSink,
         perception: Perception | None = None,
+        method: Method = DEFAULT,
     ) -> None:
         self.robot = robot
         self.fam = fam
@@ -129,19 +102,17 @@ class ExplorePolicy:
         self.rng = rng
         # What the FAM reads. Only the exemplars' readings are remembered, so that replaying
         # the log's exemplars (`tvl train`) rebuilds exactly the virtual rings learnt from.
-        self.perception = perception or Perception(NO_MEMORY, robot)
+        self.perception = perception or Perception(method.memory, robot)
         # The log keeps the true pose for people to draw; no choice is made by it.
         self._true_pose = true_pose
         self._on_episode = on_episode
-        # The sonars facing ahead of the body's middle (sideways ones included).
-        self._ahead = np.array(sonars_within(math.pi / 2, robot.sonar.count))
+        self._sonar_points = sonar_collision_points(robot, method.near_m)
+        self.rule = EXPLORATION_RULES[method.exploration](robot, method)
         self._queue: list[Command] = []  # a spin to face the choice, or a back-off
         self._following: Decision | None = None
         self._last_follow: Command | None = None
         self._episode = EpisodeRecord(0, 0)
         self.episodes = 0
-        # Where the robot has been, for the novelty rule.
-        self.places = Places(robot, params.near_m) if params.explore == NOVELTY else None
 
     @property
     def between_episodes(self) -> bool:
@@ -154,8 +125,7 @@ class ExplorePolicy:
         self._queue, self._following = [], None
 
     def decide(self, obs: Observation) -> Decision:
-        if self.places is not None:
-            self.places.visit(obs.odometry)
+        self.rule.visit(obs.odometry)
         if self._queue:
             return Decision(self._queue.pop(0))
         following = self._following
@@ -189,8 +159,10 @@ class ExplorePolicy:
         bumped = obs.bumped
         near = False
         if not bumped and record.arc_m < self._free_run_m(record.trajectory) - 1e-9:
-            near = bool(record.rings) and self._too_near(
-                mm_to_ring(ring_mm), mm_to_ring(record.rings[0])
+            near = (
+                self._sonar_points is not None
+                and bool(record.rings)
+                and self._sonar_points.reached(mm_to_ring(ring_mm), mm_to_ring(record.rings[0]))
             )
             if not near:
                 return False
@@ -224,25 +196,10 @@ class ExplorePolicy:
         return self._following
 
     def choose(self, ring_m: np.ndarray, odometry: Pose) -> tuple[int, int]:
-        """The (rotation, trajectory) pair to set off along next, by the explore rule, seeing
-        `ring_m` (16,) metres at `odometry`."""
+        """The (rotation, trajectory) pair to set off along next, by the exploration rule,
+        seeing `ring_m` (16,) metres at `odometry`."""
         _, experience = self.fam.perceive(ring_m)
-        if self.params.explore == RANDOM:
-            return random_pair(experience.shape, self.rng)
-        if self.places is None:
-            return least_experienced(experience, self.rng)
-        new = self.places.leading_to_new(ring_m, odometry)
-        if new.any():  # else nothing new is in reach, and experience alone decides
-            experience = np.where(new, experience, np.inf)
-        rotation, trajectory = least_experienced(experience, self.rng)
-        self.places.aim(rotation, trajectory)
-        return rotation, trajectory
-
-    def _too_near(self, ring_m: np.ndarray, start_m: np.ndarray) -> bool:
-        """A sonar ahead reads within near_m, having closed in since the episode started."""
-        ahead = ring_m[self._ahead]
-        closing = ahead < start_m[self._ahead] - NEAR_CLOSING_M
-        return bool((closing & (ahead < self.params.near_m)).any())
+        return self.rule.choose(experience, ring_m, odometry, self.rng)
 
     def _free_run_m(self, trajectory: int) -> float:
         """How far a trajectory goes before it counts as free: a full circle, or a long run."""
@@ -264,11 +221,13 @@ class Learner:
         robot: RobotConfig,
         fam: Fam,
         params: LearnParams,
-        train_params: TrainParams,
+        method: Method,
         seed: int,
         seed_stream: int = 0,
-        memory: MemoryConfig = NO_MEMORY,
+        symmetric: bool = True,
     ) -> None:
+        """Learn by `method`'s choices of learning (its labels, collision points, exploration
+        rule and echo memory); the robot's sonar is the caller's."""
         # Stream k of a seed is its children 2k and 2k + 1 (what spawn() would hand out
         # next): a log's second session goes on from its first instead of repeating it.
         sim_seed, choice_seed = (
@@ -277,8 +236,8 @@ class Learner:
         self.robot = robot
         self.fam = fam
         self.params = params
-        self.train_params = train_params
-        self.memory = memory
+        self.method = method
+        self.train_params = train_params(method, symmetric, fam.init_velocity_mps)
         self.sim = Simulator(world, robot, np.random.default_rng(sim_seed))
         self.rng = np.random.default_rng(choice_seed)
 
@@ -324,7 +283,8 @@ class Learner:
             self.rng,
             lambda: self.sim.pose,
             learnt,
-            Perception(self.memory, self.robot),
+            Perception(self.method.memory, self.robot),
+            self.method,
         )
 
         def stop() -> bool:

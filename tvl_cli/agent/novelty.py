@@ -1,5 +1,5 @@
-"""Choices beyond the paper for exploratory learning (`tvl learn --explore`): a uniformly
-random pair, and the pairs that lead to places the robot does not know.
+"""The places an exploring robot knows, for the novelty rule (agent.explore_rules): the pairs
+that lead to places the robot does not know.
 
 Places are judged by the robot alone, as a real one could: from where its odometry has been,
 in square bins, and from the echoes of its sonar ring now. A (rotation, trajectory) pair
@@ -12,7 +12,6 @@ worlds, and hoped for choices made on "unfamiliar environment regions".
 from __future__ import annotations
 
 import math
-from typing import Any
 
 import numpy as np
 
@@ -36,25 +35,6 @@ BLOCKED_BEYOND_STOP_M = 0.05
 # Where across its cone an echo may have come from, as fractions of the cone's width: a
 # sonar tells the range of the nearest surface, not its bearing within the cone.
 ECHO_SPREAD = (-0.5, 0.0, 0.5)
-
-
-# How the next (rotation, trajectory) pair is chosen (`tvl learn --explore`), by name.
-LEAST_EXPERIENCE = "least-experience"  # the paper's rule (Fig. 14), in agent.explore
-NOVELTY = "novelty"  # the least experienced of the pairs leading somewhere new, if any
-RANDOM = "random"  # uniformly random: the paper's "simplest way" (§4)
-EXPLORE_RULES = (LEAST_EXPERIENCE, NOVELTY, RANDOM)
-
-
-def explore_rule(parameters: dict[str, Any]) -> str:
-    """The choice rule a log session's parameters name; sessions written before there was a
-    choice followed the paper's."""
-    return str(parameters.get("explore", LEAST_EXPERIENCE))
-
-
-def random_pair(shape: tuple[int, int], rng: np.random.Generator) -> tuple[int, int]:
-    """A (rotation, trajectory) pair drawn uniformly from the generator."""
-    rotation, trajectory = divmod(int(rng.integers(shape[0] * shape[1])), shape[1])
-    return rotation, trajectory
 
 
 class Places:

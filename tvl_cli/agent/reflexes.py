@@ -1,9 +1,10 @@
-"""Every rule beyond the paper, each a named wrapper around any policy.
+"""Every rule beyond the paper around the choice rule, each a named wrapper around any policy
+and an entry of core.method.ADDITIONS.
 
 A reflex sees each observation before the policy it wraps. It may pass the policy advice
 (ways to keep out of the choice, the side a tie goes to) and may take over the command
-itself for a while (backing off). `--reflex NAME[,NAME...]` picks them, `--reflex none` or
-`--paper` runs the policy alone. Whatever the order they are named in, they stack in
+itself for a while (backing off). A method's `reflexes` (`--reflex NAME[,NAME...]`) picks
+them; the paper's method has none. Whatever the order they are named in, they stack in
 STACK_ORDER, outermost first.
 """
 
@@ -21,7 +22,7 @@ from tvl_cli.core.behaviours import trajectory_headings
 from tvl_cli.core.command import Command
 from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.contacts import blind_ahead, drives_forward, near_miss_sonars
-from tvl_cli.core.errors import BadInput
+from tvl_cli.core.method import BLOCKED_WAYS, BUMP, NEAR_MISS, REFLEX_NAMES, TIE, WALL_START
 
 # How long a way that met an obstacle stays out of the choice once backed off: time to drive
 # clear of the spot, short enough to try that way again later.
@@ -86,7 +87,7 @@ class NearMissBackOff(_BackOff):
     for the same reason.)
     """
 
-    name = "near-miss"
+    name = NEAR_MISS
 
     def __init__(self, inner: Policy, robot: RobotConfig, behaviour: str) -> None:
         super().__init__(inner, robot, behaviour)
@@ -102,7 +103,7 @@ class BumpBackOff(_BackOff):
     Without it a policy that still rates the way ahead fast pushes on into the obstacle.
     """
 
-    name = "bump"
+    name = BUMP
 
     def triggered(self, obs: Observation) -> bool:
         return obs.bumped
@@ -139,7 +140,7 @@ class BlockedWays(Reflex):
     there, so trusting it again would meet it again.
     """
 
-    name = "blocked-ways"
+    name = BLOCKED_WAYS
 
     def __init__(self, inner: Policy, robot: RobotConfig, behaviour: str) -> None:
         super().__init__(inner, robot, behaviour)
@@ -189,7 +190,7 @@ class TieToLastTurn(Reflex):
     has just turned right away from a wall can turn straight back towards it.
     """
 
-    name = "tie"
+    name = TIE
 
     def __init__(self, inner: Policy, robot: RobotConfig, behaviour: str) -> None:
         super().__init__(inner, robot, behaviour)
@@ -215,7 +216,7 @@ class WallStart(Reflex):
     """Until wall following has found its wall, ties turn away from that side, so that the
     first wall met ahead is left on the side to follow rather than on the other."""
 
-    name = "wall-start"
+    name = WALL_START
 
     def __init__(self, inner: Policy, robot: RobotConfig, behaviour: str) -> None:
         super().__init__(inner, robot, behaviour)
@@ -233,31 +234,9 @@ class WallStart(Reflex):
 # Outermost first: blocked ways see every command, back-offs included; ties and the wall
 # start advise the policy directly.
 REFLEXES: dict[str, type[Reflex]] = {
-    "blocked-ways": BlockedWays,
-    "near-miss": NearMissBackOff,
-    "bump": BumpBackOff,
-    "tie": TieToLastTurn,
-    "wall-start": WallStart,
+    r.name: r for r in (BlockedWays, NearMissBackOff, BumpBackOff, TieToLastTurn, WallStart)
 }
-STACK_ORDER = tuple(REFLEXES)
-ALL = "all"
-NONE = "none"
-
-
-def parse_reflexes(text: str) -> tuple[str, ...]:
-    """`none`, `all`, or NAME[,NAME...] -> the names in stacking order."""
-    if text == NONE:
-        return ()
-    if text == ALL:
-        return STACK_ORDER
-    names = [n.strip() for n in text.split(",") if n.strip()]
-    unknown = [n for n in names if n not in REFLEXES]
-    if unknown or not names:
-        raise BadInput(
-            f"--reflex {text!r}: unknown reflex {', '.join(unknown) or '(none named)'} "
-            f"(choose from {', '.join(STACK_ORDER)}, or all, or none)"
-        )
-    return tuple(n for n in STACK_ORDER if n in names)
+STACK_ORDER = REFLEX_NAMES
 
 
 def wrap(policy: Policy, names: tuple[str, ...], robot: RobotConfig, behaviour: str) -> Policy:

@@ -18,14 +18,13 @@ from tvl_cli.core.behaviours import (
     Context,
     choose,
     fast_set,
-    nearest_side,
     trajectory_headings,
-    wall_seen,
 )
 from tvl_cli.core.command import Command
 from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.memory import NO_MEMORY
+from tvl_cli.core.wall_rules import FIRST_SEEN, WALL_RULES
 
 # Trapped (nothing fast in any direction): turn slowly on the spot so the ring sees anew.
 TRAPPED_SPIN_RADPS = 0.3
@@ -50,6 +49,7 @@ class TvlPolicy:
         behaviour: str,
         threshold: float,
         perception: Perception | None = None,
+        wall_rule: str = FIRST_SEEN,
     ) -> None:
         self.fam = fam
         # Everything the choice reads of the ring, the FAM and the behaviours' rules alike,
@@ -63,28 +63,20 @@ class TvlPolicy:
         self._headings = trajectory_headings(curvatures, robot.sonar.count)
         self._set_off = trajectory_headings(curvatures, robot.sonar.count, SET_OFF_M)
         self._queue: list[Decision] = []  # the rest of a plan: spin steps, then the trajectory
+        # How wall following finds its wall, where the paper is silent (core.wall_rules).
+        self._wall_rule = WALL_RULES[wall_rule]
         self._wall_side = 0
         self._trapped = False
 
     def interrupt(self) -> None:
         self._queue = []
 
-    def _latch_wall_side(self, ring_m: np.ndarray) -> None:
-        """Wall following keeps to the side its wall was first seen on; straight on till then."""
-        if self._wall_side or not self.behaviour.startswith("wall"):
-            return
-        if self.behaviour == "wall":
-            self._wall_side = nearest_side(ring_m)
-        else:
-            side = 1 if self.behaviour == "wall-left" else -1
-            self._wall_side = side if wall_seen(ring_m, side) else 0
-
     def decide(self, obs: Observation) -> Decision:
         if self._queue:
             return self._queue.pop(0)
         ring_m = self.perception.sense(obs.time_s, obs.odometry, obs.ring_m)
         perceived = ring_m if self.perception.remembers else None
-        self._latch_wall_side(ring_m)
+        self._wall_side = self._wall_rule(self.behaviour, ring_m, self._wall_side)
         velocities, _ = self.fam.perceive(ring_m)  # (16, 7) m/s, row k facing sonar k
         fast = fast_set(velocities, self._v_max, self.threshold)
         if obs.keep_out is not None:

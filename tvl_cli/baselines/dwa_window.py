@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from tvl_cli.core.angles import wrap_rad
-from tvl_cli.core.labels import PAPER_DECEL_MPS2, PAPER_MARGIN_M
+from tvl_cli.core.method import PAPER
 
 
 @dataclass(frozen=True, slots=True)
@@ -30,7 +30,7 @@ class DwaParams:
 
     # The paper's robot's braking (its labels' deceleration, `--paper`), a real robot's
     # limit; our TVL labels brake more gently. 2 rad/s² reaches the full turn rate in 0.5 s.
-    accel_mps2: float = PAPER_DECEL_MPS2
+    accel_mps2: float = PAPER.decel_mps2
     angular_accel_radps2: float = 2.0
     v_max_mps: float = 0.6  # T0's maximum: no faster than a TVL trajectory
     w_max_radps: float = 1.0  # the spin rate, beyond every trajectory's (T3 at 0.35 m/s: 0.7)
@@ -40,7 +40,7 @@ class DwaParams:
     horizon_s: float = 2.0
     arc_step_m: float = 0.025  # well under the thinnest obstacle (a quarter-metre cell)
     wander_rays: int = 24  # directions around the robot `avoid` judges for room to go
-    margin_m: float = PAPER_MARGIN_M  # keep this far from obstacles, as the paper's labels do
+    margin_m: float = PAPER.margin_m  # keep this far from obstacles, as the paper's labels do
     heading_weight: float = 0.3
     clearance_weight: float = 0.4
     velocity_weight: float = 0.3

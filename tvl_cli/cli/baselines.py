@@ -2,12 +2,10 @@
 
 from __future__ import annotations
 
-from dataclasses import asdict
 from pathlib import Path
 
 import click
 
-from tvl_cli.agent.reflexes import NONE as NO_REFLEXES
 from tvl_cli.baselines.dwa import BEHAVIOURS as DWA_BEHAVIOURS
 from tvl_cli.baselines.dwa import SENSORS as DWA_SENSORS
 from tvl_cli.cli import views
@@ -15,6 +13,7 @@ from tvl_cli.cli.options import (
     PICTURE,
     SEED,
     memory_options,
+    method_options,
     print_json,
     reflex_options,
     refuse_existing,
@@ -22,7 +21,7 @@ from tvl_cli.cli.options import (
 )
 from tvl_cli.commands.baseline import dwa_session, qlearn_session
 from tvl_cli.commands.run import parse_goal
-from tvl_cli.core.memory import MemoryChoice
+from tvl_cli.core.method import NONE, MethodChoice
 
 
 @click.group()
@@ -37,7 +36,8 @@ def baseline() -> None:
 @click.option("--minutes", type=float, default=5.0, show_default=True, help="Simulated minutes.")
 @click.option("--seed", type=SEED, default=1, show_default=True)
 @click.option("--png", type=PICTURE, default=None, help="Draw the path.")
-@reflex_options(default=NO_REFLEXES)
+@method_options
+@reflex_options(default=NONE)
 @click.option(
     "--sensor",
     type=click.Choice(DWA_SENSORS),
@@ -56,9 +56,8 @@ def baseline_dwa(
     minutes: float,
     seed: int,
     png: Path | None,
-    reflexes: tuple[str, ...],
+    method: MethodChoice,
     sensor: str,
-    memory: MemoryChoice,
     force: bool,
     as_json: bool,
 ) -> None:
@@ -66,21 +65,20 @@ def baseline_dwa(
     refuse_shared_paths({"--png": png}, {"WORLD": world_file})
     if png is not None:
         refuse_existing(png, force)
-    metrics = dwa_session(
+    report = dwa_session(
         world_file,
         behaviour,
         parse_goal(goal) if goal else None,
         minutes,
         seed,
         png,
-        reflexes,
+        method,
         sensor,
-        memory,
     )
     if as_json:
-        print_json(asdict(metrics))
+        print_json(report.to_dict())
     else:
-        views.run_metrics(metrics, reflexes)
+        views.run_metrics(report.metrics, report.method)
 
 
 @baseline.command("qlearn")
@@ -100,7 +98,8 @@ def baseline_dwa(
     help="Judge competence with a 5-minute greedy run every K learning minutes.",
 )
 @click.option("--png", type=PICTURE, default=None, help="Draw the greedy run.")
-@reflex_options(default=NO_REFLEXES)
+@method_options
+@reflex_options(default=NONE)
 @click.option("--force", is_flag=True, help="Overwrite the --png file.")
 @click.option("--json", "as_json", is_flag=True, help="Print the metrics as JSON.")
 def baseline_qlearn(
@@ -110,7 +109,7 @@ def baseline_qlearn(
     seed: int,
     competence_every: float | None,
     png: Path | None,
-    reflexes: tuple[str, ...],
+    method: MethodChoice,
     force: bool,
     as_json: bool,
 ) -> None:
@@ -118,11 +117,9 @@ def baseline_qlearn(
     refuse_shared_paths({"--png": png}, {"WORLD": world_file})
     if png is not None:
         refuse_existing(png, force)
-    report = qlearn_session(
-        world_file, learn_minutes, minutes, seed, competence_every, png, reflexes
-    )
+    report = qlearn_session(world_file, learn_minutes, minutes, seed, competence_every, png, method)
     if as_json:
         print_json(report.to_dict())
     else:
-        views.run_metrics(report.result.evaluation, reflexes)
+        views.run_metrics(report.result.evaluation, report.method)
         click.echo(report.summary())

@@ -14,7 +14,6 @@ from typing import TYPE_CHECKING
 
 import click
 
-from tvl_cli.agent.reflexes import ALL as ALL_REFLEXES
 from tvl_cli.cli import views
 from tvl_cli.cli.options import (
     GIF,
@@ -24,6 +23,7 @@ from tvl_cli.cli.options import (
     given_on_command_line,
     live_options,
     memory_options,
+    method_options,
     print_csv,
     print_json,
     reflex_options,
@@ -35,7 +35,7 @@ from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD
 from tvl_cli.core.config import SONAR_MODELS
 from tvl_cli.core.contacts import EVENT_CHOICES
 from tvl_cli.core.errors import DEFAULT_RUN_MINUTES, BadInput
-from tvl_cli.core.memory import MemoryChoice
+from tvl_cli.core.method import ALL, MethodChoice
 
 if TYPE_CHECKING:
     from tvl_cli.agent.drive import StepSink
@@ -66,7 +66,8 @@ if TYPE_CHECKING:
 @click.option(
     "--log", "trace", type=click.Path(path_type=Path), default=None, help="Write a run trace."
 )
-@reflex_options(default=ALL_REFLEXES)
+@method_options
+@reflex_options(default=ALL)
 @click.option(
     "--sonar",
     type=click.Choice(list(SONAR_MODELS)),
@@ -98,10 +99,8 @@ def run(
     seed: int,
     png: Path | None,
     trace: Path | None,
-    reflexes: tuple[str, ...],
-    sonar: str | None,
+    method: MethodChoice,
     learn_log: str | None,
-    memory: MemoryChoice,
     force: bool,
     as_json: bool,
     as_csv: bool,
@@ -110,8 +109,8 @@ def run(
 ) -> None:
     """Perform a behaviour in WORLD with a learnt FAM.
 
-    Every rule beyond the paper's method is a reflex: --paper (or --reflex none) runs the
-    paper's method alone."""
+    Every rule beyond the paper's method is a reflex: --reflex none runs the paper's choice
+    rule alone, and --paper the paper's whole method (no reflex, no echo memory) on the FAM."""
     from tvl_cli.commands.run import OnlineLearning, RunRequest, parse_goal, run_behaviour
 
     refuse_both_formats(as_json, as_csv)
@@ -134,10 +133,8 @@ def run(
         parse_goal(goal) if goal else None,
         png,
         trace,
-        reflexes,
-        sonar,
+        method,
         learning,
-        memory,
     )
     with _watching(request, live, pace) as watch:
         result = run_behaviour(request, watch)
@@ -146,7 +143,7 @@ def run(
     elif as_csv:
         print_csv([asdict(result.metrics)])
     else:
-        views.run_metrics(result.metrics, reflexes)
+        views.run_metrics(result.metrics, result.method)
         views.run_learning(result, learning.log if learning else None)
 
 

@@ -13,6 +13,7 @@ from tvl_cli.cli import views
 from tvl_cli.cli.options import (
     PICTURE,
     memory_options,
+    method_options,
     print_csv,
     print_json,
     refuse_both_formats,
@@ -24,8 +25,7 @@ from tvl_cli.commands.learn import resolve_fam_config
 from tvl_cli.commands.train import refuse_repeated, train_from_logs, write_trained
 from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.errors import BadInput
-from tvl_cli.core.memory import MemoryChoice
-from tvl_cli.core.training import TrainParams
+from tvl_cli.core.method import MethodChoice, describe_record
 from tvl_cli.io.famfile import FamFile, read_fam
 from tvl_cli.io.logreader import file_sha256
 
@@ -33,6 +33,7 @@ from tvl_cli.io.logreader import file_sha256
 @click.command()
 @click.argument("logs", nargs=-1, required=True, type=click.Path(path_type=Path))
 @click.option("-o", "--output", type=click.Path(path_type=Path), required=True, help="FAM file.")
+@method_options
 @training_options
 @click.option(
     "--until-minute",
@@ -46,10 +47,11 @@ from tvl_cli.io.logreader import file_sha256
 def train(
     logs: tuple[Path, ...],
     output: Path,
+    method: MethodChoice,
     config: str,
-    train_params: TrainParams,
+    symmetric: bool,
+    init_velocity_mps: float,
     until_minute: float | None,
-    memory: MemoryChoice,
     force: bool,
     as_json: bool,
 ) -> None:
@@ -58,7 +60,9 @@ def train(
     refuse_existing(output, force)
     fam_config = resolve_fam_config(config, RobotConfig())
     with views.progress("training") as bar:
-        summary = train_from_logs(list(logs), fam_config, train_params, bar, until_minute, memory)
+        summary = train_from_logs(
+            list(logs), fam_config, method, bar, until_minute, symmetric, init_velocity_mps
+        )
     write_trained(output, summary, overwrite=force)
     if as_json:
         print_json(views.train_json(summary, output))
@@ -114,7 +118,10 @@ def inspect(
     fix: tuple[str, ...],
     force: bool,
 ) -> None:
-    """Print a FAM file's rules as a person reads them."""
+    """Print a FAM file's rules as a person reads them.
+
+    The method the FAM was made by comes first (unrecorded for FAMs written before files
+    recorded it)."""
     refuse_both_formats(as_json, as_csv)
     if explain is not None and as_csv:
         raise click.UsageError("--csv lists rules; --explain prints in words or --json")
@@ -135,6 +142,7 @@ def inspect(
         print_json(
             {
                 "config": loaded.fam.config.to_dict(),
+                "method": loaded.method,
                 "provenance": loaded.provenance,
                 "rules": [r.to_dict() for r in rules],
             }
@@ -142,6 +150,7 @@ def inspect(
     elif as_csv:
         print_csv([rule.to_row() for rule in rules])
     else:
+        click.echo(f"method: {describe_record(loaded.method)}")
         for rule in rules:
             click.echo(rule.sentence())
 

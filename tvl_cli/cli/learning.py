@@ -7,24 +7,22 @@ from pathlib import Path
 
 import click
 
-from tvl_cli.agent.explore import PAPER_NEAR_M, LearnParams, MinuteStats
-from tvl_cli.agent.novelty import EXPLORE_RULES
+from tvl_cli.agent.explore import LearnParams, MinuteStats
 from tvl_cli.cli import views
 from tvl_cli.cli.options import (
     SEED,
     live_options,
     memory_options,
+    method_options,
     print_json,
-    refuse_beside_paper,
     refuse_existing,
     refuse_shared_paths,
     training_options,
 )
 from tvl_cli.commands.learn import LearnRequest, LearnResult, learn_to_log
 from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
-from tvl_cli.core.config import EDGE_ECHO_RANGE_M, SONAR_MODELS, RobotConfig
-from tvl_cli.core.memory import DEFAULT_MEMORY, MemoryChoice
-from tvl_cli.core.training import TrainParams
+from tvl_cli.core.config import EDGE_ECHO_RANGE_M, SONAR_MODELS
+from tvl_cli.core.method import DEFAULT, EXPLORATION_RULES, LEARNING_FIELDS, MethodChoice
 from tvl_cli.sim.worldmap import load_world
 
 DEFAULT_LEARN = LearnParams()
@@ -46,6 +44,7 @@ DEFAULT_LEARN = LearnParams()
     help="Simulated minutes.",
 )
 @click.option("--seed", type=SEED, default=1, show_default=True)
+@method_options
 @training_options
 @click.option(
     "--fam",
@@ -64,25 +63,24 @@ DEFAULT_LEARN = LearnParams()
 @click.option(
     "--near",
     type=float,
-    default=DEFAULT_LEARN.near_m,
-    show_default=True,
-    help="m: a sonar ahead closing in this near marks a collision point (0: bumps only).",
+    default=None,
+    help="m: a sonar ahead closing in this near marks a collision point (0: bumps only; "
+    f"default: the method's, ours {DEFAULT.near_m:g}).",
 )
 @click.option(
     "--explore",
-    type=click.Choice(EXPLORE_RULES),
-    default=DEFAULT_LEARN.explore,
-    show_default=True,
+    type=click.Choice(EXPLORATION_RULES),
+    default=None,
     help="Which pair to follow next: the least experienced (the paper's rule), the least "
-    "experienced of those leading to places the odometry has not been, or a random one.",
+    "experienced of those leading to places the odometry has not been, or a random one "
+    f"(default: the method's, ours {DEFAULT.exploration}).",
 )
 @click.option(
     "--sonar",
     type=click.Choice(list(SONAR_MODELS)),
-    default="real",
-    show_default=True,
+    default=None,
     help=f"edges: convex edges echo within {EDGE_ECHO_RANGE_M:g} m; ideal: nearest hit at "
-    "any angle, no noise.",
+    f"any angle, no noise (default: the method's, ours {DEFAULT.sonar}).",
 )
 @click.option(
     "--from-fam",
@@ -90,7 +88,7 @@ DEFAULT_LEARN = LearnParams()
     default=None,
     help="Start a new log from this trained FAM (of the same --config).",
 )
-@memory_options(base=DEFAULT_MEMORY.kind)
+@memory_options(base=DEFAULT.memory.kind)
 @click.option("--force", is_flag=True, help="Overwrite the --fam file.")
 @click.option("--json", "as_json", is_flag=True, help="Print a JSON summary.")
 @live_options("learning")
@@ -99,15 +97,13 @@ def learn(
     log: Path,
     minutes: float,
     seed: int,
+    method: MethodChoice,
     config: str,
+    symmetric: bool,
+    init_velocity_mps: float,
     fam_out: Path | None,
-    train_params: TrainParams,
     learn_speed: float,
-    near: float,
-    explore: str,
-    sonar: str,
     from_fam: Path | None,
-    memory: MemoryChoice,
     force: bool,
     as_json: bool,
     live: bool,
@@ -119,20 +115,17 @@ def learn(
     )
     if fam_out is not None:
         refuse_existing(fam_out, force)
-    if click.get_current_context().params["paper"]:
-        refuse_beside_paper("--near", "--explore")
-        near = PAPER_NEAR_M
     request = LearnRequest(
         world_file,
         log,
         seed,
         config,
-        LearnParams(minutes=minutes, learn_speed_mps=learn_speed, near_m=near, explore=explore),
-        train_params,
+        LearnParams(minutes=minutes, learn_speed_mps=learn_speed),
+        method.over(DEFAULT, LEARNING_FIELDS),
         fam_out,
-        sonar=sonar,
         from_fam=from_fam,
-        memory=memory.over(DEFAULT_MEMORY),
+        symmetric=symmetric,
+        init_velocity_mps=init_velocity_mps,
     )
     if live and views.out.is_terminal:
         result = _learn_live(request, pace)
@@ -151,7 +144,9 @@ def _learn_live(request: LearnRequest, pace: float | None) -> LearnResult:
     """Learn with the live view: the robot exploring, and the last whole minute's counts."""
     from tvl_cli.cli.live import LiveView, live_view
 
-    view = LiveView(load_world(request.world), RobotConfig(), DEFAULT_THRESHOLD, None, pace)
+    view = LiveView(
+        load_world(request.world), request.method.robot(), DEFAULT_THRESHOLD, None, pace
+    )
 
     def on_minute(stats: MinuteStats) -> None:
         view.caption = (

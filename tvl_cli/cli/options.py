@@ -13,26 +13,27 @@ from typing import Any
 import click
 from click.core import ParameterSource
 
-from tvl_cli.agent.reflexes import STACK_ORDER, parse_reflexes
 from tvl_cli.core.config import BUILTIN_FAM_CONFIGS
 from tvl_cli.core.errors import MAX_SEED, BadInput
 from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS
-from tvl_cli.core.labels import (
-    DEFAULT_DECEL_MPS2,
-    DEFAULT_MARGIN_M,
-    PAPER_DECEL_MPS2,
-    PAPER_MARGIN_M,
-)
 from tvl_cli.core.memory import (
     DEFAULT_PATCH_M,
     DEFAULT_RANGE_M,
     DEFAULT_WINDOW_S,
     MEMORY_KINDS,
-    NONE,
+    NOT_CHOSEN,
     MemoryChoice,
 )
-from tvl_cli.core.training import TrainParams
+from tvl_cli.core.method import (
+    DEFAULT,
+    PAPER,
+    PAPER_NAME,
+    REFLEX_NAMES,
+    MethodChoice,
+    parse_reflexes,
+)
 from tvl_cli.io.atomic import refuse_non_file
+from tvl_cli.io.methodfile import chosen_method
 from tvl_cli.io.table import csv_text
 from tvl_cli.render.formats import picture_format, refuse_other_extension
 
@@ -90,24 +91,13 @@ def refuse_shared_paths(
 
 
 def training_options(command: Callable[..., None]) -> Callable[..., None]:
-    """--config, --decel, --margin, --no-symmetric and --init-velocity, given to the command
-    as `config` and one `train_params`: learn and train label and train alike."""
+    """--config, --decel, --margin, --no-symmetric and --init-velocity: learn and train label
+    and train alike. The labels are the method's (method_options); the command is given
+    `symmetric` and `init_velocity_mps`."""
 
     @functools.wraps(command)
-    def with_params(
-        *args: Any,
-        decel: float,
-        margin: float,
-        no_symmetric: bool,
-        init_velocity: float,
-        paper: bool,
-        **kwargs: Any,
-    ) -> None:
-        if paper:
-            refuse_beside_paper("--decel", "--margin")
-            decel, margin = PAPER_DECEL_MPS2, PAPER_MARGIN_M
-        params = TrainParams(decel, margin, not no_symmetric, init_velocity)
-        command(*args, train_params=params, **kwargs)
+    def with_settings(*args: Any, no_symmetric: bool, init_velocity: float, **kwargs: Any) -> None:
+        command(*args, symmetric=not no_symmetric, init_velocity_mps=init_velocity, **kwargs)
 
     options = (
         click.option(
@@ -117,25 +107,18 @@ def training_options(command: Callable[..., None]) -> Callable[..., None]:
             help=f"{', '.join(BUILTIN_FAM_CONFIGS)} or FILE.json.",
         ),
         click.option(
-            "--paper",
-            is_flag=True,
-            help=f"The paper's method: labels at {PAPER_DECEL_MPS2:g} m/s² with a "
-            f"{PAPER_MARGIN_M:g} m margin (and, learning, collision points by bumps only and "
-            "the least experienced choice).",
-        ),
-        click.option(
             "--decel",
             type=float,
-            default=DEFAULT_DECEL_MPS2,
-            show_default=True,
-            help="Deceleration of the labels, m/s².",
+            default=None,
+            help=f"Deceleration of the labels, m/s² (default: the method's; ours "
+            f"{DEFAULT.decel_mps2:g}).",
         ),
         click.option(
             "--margin",
             type=float,
-            default=DEFAULT_MARGIN_M,
-            show_default=True,
-            help="Stop this far short of a collision point, m.",
+            default=None,
+            help=f"Stop this far short of a collision point, m (default: the method's; ours "
+            f"{DEFAULT.margin_m:g}).",
         ),
         click.option("--no-symmetric", is_flag=True, help="Train each trajectory only on itself."),
         click.option(
@@ -147,8 +130,8 @@ def training_options(command: Callable[..., None]) -> Callable[..., None]:
         ),
     )
     for option in reversed(options):
-        with_params = option(with_params)
-    return with_params
+        with_settings = option(with_settings)
+    return with_settings
 
 
 def given_on_command_line(*options: str) -> list[str]:
@@ -162,71 +145,95 @@ def given_on_command_line(*options: str) -> list[str]:
     ]
 
 
-def refuse_beside_paper(*options: str) -> None:
-    """--paper fixes these options: giving one as well is a contradiction, not a choice."""
-    for option in given_on_command_line(*options):
-        raise BadInput(f"{option} cannot be given with --paper, which fixes it")
+# The options that set one field of the method each, by their keyword: the value as given ->
+# the field's value. Each command declares those of its choices (method_options takes them).
+_SETTINGS: dict[str, tuple[str, Callable[[Any], Any]]] = {
+    "decel": ("decel_mps2", float),
+    "margin": ("margin_m", float),
+    "near": ("near_m", float),
+    "explore": ("exploration", str),
+    "sonar": ("sonar", str),
+    "reflex": ("reflexes", parse_reflexes),
+}
+_MEMORY_SETTINGS = ("memory", "memory_window", "memory_range", "memory_patch")
+
+
+def method_options(command: Callable[..., None]) -> Callable[..., None]:
+    """--method and --paper, and the finer options the command declares (--decel, --reflex,
+    --memory ...), given to the command as one `method` MethodChoice. A finer option beside
+    the paper's method chosen by name that sets an addition otherwise than the paper is a
+    contradiction, and refused."""
+
+    @functools.wraps(command)
+    def with_method(*args: Any, method: str | None, paper: bool, **kwargs: Any) -> None:
+        if paper and method is not None:
+            raise click.UsageError("give --method or --paper, not both")
+        name = PAPER_NAME if paper else method
+        settings = tuple(
+            (field, convert(kwargs.pop(keyword)))
+            for keyword, (field, convert) in _SETTINGS.items()
+            if kwargs.get(keyword) is not None
+        )
+        for keyword in _SETTINGS:
+            kwargs.pop(keyword, None)
+        memory = (
+            MemoryChoice(*(kwargs.pop(keyword) for keyword in _MEMORY_SETTINGS))
+            if "memory" in kwargs
+            else NOT_CHOSEN
+        )
+        chosen = None if name is None else chosen_method(name)
+        choice = MethodChoice(chosen, name, settings, memory)
+        how = "--paper" if paper else f"--method {name}"
+        for flag in choice.contradictions():
+            raise BadInput(f"{flag} cannot be given with {how}, which fixes it")
+        command(*args, method=choice, **kwargs)
+
+    with_method = click.option(
+        "--paper",
+        is_flag=True,
+        help=f"Short for --method paper: the paper's method (labels at {PAPER.decel_mps2:g} "
+        f"m/s² with a {PAPER.margin_m:g} m margin, collision points at bumps alone, no reflex, "
+        "no echo memory).",
+    )(with_method)
+    return click.option(
+        "--method",
+        default=None,
+        metavar="paper|default|FILE.toml",
+        help="Every choice of the method at once: the paper's, ours, or a method file; the "
+        "options below change one choice of it (default: ours, with what the inputs were "
+        "made with).",
+    )(with_method)
 
 
 def reflex_options(default: str) -> Callable[[Callable[..., None]], Callable[..., None]]:
-    """--reflex NAMES and --paper, given to the command as one `reflexes` tuple."""
+    """--reflex NAMES, a setting of the method (method_options); `default` says which
+    reflexes a command runs with when neither is given."""
 
     def decorate(command: Callable[..., None]) -> Callable[..., None]:
-        @functools.wraps(command)
-        def with_reflexes(*args: Any, reflex: str, paper: bool, **kwargs: Any) -> None:
-            if paper:
-                refuse_beside_paper("--reflex")
-            reflexes = () if paper else parse_reflexes(reflex)
-            command(*args, reflexes=reflexes, **kwargs)
-
-        with_reflexes = click.option(
-            "--paper", is_flag=True, help="The paper's method alone: no reflexes."
-        )(with_reflexes)
         return click.option(
             "--reflex",
-            default=default,
-            show_default=True,
+            default=None,
             metavar="NAMES",
-            help=f"Reflexes beyond the paper, comma-separated: {', '.join(STACK_ORDER)}; "
-            "or all, or none.",
-        )(with_reflexes)
+            help=f"Reflexes beyond the paper, comma-separated: {', '.join(REFLEX_NAMES)}; "
+            f"or all, or none (default: the method's; without one, {default}).",
+        )(command)
 
     return decorate
 
 
-MEMORY_OPTIONS = ("--memory", "--memory-window", "--memory-range", "--memory-patch")
-
-
 def memory_options(base: str) -> Callable[[Callable[..., None]], Callable[..., None]]:
-    """--memory, --memory-window, --memory-range and --memory-patch, given to the command as
-    one `memory` MemoryChoice to apply over `base` (said in the help). The paper's method
-    keeps no memory: with --paper they are refused, and the choice is none."""
+    """--memory, --memory-window, --memory-range and --memory-patch, settings of the method's
+    echo memory (method_options) over `base` (said in the help). The paper's method keeps no
+    memory."""
 
     def decorate(command: Callable[..., None]) -> Callable[..., None]:
-        @functools.wraps(command)
-        def with_memory(
-            *args: Any,
-            memory: str | None,
-            memory_window: float | None,
-            memory_range: float | None,
-            memory_patch: float | None,
-            **kwargs: Any,
-        ) -> None:
-            choice = MemoryChoice(memory, memory_window, memory_range, memory_patch)
-            if click.get_current_context().params.get("paper"):
-                refuse_beside_paper(
-                    "--memory", "--memory-window", "--memory-range", "--memory-patch"
-                )
-                choice = MemoryChoice(kind=NONE)
-            command(*args, memory=choice, **kwargs)
-
         options = (
             click.option(
                 "--memory",
                 type=click.Choice(MEMORY_KINDS),
                 default=None,
                 help=f"What the FAM reads: the live ring (none), or with echoes remembered as "
-                f"points or patches (default: {base}).",
+                f"points or patches (default: the method's; without one, {base}).",
             ),
             click.option(
                 "--memory-window",
@@ -249,8 +256,8 @@ def memory_options(base: str) -> Callable[[Callable[..., None]], Callable[..., N
             ),
         )
         for option in reversed(options):
-            with_memory = option(with_memory)
-        return with_memory
+            command = option(command)
+        return command
 
     return decorate
 

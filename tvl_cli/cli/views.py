@@ -13,6 +13,7 @@ from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, T
 from rich.table import Table
 
 from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
+from tvl_cli.core.method import describe_record
 
 if TYPE_CHECKING:
     # What is shown, named for its type only: a command's `--help` imports this module, and
@@ -113,6 +114,7 @@ def learn_json(result: LearnResult) -> dict[str, Any]:
         "coverage": result.coverage,
         "wall_s": result.wall_s,
         "status": result.status,
+        "method": result.method,
         "minutes": [
             {**asdict(m), "coverage": c}
             for m, c in zip(s.minutes, result.minute_coverage, strict=True)
@@ -147,6 +149,7 @@ def learn_summary(result: LearnResult, log: Path) -> None:
         f"{s.sim_s / 60:.1f} simulated minutes, coverage {result.coverage:.0%} "
         f"({result.wall_s:.1f} s)"
     )
+    out.print(f"method: {describe_record(result.method)}")
 
 
 def train_json(summary: TrainSummary, output: Path) -> dict[str, Any]:
@@ -159,6 +162,7 @@ def train_json(summary: TrainSummary, output: Path) -> dict[str, Any]:
         "rules_total": summary.rules_total,
         "wall_s": summary.wall_s,
         "repeated_sessions": summary.repeated_sessions,
+        "method": summary.method,
     }
 
 
@@ -167,6 +171,7 @@ def train_summary(summary: TrainSummary, output: Path) -> None:
     table.add_column()
     table.add_column(justify="right")
     table.add_row("configuration", summary.fam.config.name)
+    table.add_row("method", describe_record(summary.method))
     table.add_row("episodes", str(summary.episodes))
     table.add_row("exemplars used", str(summary.exemplars))
     table.add_row("rules touched", f"{summary.rules_touched} of {summary.rules_total}")
@@ -285,16 +290,18 @@ def _metrics_rows(metrics: RunMetrics) -> list[tuple[str, str]]:
     return [(name, show(value)) for name, value in asdict(metrics).items()]
 
 
-def run_metrics(metrics: RunMetrics, reflexes: tuple[str, ...] | None = None) -> None:
-    """The metrics of a run (what --json prints), and the reflexes it ran with."""
+def run_metrics(metrics: RunMetrics, method: dict[str, Any] | None = None) -> None:
+    """The metrics of a run (what --json prints), and the method it ran by (its record)."""
     table = Table(show_header=False)
     table.add_column()
     table.add_column(justify="right")
     for name, value in _metrics_rows(metrics):
         table.add_row(name, value)
     out.print(table)
-    if reflexes is not None:
+    if method is not None:
+        reflexes = method.get("reflexes") or []
         out.print(f"reflexes: {', '.join(reflexes) or 'none (the paper method)'}")
+        out.print(f"method: {describe_record(method)}")
 
 
 def run_learning(result: RunResult, log: Path | None) -> None:

@@ -4,7 +4,7 @@ the metrics of `tvl run` (and a picture) out."""
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -14,9 +14,23 @@ from tvl_cli.baselines.qlearning import QLearningResult, learn_and_evaluate
 from tvl_cli.commands.run import resolve_goal
 from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.errors import BadInput, check_minutes, check_run_minutes
-from tvl_cli.core.memory import NO_MEMORY, NONE, NOT_CHOSEN, MemoryChoice
+from tvl_cli.core.memory import NO_MEMORY, NONE
+from tvl_cli.core.method import (
+    DEFAULT,
+    NOT_GIVEN,
+    Method,
+    MethodChoice,
+    as_choice,
+    method_record,
+)
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.sim.worldmap import WorldMap, load_world
+
+# What a baseline takes of a method: the reflexes around it, and the DWA by the ring its echo
+# memory. Not given, a baseline runs alone on the live ring.
+REFLEXES_ONLY = ("reflexes",)
+DWA_FIELDS = ("reflexes", "memory")
+ALONE = replace(DEFAULT, reflexes=(), memory=NO_MEMORY)
 
 
 def _goal(
@@ -55,17 +69,19 @@ def dwa_session(
     minutes: float,
     seed: int,
     png: Path | None = None,
-    reflexes: tuple[str, ...] = (),
+    method: Method | MethodChoice = NOT_GIVEN,
     sensor: str = MAP,
-    memory: MemoryChoice = NOT_CHOSEN,
-) -> RunMetrics:
-    """One DWA run in a world file inside the named reflexes, knowing the obstacles by the
-    map or by the sonar ring (through an echo memory if chosen); the path drawn to `png`."""
+) -> DwaReport:
+    """One DWA run in a world file inside the method's reflexes, knowing the obstacles by the
+    map or by the sonar ring (through the method's echo memory); the path drawn to `png`."""
     check_run_minutes(minutes, RobotConfig().control_period_s)
     if sensor not in SENSORS:
         raise BadInput(f"--sensor {sensor}: choose {', '.join(SENSORS)}")
-    if sensor == MAP and memory.given and memory.kind != NONE:
+    choice = as_choice(method)
+    if sensor == MAP and choice.memory.given and choice.memory.kind != NONE:
         raise BadInput("--memory is for --sensor ring: the map needs no memory")
+    chosen = choice.over(ALONE, DWA_FIELDS)
+    reflexes = chosen.reflexes
     world = load_world(world_path)
     goal = _goal(world_path, world, behaviour, goal)
     robot = RobotConfig()
@@ -80,18 +96,30 @@ def dwa_session(
         reflexes=reflexes,
         on_step=steps if png else None,
         sensor=sensor,
-        memory=memory.over(NO_MEMORY),
+        # The map knows every obstacle: there is nothing to remember.
+        memory=NO_MEMORY if sensor == MAP else chosen.memory,
     )
     if png is not None:
         steps.close()
         _draw(world, path, png, f"DWA by the {sensor}, {behaviour} in {world.name}", goal)
-    return metrics
+    fields = REFLEXES_ONLY if sensor == MAP else DWA_FIELDS
+    return DwaReport(metrics, {**method_record(chosen, fields), "preset": None})
+
+
+@dataclass(frozen=True, slots=True)
+class DwaReport:
+    metrics: RunMetrics
+    method: dict[str, Any]  # what the baseline took of a method (no preset: it is no TVL)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {**asdict(self.metrics), "method": self.method}
 
 
 @dataclass(frozen=True, slots=True)
 class QLearnReport:
     result: QLearningResult
     checked_competence: bool
+    method: dict[str, Any]  # what the baseline took of a method (no preset: it is no TVL)
 
     def to_dict(self) -> dict[str, Any]:
         """The run metrics of the greedy run, then what learning cost (and achieved)."""
@@ -102,6 +130,7 @@ class QLearnReport:
         if self.checked_competence:
             report["time_to_competence_min"] = result.time_to_competence_min
             report["competence_checks"] = [asdict(c) for c in result.checks]
+        report["method"] = self.method
         return report
 
     def summary(self) -> str:
@@ -128,10 +157,12 @@ def qlearn_session(
     seed: int,
     competence_every: float | None = None,
     png: Path | None = None,
-    reflexes: tuple[str, ...] = (),
+    method: Method | MethodChoice = NOT_GIVEN,
 ) -> QLearnReport:
-    """Learn a Q-table in a world file, then run it greedily inside the named reflexes; its
-    path drawn to `png`."""
+    """Learn a Q-table in a world file, then run it greedily inside the method's reflexes;
+    its path drawn to `png`."""
+    chosen = as_choice(method).over(ALONE, REFLEXES_ONLY)
+    reflexes = chosen.reflexes
     check_run_minutes(minutes, RobotConfig().control_period_s)
     check_minutes(learn_minutes, "--learn-minutes", zero_allowed=True)
     if competence_every is not None and not (
@@ -156,4 +187,5 @@ def qlearn_session(
         steps.close()
         title = f"Q-learning after {learn_minutes:g} min, avoid in {world.name}"
         _draw(world, path, png, title, None)
-    return QLearnReport(result, competence_every is not None)
+    recorded = {**method_record(chosen, REFLEXES_ONLY), "preset": None}
+    return QLearnReport(result, competence_every is not None, recorded)

@@ -14,8 +14,8 @@ from tvl_cli.commands.train import train_from_logs, write_trained
 from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
 from tvl_cli.core.config import MULTI, SINGLE
 from tvl_cli.core.errors import BadInput
+from tvl_cli.core.method import DEFAULT
 from tvl_cli.core.metrics import RunMetrics
-from tvl_cli.core.training import TrainParams
 from tvl_cli.sim.worldgen import bundled_world_path
 
 DEMO_WORLD = "square"
@@ -53,15 +53,13 @@ def run_demo(directory: Path, force: bool, say: Callable[[str], None]) -> DemoRe
     log.unlink(missing_ok=True)  # a demo always starts a fresh log
     say(f"learning for {LEARN_MINUTES:g} simulated minutes in {world} ...")
     learning = learn_to_log(
-        LearnRequest(
-            world, log, DEMO_SEED, "single", LearnParams(minutes=LEARN_MINUTES), TrainParams()
-        )
+        LearnRequest(world, log, DEMO_SEED, "single", LearnParams(minutes=LEARN_MINUTES), DEFAULT)
     )
     rows = []
     for config in (SINGLE, MULTI):
         say(f"training the {config.name} FAM from {log} ...")
         fam_path = directory / f"{config.name}.h5"
-        write_trained(fam_path, train_from_logs([log], config, TrainParams()))
+        write_trained(fam_path, train_from_logs([log], config, DEFAULT))
         for behaviour in BEHAVIOURS:
             say(f"running {behaviour} with the {config.name} FAM ...")
             png = directory / f"{config.name}-{behaviour}.png"

@@ -9,7 +9,8 @@ combination of them. A cell is one `tvl run` and the learning and training befor
     threshold = [0.65, 0.8, 0.95]
     run_minutes = 5
     goal = ["3.5,2.0"]                  # goal runs only; default the world's first goal
-    reflexes = ["all", "none", "paper"] # as `tvl run --reflex`, or paper: the paper's method
+    method = ["default", "paper"]       # as `--method`: a preset or a method file; default ours
+    reflexes = ["all", "none"]          # as `tvl run --reflex`; default each method's own
 
 Files are named relative to the grid file's folder.
 """
@@ -18,14 +19,12 @@ from __future__ import annotations
 
 import math
 import re
-import sys
 from dataclasses import astuple, dataclass, fields
 from itertools import product
 from pathlib import Path
 from typing import Any
 
-from tvl_cli.agent.explore import PAPER_NEAR_M, LearnParams
-from tvl_cli.agent.reflexes import ALL, STACK_ORDER, parse_reflexes
+from tvl_cli.agent.explore import LearnParams
 from tvl_cli.commands.learn import resolve_fam_config
 from tvl_cli.commands.run import parse_goal
 from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD, is_threshold
@@ -37,19 +36,20 @@ from tvl_cli.core.errors import (
     check_minutes,
     check_run_minutes,
 )
-from tvl_cli.core.labels import PAPER_DECEL_MPS2, PAPER_MARGIN_M
-from tvl_cli.core.training import TrainParams
+from tvl_cli.core.method import (
+    DEFAULT_NAME,
+    PAPER_NAME,
+    PRESETS,
+    REFLEX_NAMES,
+    Method,
+    MethodChoice,
+    parse_reflexes,
+    reflexes_text,
+)
+from tvl_cli.io.methodfile import read_method
+from tvl_cli.io.tomlfile import read_toml
 from tvl_cli.sim.worldgen import bundled_world_path
 from tvl_cli.sim.worldmap import WorldMap, check_goal, load_world
-
-if sys.version_info >= (3, 11):
-    import tomllib
-else:  # the same parser, before it joined the standard library
-    import tomli as tomllib
-
-# A `reflexes` value beside the reflex sets: the paper's whole method, as --paper gives it to
-# learn, train and run (its labels, collision points by bumps only, no reflexes).
-PAPER = "paper"
 
 
 @dataclass(frozen=True, slots=True)
@@ -65,27 +65,18 @@ class Cell:
     threshold: float
     goal: str | None  # "X,Y" in metres for a goal run; None for the other behaviours
     run_minutes: float
-    reflexes: str  # as `tvl run --reflex` takes them, or PAPER
+    method: str  # as `--method` takes it: a preset's name, or a method file beside the grid
+    reflexes: str  # as `tvl run --reflex` takes them
 
     def key(self) -> tuple[Any, ...]:
         return astuple(self)
 
-    @property
-    def paper(self) -> bool:
-        return self.reflexes == PAPER
-
     def learn_params(self) -> LearnParams:
-        if self.paper:
-            return LearnParams(minutes=self.learn_minutes, near_m=PAPER_NEAR_M)
         return LearnParams(minutes=self.learn_minutes)
 
-    def train_params(self) -> TrainParams:
-        if self.paper:
-            return TrainParams(decel_mps2=PAPER_DECEL_MPS2, margin_m=PAPER_MARGIN_M)
-        return TrainParams()
-
-    def run_reflexes(self) -> tuple[str, ...]:
-        return () if self.paper else parse_reflexes(self.reflexes)
+    def run_method(self, method: Method) -> MethodChoice:
+        """The run's method: the cell's, with the cell's reflexes."""
+        return MethodChoice(method, self.method, (("reflexes", parse_reflexes(self.reflexes)),))
 
     def goal_xy(self) -> tuple[float, float] | None:
         return None if self.goal is None else parse_goal(self.goal)
@@ -98,6 +89,7 @@ COLUMNS = tuple(f.name for f in fields(Cell))
 class Grid:
     worlds: dict[str, str]  # name -> the world file's text, which the sweep runs a copy of
     configs: dict[str, FamConfig]  # by name
+    methods: dict[str, Method]  # by the grid's entry
     cells: tuple[Cell, ...]  # in the grid's order: the last key varies fastest
 
 
@@ -112,19 +104,18 @@ _KEYS: dict[str, tuple[type, tuple[Any, ...] | None]] = {
     "threshold": (float, (DEFAULT_THRESHOLD,)),
     "goal": (str, ()),
     "run_minutes": (float, (DEFAULT_RUN_MINUTES,)),
-    "reflexes": (str, (ALL,)),
+    "method": (str, (DEFAULT_NAME,)),
+    "reflexes": (str, ()),
 }
 _TYPE_NAMES = {str: "text", int: "a whole number", float: "a number"}
 # World and configuration names become parts of file names in the sweep's directory.
 _FILE_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]*")
-# Where tomllib places a syntax error, at the end of its message.
-_AT = re.compile(r"(?P<what>.*) \(at line (?P<line>\d+), column (?P<column>\d+)\)")
 
 
 def read_grid(path: Path) -> Grid:
     """The grid of a TOML file, every value checked; BadInput naming the file and the key (or
     the line of a syntax error) at the first fault."""
-    table = _read_toml(path)
+    table = read_toml(path, "grid")
     unknown = [key for key in table if key not in _KEYS]
     if unknown:
         raise BadInput(f"{path}: unknown key {unknown[0]!r} (known: {', '.join(_KEYS)})")
@@ -146,6 +137,9 @@ def read_grid(path: Path) -> Grid:
             )
     for reflexes in values["reflexes"]:
         _check_reflexes(path, reflexes)
+    methods = {entry: _method(path, entry) for entry in values["method"]}
+    for entry, method in methods.items():
+        _check_paper_reflexes(path, entry, method, values["reflexes"])
     if values["goal"] and "goal" not in values["behaviour"]:
         raise BadInput(f"{path}: goal is for the goal behaviour, which the grid does not run")
     worlds = _named(path, "world", {e: load_world(_world_file(path, e)) for e in values["world"]})
@@ -158,7 +152,7 @@ def read_grid(path: Path) -> Grid:
         for name, world in worlds.items()
     }
     cells = [
-        Cell(world, seed, config, learn, behaviour, threshold, goal, run, reflexes)
+        Cell(world, seed, config, learn, behaviour, threshold, goal, run, method, reflexes)
         for world, seed, config, learn, behaviour, threshold in product(
             worlds,
             values["seed"],
@@ -169,31 +163,16 @@ def read_grid(path: Path) -> Grid:
         )
         # Only goal runs seek a goal: the goals multiply them alone.
         for goal in (goals_in[world] if behaviour == "goal" else [None])
-        for run, reflexes in product(values["run_minutes"], values["reflexes"])
+        for run, method in product(values["run_minutes"], methods)
+        # Without reflexes in the grid, each method runs with its own.
+        for reflexes in values["reflexes"] or (reflexes_text(methods[method].reflexes),)
     ]
     return Grid(
         worlds={name: world.text for name, world in worlds.items()},
         configs=configs,
+        methods=methods,
         cells=tuple(cells),
     )
-
-
-def _read_toml(path: Path) -> dict[str, Any]:
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise BadInput(f"{path}: no such grid file") from None
-    except OSError as error:
-        raise BadInput(f"{path}: cannot read ({error.strerror})") from None
-    except UnicodeDecodeError as error:
-        raise BadInput(f"{path}: not UTF-8 text ({error.reason})") from None
-    try:
-        return tomllib.loads(text)
-    except tomllib.TOMLDecodeError as error:
-        found = _AT.fullmatch(str(error))
-        if found is None:
-            raise BadInput(f"{path}: not TOML ({error})") from None
-        raise BadInput(f"{path}:{found['line']}:{found['column']}: {found['what']}") from None
 
 
 def _values(path: Path, table: dict[str, Any], key: str) -> tuple[Any, ...]:
@@ -227,15 +206,34 @@ def _is_a(kind: type, item: Any) -> bool:
 
 
 def _check_reflexes(path: Path, text: str) -> None:
-    if text == PAPER:
-        return
     try:
         parse_reflexes(text)
     except BadInput:
         raise BadInput(
-            f"{path}: reflexes {text!r} is not all, none, {PAPER} or names from "
-            f"{', '.join(STACK_ORDER)}, comma-separated"
+            f"{path}: reflexes {text!r} is not all, none or names from "
+            f"{', '.join(REFLEX_NAMES)}, comma-separated (the paper's whole method is "
+            'method = "paper")'
         ) from None
+
+
+def _method(path: Path, entry: str) -> Method:
+    """A preset by name, else a method file beside the grid."""
+    return PRESETS[entry] if entry in PRESETS else read_method(path.parent / entry)
+
+
+def _check_paper_reflexes(
+    path: Path, entry: str, method: Method, reflexes: tuple[str, ...]
+) -> None:
+    """The paper's method has no reflex: cells that add some contradict it, as `--reflex`
+    beside `--paper` does."""
+    if entry != PAPER_NAME:
+        return
+    for text in reflexes:
+        if parse_reflexes(text) != method.reflexes:
+            raise BadInput(
+                f'{path}: reflexes {text!r} contradicts method "paper", which has none '
+                "(leave reflexes out to run each method with its own)"
+            )
 
 
 def _goal(path: Path, text: str) -> tuple[float, float]:

@@ -17,13 +17,14 @@ from tvl_cli.agent.drive import StepSink
 from tvl_cli.agent.explore import Learner, LearnParams, LearnSummary, MinuteStats
 from tvl_cli.analysis.coverage import CoverageTracker, Floor, grid_over, reachable_floor
 from tvl_cli.commands.train import distinct_sessions, perceived_episodes, provenance, train_on
-from tvl_cli.core.config import BUILTIN_FAM_CONFIGS, SONAR_MODELS, FamConfig, RobotConfig
+from tvl_cli.core.config import BUILTIN_FAM_CONFIGS, FamConfig, RobotConfig
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
-from tvl_cli.core.fam import Fam
+from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS, Fam
 from tvl_cli.core.fam_configs import fam_config_from_json
-from tvl_cli.core.memory import DEFAULT_MEMORY, MemoryConfig
-from tvl_cli.core.training import TrainParams
+from tvl_cli.core.memory import MemoryConfig
+from tvl_cli.core.method import DEFAULT, LEARNING_FIELDS, Method, method_record
+from tvl_cli.core.training import TrainParams, train_params
 from tvl_cli.io.famfile import read_fam, write_fam
 from tvl_cli.io.logfile import LogWriter
 from tvl_cli.io.loglayout import STATUS_FINISHED
@@ -61,15 +62,21 @@ class LearnRequest:
     seed: int
     config: str
     learn: LearnParams
-    train: TrainParams
+    method: Method = DEFAULT  # its learning choices: labels, collision points, exploration,
+    # sonar and echo memory
     fam_out: Path | None = None
-    sonar: str = "real"  # one of SONAR_MODELS
     from_fam: Path | None = None  # start from this trained FAM (a new log only)
-    memory: MemoryConfig = DEFAULT_MEMORY  # what the FAM reads through, as `tvl learn`
+    symmetric: bool = True  # train each trajectory on its mirror image too (`--no-symmetric`)
+    init_velocity_mps: float = DEFAULT_INIT_VELOCITY_MPS  # every entry before training
+
+    @property
+    def train(self) -> TrainParams:
+        return train_params(self.method, self.symmetric, self.init_velocity_mps)
 
 
 @dataclass(frozen=True, slots=True)
 class LearnResult:
+    method: dict[str, Any]  # the method learnt by, as the log records it
     summary: LearnSummary
     wall_s: float
     status: str
@@ -123,7 +130,8 @@ def learn_to_log(
     """Explore the world, appending each whole episode to a new session of the log; each
     step shown to `watch` if given (a live view)."""
     world = load_world(request.world)
-    robot = RobotConfig(sonar=SONAR_MODELS[request.sonar])
+    method = request.method
+    robot = method.robot()
     config = resolve_fam_config(request.config, robot)
     log = read_log(request.log, empty_allowed=True) if request.log.exists() else None
     earlier = log.sessions if log is not None else []
@@ -134,33 +142,37 @@ def learn_to_log(
                 f"{request.log}: already holds sessions; --from-fam starts a new log "
                 "(a log goes on from its own sessions)"
             )
-        fam = _fam_to_start_from(request.from_fam, config, robot, request.memory)
+        fam = _fam_to_start_from(request.from_fam, config, robot, method.memory)
         started_from = {"path": str(request.from_fam), "sha256": file_sha256(request.from_fam)}
     else:
         fam = Fam(config, [t.name for t in robot.trajectories], request.train.init_velocity_mps)
         if log is not None:
             # A log goes on from what its sessions learnt, trained as `tvl train` would.
             sessions, _ = distinct_sessions([log])
-            episodes = [e for s in sessions for e in perceived_episodes(s, request.memory, robot)]
+            episodes = [e for s in sessions for e in perceived_episodes(s, method.memory, robot)]
             train_on(fam, episodes, robot, request.train)
     learner = Learner(
         world,
         robot,
         fam,
         request.learn,
-        request.train,
+        method,
         request.seed,
         seed_stream=len(earlier),
-        memory=request.memory,
+        symmetric=request.symmetric,
     )
     started = time.perf_counter()
+    recorded = method_record(method, LEARNING_FIELDS)
     parameters = {
         "config": config.name,
         **request.learn.to_dict(),
+        # As sessions recorded them before the method was: readers of those read these.
+        "near_m": method.near_m,
+        "explore": method.exploration,
         **request.train.to_dict(),
         "seed_stream": len(earlier),
         "from_fam": started_from or None,
-        "memory": request.memory.to_dict(),
+        "memory": method.memory.to_dict(),
     }
     with (
         LogWriter.open(
@@ -172,6 +184,7 @@ def learn_to_log(
             robot_config=robot.to_dict(),
             fam_config=config.to_dict(),
             write_every_s=LOG_WRITE_EVERY_S,
+            method=recorded,
         ) as writer,
         _catching_signals() as interrupted,
     ):
@@ -218,10 +231,11 @@ def learn_to_log(
                 "online_session": session,
                 "from_fam": started_from or None,
             },
-            memory=request.memory,
+            memory=method.memory,
+            method=recorded,
         )
     return LearnResult(
-        summary, time.perf_counter() - started, status, minute_coverage, coverage.fraction
+        recorded, summary, time.perf_counter() - started, status, minute_coverage, coverage.fraction
     )
 
 

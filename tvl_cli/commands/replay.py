@@ -6,11 +6,12 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from tvl_cli.agent.novelty import explore_rule
 from tvl_cli.analysis.coverage import coverage_by_minute, coverage_of
 from tvl_cli.commands.learn import world_floor
+from tvl_cli.commands.train import explore_rule
 from tvl_cli.core.contacts import BUMP, EVENTS, NEAR_MISS, TRAPPED
 from tvl_cli.core.errors import BadInput
+from tvl_cli.core.method import describe_record
 from tvl_cli.io.loglayout import KIND_LEARNING, MINUTE_COLUMNS
 from tvl_cli.io.logreader import LearningLog, Session, read_log
 from tvl_cli.io.runfile import RunTrace, read_run
@@ -25,12 +26,15 @@ class Replay:
     kind: str  # the file format
     facts: list[tuple[str, Any]]
     minutes: list[dict[str, str | float]] | None = None  # a learning log's; None for a run
+    # The method each was made by (core.method.method_record; None: unrecorded): a run's
+    # under "run", a log's by session name.
+    methods: dict[str, dict[str, Any] | None] | None = None
 
     def to_dict(self) -> dict[str, Any]:
-        """The facts by label; a learning log's per-minute rows under `minutes` (a run's
-        `minutes` is its length, one of its parameters)."""
+        """The facts by label; the methods; a learning log's per-minute rows under `minutes`
+        (a run's `minutes` is its length, one of its parameters)."""
         rows = {} if self.minutes is None else {"minutes": self.minutes}
-        return {"format": self.kind, **dict(self.facts), **rows}
+        return {"format": self.kind, **dict(self.facts), "methods": self.methods, **rows}
 
 
 def _learning(
@@ -58,6 +62,7 @@ def _learning(
                 f"coverage {whole:.0%}",
             )
         )
+        facts.append((f"session {s.name} method", describe_record(s.method)))
         minutes += [
             {
                 "session": s.name,
@@ -93,7 +98,7 @@ def _learning(
                 curves,
                 f"learning in {chosen.world_name}, session {chosen.name}",
             )
-    return Replay(LOG_FORMAT, facts, minutes)
+    return Replay(LOG_FORMAT, facts, minutes, {s.name: s.method for s in log.sessions})
 
 
 def _session(log: LearningLog, name: str | None) -> Session:
@@ -137,6 +142,7 @@ def _events(trace: RunTrace) -> list[tuple[str, Any]]:
 def _run(trace: RunTrace, png: Path | None) -> Replay:
     facts: list[tuple[str, Any]] = [
         ("world", trace.world_name),
+        ("method", describe_record(trace.method)),
         *trace.parameters.items(),
         ("steps", trace.steps),
         *trace.metrics.items(),
@@ -158,7 +164,7 @@ def _run(trace: RunTrace, png: Path | None) -> Replay:
             title=f"{trace.parameters.get('behaviour')} in {trace.world_name}",
             goal=tuple(goal) if goal else None,
         )
-    return Replay(RUN_FORMAT, facts)
+    return Replay(RUN_FORMAT, facts, methods={"run": trace.method})
 
 
 @dataclass(frozen=True, slots=True)

@@ -10,12 +10,21 @@ from typing import Any
 from tvl_cli.agent.behave import behave
 from tvl_cli.agent.drive import Step, StepSink
 from tvl_cli.agent.online import ECHO_AFTER_S, ECHO_BEFORE_S, OnlineLearner, OnlineSummary
-from tvl_cli.agent.reflexes import STACK_ORDER
 from tvl_cli.agent.trace import ColumnSink, PathRecorder, TraceRecorder
 from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, is_threshold
 from tvl_cli.core.config import SONAR_MODELS, RobotConfig, sonar_model_name
 from tvl_cli.core.errors import BadInput, check_run_minutes
-from tvl_cli.core.memory import NOT_CHOSEN, MemoryChoice, MemoryConfig
+from tvl_cli.core.method import (
+    BEHAVING_FIELDS,
+    DEFAULT,
+    FIELDS,
+    NOT_GIVEN,
+    Method,
+    MethodChoice,
+    as_choice,
+    method_from_dict,
+    method_record,
+)
 from tvl_cli.core.metrics import MinuteContacts, MinuteTally, RunMetrics
 from tvl_cli.core.training import TrainParams
 from tvl_cli.io.famfile import FamFile, read_fam
@@ -45,10 +54,11 @@ class RunRequest:
     goal: tuple[float, float] | None = None
     png: Path | None = None
     trace: Path | None = None
-    reflexes: tuple[str, ...] = STACK_ORDER
-    sonar: str | None = None  # one of SONAR_MODELS; None: the sonar the FAM was learnt with
+    # The run's choices (reflexes, wall rule, echo memory) and settings (a sonar model); not
+    # given, ours, reading through the memory the FAM was trained through with the sonar it
+    # was learnt with. The rest of the method is the FAM's.
+    method: Method | MethodChoice = NOT_GIVEN
     learn: OnlineLearning | None = None  # learn while behaving (`--learn`)
-    memory: MemoryChoice = NOT_CHOSEN  # over the memory the FAM was trained through
 
 
 @dataclass(frozen=True, slots=True)
@@ -57,11 +67,16 @@ class RunResult:
     minutes: list[MinuteContacts]
     learnt: OnlineSummary | None = None  # with --learn
     session: str | None = None  # the session appended to the log, with --learn LOG
+    method: dict[str, Any] | None = None  # the run's method_record
 
     def to_dict(self) -> dict[str, Any]:
-        """`tvl run --json`: the metrics, the contacts of each simulated minute, and with
-        --learn what the run learnt and the log session it went to."""
-        printed = {**asdict(self.metrics), "minutes": [asdict(m) for m in self.minutes]}
+        """`tvl run --json`: the metrics, the contacts of each simulated minute, the method,
+        and with --learn what the run learnt and the log session it went to."""
+        printed = {
+            **asdict(self.metrics),
+            "minutes": [asdict(m) for m in self.minutes],
+            "method": self.method,
+        }
         if self.learnt is not None:
             # Not "learning": results files mark the ablation's runs with that key.
             printed["learnt"] = {**asdict(self.learnt), "session": self.session}
@@ -117,6 +132,46 @@ def run_robot(learnt_by: RobotConfig, sonar: str | None, fam_path: Path) -> Robo
     return robot
 
 
+def run_method(fam_file: FamFile, fam_path: Path, choice: MethodChoice) -> Method:
+    """The method a run is made by: the FAM's learning (as it records it; else ours, with its
+    labels, memory and sonar), ours or the chosen reflexes, wall rule and memory, and the
+    settings given."""
+    made_by = fam_file.method
+    if made_by is not None:
+        # Its fields: the record's notes (the preset, sessions that learnt otherwise) aside.
+        fields = {k: v for k, v in made_by.items() if k in FIELDS}
+        inherited = method_from_dict(fields, f"{fam_path}: method")
+    else:
+        training = training_params(fam_file, fam_path)
+        inherited = Method(
+            decel_mps2=training.decel_mps2,
+            margin_m=training.margin_m,
+            sonar=sonar_model_name(fam_file.robot_config.sonar) or DEFAULT.sonar,
+        )
+    # A run's own choices are ours unless chosen; the FAM reads through its own memory.
+    inherited = replace(
+        inherited,
+        reflexes=DEFAULT.reflexes,
+        wall_rule=DEFAULT.wall_rule,
+        memory=fam_file.memory,
+    )
+    return choice.over(inherited, BEHAVING_FIELDS)
+
+
+def run_record(method: Method, fam_file: FamFile) -> dict[str, Any]:
+    """What the run records of its method: every field, or, for a FAM that does not record
+    how it was learnt, the run's own choices alone."""
+    if fam_file.method is not None:
+        record = method_record(method)
+        # A FAM whose sessions learnt differently is no preset, nor is a run driving it.
+        return record if "sessions_differ_in" not in fam_file.method else {**record, "preset": None}
+    return {
+        **method_record(method, (*BEHAVING_FIELDS, "sonar")),
+        "preset": None,
+        "learning": "unrecorded",
+    }
+
+
 def run_fam(request: RunRequest, watch: StepSink | None = None) -> RunMetrics:
     """The metrics of `run_behaviour`."""
     return run_behaviour(request, watch).metrics
@@ -132,14 +187,17 @@ def run_behaviour(request: RunRequest, watch: StepSink | None = None) -> RunResu
     check_run_minutes(request.minutes, RobotConfig().control_period_s)
     fam_file = read_fam(request.fam)
     world = load_world(request.world)
-    robot = run_robot(fam_file.robot_config, request.sonar, request.fam)
-    memory = request.memory.over(fam_file.memory)
+    choice = as_choice(request.method)
+    method = run_method(fam_file, request.fam, choice)
+    recorded = run_record(method, fam_file)
+    sonar_given = dict(choice.settings).get("sonar")
+    robot = run_robot(fam_file.robot_config, sonar_given, request.fam)
     goal = resolve_goal(request.world, world, request.behaviour, request.goal)
     path = PathRecorder()
     tally = MinuteTally(robot.control_period_s)
     with ExitStack() as outputs:
         learner, session = (
-            _online_learner(request, fam_file, world, robot, memory, goal, outputs)
+            _online_learner(request, fam_file, world, robot, method, recorded, goal, outputs)
             if request.learn is not None
             else (None, None)
         )
@@ -147,10 +205,10 @@ def run_behaviour(request: RunRequest, watch: StepSink | None = None) -> RunResu
         trace = None
         if request.trace is not None:
             trace = outputs.enter_context(
-                _trace_output(request, world, robot, memory, fam_file, goal)
+                _trace_output(request, world, robot, method, recorded, fam_file, goal)
             )
             sinks.append(trace)
-        recorder = TraceRecorder(request.reflexes, robot.sonar.count, sinks)
+        recorder = TraceRecorder(method.reflexes, robot.sonar.count, sinks)
         on_step = _fan_out(
             recorder if sinks else None, watch, lambda step: tally.record(step.events), learner
         )
@@ -163,9 +221,8 @@ def run_behaviour(request: RunRequest, watch: StepSink | None = None) -> RunResu
             seed=request.seed,
             threshold=request.threshold,
             goal_xy=goal,
-            reflexes=request.reflexes,
             on_step=on_step,
-            memory=memory,
+            method=method,
         )
         if learner is not None:
             learner.finish(metrics.sim_s)
@@ -186,7 +243,7 @@ def run_behaviour(request: RunRequest, watch: StepSink | None = None) -> RunResu
             goal=goal,
         )
     learnt = learner.summary() if learner is not None else None
-    return RunResult(metrics, tally.minutes(metrics), learnt, session)
+    return RunResult(metrics, tally.minutes(metrics), learnt, session, recorded)
 
 
 def training_params(fam_file: FamFile, fam_path: Path) -> TrainParams:
@@ -207,7 +264,7 @@ def training_params(fam_file: FamFile, fam_path: Path) -> TrainParams:
 def _run_parameters(
     request: RunRequest,
     robot: RobotConfig,
-    memory: MemoryConfig,
+    method: Method,
     goal: tuple[float, float] | None,
 ) -> dict[str, Any]:
     """The run's parameters, as its trace and a behaving log session keep them."""
@@ -217,9 +274,9 @@ def _run_parameters(
         "minutes": request.minutes,
         "goal": list(goal) if goal else None,
         "seed": request.seed,
-        "reflexes": list(request.reflexes),
+        "reflexes": list(method.reflexes),
         "sonar": sonar_model_name(robot.sonar),
-        "memory": memory.to_dict(),
+        "memory": method.memory.to_dict(),
         "fam": str(request.fam),
         "fam_sha256": file_sha256(request.fam),
     }
@@ -230,7 +287,8 @@ def _online_learner(
     fam_file: FamFile,
     world: WorldMap,
     robot: RobotConfig,
-    memory: MemoryConfig,
+    method: Method,
+    recorded: dict[str, Any],
     goal: tuple[float, float] | None,
     outputs: ExitStack,
 ) -> tuple[OnlineLearner, str | None]:
@@ -239,6 +297,7 @@ def _online_learner(
     log refused (locked, not a log, another robot's) stops the run before it starts."""
     assert request.learn is not None
     params = training_params(fam_file, request.fam)
+    memory = method.memory
     if request.learn.log is None:
         return OnlineLearner(fam_file.fam, robot, params, world.start, memory=memory), None
     writer = outputs.enter_context(
@@ -248,7 +307,7 @@ def _online_learner(
             world_text=world.text,
             seed=request.seed,
             parameters={
-                **_run_parameters(request, robot, memory, goal),
+                **_run_parameters(request, robot, method, goal),
                 "config": fam_file.fam.config.name,
                 **params.to_dict(),
                 "echo_before_s": ECHO_BEFORE_S,
@@ -257,6 +316,7 @@ def _online_learner(
             robot_config=robot.to_dict(),
             fam_config=fam_file.fam.config.to_dict(),
             kind=KIND_BEHAVING,
+            method=recorded,
         )
     )
     learner = OnlineLearner(
@@ -269,7 +329,8 @@ def _trace_output(
     request: RunRequest,
     world: WorldMap,
     robot: RobotConfig,
-    memory: MemoryConfig,
+    method: Method,
+    recorded: dict[str, Any],
     fam_file: FamFile,
     goal: tuple[float, float] | None,
 ) -> AbstractContextManager[RunTraceWriter]:
@@ -281,14 +342,15 @@ def _trace_output(
         world_name=world.name,
         world_text=world.text,
         parameters={
-            **_run_parameters(request, robot, memory, goal),
+            **_run_parameters(request, robot, method, goal),
             # Which sonars each trajectory's table reads, for the contact autopsy.
             "sonars_read": fam_file.fam.config.sonars_read(),
             # A run that learns drives with a FAM that changes: the file is where it started.
             "learn": None if learning is None else str(learning.log or ""),
         },
         robot_config=robot.to_dict(),
-        reflex_names=request.reflexes,
+        reflex_names=method.reflexes,
+        method=recorded,
     )
 
 

@@ -10,6 +10,8 @@ the same.
 
 from __future__ import annotations
 
+import hashlib
+import json
 from collections.abc import Callable
 from concurrent.futures import FIRST_COMPLETED, Executor, Future, wait
 from contextlib import AbstractContextManager
@@ -25,7 +27,14 @@ from tvl_cli.commands.train import train_from_logs, write_trained
 from tvl_cli.commands.workers import dask_cluster, local_processes
 from tvl_cli.core.config import SINGLE, FamConfig
 from tvl_cli.core.errors import BadInput
-from tvl_cli.core.training import TrainParams
+from tvl_cli.core.method import (
+    DEFAULT,
+    DEFAULT_NAME,
+    LEARNING_FIELDS,
+    PAPER_NAME,
+    Method,
+    method_record,
+)
 from tvl_cli.io.atomic import atomic_output
 from tvl_cli.io.loglayout import STATUS_FINISHED
 from tvl_cli.io.table import Row, append_row, write_csv, write_parquet
@@ -72,10 +81,13 @@ class _Layout:
     def world(self, cell: Cell) -> Path:
         return self.root / "worlds" / f"{cell.world}.txt"
 
+    def method(self, cell: Cell) -> Method:
+        return self.grid.methods[cell.method]
+
     def log(self, cell: Cell) -> Path:
         # repr: two lengths never share a name, as they could rounded.
-        paper = "-paper" if cell.paper else ""
-        return self.root / "logs" / f"{cell.world}-s{cell.seed}-m{cell.learn_minutes!r}{paper}.h5"
+        learnt = learning_tag(self.method(cell))
+        return self.root / "logs" / f"{cell.world}-s{cell.seed}-m{cell.learn_minutes!r}{learnt}.h5"
 
     def fam(self, cell: Cell) -> Path:
         return self.root / "fams" / f"{self.log(cell).stem}-{cell.config}.h5"
@@ -87,11 +99,11 @@ class _Layout:
             cell.seed,
             LEARN_CONFIG,
             cell.learn_params(),
-            cell.train_params(),
+            self.method(cell),
         )
 
-    def train_arguments(self, cell: Cell) -> tuple[Path, Path, FamConfig, TrainParams]:
-        return self.fam(cell), self.log(cell), self.grid.configs[cell.config], cell.train_params()
+    def train_arguments(self, cell: Cell) -> tuple[Path, Path, FamConfig, Method]:
+        return self.fam(cell), self.log(cell), self.grid.configs[cell.config], self.method(cell)
 
     def run_request(self, cell: Cell) -> RunRequest:
         return RunRequest(
@@ -102,8 +114,18 @@ class _Layout:
             cell.run_minutes,
             cell.seed,
             cell.goal_xy(),
-            reflexes=cell.run_reflexes(),
+            method=cell.run_method(self.method(cell)),
         )
+
+
+def learning_tag(method: Method) -> str:
+    """What a log's name adds for a method that learns otherwise than ours: its preset, or
+    "method", and a digest of its learning choices, so that no two methods share a log."""
+    if not method.differs(DEFAULT, LEARNING_FIELDS):
+        return ""
+    record = method_record(method, LEARNING_FIELDS)
+    digest = hashlib.sha256(json.dumps(record, sort_keys=True).encode()).hexdigest()[:8]
+    return f"-{record['preset'] or 'method'}-{digest}"
 
 
 def run_sweep(
@@ -122,8 +144,10 @@ def run_sweep(
     on_progress(0, len(todo))
 
     def record(cell: Cell, result: RunResult) -> None:
-        # What `tvl run --json` prints, after the cell's grid values.
-        rows[cell] = {"kind": RUN_KIND, **asdict(cell), **result.to_dict()}
+        # What `tvl run --json` prints, after the cell's grid values (the method as the grid
+        # names it: its record is in the sweep's logs and FAMs).
+        printed = {k: v for k, v in result.to_dict().items() if k != "method"}
+        rows[cell] = {"kind": RUN_KIND, **asdict(cell), **printed}
         append_row(journal, rows[cell])
         on_progress(len(rows) - skipped, len(todo))
 
@@ -175,9 +199,17 @@ def _recorded(journal: Path) -> dict[tuple[object, ...], Row]:
     found = read_results(journal).values() if journal.exists() else []
     return {
         tuple(row[column] for column in COLUMNS): row
-        for row in found
+        for row in map(_with_method, found)
         if row["kind"] == RUN_KIND and all(column in row for column in COLUMNS)
     }
+
+
+def _with_method(row: Row) -> Row:
+    """Rows of sweeps from before grids named a method ran ours, unless they ran the paper's
+    (`reflexes = "paper"`), which then kept our echo memory: those match no cell now."""
+    if "method" in row or row.get("reflexes") == PAPER_NAME:
+        return row
+    return {**row, "method": DEFAULT_NAME}
 
 
 def _executor(request: SweepRequest) -> AbstractContextManager[Executor]:
@@ -258,9 +290,9 @@ def learn_log(request: LearnRequest) -> None:
             raise KeyboardInterrupt  # a signal stopped the learning: it stops the sweep too
 
 
-def train_fam(fam: Path, log: Path, config: FamConfig, params: TrainParams) -> None:
-    """Train a FAM from a log, as `tvl train LOG -o FAM` does."""
-    write_trained(fam, train_from_logs([log], config, params))
+def train_fam(fam: Path, log: Path, config: FamConfig, method: Method) -> None:
+    """Train a FAM from a log by a method, as `tvl train LOG -o FAM --method` does."""
+    write_trained(fam, train_from_logs([log], config, method))
 
 
 def _write_tables(root: Path, rows: list[Row]) -> list[Path]:

@@ -12,15 +12,25 @@ from typing import Any
 
 import numpy as np
 
-from tvl_cli.agent.novelty import explore_rule
 from tvl_cli.agent.perception import replayed_rings
-from tvl_cli.core.config import FamConfig, RobotConfig
+from tvl_cli.core.config import FamConfig, RobotConfig, sonar_model_name
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
-from tvl_cli.core.fam import Fam
-from tvl_cli.core.memory import NO_MEMORY, NOT_CHOSEN, MemoryChoice, MemoryConfig
+from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS, Fam
+from tvl_cli.core.memory import NO_MEMORY, MemoryConfig
+from tvl_cli.core.method import (
+    DEFAULT,
+    LEARNING_FIELDS,
+    LEAST_EXPERIENCE,
+    NOT_GIVEN,
+    Method,
+    MethodChoice,
+    as_choice,
+    method_from_dict,
+    method_record,
+)
 from tvl_cli.core.ring import mm_to_ring
-from tvl_cli.core.training import TrainParams, train_episode
+from tvl_cli.core.training import TrainParams, train_episode, train_params
 from tvl_cli.io.famfile import write_fam
 from tvl_cli.io.loglayout import KIND_LEARNING
 from tvl_cli.io.logreader import LearningLog, Session, read_log
@@ -31,6 +41,7 @@ class TrainSummary:
     fam: Fam
     robot: RobotConfig
     memory: MemoryConfig  # what the FAM was trained to read through
+    method: dict[str, Any]  # method_record of the learning choices that made it
     provenance: dict[str, Any]
     exemplars: int
     episodes: int
@@ -112,16 +123,61 @@ def common_memory(logs: Sequence[LearningLog]) -> MemoryConfig:
     return memories.pop() if memories else NO_MEMORY
 
 
-def training_memory(logs: Sequence[LearningLog], choice: MemoryChoice) -> MemoryConfig:
-    """The memory a FAM trained from the logs reads through: the sessions' own, with the
-    settings chosen in their place. Sessions of different memories need --memory."""
+def explore_rule(parameters: dict[str, Any]) -> str:
+    """The exploration rule a log session's parameters name; sessions written before there
+    was a choice followed the paper's."""
+    return str(parameters.get("explore", LEAST_EXPERIENCE))
+
+
+def session_method(session: Session, where: str) -> Method:
+    """The method a learning session was learnt by: as it records it, or as its parameters
+    and robot say (sessions written before the method was recorded)."""
+    if session.method is not None:
+        return method_from_dict(session.method, f"{where} session {session.name} method")
+    parameters = session.parameters
+    return Method(
+        decel_mps2=float(parameters.get("decel_mps2", DEFAULT.decel_mps2)),
+        margin_m=float(parameters.get("margin_m", DEFAULT.margin_m)),
+        near_m=float(parameters.get("near_m", DEFAULT.near_m)),
+        exploration=explore_rule(parameters),
+        sonar=sonar_model_name(session.robot_config.sonar) or DEFAULT.sonar,
+        memory=session_memory(session, where),
+    )
+
+
+def training_method(
+    logs: Sequence[LearningLog], choice: MethodChoice
+) -> tuple[Method, dict[str, Any]]:
+    """The method a FAM trained from the logs is made by, and its record: the labels and
+    memory chosen (ours, reading through the sessions' own memory, unless chosen); the
+    collision points, exploration and sonar of the learning sessions. Sessions of different
+    memories need a memory chosen; sessions that learnt differently are named in the record."""
     try:
-        base = common_memory(logs)
+        memory = common_memory(logs)
     except BadInput:
-        if choice.kind is None:
+        if choice.method is None and choice.memory.kind is None:
             raise
-        base = NO_MEMORY
-    return choice.over(base)
+        memory = NO_MEMORY
+    learnt = [
+        session_method(s, str(log.path))
+        for log in logs
+        for s in log.sessions
+        if s.kind == KIND_LEARNING
+    ]
+    first = learnt[0] if learnt else DEFAULT
+    inherited = Method(
+        near_m=first.near_m,
+        exploration=first.exploration,
+        sonar=sonar_model_name(logs[0].sessions[0].robot_config.sonar) or DEFAULT.sonar,
+        memory=memory,
+    )
+    method = choice.over(inherited, ("decel_mps2", "margin_m", "memory"))
+    record = method_record(method, LEARNING_FIELDS)
+    differing = sorted({n for m in learnt for n in m.differs(first, ("near_m", "exploration"))})
+    if differing:
+        # The first session's are recorded; the others learnt otherwise.
+        record = {**record, "preset": None, "sessions_differ_in": differing}
+    return method, record
 
 
 def perceived_episodes(session: Session, memory: MemoryConfig, robot: RobotConfig) -> list[Episode]:
@@ -192,23 +248,26 @@ def provenance(logs: Sequence[LearningLog], params: TrainParams, config: FamConf
 def train_from_logs(
     paths: Sequence[Path],
     config: FamConfig,
-    params: TrainParams,
+    method: Method | MethodChoice = NOT_GIVEN,
     on_progress: Callable[[int, int], None] = lambda done, total: None,
     until_minute: float | None = None,
-    memory: MemoryChoice = NOT_CHOSEN,
+    symmetric: bool = True,
+    init_velocity_mps: float = DEFAULT_INIT_VELOCITY_MPS,
 ) -> TrainSummary:
     """Train a new FAM on every episode of every log, in log, session and episode order;
     with `until_minute`, only on the episodes each session finished by then (a snapshot of
-    what the learner knew at that minute). The FAM reads through the memory the sessions were
-    learnt through, with the settings `memory` gives in their place, its virtual rings
-    replayed from the exemplars."""
+    what the learner knew at that minute). The labels are the method's (ours when none is
+    chosen); the FAM reads through the memory the sessions were learnt through unless the
+    method or its settings say otherwise, its virtual rings replayed from the exemplars."""
     started = time.perf_counter()
     if until_minute is not None and not (math.isfinite(until_minute) and until_minute >= 0):
         raise BadInput(f"--until-minute {until_minute:g} must be a number of minutes >= 0")
     logs = [read_log(path) for path in paths]
     refuse_repeated([(log.path, log.sha256) for log in logs], "log")
     robot = common_robot(logs)
-    memory_read = training_memory(logs, memory)
+    made_by, record = training_method(logs, as_choice(method))
+    memory_read = made_by.memory
+    params = train_params(made_by, symmetric, init_velocity_mps)
     fam = Fam(config, [t.name for t in robot.trajectories], params.init_velocity_mps)
     sessions, repeats = distinct_sessions(logs)
     episodes = [e for s in sessions for e in perceived_episodes(s, memory_read, robot)]
@@ -221,6 +280,7 @@ def train_from_logs(
         fam=fam,
         robot=robot,
         memory=memory_read,
+        method=record,
         provenance={
             **provenance(logs, params, config),
             "until_minute": until_minute,
@@ -244,5 +304,6 @@ def write_trained(path: Path, trained: TrainSummary, overwrite: bool = True) -> 
         robot_config=trained.robot,
         provenance=trained.provenance,
         memory=trained.memory,
+        method=trained.method,
         overwrite=overwrite,
     )

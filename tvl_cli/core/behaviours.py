@@ -28,8 +28,6 @@ def is_threshold(value: float) -> bool:
     return math.isfinite(value) and 0 < value <= 1
 
 
-# A reading this short on one side means a wall to follow on that side.
-WALL_SEEN_M = 1.0
 # Each side front to back, mirror images, so that equal readings pick the same sonar on both.
 LEFT_SONARS = (2, 3, 4, 5, 6)
 RIGHT_SONARS = (14, 13, 12, 11, 10)
@@ -44,7 +42,7 @@ class Context:
     # first in trajectory order (T3L to T3R) and looks left first when rotating perception.
     tie_side: int = 0
     goal_bearing_rad: float = 0.0  # goal direction relative to the heading (goal only)
-    wall_side: int = 0  # +1 left, -1 right, 0 none seen yet (wall following only)
+    wall_side: int = 0  # +1 left, -1 right, 0 none found yet (wall following only)
 
 
 @dataclass(frozen=True, slots=True)
@@ -62,21 +60,6 @@ def trajectory_headings(
     """(sonar_count, 7) heading of each rotated trajectory after lookahead_m of it, radians."""
     sonar_angles = np.arange(sonar_count) * (2 * math.pi / sonar_count)
     return wrap_rad(sonar_angles[:, None] + curvatures_per_m[None, :] * lookahead_m)
-
-
-def wall_seen(ring_m: np.ndarray, side: int) -> bool:
-    """Whether a reading within WALL_SEEN_M shows an object on `side` (+1 left, -1 right)."""
-    sonars = LEFT_SONARS if side > 0 else RIGHT_SONARS
-    return bool(ring_m[list(sonars)].min() <= WALL_SEEN_M)
-
-
-def nearest_side(ring_m: np.ndarray) -> int:
-    """+1 if the nearest object within WALL_SEEN_M is on the left, -1 right, 0 none."""
-    left = float(ring_m[list(LEFT_SONARS)].min())
-    right = float(ring_m[list(RIGHT_SONARS)].min())
-    if min(left, right) > WALL_SEEN_M:
-        return 0
-    return 1 if left <= right else -1
 
 
 def _wall_bearing(ring_m: np.ndarray, side: int) -> float:
@@ -119,7 +102,8 @@ BEHAVIOURS: dict[str, Scorer] = {
     "wall-right": _wall_score(-1),
     "goal": _goal_score,
 }
-# `wall` follows the side of the nearest object, so it scores like wall-left or wall-right.
+# `wall` follows the side of the nearest object (Fig. 4(b)), so it scores like wall-left or
+# wall-right once the wall rule (core.wall_rules) has found that side.
 BEHAVIOUR_NAMES = ("avoid", "wall-left", "wall-right", "wall", "goal")
 
 

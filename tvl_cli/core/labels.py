@@ -23,9 +23,6 @@ DEFAULT_DECEL_MPS2 = 0.1
 # Stop this far short of the collision point, the sonar's minimum range: no speed is learnt
 # for the last stretch that the ring cannot tell from touching.
 DEFAULT_MARGIN_M = 0.15
-# The paper's robot (SPEC §5), for `--paper`: a firmer brake and a margin of a few centimetres.
-PAPER_DECEL_MPS2 = 0.5
-PAPER_MARGIN_M = 0.05
 
 
 def velocity_labels(

@@ -13,6 +13,7 @@ from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS, Fam
 from tvl_cli.core.labels import DEFAULT_DECEL_MPS2, DEFAULT_MARGIN_M, velocity_labels
+from tvl_cli.core.method import Method
 
 
 @dataclass(frozen=True, slots=True)
@@ -40,6 +41,13 @@ class TrainParams:
 
     def to_dict(self) -> dict[str, float | bool]:
         return asdict(self)
+
+
+def train_params(
+    method: Method, symmetric: bool = True, init_velocity_mps: float = DEFAULT_INIT_VELOCITY_MPS
+) -> TrainParams:
+    """How a FAM is trained by `method`'s labels, with the settings beyond the method."""
+    return TrainParams(method.decel_mps2, method.margin_m, symmetric, init_velocity_mps)
 
 
 def episode_labels(episode: Episode, robot: RobotConfig, params: TrainParams) -> np.ndarray:

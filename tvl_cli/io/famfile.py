@@ -5,13 +5,19 @@ Layout:
     /                 format, format_version, tvl_version, created, config (FamConfig JSON),
                       robot_config (JSON), init_velocity_mps, trajectories, provenance (JSON),
                       memory (JSON: the echo memory it was trained to read through; a file
-                      without it reads the live ring)
+                      without it reads the live ring), method (JSON, core.method.method_record:
+                      the learning choices it was made by; optional, see below)
     /fams/<table>     one group per FAM table, e.g. /fams/all or /fams/T1L
         velocity      table.shape + (trajectories,) float64 m/s, one axis per input
         experience    the same shape, unitless (summed rule firing strengths, eq. 1)
         axes/<input>  the input's fuzzy-set centres (m), set names in `set_names`: the
                       dimension scale of that input's axis
         axes/trajectory  the table's trajectory names: the scale of the last axis
+
+`method` came without a new format version: it records how the FAM was made and changes
+nothing in how it is read or driven (the labels a run learns with come from `provenance`, the
+memory from `memory`), so a reader that ignores it misreads nothing. Files without it show
+the method as unrecorded.
 
 Datasets are written with fixed settings, so the same FAM always gives the same dataset
 bytes; only the `created` attribute tells two writes apart.
@@ -56,6 +62,7 @@ class FamFile:
     tvl_version: str
     created: str  # UTC ISO 8601
     memory: MemoryConfig = NO_MEMORY  # what it perceives through: a run's default
+    method: dict[str, Any] | None = None  # method_record of its making; None: unrecorded
 
 
 def write_fam(
@@ -65,6 +72,7 @@ def write_fam(
     robot_config: RobotConfig,
     provenance: dict[str, Any],
     memory: MemoryConfig = NO_MEMORY,
+    method: dict[str, Any] | None = None,
     overwrite: bool = True,
 ) -> None:
     """Write `fam` to `path` atomically: a failure leaves any existing file untouched, and
@@ -84,6 +92,7 @@ def write_fam(
             robot_config=robot_config.to_dict(),
             provenance=provenance,
             memory=memory.to_dict(),
+            **({} if method is None else {"method": method}),
         )
         f.attrs["init_velocity_mps"] = fam.init_velocity_mps
         f.attrs["trajectories"] = list(names)
@@ -204,4 +213,5 @@ def _read(f: h5py.File, path: Path) -> FamFile:
             if "memory" in f.attrs
             else NO_MEMORY
         ),
+        method=read_json_attr(f, "method", path) if "method" in f.attrs else None,
     )

@@ -5,7 +5,9 @@ Layout (all lengths grow as whole episodes are appended):
     /                       format, format_version, tvl_version, created
     /sessions/0000          kind ('learning' or 'behaving'), world_name, world_text, seed,
                             parameters, robot_config, fam_config (JSON), status, started,
-                            ended, tvl_version, episodes_written, minutes_written
+                            ended, tvl_version, episodes_written, minutes_written, method
+                            (JSON, core.method.method_record: the method the session was
+                            learnt by; sessions written before it was recorded lack it)
         ring_mm     (N, 16) uint16  sonar ranges in millimetres, S0 forward, CCW
         pose        (N, 3)  float64 true x, y (m), theta (rad)
         odometry    (N, 3)  float64 odometry x, y (m), theta (rad)
@@ -115,6 +117,7 @@ class LogWriter:
         fam_config: dict[str, Any],
         kind: str = KIND_LEARNING,
         write_every_s: float = 0.0,
+        method: dict[str, Any] | None = None,
     ) -> LogWriter:
         """Create the log, or add a new session of `kind` (SESSION_KINDS) to an existing one
         (which must be a tvl-log of the same robot). BadInput if another process is writing
@@ -155,6 +158,8 @@ class LogWriter:
                 tvl_version=__version__,
             )
             group.attrs.update({COMMITTED_EPISODES: np.int64(0), COMMITTED_MINUTES: np.int64(0)})
+            if method is not None:
+                group.attrs["method"] = to_json(method)
             f.flush()
         except BaseException:
             # Cleared first: HDF5 may fail again closing a file it could not write (a full

@@ -61,6 +61,9 @@ class Session:
     episode: np.ndarray  # (N,) int32
     episode_table: np.ndarray  # (E,) EPISODE_DTYPE
     minutes: np.ndarray  # (M, 5) float64, MINUTE_COLUMNS
+    # The method it was learnt by (core.method.method_record); None: written before logs
+    # recorded one.
+    method: dict[str, Any] | None = None
 
     @property
     def exemplar_count(self) -> int:
@@ -184,6 +187,7 @@ def _read_session(group: h5py.Group, name: str, path: Path) -> Session:
         tvl_version=read_str_attr(group, "tvl_version", path),
         episode_table=table,
         minutes=minutes,
+        method=read_json_attr(group, "method", path) if "method" in group.attrs else None,
         **columns,
     )
 

@@ -8,7 +8,8 @@ are still read):
     /             format, format_version, tvl_version, created, world_name, world_text,
                   parameters (JSON: behaviour, threshold, minutes, goal, seed, reflexes, sonar,
                   echo memory, FAM file and its SHA-256, the sonars each trajectory's table
-                  reads), robot_config (JSON), metrics (JSON: what `tvl run --json` prints)
+                  reads), robot_config (JSON), metrics (JSON: what `tvl run --json` prints),
+                  method (JSON, core.method.method_record: the method the run was made by)
     pose          (N, 3) float64  true x, y (m), theta (rad) after each step
     odometry      (N, 3) float64  odometry x, y (m), theta (rad) after each step
     ring_mm       (N, 16) uint16  sonar ranges read before the step, mm; 0 if not read
@@ -24,6 +25,10 @@ are still read):
     reflex        (N,) int8       the reflex that overrode the policy (attribute `names`), -1
     events        (N,) uint8      events the step began, one bit each (attribute `bits`)
     bumped        (N,) bool       bump sensor after the step
+
+`method` came without a new format version: a record of how the run was made, it changes
+how nothing else is read, so a reader that ignores it misreads nothing. A trace without it
+shows the method as unrecorded.
 """
 
 from __future__ import annotations
@@ -92,6 +97,7 @@ class RunTrace:
     arrays: dict[str, np.ndarray]  # the datasets above, by name
     reflex_names: tuple[str, ...] = ()
     robot_config: dict[str, Any] = field(default_factory=dict)  # RobotConfig.to_dict()
+    method: dict[str, Any] | None = None  # method_record; None: unrecorded
 
     @property
     def steps(self) -> int:
@@ -164,6 +170,7 @@ def run_trace_output(
     parameters: dict[str, Any],
     robot_config: dict[str, Any],
     reflex_names: tuple[str, ...],
+    method: dict[str, Any] | None = None,
 ) -> Iterator[RunTraceWriter]:
     """A run trace written while the run goes: yields the writer (a column sink, whose
     `metrics` the caller sets); the file appears at `path` only when the block ends well.
@@ -176,7 +183,10 @@ def run_trace_output(
     with atomic_output(path) as temporary:
         f = h5py.File(temporary, "w", libver=LIBVER)
         try:
-            write_header(f, RUN_FORMAT, parameters=parameters, robot_config=robot_config)
+            recorded = {} if method is None else {"method": method}
+            write_header(
+                f, RUN_FORMAT, parameters=parameters, robot_config=robot_config, **recorded
+            )
             f.attrs.update(world_name=world_name, world_text=world_text)
             writer = RunTraceWriter(f, reflex_names)
             yield writer
@@ -218,6 +228,7 @@ def read_run(path: Path | str) -> RunTrace:
             arrays=arrays,
             reflex_names=reflex_names,
             robot_config=read_json_attr(f, "robot_config", path),
+            method=read_json_attr(f, "method", path) if "method" in f.attrs else None,
         )
 
 

@@ -29,6 +29,9 @@ RUN_FORMAT = "tvl-run"
 # The newest version of each format this tvl writes and reads.
 # A FAM file of version 2 records the echo memory it reads through, which a reader of
 # version 1 would silently run without; a run trace of version 3 records what the FAM read.
+# The `method` attribute (of a log's sessions, a FAM, a run trace) came without a new version:
+# it records how a file was made and no reader reads anything else by it, so an older tvl that
+# ignores it misreads nothing; files without it show the method as unrecorded.
 FORMAT_VERSIONS: dict[str, int] = {LOG_FORMAT: 1, FAM_FORMAT: 2, RUN_FORMAT: 3}
 
 # HDF5 1.8 object headers: readable by any HDF5 library since 2008, and they allow attributes

@@ -1,0 +1,216 @@
+"""`--method paper|default|FILE.toml` and `--paper` on every command that learns, trains or
+behaves, through the command line in-process: one method for each way of naming it, finer
+options over it, and every file and --json recording it."""
+
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+
+import h5py
+import pytest
+from click.testing import CliRunner
+
+from tvl_cli.cli.main import main
+from tvl_cli.core.method import (
+    BEHAVING_FIELDS,
+    DEFAULT,
+    LEARNING_FIELDS,
+    PAPER,
+    method_record,
+)
+from tvl_cli.io.famfile import read_fam
+from tvl_cli.io.logreader import read_log
+from tvl_cli.io.methodfile import read_method
+from tvl_cli.io.runfile import read_run
+
+ROOT = Path(__file__).resolve().parents[2]
+SQUARE = ROOT / "worlds" / "square.txt"
+GOLDEN_FAM = ROOT / "tests" / "data" / "golden-fam-v2.h5"
+GOLDEN_LOG = ROOT / "tests" / "data" / "golden-log-v1.h5"
+RUN = ("--behaviour", "avoid", "--minutes", "0.2")
+# The paper's method as a method file, every field by name.
+PAPER_TOML = """
+decel_mps2 = 0.5
+margin_m = 0.05
+near_m = 0.0
+exploration = "least-experience"
+reflexes = []
+wall_rule = "first-seen"
+sonar = "real"
+memory = { kind = "none" }
+"""
+
+
+def tvl(*args: object) -> tuple[int, str, str]:
+    done = CliRunner().invoke(main, [str(a) for a in args])
+    return done.exit_code, done.stdout, done.stderr
+
+
+def printed(*args: object) -> dict:
+    code, out, err = tvl(*args, "--json")
+    assert code == 0, err
+    return json.loads(out)
+
+
+@pytest.fixture(scope="module")
+def learnt(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
+    """A log and its online FAM by our method, and by the paper's; and the paper's file."""
+    top = tmp_path_factory.mktemp("method")
+    (top / "paper.toml").write_text(PAPER_TOML)
+    files = {"dir": top, "file": top / "paper.toml"}
+    for name, chosen in (("ours", ()), ("paper", ("--paper",))):
+        files[f"{name}_log"], files[f"{name}_fam"] = top / f"{name}.h5", top / f"{name}-fam.h5"
+        code, _, err = tvl("learn", SQUARE, "--log", files[f"{name}_log"], "--minutes", "0.5",
+                           "--fam", files[f"{name}_fam"], *chosen)  # fmt: skip
+        assert code == 0, err
+    return files
+
+
+def _three_ways(learnt: dict[str, Path]) -> list[tuple[str, ...]]:
+    return [("--paper",), ("--method", "paper"), ("--method", str(learnt["file"]))]
+
+
+def test_learn_by_the_paper_named_three_ways_records_one_method(
+    learnt: dict[str, Path], tmp_path: Path
+) -> None:
+    records = [
+        printed("learn", SQUARE, "--log", tmp_path / f"{i}.h5", "--minutes", "0.1", *way)["method"]
+        for i, way in enumerate(_three_ways(learnt))
+    ]
+    assert records == [method_record(PAPER, LEARNING_FIELDS)] * 3
+    ours = printed("learn", SQUARE, "--log", tmp_path / "ours.h5", "--minutes", "0.1")
+    assert ours["method"] == method_record(DEFAULT, LEARNING_FIELDS)
+
+
+def test_train_run_and_the_baselines_by_the_paper_named_three_ways_agree(
+    learnt: dict[str, Path], tmp_path: Path
+) -> None:
+    for i, way in enumerate(_three_ways(learnt)):
+        fam = tmp_path / f"{i}.h5"
+        trained = printed("train", learnt["paper_log"], "-o", fam, *way)["method"]
+        assert trained == method_record(PAPER, LEARNING_FIELDS)
+        assert printed("run", fam, SQUARE, *RUN, *way)["method"] == method_record(PAPER)
+        dwa = printed("baseline", "dwa", SQUARE, "--minutes", "0.1", "--sensor", "ring", *way)
+        live_ring = PAPER.memory.to_dict()
+        assert dwa["method"] == {"preset": None, "reflexes": [], "memory": live_ring}
+
+
+def test_a_run_takes_its_own_choices_from_the_method_and_the_rest_from_its_fam(
+    learnt: dict[str, Path],
+) -> None:
+    ours = printed("run", learnt["ours_fam"], SQUARE, *RUN)["method"]
+    assert ours == method_record(DEFAULT)
+    # The paper's reflexes and memory on a FAM learnt by our method: neither preset.
+    mixed = printed("run", learnt["ours_fam"], SQUARE, *RUN, "--paper")["method"]
+    assert mixed["preset"] is None
+    paper = method_record(PAPER)
+    assert {n: mixed[n] for n in BEHAVING_FIELDS} == {n: paper[n] for n in BEHAVING_FIELDS}
+    assert mixed["near_m"] == DEFAULT.near_m and mixed["decel_mps2"] == DEFAULT.decel_mps2
+
+
+def test_train_keeps_the_logs_collision_points_and_takes_its_own_labels(
+    learnt: dict[str, Path], tmp_path: Path
+) -> None:
+    made = printed("train", learnt["ours_log"], "-o", tmp_path / "f.h5", "--paper")["method"]
+    assert (made["preset"], made["near_m"], made["decel_mps2"]) == (None, DEFAULT.near_m, 0.5)
+    assert read_fam(tmp_path / "f.h5").method == made
+
+
+def test_a_fam_from_logs_that_learnt_differently_says_so_and_is_no_preset(
+    learnt: dict[str, Path], tmp_path: Path
+) -> None:
+    fam = tmp_path / "f.h5"
+    logs = (learnt["paper_log"], learnt["ours_log"])
+    made = printed("train", *logs, "-o", fam, "--paper")["method"]
+    assert made == method_record(PAPER, LEARNING_FIELDS) | {
+        "preset": None,
+        "sessions_differ_in": ["near_m"],
+    }
+    ran = printed("run", fam, SQUARE, *RUN, "--paper")["method"]
+    assert ran == method_record(PAPER) | {"preset": None}
+
+
+def test_every_file_records_the_method_it_was_made_by(
+    learnt: dict[str, Path], tmp_path: Path
+) -> None:
+    (session,) = read_log(learnt["paper_log"]).sessions
+    assert session.method == method_record(PAPER, LEARNING_FIELDS)
+    assert read_fam(learnt["paper_fam"]).method == method_record(PAPER, LEARNING_FIELDS)
+    trace = tmp_path / "run.h5"
+    code, _, err = tvl("run", learnt["paper_fam"], SQUARE, *RUN, "--paper", "--log", trace)
+    assert code == 0, err
+    assert read_run(trace).method == method_record(PAPER)
+    shown = printed("replay", trace)
+    assert shown["methods"] == {"run": method_record(PAPER)} and shown["method"] == "paper"
+    code, out, _ = tvl("replay", learnt["ours_log"])
+    assert code == 0 and "session 0000 method │ default" in out
+    code, out, _ = tvl("inspect", learnt["paper_fam"], "--top", "1")
+    assert code == 0 and out.splitlines()[0] == "method: paper"
+    assert printed("inspect", learnt["paper_fam"], "--top", "1")["method"]["preset"] == "paper"
+
+
+def test_files_from_before_methods_were_recorded_say_so(
+    learnt: dict[str, Path], tmp_path: Path
+) -> None:
+    code, out, _ = tvl("inspect", GOLDEN_FAM, "--top", "1")
+    assert code == 0 and out.splitlines()[0] == "method: unrecorded"
+    assert read_log(GOLDEN_LOG).sessions[0].method is None
+    old = tmp_path / "old.h5"
+    shutil.copy(learnt["ours_log"], old)
+    with h5py.File(old, "r+") as f:
+        del f["sessions/0000"].attrs["method"]
+    assert printed("replay", old)["methods"] == {"0000": None}
+    assert "session 0000 method │ unrecorded" in tvl("replay", old)[1]
+    run = printed("run", GOLDEN_FAM, SQUARE, *RUN, "--paper")["method"]
+    assert run["learning"] == "unrecorded" and run["preset"] is None
+    assert set(run) == {"preset", "learning", "sonar", *BEHAVING_FIELDS}
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (("--paper", "--decel", "0.1"), "--decel cannot be given with --paper, which fixes it"),
+        (("--method", "paper", "--near", "0.2"),
+         "--near cannot be given with --method paper, which fixes it"),
+        (("--paper", "--explore", "novelty"), "--explore cannot be given with --paper"),
+        (("--paper", "--memory-window", "5"), "--memory-window cannot be given with --paper"),
+        (("--paper", "--method", "paper"), "give --method or --paper, not both"),
+        (("--method", "nowhere.toml"), "--method nowhere.toml: neither paper nor default, nor a"),
+    ],
+)  # fmt: skip
+def test_contradictions_and_unknown_methods_are_one_line_and_exit_2(
+    args: tuple[str, ...], message: str, tmp_path: Path
+) -> None:
+    log = tmp_path / "log.h5"
+    code, _, err = tvl("learn", SQUARE, "--log", log, *args)
+    assert code == 2 and len(err.splitlines()) == 1 and message in err, err
+    assert not log.exists()
+
+
+def test_finer_options_that_agree_with_the_paper_or_change_ours_are_taken(
+    tmp_path: Path,
+) -> None:
+    agreeing = printed("learn", SQUARE, "--log", tmp_path / "a.h5", "--minutes", "0.1",
+                       "--paper", "--decel", "0.5", "--sonar", "edges")["method"]  # fmt: skip
+    assert agreeing == method_record(PAPER, LEARNING_FIELDS) | {"preset": None, "sonar": "edges"}
+    changed = printed("learn", SQUARE, "--log", tmp_path / "b.h5", "--minutes", "0.1",
+                      "--method", "default", "--decel", "0.5")["method"]  # fmt: skip
+    assert (changed["preset"], changed["decel_mps2"]) == (None, 0.5)
+
+
+def test_a_bad_method_file_is_one_line_naming_the_file_and_key(tmp_path: Path) -> None:
+    bad = tmp_path / "m.toml"
+    bad.write_text("decel_mps2 = 0.5\nreflex = []\n")
+    code, _, err = tvl("run", GOLDEN_FAM, SQUARE, *RUN, "--method", bad)
+    assert code == 2
+    assert err == f"tvl: error: {bad}: unknown key 'reflex' (did you mean 'reflexes'?)\n"
+    bad.write_text("decel_mps2 = 0.5\nmargin_m = ]\n")
+    code, _, err = tvl("train", GOLDEN_LOG, "-o", tmp_path / "f.h5", "--method", bad)
+    assert code == 2 and err.startswith(f"tvl: error: {bad}:2:") and len(err.splitlines()) == 1
+
+
+def test_the_example_method_file_is_the_papers_with_the_echo_memory() -> None:
+    example = read_method(ROOT / "experiments" / "methods" / "paper-remembering.toml")
+    assert example.differs(PAPER) == ["memory"] and example.memory == DEFAULT.memory

@@ -1,0 +1,438 @@
+"""The method as one value: every choice that makes "the method", the two presets, and the
+registry of what we added to the paper's.
+
+A `Method` holds the labels (deceleration and margin), where learning places collision
+points (bumps, or a sonar reading near), how exploration chooses where to learn next, the
+reflexes around the choice rule, the wall rule, the sonar model and the echo memory. The
+paper's is `PAPER`; ours, every command's default, is `DEFAULT`. Each difference between the
+two is an entry of `ADDITIONS`, which names the field it changes, the flag that sets it, its
+row of the documentation's table, and its ablation setting (the paper's value, which turns it
+off). This module is the one place that says what the paper's method is.
+
+A command takes from a method only the choices it makes (`tvl learn` the learning's, `tvl run`
+the behaving's); the rest are in its inputs (a run's labels are those its FAM was trained
+with).
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, fields, replace
+from typing import Any
+
+from tvl_cli.core.config import SONAR_MODELS, RobotConfig
+from tvl_cli.core.errors import BadInput
+from tvl_cli.core.labels import DEFAULT_DECEL_MPS2, DEFAULT_MARGIN_M
+from tvl_cli.core.memory import (
+    DEFAULT_MEMORY,
+    MEMORY_KINDS,
+    NO_MEMORY,
+    NOT_CHOSEN,
+    MemoryChoice,
+    MemoryConfig,
+)
+from tvl_cli.core.wall_rules import FIRST_SEEN, WALL_RULES
+
+# How exploration chooses the next (rotation, trajectory) pair to learn (agent.explore_rules).
+LEAST_EXPERIENCE = "least-experience"  # the paper's rule (Fig. 14)
+NOVELTY = "novelty"  # the least experienced of the pairs leading somewhere new, if any
+RANDOM = "random"  # uniformly random: the paper's "simplest way" (§4)
+EXPLORATION_RULES = (LEAST_EXPERIENCE, NOVELTY, RANDOM)
+
+# The reflexes (agent.reflexes), outermost first: the order they stack in whatever the order
+# they are named in.
+BLOCKED_WAYS = "blocked-ways"
+NEAR_MISS = "near-miss"
+BUMP = "bump"
+TIE = "tie"
+WALL_START = "wall-start"
+REFLEX_NAMES = (BLOCKED_WAYS, NEAR_MISS, BUMP, TIE, WALL_START)
+ALL = "all"
+NONE = "none"
+
+# Learning marks a collision point where a sonar facing ahead, having closed in since the
+# episode began, reads this close (agent.collision_points; 0: at bumps alone, as the paper).
+# Just above the 0.15 m minimum range, it fires as an object enters the ring's blind zone,
+# so a wall the arc runs into alongside, unseen ahead by the specular ring, counts too (the
+# paper's §5.1: a collision placed further from objects when learning helps).
+DEFAULT_NEAR_M = 0.16
+
+# The paper's labels. It says only "a predefined deceleration rate"; these are the figures
+# its robot was first read as having (SPEC §5: a firm brake, a few centimetres to spare).
+PAPER_DECEL_MPS2 = 0.5
+PAPER_MARGIN_M = 0.05
+
+
+def parse_reflexes(text: str) -> tuple[str, ...]:
+    """`none`, `all`, or NAME[,NAME...] -> the names in stacking order."""
+    if text == NONE:
+        return ()
+    if text == ALL:
+        return REFLEX_NAMES
+    names = [n.strip() for n in text.split(",") if n.strip()]
+    unknown = [n for n in names if n not in REFLEX_NAMES]
+    if unknown or not names:
+        raise BadInput(
+            f"--reflex {text!r}: unknown reflex {', '.join(unknown) or '(none named)'} "
+            f"(choose from {', '.join(REFLEX_NAMES)}, or all, or none)"
+        )
+    return tuple(n for n in REFLEX_NAMES if n in names)
+
+
+def reflexes_text(names: tuple[str, ...]) -> str:
+    """The reflexes as `--reflex` takes them: none, all, or the names."""
+    if not names:
+        return NONE
+    if names == REFLEX_NAMES:
+        return ALL
+    return ",".join(names)
+
+
+@dataclass(frozen=True, slots=True)
+class Method:
+    """Every choice that makes the method. Checked when made: BadInput naming the flag."""
+
+    decel_mps2: float = DEFAULT_DECEL_MPS2  # the labels brake at this rate
+    margin_m: float = DEFAULT_MARGIN_M  # and stop this far short of the collision point
+    near_m: float = DEFAULT_NEAR_M  # collision points: a sonar ahead this near; 0: bumps only
+    exploration: str = LEAST_EXPERIENCE  # one of EXPLORATION_RULES
+    reflexes: tuple[str, ...] = REFLEX_NAMES  # in stacking order
+    wall_rule: str = FIRST_SEEN  # one of core.wall_rules.WALL_RULES
+    sonar: str = "real"  # one of core.config.SONAR_MODELS
+    memory: MemoryConfig = DEFAULT_MEMORY  # what the FAM reads through
+
+    def __post_init__(self) -> None:
+        for field in fields(self):
+            _check(field.name, getattr(self, field.name), FLAGS.get(field.name, field.name))
+        object.__setattr__(self, "reflexes", tuple(n for n in REFLEX_NAMES if n in self.reflexes))
+
+    def to_dict(self) -> dict[str, Any]:
+        """Every field as JSON takes it (the reflexes a list, the memory an object)."""
+        return {
+            **{f.name: getattr(self, f.name) for f in fields(self)},
+            "reflexes": list(self.reflexes),
+            "memory": self.memory.to_dict(),
+        }
+
+    def robot(self) -> RobotConfig:
+        """The simulated robot, with this method's sonar model."""
+        return RobotConfig(sonar=SONAR_MODELS[self.sonar])
+
+    def differs(self, other: Method, names: Iterable[str] = ()) -> list[str]:
+        """The fields (of `names`, or all) on which the two methods differ."""
+        names = tuple(names) or FIELDS
+        return [n for n in names if getattr(self, n) != getattr(other, n)]
+
+
+FIELDS = tuple(f.name for f in fields(Method))
+# The flag that sets each field, on the commands whose choice it is. The wall rule has none:
+# there is one so far.
+FLAGS = {
+    "decel_mps2": "--decel",
+    "margin_m": "--margin",
+    "near_m": "--near",
+    "exploration": "--explore",
+    "reflexes": "--reflex",
+    "sonar": "--sonar",
+    "memory": "--memory",
+}
+# The choices a learner makes (and a FAM is made by); a run adds the behaving ones.
+LEARNING_FIELDS = ("decel_mps2", "margin_m", "near_m", "exploration", "sonar", "memory")
+BEHAVING_FIELDS = ("reflexes", "wall_rule", "memory")
+
+
+def _check(name: str, value: Any, label: str) -> None:
+    """BadInput, naming the value by `label` (a flag or a file's key), if it cannot be."""
+    if name in ("decel_mps2", "margin_m", "near_m"):
+        if isinstance(value, bool) or not isinstance(value, int | float):
+            raise BadInput(f"{label} {value!r} must be a number")
+        positive = name == "decel_mps2"
+        if not (math.isfinite(value) and (value > 0 if positive else value >= 0)):
+            unit = "m/s²" if positive else "m"
+            raise BadInput(f"{label} {value:g} must be {'> 0' if positive else '>= 0'} {unit}")
+        return
+    choices: dict[str, Iterable[str]] = {
+        "exploration": EXPLORATION_RULES,
+        "wall_rule": WALL_RULES,
+        "sonar": SONAR_MODELS,
+    }
+    if name in choices:
+        if not isinstance(value, str) or value not in choices[name]:
+            raise BadInput(f"{label} {value!r}: choose {', '.join(choices[name])}")
+    elif name == "reflexes":
+        if not isinstance(value, tuple) or any(n not in REFLEX_NAMES for n in value):
+            raise BadInput(f"{label} {value!r}: names from {', '.join(REFLEX_NAMES)}")
+    elif name == "memory" and not isinstance(value, MemoryConfig):
+        raise BadInput(f"{label} {value!r}: choose {', '.join(MEMORY_KINDS)}")
+
+
+DEFAULT = Method()
+# The paper's method: its labels, collision points at bumps alone, its exploration rule, no
+# reflex, no memory (the live ring). Where it is silent (the wall rule, the sonar), ours.
+PAPER = Method(
+    decel_mps2=PAPER_DECEL_MPS2,
+    margin_m=PAPER_MARGIN_M,
+    near_m=0.0,
+    exploration=LEAST_EXPERIENCE,
+    reflexes=(),
+    memory=NO_MEMORY,
+)
+PAPER_NAME, DEFAULT_NAME = "paper", "default"
+PRESETS: dict[str, Method] = {PAPER_NAME: PAPER, DEFAULT_NAME: DEFAULT}
+
+
+def preset_name(method: Method, names: Iterable[str] = ()) -> str | None:
+    """The preset equal to `method` on the fields `names` (or all), if one is."""
+    return next((n for n, p in PRESETS.items() if not method.differs(p, names)), None)
+
+
+def method_record(method: Method, names: Iterable[str] = ()) -> dict[str, Any]:
+    """What a file or a --json records of a method: its fields (of `names`, or all), and the
+    preset it equals on them (null: none)."""
+    names = tuple(names) or FIELDS
+    values = method.to_dict()
+    return {"preset": preset_name(method, names), **{n: values[n] for n in names}}
+
+
+def describe_record(record: Mapping[str, Any] | None) -> str:
+    """One line for people: the preset, or how the method differs from ours."""
+    if record is None:
+        return "unrecorded"
+    preset = record.get("preset")
+    if preset:
+        return str(preset)
+    ours = DEFAULT.to_dict()
+    changed = [f"{n} {_shown(record[n])}" for n in FIELDS if n in record and record[n] != ours[n]]
+    return "custom: " + (", ".join(changed) or "as default")
+
+
+def _shown(value: Any) -> str:
+    if isinstance(value, list):
+        return reflexes_text(tuple(value))
+    if isinstance(value, dict):
+        return str(value.get("kind"))
+    return f"{value:g}" if isinstance(value, float) else str(value)
+
+
+def method_from_dict(data: Mapping[str, Any], where: str) -> Method:
+    """A method from a table of fields (a TOML file, a recorded JSON object); fields it does
+    not give are ours. BadInput naming `where` and the key at the first fault, an unknown key
+    with the field it may have meant."""
+    values: dict[str, Any] = {}
+    for key, value in data.items():
+        if key == "preset":  # a record's note of the preset it equals, not a choice
+            continue
+        if key not in FIELDS:
+            close = difflib.get_close_matches(key, FIELDS, n=1)
+            hint = f" (did you mean {close[0]!r}?)" if close else f" (known: {', '.join(FIELDS)})"
+            raise BadInput(f"{where}: unknown key {key!r}{hint}")
+        values[key] = _value(key, value, where)
+        _check(key, values[key], f"{where}: {key}")
+    return replace(DEFAULT, **values)
+
+
+def _value(key: str, value: Any, where: str) -> Any:
+    """A field's value as Method holds it, from TOML or JSON."""
+    if key in ("decel_mps2", "margin_m", "near_m"):
+        return float(value) if isinstance(value, int) and not isinstance(value, bool) else value
+    if key == "reflexes":
+        if isinstance(value, str):
+            try:
+                return parse_reflexes(value)
+            except BadInput:
+                pass
+        elif isinstance(value, list) and all(n in REFLEX_NAMES for n in value):
+            return tuple(value)
+        raise BadInput(
+            f"{where}: reflexes {value!r}: a list of names from {', '.join(REFLEX_NAMES)}, "
+            "or all, or none"
+        )
+    if key == "memory":
+        if isinstance(value, str):
+            value = {"kind": value}
+        try:
+            return MemoryConfig.from_dict(value)
+        except BadInput as error:
+            raise BadInput(f"{where}: memory: {error}") from None
+    return value
+
+
+@dataclass(frozen=True, slots=True)
+class MethodChoice:
+    """The method a user chose for one command: a whole method (None: not given, the
+    command's own default), and settings given in its place by finer flags."""
+
+    method: Method | None = None
+    name: str | None = None  # as chosen: "paper", "default" or a file; None if not given
+    settings: tuple[tuple[str, Any], ...] = ()  # (field, value), the field's flag given
+    memory: MemoryChoice = NOT_CHOSEN
+
+    def over(self, inherited: Method, own: Iterable[str]) -> Method:
+        """The method a command uses: `inherited` (what its inputs were made with, and its
+        defaults), with its `own` fields from the chosen method, then the finer settings."""
+        chosen = {} if self.method is None else {n: getattr(self.method, n) for n in own}
+        method = replace(inherited, **{**chosen, **dict(self.settings)})
+        return replace(method, memory=self.memory.over(method.memory))
+
+    def contradictions(self) -> list[str]:
+        """The finer flags that contradict the paper's method when it was chosen by name:
+        each sets an addition's field (or a memory setting) to other than the paper's."""
+        if self.name != PAPER_NAME:
+            return []
+        additions = {a.field for a in ADDITIONS}
+        found = [FLAGS[n] for n, v in self.settings if n in additions and v != getattr(PAPER, n)]
+        paper_memory = PAPER.memory.to_dict()
+        memory_flags = {"kind": "--memory", "window_s": "--memory-window"}
+        memory_flags |= {"range_m": "--memory-range", "patch_m": "--memory-patch"}
+        for key, flag in memory_flags.items():
+            given = getattr(self.memory, key)
+            if given is not None and given != paper_memory[key]:
+                found.append(flag)
+        return found
+
+
+NOT_GIVEN = MethodChoice()
+
+
+def as_choice(method: Method | MethodChoice) -> MethodChoice:
+    """A method given whole (the Python API), or as a command's options chose it."""
+    return method if isinstance(method, MethodChoice) else MethodChoice(method)
+
+
+@dataclass(frozen=True, slots=True)
+class Addition:
+    """One thing we added to the paper's method, or changed in it."""
+
+    name: str
+    field: str  # the Method field it changes
+    flag: str  # the option that sets that field
+    on: str  # how to turn it on, as the flag's value
+    row: str  # what it does and why: its row of the documentation's table
+    off: Any  # its ablation setting: the field's value that turns it off, the paper's
+    # Why DEFAULT leaves it off, when it does: offered as a choice, not made ours.
+    not_default: str = ""
+
+    def is_on(self, method: Method) -> bool:
+        value = getattr(method, self.field)
+        if self.field == "reflexes":
+            return self.on in value
+        return bool(value != self.off)
+
+
+ADDITIONS: tuple[Addition, ...] = (
+    Addition(
+        "gentle labels",
+        "decel_mps2",
+        "--decel",
+        f"{DEFAULT_DECEL_MPS2:g}",
+        f"Labels brake at {DEFAULT_DECEL_MPS2:g} m/s² where the paper states no rate: a "
+        "horizon long enough to "
+        "turn away within (T0 stays fast until 1.45 m from a wall at threshold 0.85), and the "
+        "rate that reproduces Figure 21's wall clearances.",
+        PAPER_DECEL_MPS2,
+    ),
+    Addition(
+        "blind-zone margin",
+        "margin_m",
+        "--margin",
+        f"{DEFAULT_MARGIN_M:g}",
+        f"Labels stop {DEFAULT_MARGIN_M:g} m short of the collision point, the sonar's minimum "
+        "range: no speed is learnt for the stretch the ring cannot tell from touching.",
+        PAPER_MARGIN_M,
+    ),
+    Addition(
+        "sonar collision points",
+        "near_m",
+        "--near",
+        f"{DEFAULT_NEAR_M:g}",
+        "Learning marks a collision point where a sonar facing ahead, having closed in, reads "
+        f"{DEFAULT_NEAR_M:g} m, before any bump: a wall the arc meets alongside, unseen by the "
+        "specular ring, counts too (the paper's §5.1 note: collision points further from "
+        "objects).",
+        0.0,
+    ),
+    Addition(
+        "novelty exploration",
+        "exploration",
+        "--explore",
+        NOVELTY,
+        "Learning follows the least experienced of the pairs leading where odometry has not "
+        "been, where the paper (§5.2) saw its rule keep to small parts of cluttered worlds.",
+        LEAST_EXPERIENCE,
+        not_default="it covers more of generated worlds but made no FAM competent sooner",
+    ),
+    Addition(
+        "blocked ways",
+        "reflexes",
+        "--reflex",
+        BLOCKED_WAYS,
+        "After a bump or a near miss, the way the robot drove stays out of every choice for "
+        "2 s after backing off: what it cannot see (a convex corner) is still there.",
+        (),
+    ),
+    Addition(
+        "near-miss back-off",
+        "reflexes",
+        "--reflex",
+        NEAR_MISS,
+        "An object inside the ring's 0.15 m blind zone ahead: reverse 0.15 m along the arc, "
+        "as after a bump, before touching it.",
+        (),
+    ),
+    Addition(
+        "bump back-off",
+        "reflexes",
+        "--reflex",
+        BUMP,
+        "A bump while driving forward: reverse 0.15 m along the arc, as learning does; "
+        "without it a policy still rating the way fast pushes on.",
+        (),
+    ),
+    Addition(
+        "ties to the last turn",
+        "reflexes",
+        "--reflex",
+        TIE,
+        "Equally good trajectories go to the side the robot last turned to, where the paper "
+        "is silent: a robot just turned from a wall does not turn back into it.",
+        (),
+    ),
+    Addition(
+        "wall start",
+        "reflexes",
+        "--reflex",
+        WALL_START,
+        "Until wall following has found its wall, ties turn away from that side, so the first "
+        "wall met ahead is left on the side to follow.",
+        (),
+    ),
+    Addition(
+        "echo memory",
+        "memory",
+        "--memory",
+        "patches",
+        "The FAM reads a virtual ring: the live ranges, or nearer surfaces heard in the last "
+        f"{DEFAULT_MEMORY.window_s:g} s placed by odometry, since a specular ring hears a "
+        "slanted wall only square on.",
+        NO_MEMORY,
+    ),
+)
+
+
+def additions_table() -> str:
+    """The documentation's table of ADDITIONS (Markdown), as docs/method.md holds it between
+    its markers."""
+    lines = [
+        "| addition | turned on by | ours | the paper's | what it does |",
+        "| --- | --- | --- | --- | --- |",
+    ]
+    for a in ADDITIONS:
+        if a.field == "reflexes":
+            ours, paper = ("on" if a.is_on(DEFAULT) else "off"), "off"
+        else:
+            ours, paper = (_shown(m.to_dict()[a.field]) for m in (DEFAULT, PAPER))
+        why = f" Not ours by default: {a.not_default}." if a.not_default else ""
+        lines.append(f"| {a.name} | `{a.flag} {a.on}` | {ours} | {paper} | {a.row}{why} |")
+    return "\n".join(lines) + "\n"
