@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from dataclasses import asdict
 from pathlib import Path
 
 import click
@@ -10,7 +9,7 @@ import click
 from tvl_cli.agent.reflexes import NONE as NO_REFLEXES
 from tvl_cli.baselines.dwa import BEHAVIOURS as DWA_BEHAVIOURS
 from tvl_cli.baselines.dwa import SENSORS as DWA_SENSORS
-from tvl_cli.cli import views
+from tvl_cli.cli import documents, views
 from tvl_cli.cli.options import (
     PICTURE,
     SEED,
@@ -22,7 +21,7 @@ from tvl_cli.cli.options import (
 )
 from tvl_cli.commands.baseline import dwa_session, qlearn_session
 from tvl_cli.commands.run import parse_goal
-from tvl_cli.core.memory import MemoryChoice
+from tvl_cli.core.memory import NO_MEMORY, MemoryChoice
 
 
 @click.group()
@@ -66,10 +65,11 @@ def baseline_dwa(
     refuse_shared_paths({"--png": png}, {"WORLD": world_file})
     if png is not None:
         refuse_existing(png, force)
+    goal_xy = parse_goal(goal) if goal else None
     metrics = dwa_session(
         world_file,
         behaviour,
-        parse_goal(goal) if goal else None,
+        goal_xy,
         minutes,
         seed,
         png,
@@ -78,7 +78,17 @@ def baseline_dwa(
         memory,
     )
     if as_json:
-        print_json(asdict(metrics))
+        options = {
+            "behaviour": behaviour,
+            "goal": list(goal_xy) if goal_xy else None,
+            "minutes": minutes,
+            "sensor": sensor,
+        }
+        print_json(
+            documents.dwa_json(
+                metrics, world_file, seed, reflexes, options, memory.over(NO_MEMORY), png
+            )
+        )
     else:
         views.run_metrics(metrics, reflexes)
 
@@ -122,7 +132,12 @@ def baseline_qlearn(
         world_file, learn_minutes, minutes, seed, competence_every, png, reflexes
     )
     if as_json:
-        print_json(report.to_dict())
+        options = {
+            "learn_minutes": learn_minutes,
+            "minutes": minutes,
+            "competence_every": competence_every,
+        }
+        print_json(documents.qlearn_json(report, world_file, seed, reflexes, options, png))
     else:
         views.run_metrics(report.result.evaluation, reflexes)
         click.echo(report.summary())

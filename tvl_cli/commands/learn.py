@@ -70,6 +70,8 @@ class LearnRequest:
 
 @dataclass(frozen=True, slots=True)
 class LearnResult:
+    request: LearnRequest
+    session: str  # the log session written
     summary: LearnSummary
     wall_s: float
     status: str
@@ -221,7 +223,13 @@ def learn_to_log(
             memory=request.memory,
         )
     return LearnResult(
-        summary, time.perf_counter() - started, status, minute_coverage, coverage.fraction
+        request,
+        session,
+        summary,
+        time.perf_counter() - started,
+        status,
+        minute_coverage,
+        coverage.fraction,
     )
 
 

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from contextlib import AbstractContextManager, ExitStack
-from dataclasses import asdict, dataclass, fields, replace
+from dataclasses import asdict, dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any
 
@@ -57,6 +57,9 @@ class RunResult:
     minutes: list[MinuteContacts]
     learnt: OnlineSummary | None = None  # with --learn
     session: str | None = None  # the session appended to the log, with --learn LOG
+    # The options the run was made with, as resolved (the FAM's sonar and memory, the
+    # world's goal): the run's inputs beside its FAM and world files
+    options: dict[str, Any] = field(default_factory=dict)
 
     def to_dict(self) -> dict[str, Any]:
         """`tvl run --json`: the metrics, the contacts of each simulated minute, and with
@@ -186,7 +189,8 @@ def run_behaviour(request: RunRequest, watch: StepSink | None = None) -> RunResu
             goal=goal,
         )
     learnt = learner.summary() if learner is not None else None
-    return RunResult(metrics, tally.minutes(metrics), learnt, session)
+    options = run_options(request, robot, memory, goal)
+    return RunResult(metrics, tally.minutes(metrics), learnt, session, options)
 
 
 def training_params(fam_file: FamFile, fam_path: Path) -> TrainParams:
@@ -204,13 +208,14 @@ def training_params(fam_file: FamFile, fam_path: Path) -> TrainParams:
         ) from None
 
 
-def _run_parameters(
+def run_options(
     request: RunRequest,
     robot: RobotConfig,
     memory: MemoryConfig,
     goal: tuple[float, float] | None,
 ) -> dict[str, Any]:
-    """The run's parameters, as its trace and a behaving log session keep them."""
+    """What a run was asked to do, as it was done: the sonar and memory it drove with and
+    the goal it sought, where the request left them to the FAM or the world."""
     return {
         "behaviour": request.behaviour,
         "threshold": request.threshold,
@@ -220,6 +225,18 @@ def _run_parameters(
         "reflexes": list(request.reflexes),
         "sonar": sonar_model_name(robot.sonar),
         "memory": memory.to_dict(),
+    }
+
+
+def _run_parameters(
+    request: RunRequest,
+    robot: RobotConfig,
+    memory: MemoryConfig,
+    goal: tuple[float, float] | None,
+) -> dict[str, Any]:
+    """The run's parameters, as its trace and a behaving log session keep them."""
+    return {
+        **run_options(request, robot, memory, goal),
         "fam": str(request.fam),
         "fam_sha256": file_sha256(request.fam),
     }
