@@ -11,6 +11,7 @@ from dataclasses import asdict
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from tvl_cli.core.config import BUILTIN_FAM_CONFIGS
 from tvl_cli.io.json_documents import document, input_file, optional_file, output_path
 
 if TYPE_CHECKING:
@@ -113,15 +114,13 @@ def learn_json(result: LearnResult) -> dict[str, Any]:
 
 def _config(spec: str) -> dict[str, Any]:
     """A FAM configuration as given: a shipped one's name, or a file read."""
-    from tvl_cli.core.config import BUILTIN_FAM_CONFIGS
-
     return {
         "config": spec,
         "config_file": None if spec in BUILTIN_FAM_CONFIGS else input_file(spec),
     }
 
 
-def repeats(found: list[RepeatedSession]) -> list[dict[str, str]]:
+def _repeats(found: list[RepeatedSession]) -> list[dict[str, str]]:
     return [asdict(r) for r in found]
 
 
@@ -150,7 +149,7 @@ def train_json(
         rules_touched=summary.rules_touched,
         rules_total=summary.rules_total,
         wall_s=summary.wall_s,
-        repeated_sessions=repeats(summary.repeated_sessions),
+        repeated_sessions=_repeats(summary.repeated_sessions),
     )
 
 
@@ -190,7 +189,7 @@ def design_json(
             }
             for s in design.scores
         ],
-        repeated_sessions=repeats(summary.repeated_sessions),
+        repeated_sessions=_repeats(summary.repeated_sessions),
         wall_s=summary.wall_s,
     )
 

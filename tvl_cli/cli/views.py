@@ -331,7 +331,7 @@ def _run_replay(summary: RunReplay) -> None:
         return
     events = table("event", "steps", "began at (s)", title="events", right=("steps",))
     for e in summary.events:
-        times = ", ".join(f"{t:g}" for t in e.at_s or []) if e.name in LISTED_EVENTS else ""
+        times = ", ".join(f"{t:.1f}" for t in e.at_s or []) if e.name in LISTED_EVENTS else ""
         events.add_row(e.name, str(e.steps), times or NOTHING)
     out.print(events)
     steps = table("taken by", "steps", title="steps", right=("steps",))

@@ -206,7 +206,7 @@ def _step_counts(
     for event in EVENTS:
         steps = trace.event_steps(event)
         # The time an event began: the end of the step that began it.
-        at_s = [round(float(i + 1) * period_s, 1) for i in steps]
+        at_s = [float(i + 1) * period_s for i in steps]
         events.append(StepCount(event, len(steps), at_s))
     overridden = trace.arrays["reflex"]
     reflexes = [

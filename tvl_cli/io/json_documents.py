@@ -86,7 +86,7 @@ def document(command: str, inputs: dict[str, Any], **body: Any) -> dict[str, Any
 def input_file(path: Path | str) -> dict[str, str]:
     """A file a command read, as a document records it: where, and its bytes' SHA-256, so
     that a saved result can be traced to the very file it came from."""
-    from tvl_cli.io.logreader import file_sha256  # h5py: not for `tvl schema`
+    from tvl_cli.io.logreader import file_sha256  # loads h5py, which `tvl schema` needs not
 
     return {"path": str(path), "sha256": file_sha256(path)}
 
