@@ -10,6 +10,7 @@ import h5py
 import numpy as np
 import pytest
 from conftest import TVL
+from json_schemas import ENVELOPE, valid
 
 from tvl_cli.core.config import EDGE_ECHO_RANGE_M, RobotConfig
 from tvl_cli.io.famfile import read_fam
@@ -98,30 +99,34 @@ def test_inspect_prints_readable_rules(run_tvl, learnt):
 
 def test_inspect_json_lists_rules_with_their_conditions(run_tvl, learnt):
     result = run_tvl("inspect", learnt["online"], "--json", "--top", "5", "--sort", "velocity")
-    data = json.loads(result.stdout)
-    assert set(data) == {"config", "method", "provenance", "rules"}
+    data = valid("inspect", result.stdout)
+    assert data["explanation"] is None and data["inputs"]["sort"] == "velocity"
     assert data["method"]["preset"] == "default"
-    velocities = [rule["velocity"] for rule in data["rules"]]
+    velocities = [rule["velocity_mps"] for rule in data["rules"]]
     assert velocities == sorted(velocities, reverse=True) and len(velocities) == 5
-    assert set(data["rules"][0]["if"]) == {
+    assert [c["input"] for c in data["rules"][0]["conditions"]] == [
         "front",
         "front-left",
         "rear-left",
         "rear-right",
         "front-right",
-    }
+    ]
     assert data["provenance"]["logs"][0]["sha256"]
 
 
 def test_inspect_untrained_lists_only_rules_without_experience(run_tvl, learnt):
-    data = json.loads(run_tvl("inspect", learnt["online"], "--untrained", "--json").stdout)
+    data = valid("inspect", run_tvl("inspect", learnt["online"], "--untrained", "--json").stdout)
     assert data["rules"]
-    assert all(rule["experience"] == 0 and rule["velocity"] == 0.1 for rule in data["rules"])
+    assert all(rule["experience"] == 0 and rule["velocity_mps"] == 0.1 for rule in data["rules"])
 
 
 def test_inspect_explain_shows_fired_rules_and_velocities(run_tvl, learnt):
     ring = ",".join(["0.5"] + ["2.0"] * 15)
-    data = json.loads(run_tvl("inspect", learnt["online"], "--explain", ring, "--json").stdout)
+    printed = valid(
+        "inspect", run_tvl("inspect", learnt["online"], "--explain", ring, "--json").stdout
+    )
+    assert printed["rules"] is None and printed["inputs"]["explain_ring_m"][:2] == [0.5, 2.0]
+    data = printed["explanation"]
     assert len(data["velocities_mps"]) == 7 and len(data["experience"]) == 7
     assert data["rules"], "at least one rule fires for any ring"
     front = next(i for i in data["inputs"] if i["name"] == "front")
@@ -142,8 +147,9 @@ def test_run_prints_the_metrics_json(run_tvl, learnt, tmp_path):
         "--json", "--log", trace, "--png", png,
     )  # fmt: skip
     assert result.returncode == 0, result.stderr
-    metrics = json.loads(result.stdout)
-    assert set(metrics) == {
+    metrics = valid("run", result.stdout)
+    assert metrics["outputs"] == {"png": str(png), "trace": str(trace), "log": None}
+    assert set(metrics) - ENVELOPE == {
         "sim_s", "distance_m", "mean_speed_mps", "mean_drive_speed_mps", "collisions",
         "near_misses", "contacts", "contacts_per_min", "collisions_per_min", "backoffs",
         "spins", "trapped", "mean_clearance_m", "mean_wall_clearance_m", "goal_reached",
@@ -153,13 +159,16 @@ def test_run_prints_the_metrics_json(run_tvl, learnt, tmp_path):
     assert metrics["contacts"] == metrics["collisions"] + metrics["near_misses"]
     assert metrics["sim_s"] == pytest.approx(30.0)
     assert png.stat().st_size > 1000
-    replayed = json.loads(run_tvl("replay", trace, "--json").stdout)
+    replayed = valid("replay", run_tvl("replay", trace, "--json").stdout)
     assert replayed["format"] == "tvl-run" and replayed["steps"] == 300
-    assert replayed["minutes"] == 0.5  # the run's length, as asked for
+    assert replayed["parameters"]["minutes"] == 0.5  # the run's length, as asked for
+    assert replayed["parameters"]["fam"] == metrics["inputs"]["fam"]
+    assert replayed["metrics"] == {k: metrics[k] for k in replayed["metrics"]}
     with h5py.File(trace) as f:
         driven = f["trajectory"][()]
     names = [t.name for t in RobotConfig().trajectories]
-    per_trajectory = [replayed[f"steps driving {name}"] for name in names]
+    assert [t["trajectory"] for t in replayed["trajectories"]] == names
+    per_trajectory = [t["steps"] for t in replayed["trajectories"]]
     assert per_trajectory == [int((driven == j).sum()) for j in range(len(names))]
     assert 0 < sum(per_trajectory) <= 300
 
@@ -170,10 +179,11 @@ def test_the_paper_method_runs_alone_and_says_so(run_tvl, learnt, tmp_path, meth
     args = ["run", learnt["online"], SQUARE, "--behaviour", "avoid", "--minutes", "0.2"]
     result = run_tvl(*args, *method, "--log", trace, "--json")
     assert result.returncode == 0, result.stderr
-    metrics = json.loads(result.stdout)
+    metrics = valid("run", result.stdout)
     assert metrics["contacts"] == metrics["collisions"] + metrics["near_misses"]
-    replayed = json.loads(run_tvl("replay", trace, "--json").stdout)
-    assert replayed["reflexes"] == []
+    assert metrics["inputs"]["reflexes"] == []
+    replayed = valid("replay", run_tvl("replay", trace, "--json").stdout)
+    assert replayed["parameters"]["reflexes"] == replayed["reflexes"] == []
     with h5py.File(trace) as f:
         assert (f["reflex"][()] == -1).all()  # no step was taken by a reflex
 
@@ -184,8 +194,9 @@ def test_reflexes_are_named_in_the_trace_and_the_table(run_tvl, learnt, tmp_path
     result = run_tvl(*args, "--reflex", "bump,near-miss", "--log", trace)
     assert result.returncode == 0, result.stderr
     assert "reflexes: near-miss, bump" in result.stdout
-    replayed = json.loads(run_tvl("replay", trace, "--json").stdout)
-    assert replayed["reflexes"] == ["near-miss", "bump"]
+    replayed = valid("replay", run_tvl("replay", trace, "--json").stdout)
+    assert replayed["parameters"]["reflexes"] == ["near-miss", "bump"]
+    assert [r["reflex"] for r in replayed["reflexes"]] == ["near-miss", "bump"]
 
 
 def test_paper_and_reflex_together_are_refused(run_tvl, learnt):
@@ -211,8 +222,8 @@ def test_an_ideal_sonar_fam_runs_with_the_ideal_sonar(run_tvl, tmp_path):
     args = ["run", fam, SQUARE, "--behaviour", "avoid", "--minutes", "0.2", "--log", trace]
     result = run_tvl(*args)
     assert result.returncode == 0, result.stderr
-    replayed = json.loads(run_tvl("replay", trace, "--json").stdout)
-    assert replayed["sonar"] == "ideal"
+    replayed = valid("replay", run_tvl("replay", trace, "--json").stdout)
+    assert replayed["parameters"]["sonar"] == "ideal"
     real = run_tvl(*args[:-2], "--sonar", "real", "--log", tmp_path / "real.h5")
     assert real.returncode == 0, real.stderr
 
@@ -228,7 +239,8 @@ def test_an_edges_sonar_fam_runs_with_edge_echoes_and_keeps_them_in_its_robot(ru
         args = ["run", fam, SQUARE, "--behaviour", "avoid", "--minutes", "0.2", "--log", trace]
         ran = run_tvl(*args, *(["--sonar", sonar] if sonar else []))
         assert ran.returncode == 0, ran.stderr
-        assert json.loads(run_tvl("replay", trace, "--json").stdout)["sonar"] == expected
+        replayed = valid("replay", run_tvl("replay", trace, "--json").stdout)
+        assert replayed["parameters"]["sonar"] == expected
 
 
 def test_same_seed_gives_identical_logs_and_run_json(run_tvl, tmp_path):
@@ -237,7 +249,9 @@ def test_same_seed_gives_identical_logs_and_run_json(run_tvl, tmp_path):
         log, fam = tmp_path / f"{name}.h5", tmp_path / f"{name}-fam.h5"
         run_tvl("learn", SQUARE, "--log", log, "--minutes", "1", "--seed", "7", "--fam", fam)
         run = run_tvl("run", fam, SQUARE, "--behaviour", "avoid", "--minutes", "0.5", "--json")
-        outputs.append((_datasets(log), run.stdout))
+        # What the run found: its inputs name each its own FAM file.
+        found = {k: v for k, v in valid("run", run.stdout).items() if k != "inputs"}
+        outputs.append((_datasets(log), found))
     assert outputs[0] == outputs[1]
     other = tmp_path / "other.h5"
     run_tvl("learn", SQUARE, "--log", other, "--minutes", "1", "--seed", "8")
@@ -246,8 +260,10 @@ def test_same_seed_gives_identical_logs_and_run_json(run_tvl, tmp_path):
 
 def test_learn_json_summary(run_tvl, tmp_path):
     result = run_tvl("learn", SQUARE, "--log", tmp_path / "l.h5", "--minutes", "1", "--json")
-    summary = json.loads(result.stdout)
-    assert {"episodes", "collisions", "exemplars", "sim_minutes", "wall_s"} <= set(summary)
+    summary = valid("learn", result.stdout)
+    assert summary["inputs"]["minutes"] == 1.0 and summary["outputs"]["log"] == str(
+        tmp_path / "l.h5"
+    )
     # Learning stops at the first control step past the minute, or after the last back-off.
     assert 1.0 <= summary["sim_minutes"] <= 1.0 + 2.0 / 60 and summary["exemplars"] > 0
     assert summary["exemplars"] == read_log(tmp_path / "l.h5").exemplar_count
@@ -266,7 +282,7 @@ def test_learning_again_on_a_log_adds_a_session(run_tvl, tmp_path):
 def test_replay_of_a_learning_log_draws_paths_and_curves(run_tvl, learnt, tmp_path):
     png, curves = tmp_path / "paths.png", tmp_path / "curves.png"
     result = run_tvl("replay", learnt["log"], "--png", png, "--curves", curves, "--json")
-    data = json.loads(result.stdout)
+    data = valid("replay", result.stdout)
     assert data["format"] == "tvl-log" and len(data["minutes"]) == 2
     assert png.stat().st_size > 1000 and curves.stat().st_size > 1000
 
@@ -311,9 +327,9 @@ def test_every_episode_is_counted_in_a_recorded_minute(run_tvl, tmp_path):
     summary = run_tvl(
         "learn", WORLDS / "corridor.txt", "--log", log, "--minutes", "1", "--near", "0", "--json"
     )
-    replayed = json.loads(run_tvl("replay", log, "--json").stdout)
-    episodes = sum(int(row["episodes"]) for row in replayed["minutes"])
-    assert episodes == json.loads(summary.stdout)["episodes"]
+    replayed = valid("replay", run_tvl("replay", log, "--json").stdout)
+    episodes = sum(row["episodes"] for row in replayed["minutes"])
+    assert episodes == valid("learn", summary.stdout)["episodes"]
 
 
 def test_a_trace_longer_than_a_chunk_holds_every_step_once(run_tvl, learnt, tmp_path):

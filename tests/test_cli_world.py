@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-import json
 import subprocess
 from collections.abc import Callable
 from pathlib import Path
 
 import pytest
+from json_schemas import valid
 
 from tvl_cli.sim.worldgen import generate_world
 from tvl_cli.sim.worldmap import MAX_FILE_BYTES
@@ -195,7 +195,8 @@ def test_check_reports_ok_with_the_counts(run_tvl: RunTvl) -> None:
 
 def test_show_json_has_the_geometry_keys(run_tvl: RunTvl) -> None:
     done = run_tvl("world", "show", ROOT / "worlds" / "circle.txt", "--json")
-    geometry = json.loads(done.stdout)
+    assert done.stdout.count("\n") == 1  # one line, for scripts that grep it
+    geometry = valid("world show", done.stdout)["world"]
     assert list(geometry) == ["name", "cell_m", "segments", "discs", "start", "goals", "rings"]
     assert geometry["segments"] == [
         [4.75, 0.25, 0.25, 0.25],
@@ -257,7 +258,7 @@ def test_render_refuses_a_name_that_names_no_picture_format(
 def test_show_json_lists_header_walls_among_the_segments(run_tvl: RunTvl, tmp_path: Path) -> None:
     path = tmp_path / "walls.txt"
     path.write_text("wall: 0.3 0.3 0.6 0.9\nwall: 1.2 0.3 1.2 0.9 0.1\n" + ROOM, encoding="utf-8")
-    geometry = json.loads(run_tvl("world", "show", path, "--json").stdout)
+    geometry = valid("world show", run_tvl("world", "show", path, "--json").stdout)["world"]
     assert len(geometry["segments"]) == 4 + 1 + 4  # the room, the thin wall, the thick one
     assert geometry["segments"][4] == [0.3, 0.3, 0.6, 0.9]
     thick_xs = {round(x, 9) for segment in geometry["segments"][5:] for x in segment[::2]}

@@ -13,6 +13,7 @@ from typing import NamedTuple
 
 import pytest
 from conftest import TVL
+from json_schemas import valid
 
 from tvl_cli.analysis.results import is_competent, time_to_competence
 from tvl_cli.core.competence import COMPETENCE_RUN_MINUTES
@@ -250,12 +251,9 @@ def test_figure_json_names_its_files_and_carries_the_table(tiny, run_tvl, tmp_pa
     png, table = tmp_path / "f.png", tmp_path / "f.md"
     result = run_tvl("figure", "fig21", results, "-o", png, "--table", table, "--json")
     assert result.returncode == 0, result.stderr
-    printed = json.loads(result.stdout)
-    assert printed == {
-        "figure": "fig21",
-        "results": str(results),
-        "output": str(png),
-        "table": str(table),
-        "summary": table.read_text(),
-    }
+    printed = valid("figure", result.stdout)
+    assert printed["inputs"]["figure"] == "fig21"
+    assert printed["inputs"]["results"]["path"] == str(results)
+    assert printed["outputs"] == {"picture": str(png), "table": str(table)}
+    assert printed["summary_markdown"] == table.read_text()
     assert png.read_bytes().startswith(PNG_MAGIC)

@@ -2,11 +2,12 @@
 
 from __future__ import annotations
 
-import json
 import subprocess
 from collections.abc import Callable
 from dataclasses import fields
 from pathlib import Path
+
+from json_schemas import ENVELOPE, valid
 
 from tvl_cli.core.metrics import RunMetrics
 
@@ -19,10 +20,11 @@ Tvl = Callable[..., subprocess.CompletedProcess[str]]
 def test_dwa_json_prints_the_run_metrics_keys(run_tvl: Tvl) -> None:
     done = run_tvl("baseline", "dwa", SQUARE, "--minutes", "0.5", "--json")
     assert done.returncode == 0, done.stderr
-    metrics = json.loads(done.stdout)
-    assert set(metrics) == RUN_KEYS | {"method"}
+    metrics = valid("baseline dwa", done.stdout)
+    assert set(metrics) - ENVELOPE == RUN_KEYS
+    assert metrics["inputs"]["minutes"] == 0.5 and metrics["inputs"]["sensor"] == "map"
     # By the map, the DWA takes only its reflexes of a method: none unless chosen.
-    assert metrics["method"] == {"preset": None, "reflexes": []}
+    assert metrics["inputs"]["method"] == {"preset": None, "reflexes": []}
     assert abs(metrics["sim_s"] - 30.0) < 1e-9
     assert metrics["collisions"] == 0
 
@@ -33,7 +35,8 @@ def test_dwa_goal_seeking_draws_its_path(run_tvl: Tvl, tmp_path: Path) -> None:
         "baseline", "dwa", WORLDS / "narrow.txt", "--behaviour", "goal", "--png", png, "--json"
     )
     assert done.returncode == 0, done.stderr
-    assert json.loads(done.stdout)["goal_reached"] is True
+    printed = valid("baseline dwa", done.stdout)
+    assert printed["goal_reached"] is True and printed["outputs"]["png"] == str(png)
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
@@ -43,15 +46,11 @@ def test_qlearn_json_adds_what_learning_cost(run_tvl: Tvl) -> None:
         "--competence-every", "0.1", "--json",
     )  # fmt: skip
     assert done.returncode == 0, done.stderr
-    report = json.loads(done.stdout)
-    extra = {
-        "learn_minutes",
-        "learn_collisions",
-        "time_to_competence_min",
-        "competence_checks",
-        "method",
-    }
-    assert set(report) == RUN_KEYS | extra
+    report = valid("baseline qlearn", done.stdout)
+    extra = {"learn_minutes", "learn_collisions", "time_to_competence_min", "competence_checks"}
+    assert set(report) - ENVELOPE == RUN_KEYS | extra
+    assert report["inputs"]["competence_every"] == 0.1
+    assert report["inputs"]["method"] == {"preset": None, "reflexes": []}
     assert report["learn_minutes"] == 0.2
     assert [c["learn_minutes"] for c in report["competence_checks"]] == [0.1, 0.2]
 
@@ -61,8 +60,8 @@ def test_qlearn_without_competence_checks_prints_only_the_learning_keys(run_tvl:
         "baseline", "qlearn", SQUARE, "--learn-minutes", "0.1", "--minutes", "0.1", "--json"
     )
     assert done.returncode == 0, done.stderr
-    printed = json.loads(done.stdout)
-    assert set(printed) == RUN_KEYS | {"learn_minutes", "learn_collisions", "method"}
+    report = valid("baseline qlearn", done.stdout)
+    assert set(report) - ENVELOPE == RUN_KEYS | {"learn_minutes", "learn_collisions"}
 
 
 def test_qlearn_without_learning_runs_the_untrained_table(run_tvl: Tvl) -> None:
@@ -70,7 +69,7 @@ def test_qlearn_without_learning_runs_the_untrained_table(run_tvl: Tvl) -> None:
         "baseline", "qlearn", SQUARE, "--learn-minutes", "0", "--minutes", "0.1", "--json"
     )
     assert done.returncode == 0, done.stderr
-    report = json.loads(done.stdout)
+    report = valid("baseline qlearn", done.stdout)
     assert (report["learn_minutes"], report["learn_collisions"], report["sim_s"]) == (0, 0, 6.0)
 
 

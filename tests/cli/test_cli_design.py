@@ -8,6 +8,7 @@ from pathlib import Path
 
 import pytest
 from conftest import TVL
+from json_schemas import valid
 
 EXAMPLE_LOG = Path(__file__).resolve().parents[2] / "logs" / "square-s1.h5"
 SQUARE = Path(__file__).resolve().parents[2] / "worlds" / "square.txt"
@@ -24,14 +25,16 @@ def designed(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, dict]:
     output = tmp_path_factory.mktemp("design") / "inputs.json"
     done = tvl("design", EXAMPLE_LOG, "-o", output, "--budget", "2000", "--json")
     assert done.returncode == 0, done.stderr
-    return output, json.loads(done.stdout)
+    return output, valid("design", done.stdout)
 
 
 def test_the_summary_describes_the_file_written(designed: tuple[Path, dict]) -> None:
     output, printed = designed
     written = json.loads(output.read_text())
-    assert printed["output"] == str(output) and printed["config"] == written["name"] == "inputs"
-    assert printed["budget_rules"] == 2000 >= printed["rules"]
+    assert printed["outputs"] == {"config": str(output)}
+    assert printed["config"] == written["name"] == "inputs"
+    assert printed["inputs"]["budget_rules"] == 2000 >= printed["rules"]
+    assert printed["inputs"]["logs"][0]["sha256"] == written["design"]["logs_sha256"][0]
     assert [t["name"] for t in printed["tables"]] == [t["name"] for t in written["tables"]]
     assert printed["choices"] == written["design"]["choices"]
     assert [s["config"] for s in printed["heldout"]] == ["inputs", "single", "multi", "designed"]
@@ -44,7 +47,8 @@ def test_train_and_learn_take_the_file_as_config(
     output, printed = designed
     done = tvl("train", EXAMPLE_LOG, "--config", output, "-o", tmp_path / "fam.h5", "--json")
     assert done.returncode == 0, done.stderr
-    trained = json.loads(done.stdout)
+    trained = valid("train", done.stdout)
+    assert trained["inputs"]["config_file"]["path"] == str(output)
     assert trained["config"] == "inputs" and trained["rules_total"] == printed["rules"]
     assert trained["exemplars"] > 0 and trained["rules_touched"] > 0
     done = tvl("learn", SQUARE, "--log", tmp_path / "l.h5", "--minutes", "0.2", "--config", output)

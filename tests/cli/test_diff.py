@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-import json
 import subprocess
 from pathlib import Path
 
 import pytest
 from conftest import TVL
+from json_schemas import valid
 
 from tvl_cli.io.famfile import read_fam, write_fam
 
@@ -46,9 +46,13 @@ def test_a_fam_agrees_with_itself(fams: dict[str, Path], tmp_path: Path) -> None
         provenance={**late.provenance, "copied": True},
         memory=late.memory,
     )
-    printed = json.loads(tvl("diff", fams["late"], again, "--json").stdout)
+    printed = valid("diff", tvl("diff", fams["late"], again, "--json").stdout)
     assert printed["differing"] == 0 and printed["rules_differing_most"] == []
-    assert {t["mean_abs_change"] for t in printed["trajectories"]} == {0.0}
+    assert {t["mean_abs_change_mps"] for t in printed["trajectories"]} == {0.0}
+    assert [printed["inputs"][k]["path"] for k in ("first", "second")] == [
+        str(fams["late"]),
+        str(again),
+    ]
 
 
 def test_one_fam_given_twice_is_refused_as_train_refuses_one_log_twice(
@@ -63,19 +67,20 @@ def test_one_fam_given_twice_is_refused_as_train_refuses_one_log_twice(
 def test_more_learning_changes_rules_named_largest_first(fams: dict[str, Path]) -> None:
     done = tvl("diff", fams["early"], fams["late"], "--json", "--top", "0")
     assert done.returncode == 0, done.stderr
-    printed = json.loads(done.stdout)
+    printed = valid("diff", done.stdout)
     named = printed["rules_differing_most"]
     assert printed["differing"] == len(named) > 0
     assert printed["differing"] == sum(t["differing"] for t in printed["trajectories"])
-    changes = [abs(rule["change"]) for rule in named]
-    assert changes == sorted(changes, reverse=True) and min(changes) > printed["tolerance"]
+    changes = [abs(rule["change_mps"]) for rule in named]
+    assert changes == sorted(changes, reverse=True) and min(changes) > printed["tolerance_mps"]
     early, late = read_fam(fams["early"]).fam, read_fam(fams["late"]).fam
     # The largest change is between the two FAMs' own velocities for that rule.
     (table,) = early.config.tables
     column = table.trajectories.index(named[0]["trajectory"])
     changed = abs(late.velocity_table(0)[:, column] - early.velocity_table(0)[:, column])
     assert max(changed) == pytest.approx(changes[0])
-    assert named[0]["velocity"][1] - named[0]["velocity"][0] == pytest.approx(named[0]["change"])
+    first, second = named[0]["velocities_mps"]
+    assert second - first == pytest.approx(named[0]["change_mps"])
 
 
 def test_the_words_name_each_trajectory_and_the_rules(fams: dict[str, Path]) -> None:

@@ -10,6 +10,7 @@ from pathlib import Path
 import h5py
 import pytest
 from conftest import TVL
+from json_schemas import valid
 
 from tvl_cli.io.famfile import read_fam, write_fam
 
@@ -33,7 +34,7 @@ def collided(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
         args = [fam, ROOT / "worlds" / f"{world}.txt", "--behaviour", "wall-left", "--paper"]
         done = tvl("run", *args, "--minutes", "3", "--log", trace, "--json")
         assert done.returncode == 0, done.stderr
-        if json.loads(done.stdout)["collisions"]:
+        if valid("run", done.stdout)["collisions"]:
             return {"fam": fam, "trace": trace, "directory": directory}
     raise AssertionError("no paper-method run bumped into anything to explain")
 
@@ -41,7 +42,10 @@ def collided(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
 def test_a_collision_is_explained_by_the_rules_that_fired(collided: dict[str, Path]) -> None:
     done = tvl("explain", collided["trace"], "--event", "collision", "--json")
     assert done.returncode == 0, done.stderr
-    moment = json.loads(done.stdout)
+    printed = valid("explain", done.stdout)
+    assert printed["inputs"]["fam"]["path"] == str(collided["fam"]) and printed["autopsy"] is None
+    assert (printed["inputs"]["event"], printed["inputs"]["index"]) == ("collision", 1)
+    moment = printed["step"]
     assert "bump" in moment["events"] and moment["choice"] in moment["focus"]
     why = moment["why"]
     assert why["rules"] and all(rule["strength"] > 0 for rule in why["rules"])
@@ -50,10 +54,11 @@ def test_a_collision_is_explained_by_the_rules_that_fired(collided: dict[str, Pa
     for name, velocity in zip(why["trajectories"], why["velocities_mps"], strict=True):
         assert moment["velocities_mps"][names.index(name)] == pytest.approx(velocity, abs=1e-12)
     # replay lists the collision at the time explain gives it, and --at finds it again.
-    replayed = json.loads(tvl("replay", collided["trace"], "--json").stdout)
-    assert moment["time_s"] == pytest.approx(replayed["bump at (s)"][0], abs=0.05)
-    again = tvl("explain", collided["trace"], "--at", str(replayed["bump at (s)"][0]), "--json")
-    assert json.loads(again.stdout)["step"] == moment["step"]
+    replayed = valid("replay", tvl("replay", collided["trace"], "--json").stdout)
+    bumps = next(e for e in replayed["events"] if e["event"] == "bump")
+    assert moment["time_s"] == pytest.approx(bumps["at_s"][0], abs=0.05)
+    again = tvl("explain", collided["trace"], "--at", str(bumps["at_s"][0]), "--json")
+    assert valid("explain", again.stdout)["step"]["step"] == moment["step"]
     words = tvl("explain", collided["trace"], "--event", "collision")
     assert words.returncode == 0 and "rules that fire" in words.stdout
 

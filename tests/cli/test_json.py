@@ -1,16 +1,17 @@
-"""`--json` on every command that reports something: one JSON document on stdout, with the
-keys the README documents, through the real `tvl` process."""
+"""`--json` on every command that reports something: one JSON document on stdout, following
+the schema the package ships for it, through the real `tvl` process."""
 
 from __future__ import annotations
 
+import hashlib
 import importlib
-import json
 import subprocess
 from pathlib import Path
 
 import click
 import pytest
 from conftest import TVL
+from json_schemas import ENVELOPE, valid
 from test_bad_numbers import SQUARE
 
 from tvl_cli.cli.main import COMMANDS
@@ -19,10 +20,13 @@ from tvl_cli.core.config import DESIGNED
 COUNTS = {"segments", "discs", "rings", "goals"}
 
 
-def tvl_json(*args: str | Path) -> dict:
-    done = subprocess.run([TVL, *map(str, args), "--json"], capture_output=True, text=True)
+def tvl_json(command: str, *args: str | Path) -> dict:
+    """What `tvl COMMAND ARGS --json` printed, once it is found to follow its schema."""
+    done = subprocess.run(
+        [TVL, *command.split(), *map(str, args), "--json"], capture_output=True, text=True
+    )
     assert done.returncode == 0, done.stderr
-    return json.loads(done.stdout)
+    return valid(command, done.stdout)
 
 
 @pytest.fixture(scope="module")
@@ -36,27 +40,31 @@ def learnt(tmp_path_factory: pytest.TempPathFactory) -> Path:
 @pytest.mark.slow
 def test_world_commands_print_what_the_world_holds(tmp_path: Path) -> None:
     world, png = tmp_path / "rooms.txt", tmp_path / "rooms.png"
-    made = tvl_json("world", "new", "rooms", "--seed", "3", "-o", world)
-    assert made.keys() == {"output", "kind", "seed"} | COUNTS
-    assert (made["output"], made["kind"], made["seed"]) == (str(world), "rooms", 3)
-    assert made["segments"] > 4 and made["goals"] >= 1
-    checked = tvl_json("world", "check", world)
-    assert checked == {"file": str(world), "ok": True, **{k: made[k] for k in COUNTS}}
-    drawn = tvl_json("world", "render", world, "-o", png)
-    assert drawn == {"file": str(world), "output": str(png), **{k: made[k] for k in COUNTS}}
-    assert png.stat().st_size > 1000
+    made = tvl_json("world new", "rooms", "--seed", "3", "-o", world)
+    assert made["outputs"] == {"world": str(world)}
+    assert (made["inputs"]["kind"], made["inputs"]["seed"]) == ("rooms", 3)
+    counts = made["counts"]
+    assert counts.keys() == COUNTS and counts["segments"] > 4 and counts["goals"] >= 1
+    read = {"path": str(world), "sha256": hashlib.sha256(world.read_bytes()).hexdigest()}
+    checked = tvl_json("world check", world)
+    assert (checked["inputs"]["world"], checked["ok"], checked["counts"]) == (read, True, counts)
+    drawn = tvl_json("world render", world, "-o", png)
+    assert (drawn["inputs"]["world"], drawn["counts"]) == (read, counts)
+    assert drawn["outputs"] == {"picture": str(png)} and png.stat().st_size > 1000
 
 
 @pytest.mark.slow
 def test_train_prints_its_summary(learnt: Path, tmp_path: Path) -> None:
     fam = tmp_path / "fam.h5"
     printed = tvl_json("train", learnt, "-o", fam, "--config", "multi")
-    assert printed.keys() == {
-        "output", "config", "episodes", "exemplars", "rules_touched", "rules_total", "wall_s",
-        "repeated_sessions", "method",
+    assert printed.keys() - ENVELOPE == {
+        "config", "episodes", "exemplars", "rules_touched", "rules_total", "wall_s",
+        "repeated_sessions",
     }  # fmt: skip
-    assert printed["method"]["preset"] == "default"
-    assert (printed["output"], printed["config"]) == (str(fam), "multi")
+    assert printed["inputs"]["method"]["preset"] == "default"
+    assert (printed["outputs"]["fam"], printed["config"]) == (str(fam), "multi")
+    (log,) = printed["inputs"]["logs"]
+    assert log == {"path": str(learnt), "sha256": hashlib.sha256(learnt.read_bytes()).hexdigest()}
     assert 0 < printed["rules_touched"] <= printed["rules_total"] and printed["exemplars"] > 0
     assert fam.exists()
 
@@ -73,6 +81,9 @@ def test_train_takes_the_designed_configuration_by_name(learnt: Path, tmp_path: 
 def test_demo_prints_learning_and_every_run(tmp_path: Path) -> None:
     printed = tvl_json("demo", tmp_path / "demo")
     assert printed["learning"]["status"] == "finished"
+    # The learning's minutes are learn's and replay's rows, of the same types.
+    replayed = tvl_json("replay", printed["outputs"]["log"])
+    assert replayed["minutes"] == printed["learning"]["minutes"]
     runs = printed["runs"]
     assert [(r["config"], r["behaviour"]) for r in runs] == [
         ("single", "avoid"), ("single", "wall-left"), ("multi", "avoid"), ("multi", "wall-left")

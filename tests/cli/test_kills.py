@@ -3,7 +3,6 @@ what it leaves is no log or a readable one, and the next write clears any leftov
 
 from __future__ import annotations
 
-import json
 import random
 import signal
 import subprocess
@@ -13,6 +12,7 @@ from pathlib import Path
 import h5py
 import pytest
 from conftest import TVL
+from json_schemas import valid
 from test_bad_numbers import SQUARE
 from test_cli_bad_input import start_learning
 
@@ -79,7 +79,7 @@ def test_a_stopped_learner_keeps_every_episode_it_finished(tmp_path: Path, stop)
     process = start_learning(log, "--json")
     process.send_signal(stop)
     printed, _ = process.communicate(timeout=60)
-    summary = json.loads(printed)
+    summary = valid("learn", printed)
     assert summary["status"] == f"interrupted: {stop.name}"
     (session,) = read_log(log).sessions
     assert len(session.episode_table) == summary["episodes"] > 0

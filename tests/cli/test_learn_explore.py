@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-import json
 import subprocess
 from pathlib import Path
 
 import pytest
 from conftest import TVL
+from json_schemas import valid
 
 from tvl_cli.io.famfile import read_fam
 from tvl_cli.io.logreader import read_log
@@ -28,7 +28,7 @@ def novelty_log(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, dict]:
         check=False,
     )
     assert done.returncode == 0, done.stderr
-    return log, json.loads(done.stdout)
+    return log, valid("learn", done.stdout)
 
 
 def test_the_session_records_its_rule_and_trains(novelty_log, run_tvl, tmp_path) -> None:
@@ -37,7 +37,7 @@ def test_the_session_records_its_rule_and_trains(novelty_log, run_tvl, tmp_path)
     fam = tmp_path / "fam.h5"
     trained = run_tvl("train", log, "-o", fam, "--json")
     assert trained.returncode == 0, trained.stderr
-    assert json.loads(trained.stdout)["exemplars"] == read_log(log).exemplar_count
+    assert valid("train", trained.stdout)["exemplars"] == read_log(log).exemplar_count
     (session,) = read_fam(fam).provenance["logs"][0]["sessions"]
     assert session["explore"] == "novelty"
 
@@ -48,9 +48,12 @@ def test_learn_and_replay_agree_on_the_coverage_of_each_minute(novelty_log, run_
     assert len(learnt) == 2 and 0 < learnt[0] <= learnt[1] <= printed["coverage"] <= 1
     replayed = run_tvl("replay", log, "--json")
     assert replayed.returncode == 0, replayed.stderr
-    summary = json.loads(replayed.stdout)
+    summary = valid("replay", replayed.stdout)
     assert [m["coverage"] for m in summary["minutes"]] == learnt
-    assert "explore novelty" in summary["session 0000"]
+    # One row type for a minute of learning, as learn printed it and as replay reads it back.
+    assert summary["minutes"] == printed["minutes"]
+    (session,) = summary["sessions"]
+    assert (session["session"], session["explore"]) == (printed["session"], "novelty")
 
 
 def test_an_unknown_rule_is_one_line_on_stderr(run_tvl, tmp_path) -> None:

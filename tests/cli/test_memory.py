@@ -3,12 +3,12 @@ replayed by `tvl train` from any log, read through by `tvl run`, and never by `-
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import numpy as np
 import pytest
 from click.testing import CliRunner
+from json_schemas import valid
 
 from tvl_cli.cli.main import main
 from tvl_cli.core.memory import NO_MEMORY, MemoryConfig
@@ -112,7 +112,8 @@ def test_a_run_reads_through_its_fams_memory_unless_told(
     read = trace["ring_mm"].any(axis=1)
     assert (trace["perceived_mm"][read] <= trace["ring_mm"][read]).all()
     assert (trace["perceived_mm"][read] < trace["ring_mm"][read]).any()
-    explained = json.loads(tvl("explain", kept, "--step", int(np.flatnonzero(read)[-1]), "--json"))
+    printed = tvl("explain", kept, "--step", int(np.flatnonzero(read)[-1]), "--json")
+    explained = valid("explain", printed)["step"]
     assert explained["perceived_m"] is not None and len(explained["perceived_m"]) == 16
 
 

@@ -75,13 +75,14 @@ def _three_ways(learnt: dict[str, Path]) -> list[tuple[str, ...]]:
 def test_learn_by_the_paper_named_three_ways_records_one_method(
     learnt: dict[str, Path], tmp_path: Path
 ) -> None:
+    logs = [tmp_path / f"{i}.h5" for i in range(3)]
     records = [
-        printed("learn", SQUARE, "--log", tmp_path / f"{i}.h5", "--minutes", "0.1", *way)["method"]
-        for i, way in enumerate(_three_ways(learnt))
+        printed("learn", SQUARE, "--log", log, "--minutes", "0.1", *way)["inputs"]["method"]
+        for log, way in zip(logs, _three_ways(learnt), strict=True)
     ]
     assert records == [method_record(PAPER, LEARNING_FIELDS)] * 3
     ours = printed("learn", SQUARE, "--log", tmp_path / "ours.h5", "--minutes", "0.1")
-    assert ours["method"] == method_record(DEFAULT, LEARNING_FIELDS)
+    assert ours["inputs"]["method"] == method_record(DEFAULT, LEARNING_FIELDS)
 
 
 def test_train_run_and_the_baselines_by_the_paper_named_three_ways_agree(
@@ -89,21 +90,21 @@ def test_train_run_and_the_baselines_by_the_paper_named_three_ways_agree(
 ) -> None:
     for i, way in enumerate(_three_ways(learnt)):
         fam = tmp_path / f"{i}.h5"
-        trained = printed("train", learnt["paper_log"], "-o", fam, *way)["method"]
+        trained = printed("train", learnt["paper_log"], "-o", fam, *way)["inputs"]["method"]
         assert trained == method_record(PAPER, LEARNING_FIELDS)
-        assert printed("run", fam, SQUARE, *RUN, *way)["method"] == method_record(PAPER)
+        assert printed("run", fam, SQUARE, *RUN, *way)["inputs"]["method"] == method_record(PAPER)
         dwa = printed("baseline", "dwa", SQUARE, "--minutes", "0.1", "--sensor", "ring", *way)
         live_ring = PAPER.memory.to_dict()
-        assert dwa["method"] == {"preset": None, "reflexes": [], "memory": live_ring}
+        assert dwa["inputs"]["method"] == {"preset": None, "reflexes": [], "memory": live_ring}
 
 
 def test_a_run_takes_its_own_choices_from_the_method_and_the_rest_from_its_fam(
     learnt: dict[str, Path],
 ) -> None:
-    ours = printed("run", learnt["ours_fam"], SQUARE, *RUN)["method"]
+    ours = printed("run", learnt["ours_fam"], SQUARE, *RUN)["inputs"]["method"]
     assert ours == method_record(DEFAULT)
     # The paper's reflexes and memory on a FAM learnt by our method: neither preset.
-    mixed = printed("run", learnt["ours_fam"], SQUARE, *RUN, "--paper")["method"]
+    mixed = printed("run", learnt["ours_fam"], SQUARE, *RUN, "--paper")["inputs"]["method"]
     assert mixed["preset"] is None
     paper = method_record(PAPER)
     assert {n: mixed[n] for n in BEHAVING_FIELDS} == {n: paper[n] for n in BEHAVING_FIELDS}
@@ -113,7 +114,9 @@ def test_a_run_takes_its_own_choices_from_the_method_and_the_rest_from_its_fam(
 def test_train_keeps_the_logs_collision_points_and_takes_its_own_labels(
     learnt: dict[str, Path], tmp_path: Path
 ) -> None:
-    made = printed("train", learnt["ours_log"], "-o", tmp_path / "f.h5", "--paper")["method"]
+    made = printed("train", learnt["ours_log"], "-o", tmp_path / "f.h5", "--paper")["inputs"][
+        "method"
+    ]
     assert (made["preset"], made["near_m"], made["decel_mps2"]) == (None, DEFAULT.near_m, 0.5)
     assert read_fam(tmp_path / "f.h5").method == made
 
@@ -123,12 +126,12 @@ def test_a_fam_from_logs_that_learnt_differently_says_so_and_is_no_preset(
 ) -> None:
     fam = tmp_path / "f.h5"
     logs = (learnt["paper_log"], learnt["ours_log"])
-    made = printed("train", *logs, "-o", fam, "--paper")["method"]
+    made = printed("train", *logs, "-o", fam, "--paper")["inputs"]["method"]
     assert made == method_record(PAPER, LEARNING_FIELDS) | {
         "preset": None,
         "sessions_differ_in": ["near_m"],
     }
-    ran = printed("run", fam, SQUARE, *RUN, "--paper")["method"]
+    ran = printed("run", fam, SQUARE, *RUN, "--paper")["inputs"]["method"]
     assert ran == method_record(PAPER) | {"preset": None}
 
 
@@ -143,9 +146,9 @@ def test_every_file_records_the_method_it_was_made_by(
     assert code == 0, err
     assert read_run(trace).method == method_record(PAPER)
     shown = printed("replay", trace)
-    assert shown["methods"] == {"run": method_record(PAPER)} and shown["method"] == "paper"
+    assert shown["method"] == method_record(PAPER)
     code, out, _ = tvl("replay", learnt["ours_log"])
-    assert code == 0 and "session 0000 method │ default" in out
+    assert code == 0 and "session 0000 method: default" in out
     code, out, _ = tvl("inspect", learnt["paper_fam"], "--top", "1")
     assert code == 0 and out.splitlines()[0] == "method: paper"
     assert printed("inspect", learnt["paper_fam"], "--top", "1")["method"]["preset"] == "paper"
@@ -161,9 +164,9 @@ def test_files_from_before_methods_were_recorded_say_so(
     shutil.copy(learnt["ours_log"], old)
     with h5py.File(old, "r+") as f:
         del f["sessions/0000"].attrs["method"]
-    assert printed("replay", old)["methods"] == {"0000": None}
-    assert "session 0000 method │ unrecorded" in tvl("replay", old)[1]
-    run = printed("run", GOLDEN_FAM, SQUARE, *RUN, "--paper")["method"]
+    assert [s["method"] for s in printed("replay", old)["sessions"]] == [None]
+    assert "session 0000 method: unrecorded" in tvl("replay", old)[1]
+    run = printed("run", GOLDEN_FAM, SQUARE, *RUN, "--paper")["inputs"]["method"]
     assert run["learning"] == "unrecorded" and run["preset"] is None
     assert set(run) == {"preset", "learning", "sonar", *BEHAVING_FIELDS}
 
@@ -193,10 +196,13 @@ def test_finer_options_that_agree_with_the_paper_or_change_ours_are_taken(
     tmp_path: Path,
 ) -> None:
     agreeing = printed("learn", SQUARE, "--log", tmp_path / "a.h5", "--minutes", "0.1",
-                       "--paper", "--decel", "0.5", "--sonar", "edges")["method"]  # fmt: skip
-    assert agreeing == method_record(PAPER, LEARNING_FIELDS) | {"preset": None, "sonar": "edges"}
+                       "--paper", "--decel", "0.5", "--sonar", "edges")  # fmt: skip
+    assert agreeing["inputs"]["method"] == method_record(PAPER, LEARNING_FIELDS) | {
+        "preset": None,
+        "sonar": "edges",
+    }
     changed = printed("learn", SQUARE, "--log", tmp_path / "b.h5", "--minutes", "0.1",
-                      "--method", "default", "--decel", "0.5")["method"]  # fmt: skip
+                      "--method", "default", "--decel", "0.5")["inputs"]["method"]  # fmt: skip
     assert (changed["preset"], changed["decel_mps2"]) == (None, 0.5)
 
 

@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-import json
 import subprocess
 from pathlib import Path
 
 import pytest
 from conftest import TVL
+from json_schemas import valid
 from PIL import Image
 from test_bad_numbers import SQUARE, assert_one_line_refusal
 
@@ -30,7 +30,8 @@ def test_a_window_of_a_run_becomes_a_gif_of_its_frames(tmp_path: Path) -> None:
     # Steps 20 to 79 (seconds 2 to 8 at 10 steps a second), every third: 20 frames.
     done = tvl("replay", trace, "--gif", gif, "--from", "2", "--to", "8", "--every", "3", "--json")
     assert done.returncode == 0, done.stderr
-    assert json.loads(done.stdout)["animation frames"] == 20
+    printed = valid("replay", done.stdout)
+    assert printed["animation_frames"] == 20 and printed["outputs"]["animation"] == str(gif)
     with Image.open(gif) as image:
         assert image.format == "GIF" and image.n_frames == 20
         assert image.size == tuple(round(side * DPI) for side in FIGURE_SIZE_IN)
@@ -47,7 +48,7 @@ def test_a_learning_session_becomes_a_gif_of_its_episodes(tmp_path: Path) -> Non
     assert done.returncode == 0, done.stderr
     (session,) = read_log(EXAMPLE_LOG).sessions
     exemplars = sum(e.exemplar_count for e in session.episodes() if e.end_time_s <= 20)
-    frames = json.loads(done.stdout)["animation frames"]
+    frames = valid("replay", done.stdout)["animation_frames"]
     assert frames == -(-exemplars // 4) > 0  # every fourth exemplar of those episodes
     with Image.open(gif) as image:
         assert image.n_frames == frames

@@ -3,13 +3,13 @@ events of a run marked on its path."""
 
 from __future__ import annotations
 
-import json
 import subprocess
 from pathlib import Path
 
 import numpy as np
 import pytest
 from conftest import TVL
+from json_schemas import valid
 from test_bad_numbers import SQUARE
 
 from tvl_cli.core.contacts import BACKOFF, BUMP, EVENTS, NEAR_MISS
@@ -33,8 +33,8 @@ def two_sessions(tmp_path_factory: pytest.TempPathFactory) -> Path:
 @pytest.mark.slow
 def test_a_log_picture_draws_every_session_of_its_world(two_sessions: Path, tmp_path: Path):
     png = tmp_path / "all.png"
-    printed = json.loads(tvl("replay", two_sessions, "--png", png, "--json").stdout)
-    assert printed["sessions drawn"] == "0000, 0001"
+    printed = valid("replay", tvl("replay", two_sessions, "--png", png, "--json").stdout)
+    assert printed["sessions_drawn"] == ["0000", "0001"] and printed["outputs"]["png"] == str(png)
     assert png.read_bytes().startswith(PNG_MAGIC)
 
 
@@ -43,7 +43,7 @@ def test_a_log_picture_of_one_session(two_sessions: Path, tmp_path: Path) -> Non
     png, curves = tmp_path / "one.png", tmp_path / "curves.png"
     done = tvl("replay", two_sessions, "--png", png, "--session", "0", "--curves", curves, "--json")
     assert done.returncode == 0, done.stderr
-    assert json.loads(done.stdout)["sessions drawn"] == "0000"
+    assert valid("replay", done.stdout)["sessions_drawn"] == ["0000"]
     missing = tvl("replay", two_sessions, "--png", tmp_path / "x.png", "--session", "9")
     assert missing.returncode == 2 and "no session '9' (it has 0000, 0001)" in missing.stderr
 

@@ -3,7 +3,6 @@ starts from a trained FAM, and `tvl train` trains a repeated session once."""
 
 from __future__ import annotations
 
-import json
 import shutil
 import subprocess
 from pathlib import Path
@@ -12,6 +11,7 @@ import h5py
 import numpy as np
 import pytest
 from conftest import TVL
+from json_schemas import valid
 from test_bad_numbers import SQUARE
 
 from tvl_cli.io.famfile import read_fam
@@ -87,9 +87,15 @@ def test_train_counts_a_session_found_twice_once(tmp_path: Path) -> None:
     shutil.copyfile(log, copy)
     with h5py.File(copy, "r+") as f:  # the same session, in a file that hashes otherwise
         f.attrs["created"] = "another day"
-    once = json.loads(tvl("train", log, "-o", tmp_path / "once.h5", "--json").stdout)
+    once = valid("train", tvl("train", log, "-o", tmp_path / "once.h5", "--json").stdout)
     twice = tvl("train", log, copy, "-o", tmp_path / "twice.h5", "--json")
     assert twice.returncode == 0, twice.stderr
-    printed = json.loads(twice.stdout)
-    assert printed["repeated_sessions"] == [f"{copy} session 0000 repeats {log} session 0000"]
+    printed = valid("train", twice.stdout)
+    repeat = {
+        "log": str(copy),
+        "session": "0000",
+        "repeats_log": str(log),
+        "repeats_session": "0000",
+    }
+    assert printed["repeated_sessions"] == [repeat]
     assert (printed["episodes"], printed["exemplars"]) == (once["episodes"], once["exemplars"])

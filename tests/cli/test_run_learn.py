@@ -3,7 +3,6 @@ memory; its refusals are one line and exit 2."""
 
 from __future__ import annotations
 
-import json
 import os
 import shutil
 import subprocess
@@ -14,6 +13,7 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 from conftest import TVL
+from json_schemas import valid
 from test_bad_numbers import SQUARE, assert_one_line_refusal
 
 from tvl_cli.agent.behave import behave
@@ -83,7 +83,9 @@ def test_learn_appends_a_behaving_session_that_train_replays(
         capture_output=True, text=True, timeout=60,
     )  # fmt: skip
     assert done.returncode == 0, done.stderr
-    learning = json.loads(done.stdout)["learnt"]
+    printed = valid("run", done.stdout)
+    assert printed["inputs"]["learn"] and printed["outputs"]["log"] == str(log)
+    learning = printed["learnt"]
     assert learning["session"] == "0001" and learning["episodes"] > 5
     assert sum(learning["endings"].values()) == learning["episodes"]
     explored, behaved = read_log(log).sessions
@@ -95,7 +97,7 @@ def test_learn_appends_a_behaving_session_that_train_replays(
         [TVL, "train", log, "-o", retrained, "--json"], capture_output=True, text=True, timeout=60
     )
     assert trained.returncode == 0, trained.stderr
-    assert json.loads(trained.stdout)["exemplars"] == (
+    assert valid("train", trained.stdout)["exemplars"] == (
         explored.exemplar_count + behaved.exemplar_count
     )
 
@@ -140,7 +142,9 @@ def test_learn_without_a_log_learns_in_memory_and_writes_no_file(
     before = sorted(os.listdir(fam.parent))
     code, out, err = invoke(fam, SQUARE, *AVOID, "--learn", "--json")
     assert code == 0, err
-    learning = json.loads(out)["learnt"]
+    printed = valid("run", out)
+    assert printed["inputs"]["learn"] and printed["outputs"]["log"] is None
+    learning = printed["learnt"]
     assert learning["session"] is None and learning["episodes"] > 5
     assert sorted(os.listdir(fam.parent)) == before and not os.listdir(tmp_path)
     code, out, err = invoke(fam, SQUARE, *AVOID, "--learn")
@@ -165,7 +169,8 @@ def test_per_minute_contacts_add_up_to_the_run_s(fam: Path) -> None:
     code, out, err = invoke(fam, NARROW, "--behaviour", "wall-right", "--minutes", "1.5",
                             "--paper", "--json")  # fmt: skip
     assert code == 0, err
-    printed = json.loads(out)
+    printed = valid("run", out)
+    assert not printed["inputs"]["learn"] and printed["inputs"]["reflexes"] == []
     minutes = printed["minutes"]
     assert [m["minute"] for m in minutes] == [0, 1]
     assert [m["sim_s"] for m in minutes] == pytest.approx([60.0, 30.0])

@@ -3,7 +3,7 @@ import` reads back to the same grid."""
 
 from __future__ import annotations
 
-import json
+import hashlib
 import math
 from pathlib import Path
 
@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 import yaml
 from click.testing import CliRunner
+from json_schemas import ENVELOPE, valid
 
 from tvl_cli.cli.main import main
 from tvl_cli.io.pgm import decode_pgm
@@ -100,10 +101,16 @@ def test_json_gives_the_files_and_the_cells(tmp_path: Path) -> None:
         "world", "export", WORLDS / "square.txt", "-o", tmp_path / "m.yaml", "--json"
     )
     assert code == 0
-    assert json.loads(stdout) == {
-        "world": str(WORLDS / "square.txt"),
-        "output": str(tmp_path / "m.yaml"),
+    printed = valid("world export", stdout)
+    assert printed["inputs"]["world"] == {
+        "path": str(WORLDS / "square.txt"),
+        "sha256": hashlib.sha256((WORLDS / "square.txt").read_bytes()).hexdigest(),
+    }
+    assert printed["outputs"] == {
+        "map_yaml": str(tmp_path / "m.yaml"),
         "image": str(tmp_path / "m.pgm"),
+    }
+    assert {k: v for k, v in printed.items() if k not in ENVELOPE} == {
         "cell_m": 0.25,
         "columns": 16,
         "rows": 16,

@@ -3,13 +3,13 @@ worlds that `tvl world check` accepts and a robot learns in; every bad map is on
 
 from __future__ import annotations
 
-import json
 import math
 from pathlib import Path
 
 import numpy as np
 import pytest
 from click.testing import CliRunner
+from json_schemas import valid
 from map_samples import (
     BLOCK_LEFT,
     BLOCK_SIZE,
@@ -78,7 +78,10 @@ def test_json_gives_the_extent_the_free_cells_and_the_map_frame(tmp_path: Path) 
     world = tmp_path / "world.txt"
     code, stdout, _ = tvl("world", "import", map_yaml, "-o", world, "--start", START, "--json")
     assert code == 0
-    found = json.loads(stdout)
+    found = valid("world import", stdout)
+    assert found["inputs"]["start"] == [float(v) for v in START.split(",")]
+    assert found["inputs"]["image"]["path"] == str(map_yaml.with_suffix(".pgm"))
+    assert found["outputs"] == {"world": str(world)}
     assert (found["columns"], found["rows"], found["cell_m"]) == (40, 30, 0.05)
     assert found["free_cells"] == int((room_pixels() == FREE).sum()) == 38 * 28 - 16
     assert found["offset_m"] == [-0.7, -1.75]

@@ -3,7 +3,6 @@ on was heard and rated fast, and a run's time is accounted for to the step."""
 
 from __future__ import annotations
 
-import json
 import math
 from dataclasses import replace
 from pathlib import Path
@@ -11,6 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from click.testing import CliRunner
+from json_schemas import valid
 
 from tvl_cli.agent.behave import behave
 from tvl_cli.agent.trace import Columns, TraceRecorder
@@ -175,10 +175,13 @@ def test_explain_contacts_reads_a_trace_file(tmp_path: Path) -> None:
         ],
     )
     assert ran.exit_code == 0, ran.output
-    contacts = json.loads(ran.output)["contacts"]
+    contacts = valid("run", ran.output)["contacts"]
     shown = runner.invoke(cli, ["explain", str(trace), "--contacts", "--json"])
     assert shown.exit_code == 0, shown.output
-    autopsy = json.loads(shown.output)
+    printed = valid("explain", shown.output)
+    assert printed["step"] is None and printed["inputs"]["contacts"]
+    autopsy = printed["autopsy"]
+    assert sum(c["contacts"] for c in autopsy["causes"]) == contacts
     assert len(autopsy["contacts"]) == contacts >= 1
     assert autopsy["contacts"][0]["cause"] == "unheard-slant"
     table = runner.invoke(cli, ["explain", str(trace), "--contacts"])

@@ -15,6 +15,7 @@ from pathlib import Path
 
 import pytest
 from conftest import TVL
+from json_schemas import ENVELOPE, valid
 
 from tvl_cli.commands.grid import COLUMNS
 from tvl_cli.commands.workers import CLUSTER_EXTRA, dask_cluster
@@ -46,7 +47,7 @@ def sweep(*args: str | Path) -> dict:
     done = tvl("sweep", *args, "--json")
     assert done.returncode == 0, done.stderr
     assert done.stderr == ""  # no progress bar without a terminal
-    return json.loads(done.stdout)
+    return valid("sweep", done.stdout)
 
 
 def journal(out: Path) -> list[dict]:
@@ -60,9 +61,10 @@ def swept(tmp_path_factory: pytest.TempPathFactory) -> Path:
     (folder / "grid.toml").write_text(GRID)
     out = folder / "out"
     summary = sweep(folder / "grid.toml", "--out", out, "--workers", "2")
-    assert summary["out"] == str(out)
+    assert summary["inputs"]["out"] == str(out) and summary["inputs"]["workers"] == 2
+    assert summary["inputs"]["grid"]["path"] == str(folder / "grid.toml")
     assert (summary["cells"], summary["done"], summary["skipped"]) == (4, 4, 0)
-    assert sorted(summary["files"]) == sorted(
+    assert sorted(summary["outputs"]["files"]) == sorted(
         ["worlds/square.txt", LOG, *FAMS, "results.jsonl", "results.csv"]
     )
     return out
@@ -103,11 +105,12 @@ def test_a_row_holds_what_tvl_run_prints_for_its_cell(swept: Path, tmp_path: Pat
         "--minutes", "0.5", "--seed", "2", "--json",
     )  # fmt: skip
     assert ran.returncode == 0, ran.stderr
-    printed = json.loads(ran.stdout)
+    printed = valid("run", ran.stdout)
+    found = {key: value for key, value in printed.items() if key not in ENVELOPE}
     row = next(r for r in journal(swept) if (r["config"], r["threshold"]) == ("multi", 0.9))
-    # The row names the cell's method as the grid does; the run records it whole.
-    assert printed.pop("method")["preset"] == row["method"] == "default"
-    assert row == {"kind": "tvl", **{column: row[column] for column in COLUMNS}, **printed}
+    # The row names the cell's method as the grid does; the run's inputs record it whole.
+    assert printed["inputs"]["method"]["preset"] == row["method"] == "default"
+    assert row == {"kind": "tvl", **{column: row[column] for column in COLUMNS}, **found}
     assert printed["distance_m"] > 0
 
 
@@ -117,7 +120,8 @@ def test_a_finished_sweep_runs_nothing_again(swept: Path) -> None:
     kept = {p: p.stat().st_mtime_ns for p in [swept / LOG, *(swept / f for f in FAMS)]}
     before = (swept / "results.jsonl").read_text()
     summary = sweep(grid, "--out", swept)
-    assert (summary["done"], summary["skipped"], summary["files"]) == (0, 4, ["results.csv"])
+    files = summary["outputs"]["files"]
+    assert (summary["done"], summary["skipped"], files) == (0, 4, ["results.csv"])
     printed = tvl("sweep", grid, "--out", swept, "--csv")
     assert printed.stdout == (swept / "results.csv").read_text()
     assert (swept / "results.jsonl").read_text() == before
@@ -135,7 +139,7 @@ def test_a_stopped_sweep_runs_only_the_cells_it_lacks(swept: Path, tmp_path: Pat
     (out / FAMS[1]).unlink()
     summary = sweep(swept.parent / "grid.toml", "--out", out)
     assert (summary["done"], summary["skipped"]) == (2, 2)
-    assert sorted(summary["files"]) == [FAMS[1], "results.csv", "results.jsonl"]
+    assert sorted(summary["outputs"]["files"]) == [FAMS[1], "results.csv", "results.jsonl"]
     assert (out / "results.csv").read_text() == (swept / "results.csv").read_text()
 
 

@@ -128,8 +128,9 @@ class Autopsy:
     def to_dict(self) -> dict[str, Any]:
         return {
             "contacts": [c.to_dict() for c in self.contacts],
-            "causes": dict(self.causes),
-            "time_s": dict(self.time_s),
+            # Lists of records: a cause or a class of time is a name, not a JSON key.
+            "causes": [{"cause": c, "contacts": n} for c, n in self.causes.items()],
+            "time": [{"class": c, "time_s": t} for c, t in self.time_s.items()],
             "goal_failure": self.goal_failure,
             "goal_closest_m": self.goal_closest_m,
         }

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from tvl_cli.analysis.rules import rule_conditions
+from tvl_cli.analysis.rules import conditions_list, rule_conditions
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
 
@@ -28,10 +28,10 @@ class RuleDifference:
     def to_dict(self) -> dict[str, object]:
         return {
             "trajectory": self.trajectory,
-            "if": dict(self.conditions),
-            "velocity": list(self.velocities_mps),
+            "conditions": conditions_list(self.conditions),
+            "velocities_mps": list(self.velocities_mps),
             "experience": list(self.experience),
-            "change": self.change_mps,
+            "change_mps": self.change_mps,
         }
 
     def sentence(self) -> str:
@@ -55,7 +55,7 @@ class TrajectoryDifference:
             "trajectory": self.trajectory,
             "rules": self.rules,
             "differing": self.differing,
-            "mean_abs_change": self.mean_abs_change_mps,
+            "mean_abs_change_mps": self.mean_abs_change_mps,
         }
 
 
@@ -73,7 +73,7 @@ class FamDifference:
     def to_dict(self) -> dict[str, object]:
         return {
             "config": self.config,
-            "tolerance": self.tolerance_mps,
+            "tolerance_mps": self.tolerance_mps,
             "rules": sum(t.rules for t in self.trajectories),
             "differing": self.differing,
             "trajectories": [t.to_dict() for t in self.trajectories],

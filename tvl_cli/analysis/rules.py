@@ -23,8 +23,8 @@ class Rule:
     def to_dict(self) -> dict[str, object]:
         return {
             "trajectory": self.trajectory,
-            "if": dict(self.conditions),
-            "velocity": self.velocity_mps,
+            "conditions": conditions_list(self.conditions),
+            "velocity_mps": self.velocity_mps,
             "experience": self.experience,
         }
 
@@ -43,6 +43,12 @@ class Rule:
             f"IF {conditions} THEN {self.trajectory} = {self.velocity_mps:.2f} m/s  "
             f"(experience {self.experience:.1f})"
         )
+
+
+def conditions_list(conditions: tuple[tuple[str, str], ...]) -> list[dict[str, str]]:
+    """A rule's IF part as JSON: a record an input, in input order (an input's name, such as
+    `front-left`, is a value, not a key)."""
+    return [{"input": name, "set": label} for name, label in conditions]
 
 
 def select_rules(

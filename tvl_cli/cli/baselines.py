@@ -8,7 +8,7 @@ import click
 
 from tvl_cli.baselines.dwa import BEHAVIOURS as DWA_BEHAVIOURS
 from tvl_cli.baselines.dwa import SENSORS as DWA_SENSORS
-from tvl_cli.cli import views
+from tvl_cli.cli import documents, views
 from tvl_cli.cli.options import (
     PICTURE,
     SEED,
@@ -65,10 +65,11 @@ def baseline_dwa(
     refuse_shared_paths({"--png": png}, {"WORLD": world_file})
     if png is not None:
         refuse_existing(png, force)
+    goal_xy = parse_goal(goal) if goal else None
     report = dwa_session(
         world_file,
         behaviour,
-        parse_goal(goal) if goal else None,
+        goal_xy,
         minutes,
         seed,
         png,
@@ -76,7 +77,13 @@ def baseline_dwa(
         sensor,
     )
     if as_json:
-        print_json(report.to_dict())
+        options = {
+            "behaviour": behaviour,
+            "goal": list(goal_xy) if goal_xy else None,
+            "minutes": minutes,
+            "sensor": sensor,
+        }
+        print_json(documents.dwa_json(report, world_file, seed, options, png))
     else:
         views.run_metrics(report.metrics, report.method)
 
@@ -119,7 +126,12 @@ def baseline_qlearn(
         refuse_existing(png, force)
     report = qlearn_session(world_file, learn_minutes, minutes, seed, competence_every, png, method)
     if as_json:
-        print_json(report.to_dict())
+        options = {
+            "learn_minutes": learn_minutes,
+            "minutes": minutes,
+            "competence_every": competence_every,
+        }
+        print_json(documents.qlearn_json(report, world_file, seed, options, png))
     else:
         views.run_metrics(report.result.evaluation, report.method)
         click.echo(report.summary())

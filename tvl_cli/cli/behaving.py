@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING
 
 import click
 
-from tvl_cli.cli import views
+from tvl_cli.cli import documents, views
 from tvl_cli.cli.options import (
     GIF,
     MP4,
@@ -139,7 +139,7 @@ def run(
     with _watching(request, live, pace) as watch:
         result = run_behaviour(request, watch)
     if as_json:
-        print_json(result.to_dict())
+        print_json(documents.run_json(request, result))
     elif as_csv:
         print_csv([asdict(result.metrics)])
     else:
@@ -232,7 +232,8 @@ def replay(
     )
     summary = replay_file(file, png, curves, session, animation)
     if as_json:
-        print_json(summary.to_dict())
+        pictures = {"png": png, "curves": curves, "animation": moving}
+        print_json(documents.replay_json(summary, file, session, pictures))
     else:
         views.replay(summary)
 
@@ -247,7 +248,7 @@ def demo(directory: Path, force: bool, as_json: bool) -> None:
 
     result = run_demo(directory, force, views.say)
     if as_json:
-        print_json(views.demo_json(result))
+        print_json(documents.demo_json(result))
     else:
         views.demo(result)
 
@@ -297,7 +298,7 @@ def explain(
 
         autopsy = trace_autopsy(trace)
         if as_json:
-            print_json(autopsy.to_dict())
+            print_json(documents.autopsy_json(autopsy, trace))
         else:
             views.autopsy(autopsy)
         return
@@ -305,7 +306,8 @@ def explain(
 
     found = explain_run(trace, Moment(step, at_s, event, index), fam_path)
     if as_json:
-        print_json(found.to_dict())
+        moment = {"step": step, "at_s": at_s, "event": event, "index": index}
+        print_json(documents.explain_json(found, trace, moment))
     else:
         views.step_explanation(found)
 

@@ -2,15 +2,14 @@
 
 from __future__ import annotations
 
-from dataclasses import asdict
 from pathlib import Path
-from typing import Any
 
 import click
-from rich.table import Table
 
 from tvl_cli.analysis.design import DEFAULT_BUDGET_RULES
+from tvl_cli.cli import documents
 from tvl_cli.cli.options import SEED, print_json, refuse_existing, refuse_shared_paths
+from tvl_cli.cli.tables import table
 from tvl_cli.cli.views import out
 from tvl_cli.commands.design import DesignSummary, design_from_logs
 from tvl_cli.core.fam_configs import MAX_ENTRIES
@@ -54,74 +53,42 @@ def design(
     refuse_existing(output, force)
     summary = design_from_logs(list(logs), output, budget, seed, force)
     if as_json:
-        print_json(design_json(summary))
+        print_json(documents.design_json(summary, logs, budget, seed))
     else:
         _show(summary)
-
-
-def design_json(summary: DesignSummary) -> dict[str, Any]:
-    design = summary.design
-    config = design.config
-    assert config.design is not None
-    return {
-        "output": str(summary.output),
-        "config": config.name,
-        "rules": config.rule_count,
-        "budget_rules": config.design.budget_rules,
-        "seed": config.design.seed,
-        "train_episodes": design.train_episodes,
-        "heldout_episodes": design.heldout_episodes,
-        "candidates_scored": design.candidates_scored,
-        "tables": [
-            {
-                "name": t.name,
-                "inputs": [{"name": i.name, "sets": len(i.partition.names)} for i in t.inputs],
-                "rules": t.rule_count,
-            }
-            for t in config.tables
-        ],
-        "choices": [asdict(c) for c in config.design.choices],
-        "heldout": [
-            {
-                "config": s.config,
-                "rules": s.rules,
-                "error_mps": s.error_mps,
-                "error_by_trajectory_mps": dict(s.error_by_trajectory_mps),
-            }
-            for s in design.scores
-        ],
-        "repeated_sessions": summary.repeated_sessions,
-        "wall_s": summary.wall_s,
-    }
 
 
 def _show(summary: DesignSummary) -> None:
     config = summary.design.config
     assert config.design is not None
-    choices = Table(title=f"inputs chosen → {summary.output}")
-    for column in ("table", "added", "held-out error m/s"):
-        choices.add_column(column)
+    choices = table(
+        "table", "added", "held-out error (m/s)", title=f"inputs chosen → {summary.output}"
+    )
     for c in config.design.choices:
         before, after = c.heldout_error_before_mps, c.heldout_error_after_mps
         choices.add_row(c.table, ", ".join(c.inputs), f"{before:.3f} → {after:.3f}")
     out.print(choices)
-    tables = Table(title=f"{config.name}: {config.rule_count:,} rules", show_header=False)
-    tables.add_column()
-    tables.add_column()
-    tables.add_column(justify="right")
+    tables = table(
+        "table",
+        "inputs (fuzzy sets)",
+        "rules",
+        title=f"{config.name}: {config.rule_count:,} rules",
+        right=("rules",),
+    )
     for t in config.tables:
         sets = ", ".join(f"{i.name} ({len(i.partition.names)})" for i in t.inputs)
         tables.add_row(t.name, sets, f"{t.rule_count:,}")
     out.print(tables)
-    scores = Table(
+    columns = ("configuration", "rules", "held-out error (m/s)")
+    scores = table(
+        *columns,
         title=f"trained on {summary.design.train_episodes} episodes, "
-        f"scored on {summary.design.heldout_episodes} held out"
+        f"scored on {summary.design.heldout_episodes} held out",
+        right=columns[1:],
     )
-    for column in ("configuration", "rules", "held-out error m/s"):
-        scores.add_column(column, justify="right")
     for s in summary.design.scores:
         scores.add_row(s.config, f"{s.rules:,}", f"{s.error_mps:.3f}")
     out.print(scores)
     for repeat in summary.repeated_sessions:
-        out.print(f"used once: {repeat}")
-    out.print(f"{summary.wall_s:.1f} s")
+        out.print(f"used once: {repeat.text()}")
+    out.print(f"{summary.wall_s:.1f} s of wall-clock time")

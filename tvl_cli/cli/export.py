@@ -6,6 +6,7 @@ from pathlib import Path
 
 import click
 
+from tvl_cli.cli import documents
 from tvl_cli.cli.options import print_json, refuse_existing, refuse_shared_paths
 from tvl_cli.commands.export import export_mcap
 
@@ -32,7 +33,7 @@ def export(run: Path, output: Path, force: bool, as_json: bool) -> None:
     refuse_existing(output, force)
     exported = export_mcap(run, output)
     if as_json:
-        print_json(exported.to_dict())
+        print_json(documents.export_json(exported))
     else:
         counts = ", ".join(f"{topic} {n}" for topic, n in exported.messages.items())
         click.echo(f"{output}: {exported.steps} steps ({counts})")

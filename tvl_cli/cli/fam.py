@@ -9,7 +9,7 @@ import click
 from tvl_cli.analysis.famdiff import DEFAULT_TOLERANCE_MPS, diff_fams
 from tvl_cli.analysis.rules import SORT_KEYS, parse_ring, select_rules
 from tvl_cli.analysis.surface import velocity_surfaces
-from tvl_cli.cli import views
+from tvl_cli.cli import documents, views
 from tvl_cli.cli.options import (
     PICTURE,
     memory_options,
@@ -65,7 +65,7 @@ def train(
         )
     write_trained(output, summary, overwrite=force)
     if as_json:
-        print_json(views.train_json(summary, output))
+        print_json(documents.train_json(summary, logs, config, until_minute, output))
     else:
         views.train_summary(summary, output)
 
@@ -130,28 +130,19 @@ def inspect(
         refuse_shared_paths({"--png": png}, {"FAM": fam})
         refuse_existing(png, force)
         draw_surfaces(loaded, png, over, fix)
-    if explain is not None:
-        explanation = loaded.fam.explain(parse_ring(explain, loaded.robot_config.sonar.count))
-        if as_json:
-            print_json(explanation.to_dict())
-        else:
-            views.explanation(explanation)
-        return
-    rules = select_rules(loaded.fam, trajectory, top, sort, untrained)
+    ring = None if explain is None else parse_ring(explain, loaded.robot_config.sonar.count)
+    explanation = None if ring is None else loaded.fam.explain(ring)
+    rules = select_rules(loaded.fam, trajectory, top, sort, untrained) if ring is None else None
     if as_json:
-        print_json(
-            {
-                "config": loaded.fam.config.to_dict(),
-                "method": loaded.method,
-                "provenance": loaded.provenance,
-                "rules": [r.to_dict() for r in rules],
-            }
-        )
+        options = {"trajectory": trajectory, "top": top, "sort": sort, "untrained": untrained}
+        print_json(documents.inspect_json(fam, loaded, options, ring, rules, explanation, png))
+    elif explanation is not None:
+        views.explanation(explanation)
     elif as_csv:
-        print_csv([rule.to_row() for rule in rules])
+        print_csv([rule.to_row() for rule in rules or []])
     else:
         click.echo(f"method: {describe_record(loaded.method)}")
-        for rule in rules:
+        for rule in rules or []:
             click.echo(rule.sentence())
 
 
@@ -180,7 +171,7 @@ def diff(first: Path, second: Path, tolerance: float, top: int, as_json: bool) -
     refuse_repeated([(path, file_sha256(path)) for path in (first, second)], "FAM")
     difference = diff_fams(*fams, tolerance, top)
     if as_json:
-        print_json(difference.to_dict())
+        print_json(documents.diff_json(difference, first, second, top))
     else:
         views.fam_difference(difference, first, second)
 

@@ -6,6 +6,7 @@ from pathlib import Path
 
 import click
 
+from tvl_cli.cli import documents
 from tvl_cli.cli.options import (
     PICTURE,
     PICTURE_HELP,
@@ -37,14 +38,6 @@ def figure(
             refuse_existing(path, force)
     summary = draw_figure(name, results, output, table)
     if as_json:
-        print_json(
-            {
-                "figure": name,
-                "results": str(results),
-                "output": str(output),
-                "table": str(table) if table else None,
-                "summary": summary,
-            }
-        )
+        print_json(documents.figure_json(name, results, output, table, summary))
     else:
         click.echo(summary, nl=False)

@@ -8,7 +8,7 @@ from pathlib import Path
 import click
 
 from tvl_cli.agent.explore import LearnParams, MinuteStats
-from tvl_cli.cli import views
+from tvl_cli.cli import documents, views
 from tvl_cli.cli.options import (
     SEED,
     live_options,
@@ -133,7 +133,7 @@ def learn(
         with views.learning_progress(minutes, quiet=as_json) as (on_minute, on_progress):
             result = learn_to_log(request, on_minute, on_progress)
     if as_json:
-        print_json(views.learn_json(result))
+        print_json(documents.learn_json(result))
     else:
         views.learn_summary(result, log)
     if result.summary.stopped_by:

@@ -80,6 +80,11 @@ COMMANDS: dict[str, tuple[str, str, str]] = {
         "Draw figure NAME (fig19, fig21, fig22, fig24, fig27, ablation, online, exploration) "
         "from an experiment's RESULTS (JSON lines) and print its summary table.",
     ),
+    "schema": (
+        "tvl_cli.cli.schema",
+        "schema",
+        "Print the JSON Schema of COMMAND's --json output; with no COMMAND, list them.",
+    ),
 }
 
 

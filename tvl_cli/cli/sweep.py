@@ -8,7 +8,7 @@ from pathlib import Path
 
 import click
 
-from tvl_cli.cli import views
+from tvl_cli.cli import documents, views
 from tvl_cli.cli.options import print_csv, print_json, refuse_both_formats
 from tvl_cli.commands.sweep import SweepRequest, default_out, run_sweep
 
@@ -64,7 +64,7 @@ def sweep(
         views.say(f"interrupted: the runs that ended are in {request.out}; run again to go on")
         sys.exit(130)
     if as_json:
-        print_json(views.sweep_json(result))
+        print_json(documents.sweep_json(result, request))
     elif as_csv:
         print_csv(result.rows)
     else:

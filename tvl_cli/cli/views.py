@@ -10,9 +10,10 @@ from typing import TYPE_CHECKING, Any
 
 from rich.console import Console
 from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, TimeElapsedColumn
-from rich.table import Table
 
+from tvl_cli.cli.tables import NOTHING, cell, facts, label, labelled, number, percent, table
 from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
+from tvl_cli.core.contacts import BUMP, NEAR_MISS, TRAPPED
 from tvl_cli.core.method import describe_record
 
 if TYPE_CHECKING:
@@ -25,7 +26,7 @@ if TYPE_CHECKING:
     from tvl_cli.commands.demo import DemoResult
     from tvl_cli.commands.explain import StepExplanation
     from tvl_cli.commands.learn import LearnResult
-    from tvl_cli.commands.replay import Replay
+    from tvl_cli.commands.replay import LogReplay, Replay, RunReplay
     from tvl_cli.commands.run import RunResult
     from tvl_cli.commands.sweep import SweepResult
     from tvl_cli.commands.train import TrainSummary
@@ -104,107 +105,75 @@ def learning_progress(
         yield on_minute, on_progress
 
 
-def learn_json(result: LearnResult) -> dict[str, Any]:
-    s = result.summary
-    return {
-        "episodes": s.episodes,
-        "collisions": s.collisions,
-        "exemplars": s.exemplars,
-        "sim_minutes": s.sim_s / 60.0,
-        "coverage": result.coverage,
-        "wall_s": result.wall_s,
-        "status": result.status,
-        "method": result.method,
-        "minutes": [
-            {**asdict(m), "coverage": c}
-            for m, c in zip(s.minutes, result.minute_coverage, strict=True)
-        ],
-    }
-
-
 def learn_summary(result: LearnResult, log: Path) -> None:
     s = result.summary
-    table = Table(title=f"learning → {log} ({result.status})", show_header=True)
-    for column in (
+    minutes = table(
         "minute",
         "episodes",
         "collisions",
         "exemplars",
-        "ΔV (m/s per step)",
+        label("delta_v"),
         "coverage",
-    ):
-        table.add_column(column, justify="right")
+        title=f"learning → {log} ({result.status})",
+        right=("minute", "episodes", "collisions", "exemplars", label("delta_v"), "coverage"),
+    )
     for m, coverage in zip(s.minutes, result.minute_coverage, strict=True):
-        table.add_row(
+        minutes.add_row(
             str(m.minute + 1),
             str(m.episodes),
             str(m.collisions),
             str(m.exemplars),
             f"{m.delta_v:.2e}",
-            f"{coverage:.0%}",
+            percent(coverage),
         )
-    out.print(table)
+    out.print(minutes)
     out.print(
         f"{s.episodes} episodes, {s.collisions} collisions, {s.exemplars} exemplars in "
-        f"{s.sim_s / 60:.1f} simulated minutes, coverage {result.coverage:.0%} "
-        f"({result.wall_s:.1f} s)"
+        f"{s.sim_s / 60:.1f} simulated minutes, coverage {percent(result.coverage)} "
+        f"({result.wall_s:.1f} s), session {result.session}"
     )
     out.print(f"method: {describe_record(result.method)}")
 
 
-def train_json(summary: TrainSummary, output: Path) -> dict[str, Any]:
-    return {
-        "output": str(output),
-        "config": summary.fam.config.name,
-        "episodes": summary.episodes,
-        "exemplars": summary.exemplars,
-        "rules_touched": summary.rules_touched,
-        "rules_total": summary.rules_total,
-        "wall_s": summary.wall_s,
-        "repeated_sessions": summary.repeated_sessions,
-        "method": summary.method,
-    }
-
-
 def train_summary(summary: TrainSummary, output: Path) -> None:
-    table = Table(title=f"trained → {output}", show_header=False)
-    table.add_column()
-    table.add_column(justify="right")
-    table.add_row("configuration", summary.fam.config.name)
-    table.add_row("method", describe_record(summary.method))
-    table.add_row("episodes", str(summary.episodes))
-    table.add_row("exemplars used", str(summary.exemplars))
-    table.add_row("rules touched", f"{summary.rules_touched} of {summary.rules_total}")
-    table.add_row("rules never touched", str(summary.rules_total - summary.rules_touched))
-    table.add_row("time", f"{summary.wall_s:.2f} s")
-    for repeat in summary.repeated_sessions:
-        table.add_row("trained once", repeat)
-    out.print(table)
+    rows = [
+        ("configuration", summary.fam.config.name),
+        ("method", describe_record(summary.method)),
+        ("episodes", summary.episodes),
+        ("exemplars used", summary.exemplars),
+        ("rules touched", f"{summary.rules_touched} of {summary.rules_total}"),
+        ("rules never touched", summary.rules_total - summary.rules_touched),
+        ("time (s)", summary.wall_s),
+        *(("trained once", repeat.text()) for repeat in summary.repeated_sessions),
+    ]
+    out.print(facts(rows, title=f"trained → {output}"))
 
 
 def fam_difference(d: FamDifference, first: Path, second: Path) -> None:
-    table = Table(title=f"{first} → {second} ({d.config}, tolerance {d.tolerance_mps:g} m/s)")
-    for column in ("trajectory", "rules differing", "mean |change| m/s"):
-        table.add_column(column, justify="right")
+    columns = ("trajectory", "rules differing", "mean |change| (m/s)")
+    differences = table(
+        *columns,
+        title=f"{first} → {second} ({d.config}, tolerance {d.tolerance_mps:g} m/s)",
+        right=columns[1:],
+    )
     for t in d.trajectories:
-        table.add_row(t.trajectory, f"{t.differing} of {t.rules}", f"{t.mean_abs_change_mps:.3f}")
-    out.print(table)
+        differences.add_row(
+            t.trajectory, f"{t.differing} of {t.rules}", number(t.mean_abs_change_mps, 3)
+        )
+    out.print(differences)
     for rule in d.largest:
         out.print(rule.sentence(), highlight=False, markup=False, soft_wrap=True)
 
 
 def step_explanation(e: StepExplanation) -> None:
-    facts = Table(title=f"step {e.step}, ending at {e.time_s:.1f} s", show_header=False)
-    facts.add_column()
-    facts.add_column()
     ring = " ".join(f"{r:.2f}" for r in e.ring_m) if e.ring_m else "not read"
-    velocities = " ".join("-" if v is None else f"{v:.2f}" for v in e.velocities_mps)
+    velocities = " ".join(NOTHING if v is None else f"{v:.2f}" for v in e.velocities_mps)
     remembered = (
         [("virtual ring (m), S0..S15", " ".join(f"{r:.2f}" for r in e.perceived_m))]
         if e.perceived_m
         else []
     )
-    for label, value in (
+    rows = [
         ("ring (m), S0..S15", ring),
         *remembered,
         ("view (rotation)", str(e.rotation)),
@@ -214,9 +183,8 @@ def step_explanation(e: StepExplanation) -> None:
         ("driven", e.driven or "none (spin, back-off or trapped)"),
         ("reflex", e.reflex or "none"),
         ("events", ", ".join(e.events) or "none"),
-    ):
-        facts.add_row(label, value)
-    out.print(facts)
+    ]
+    out.print(facts(rows, title=f"step {e.step}, ending at {e.time_s:.1f} s"))
     if e.why is not None:
         out.print(f"why, for {' and '.join(e.focus) or 'every trajectory'}:")
         explanation(e.why)
@@ -224,28 +192,32 @@ def step_explanation(e: StepExplanation) -> None:
 
 def autopsy(a: Autopsy) -> None:
     """The contact autopsy: each contact, the causes counted, the time by class."""
-    contacts = Table(title=f"{len(a.contacts)} contacts")
-    for column in ("time (s)", "event", "cause", "obstacle", "driven", "reflex"):
-        contacts.add_column(column)
+    contacts = table(
+        "time (s)",
+        "event",
+        "cause",
+        "obstacle",
+        "driven",
+        "reflex",
+        title=f"{len(a.contacts)} contacts",
+    )
     for c in a.contacts:
         f = c.facts
         contacts.add_row(
-            f"{f.time_s:.1f}", f.event, c.cause, f.obstacle, f.trajectory or "-", f.reflex or "-"
+            f"{f.time_s:.1f}", f.event, c.cause, f.obstacle, cell(f.trajectory), cell(f.reflex)
         )
     out.print(contacts)
-    causes = Table(title="causes")
-    causes.add_column("cause")
-    causes.add_column("contacts", justify="right")
+    causes = table("cause", "contacts", title="causes", right=("contacts",))
     for cause, count in a.causes.items():
         if count:
             causes.add_row(cause, str(count))
     out.print(causes)
     total = sum(a.time_s.values()) or 1.0
-    time = Table(title="where the time went")
-    for column in ("class", "seconds", "share"):
-        time.add_column(column, justify="right" if column != "class" else "left")
+    time = table(
+        "class", "time (s)", "share", title="where the time went", right=("time (s)", "share")
+    )
     for name, seconds in a.time_s.items():
-        time.add_row(name, f"{seconds:.1f}", f"{seconds / total:.0%}")
+        time.add_row(name, f"{seconds:.1f}", percent(seconds / total))
     out.print(time)
     if a.goal_failure is not None:
         out.print(
@@ -255,17 +227,13 @@ def autopsy(a: Autopsy) -> None:
 
 
 def explanation(e: Explanation) -> None:
-    inputs = Table(title="inputs")
-    for column in ("table", "input", "sonars", "range (m)", "memberships"):
-        inputs.add_column(column)
+    inputs = table("table", "input", "sonars", "range (m)", "memberships", title="inputs")
     for i in e.inputs:
         fired = ", ".join(f"{s.name} {s.degree:.2f}" for s in i.fired)
         sonars = ",".join(f"S{s}" for s in i.sonars)
         inputs.add_row(i.table, i.name, sonars, f"{i.value_m:.3f}", fired)
     out.print(inputs)
-    rules = Table(title="rules that fire")
-    for column in ("table", "IF", "strength", "THEN (m/s, experience)"):
-        rules.add_column(column)
+    rules = table("table", "IF", "strength", "THEN (m/s, experience)", title="rules that fire")
     for r in e.rules:
         then = ", ".join(
             f"{t} = {v:.2f} ({x:.1f})"
@@ -273,31 +241,16 @@ def explanation(e: Explanation) -> None:
         )
         rules.add_row(r.table, " AND ".join(r.set_names), f"{r.strength:.3f}", then)
     out.print(rules)
-    perceived = Table(title="perceived")
-    for name in e.trajectories:
-        perceived.add_column(name, justify="right")
-    perceived.add_row(*(f"{v:.2f} m/s" for v in e.velocities_mps))
+    perceived = table(*e.trajectories, title="perceived (m/s, experience)", right=e.trajectories)
+    perceived.add_row(*(f"{v:.2f}" for v in e.velocities_mps))
     perceived.add_row(*(f"exp {x:.1f}" for x in e.experience))
     out.print(perceived)
 
 
-def _metrics_rows(metrics: RunMetrics) -> list[tuple[str, str]]:
-    def show(value: object) -> str:
-        if value is None:
-            return "—"
-        return f"{value:.3f}" if isinstance(value, float) else str(value)
-
-    return [(name, show(value)) for name, value in asdict(metrics).items()]
-
-
 def run_metrics(metrics: RunMetrics, method: dict[str, Any] | None = None) -> None:
-    """The metrics of a run (what --json prints), and the method it ran by (its record)."""
-    table = Table(show_header=False)
-    table.add_column()
-    table.add_column(justify="right")
-    for name, value in _metrics_rows(metrics):
-        table.add_row(name, value)
-    out.print(table)
+    """The metrics of a run (what --json prints, in words), and the method it ran by (its
+    record)."""
+    out.print(labelled(asdict(metrics)))
     if method is not None:
         reflexes = method.get("reflexes") or []
         out.print(f"reflexes: {', '.join(reflexes) or 'none (the paper method)'}")
@@ -318,42 +271,108 @@ def run_learning(result: RunResult, log: Path | None) -> None:
 
 
 def replay(summary: Replay) -> None:
-    table = Table(title=summary.kind, show_header=False)
-    table.add_column()
-    table.add_column()
-    for name, value in summary.facts:
-        table.add_row(str(name), str(value))
-    out.print(table)
+    from tvl_cli.commands.replay import RunReplay  # loaded already: it made the summary
+
+    if isinstance(summary, RunReplay):
+        _run_replay(summary)
+    else:
+        _log_replay(summary)
+    if summary.animation_frames is not None:
+        out.print(f"animation: {summary.animation_frames} frames")
 
 
-def demo_json(result: DemoResult) -> dict[str, Any]:
-    """The learning summary, then each run's metrics as `tvl run --json` prints them."""
-    return {
-        "directory": str(result.directory),
-        "learning": learn_json(result.learning),
-        "runs": [
-            {"config": r.config, "behaviour": r.behaviour, "png": str(r.png), **asdict(r.metrics)}
-            for r in result.rows
-        ],
-    }
+LEARNT_COLUMNS = (
+    "session",
+    "episodes",
+    "collisions",
+    "exemplars",
+    "simulated minutes",
+    "coverage",
+)
+
+
+def _log_replay(summary: LogReplay) -> None:
+    # Two tables of a row a session, each narrow enough for 80 columns.
+    sessions = table(
+        "session",
+        "kind",
+        "world",
+        "seed",
+        "explore",
+        "status",
+        title=f"learning log: {len(summary.sessions)} sessions, {summary.exemplars} exemplars",
+        right=("seed",),
+    )
+    learnt = table(*LEARNT_COLUMNS, title="what each session learnt", right=LEARNT_COLUMNS[1:])
+    for s in summary.sessions:
+        sessions.add_row(s.session, s.kind, s.world, str(s.seed), cell(s.explore), s.status)
+        learnt.add_row(
+            s.session,
+            str(s.episodes),
+            str(s.collisions),
+            str(s.exemplars),
+            f"{s.sim_minutes:.1f}",
+            percent(s.coverage),
+        )
+    out.print(sessions)
+    out.print(learnt)
+    for s in summary.sessions:
+        out.print(f"session {s.session} method: {describe_record(s.method)}")
+    if summary.sessions_drawn is not None:
+        out.print(f"sessions drawn: {', '.join(summary.sessions_drawn)}")
+
+
+# Events a person looks for first: a run's table lists when each began.
+LISTED_EVENTS = (BUMP, NEAR_MISS, TRAPPED)
+
+
+def _run_replay(summary: RunReplay) -> None:
+    parameters = {**summary.parameters}
+    fam = parameters.pop("fam", None)
+    shown = [
+        ("world", summary.world),
+        ("method", describe_record(summary.method)),
+        ("steps", summary.steps),
+    ]
+    if fam is not None:
+        shown.append(("FAM", fam["path"]))
+    out.print(facts([*shown, *((label(k), v) for k, v in parameters.items())], title="run trace"))
+    out.print(labelled(summary.metrics, title="metrics"))
+    if summary.events is None:
+        out.print("decisions: not recorded (a format_version 1 trace)")
+        return
+    events = table("event", "steps", "began at (s)", title="events", right=("steps",))
+    for e in summary.events:
+        times = ", ".join(f"{t:.1f}" for t in e.at_s or []) if e.name in LISTED_EVENTS else ""
+        events.add_row(e.name, str(e.steps), times or NOTHING)
+    out.print(events)
+    steps = table("taken by", "steps", title="steps", right=("steps",))
+    for r in summary.reflexes or []:
+        steps.add_row(f"reflex {r.name}", str(r.steps))
+    for t in summary.trajectories or []:
+        steps.add_row(f"driving {t.name}", str(t.steps))
+    out.print(steps)
 
 
 def demo(result: DemoResult) -> None:
     learn_summary(result.learning, result.directory / "learn.h5")
-    table = Table(title=f"behaviours after learning (threshold {DEFAULT_THRESHOLD:g})")
-    for column in (
+    columns = (
         "FAM",
         "behaviour",
-        "contacts/min",
+        "contacts (/min)",
         "near misses",
-        "speed m/s",
-        "clearance m",
+        "speed (m/s)",
+        "clearance (m)",
         "picture",
-    ):
-        table.add_column(column)
+    )
+    runs = table(
+        *columns,
+        title=f"behaviours after learning (threshold {DEFAULT_THRESHOLD:g})",
+        right=columns[2:6],
+    )
     for row in result.rows:
         m = row.metrics
-        table.add_row(
+        runs.add_row(
             row.config,
             row.behaviour,
             f"{m.contacts_per_min:.2f}",
@@ -362,17 +381,7 @@ def demo(result: DemoResult) -> None:
             f"{m.mean_wall_clearance_m or m.mean_clearance_m:.2f}",
             str(row.png),
         )
-    out.print(table)
-
-
-def sweep_json(result: SweepResult) -> dict[str, Any]:
-    return {
-        "out": str(result.out),
-        "cells": result.cells,
-        "done": result.done,
-        "skipped": result.skipped,
-        "files": [str(path) for path in result.files],
-    }
+    out.print(runs)
 
 
 def sweep(result: SweepResult) -> None:

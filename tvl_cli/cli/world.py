@@ -7,6 +7,7 @@ from pathlib import Path
 
 import click
 
+from tvl_cli.cli import documents
 from tvl_cli.cli.options import (
     PICTURE,
     PICTURE_HELP,
@@ -73,8 +74,10 @@ def world_new(
     with atomic_output(output, overwrite=force) as temporary:
         temporary.write_text(text, encoding="utf-8")
     if as_json:
-        made = parse_world(text, str(output))
-        print_json({"output": str(output), "kind": kind, "seed": seed, **counts(made)})
+        made = counts(parse_world(text, str(output)))
+        given = {"kind": kind, "width_m": width_m, "height_m": height_m, "seed": seed}
+        options = {**given, "rough_share": rough_share, "roughness": roughness}
+        print_json(documents.world_new_json(options, output, made))
 
 
 @world.command("show")
@@ -83,7 +86,11 @@ def world_new(
 def world_show(file: Path, as_json: bool) -> None:
     """Print a summary of a world file (or its geometry as JSON)."""
     loaded = load_world(file)
-    click.echo(json.dumps(world_to_dict(loaded)) if as_json else describe(loaded))
+    if as_json:
+        # On one line, for a reader with no JSON tool (experiments/lib.sh greps it).
+        click.echo(json.dumps(documents.world_show_json(file, world_to_dict(loaded))))
+    else:
+        click.echo(describe(loaded))
 
 
 @world.command("check")
@@ -93,7 +100,7 @@ def world_check(file: Path, as_json: bool) -> None:
     """Validate a world file (exit 2 naming the problem)."""
     found = counts(load_world(file))
     if as_json:
-        print_json({"file": str(file), "ok": True, **found})
+        print_json(documents.world_check_json(file, found))
     else:
         click.echo(f"{file}: ok ({', '.join(f'{n} {what}' for what, n in found.items())})")
 
@@ -112,7 +119,7 @@ def world_render(file: Path, output: Path, force: bool, as_json: bool) -> None:
     refuse_existing(output, force)
     render_world(loaded, output)
     if as_json:
-        print_json({"file": str(file), "output": str(output), **counts(loaded)})
+        print_json(documents.world_render_json(file, output, counts(loaded)))
 
 
 @world.command("import")
@@ -147,9 +154,9 @@ def world_import(
             f"map_server reads them; free_thresh {SAVED_FREE_THRESH:g} keeps them unknown",
             err=True,
         )
-    found = imported.to_dict(output)
+    found = imported.to_dict()
     if as_json:
-        print_json(found)
+        print_json(documents.world_import_json(request, imported))
     else:
         click.echo(
             f"{output}: {found['columns']} x {found['rows']} cells of {found['cell_m']:g} m, "
@@ -177,7 +184,7 @@ def world_export(file: Path, output: Path, force: bool, as_json: bool) -> None:
     refuse_existing(image, force)
     exported = export_map(file, output)
     if as_json:
-        print_json(exported.to_dict())
+        print_json(documents.world_export_json(exported))
     else:
         click.echo(
             f"{output}, {image.name}: {exported.columns} x {exported.rows} cells of "

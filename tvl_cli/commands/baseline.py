@@ -111,9 +111,6 @@ class DwaReport:
     metrics: RunMetrics
     method: dict[str, Any]  # what the baseline took of a method (no preset: it is no TVL)
 
-    def to_dict(self) -> dict[str, Any]:
-        return {**asdict(self.metrics), "method": self.method}
-
 
 @dataclass(frozen=True, slots=True)
 class QLearnReport:
@@ -122,7 +119,8 @@ class QLearnReport:
     method: dict[str, Any]  # what the baseline took of a method (no preset: it is no TVL)
 
     def to_dict(self) -> dict[str, Any]:
-        """The run metrics of the greedy run, then what learning cost (and achieved)."""
+        """The run metrics of the greedy run, then what learning cost (and achieved); the
+        method is among a document's inputs."""
         result = self.result
         report = asdict(result.evaluation)
         report["learn_minutes"] = result.learn_minutes
@@ -130,7 +128,6 @@ class QLearnReport:
         if self.checked_competence:
             report["time_to_competence_min"] = result.time_to_competence_min
             report["competence_checks"] = [asdict(c) for c in result.checks]
-        report["method"] = self.method
         return report
 
     def summary(self) -> str:

@@ -29,6 +29,8 @@ BEHAVIOURS = ("avoid", "wall-left")
 class DemoRow:
     config: str
     behaviour: str
+    threshold: float
+    fam: Path
     metrics: RunMetrics
     png: Path
 
@@ -68,5 +70,5 @@ def run_demo(directory: Path, force: bool, say: Callable[[str], None]) -> DemoRe
                     fam_path, world, behaviour, DEFAULT_THRESHOLD, RUN_MINUTES, DEMO_SEED, png=png
                 )
             )
-            rows.append(DemoRow(config.name, behaviour, metrics, png))
+            rows.append(DemoRow(config.name, behaviour, DEFAULT_THRESHOLD, fam_path, metrics, png))
     return DemoResult(directory, learning, rows)

@@ -9,7 +9,12 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from tvl_cli.analysis.design import DEFAULT_BUDGET_RULES, Design, design_inputs
-from tvl_cli.commands.train import common_robot, distinct_sessions, refuse_repeated
+from tvl_cli.commands.train import (
+    RepeatedSession,
+    common_robot,
+    distinct_sessions,
+    refuse_repeated,
+)
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam_configs import fam_config_from_json
 from tvl_cli.core.training import TrainParams
@@ -21,7 +26,7 @@ from tvl_cli.io.logreader import read_log
 class DesignSummary:
     design: Design
     output: Path
-    repeated_sessions: list[str]  # found again, used once
+    repeated_sessions: list[RepeatedSession]  # used once
     wall_s: float
 
 

@@ -46,10 +46,13 @@ class StepExplanation:
     events: list[str]  # events the step began
     focus: tuple[str, ...]  # the trajectories explained: the choice and the best rated
     why: Explanation | None  # the FAM's view of the ring, for the focus trajectories
+    fam: Path  # the FAM that explains it: the one the run used
 
     def to_dict(self) -> dict[str, Any]:
+        """What was found of the step (the FAM is one of the command's inputs)."""
         found = asdict(self)
         found["focus"] = list(self.focus)
+        del found["fam"]
         return found
 
 
@@ -61,7 +64,8 @@ def explain_run(trace_path: Path, moment: Moment, fam_path: Path | None = None) 
     if trace.steps == 0:
         raise BadInput(f"{trace_path}: the run has no steps")
     step = _step(trace, trace_path, moment)
-    fam = read_fam(_fam_of(trace, trace_path, fam_path)).fam
+    used = _fam_of(trace, trace_path, fam_path)
+    fam = read_fam(used).fam
     names = fam.trajectory_names
     arrays = trace.arrays
     ring_mm = arrays["ring_mm"][step]
@@ -95,6 +99,7 @@ def explain_run(trace_path: Path, moment: Moment, fam_path: Path | None = None) 
         events=[e for i, e in enumerate(EVENTS) if int(arrays["events"][step]) & (1 << i)],
         focus=focus,
         why=why,
+        fam=used,
     )
 
 

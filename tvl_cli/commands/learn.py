@@ -76,6 +76,8 @@ class LearnRequest:
 
 @dataclass(frozen=True, slots=True)
 class LearnResult:
+    request: LearnRequest
+    session: str  # the log session written
     method: dict[str, Any]  # the method learnt by, as the log records it
     summary: LearnSummary
     wall_s: float
@@ -235,7 +237,14 @@ def learn_to_log(
             method=recorded,
         )
     return LearnResult(
-        recorded, summary, time.perf_counter() - started, status, minute_coverage, coverage.fraction
+        request,
+        session,
+        recorded,
+        summary,
+        time.perf_counter() - started,
+        status,
+        minute_coverage,
+        coverage.fraction,
     )
 
 

@@ -2,16 +2,17 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import Any
+
+import numpy as np
 
 from tvl_cli.analysis.coverage import coverage_by_minute, coverage_of
 from tvl_cli.commands.learn import world_floor
 from tvl_cli.commands.train import explore_rule
-from tvl_cli.core.contacts import BUMP, EVENTS, NEAR_MISS, TRAPPED
+from tvl_cli.core.contacts import EVENTS
 from tvl_cli.core.errors import BadInput
-from tvl_cli.core.method import describe_record
 from tvl_cli.io.loglayout import KIND_LEARNING, MINUTE_COLUMNS
 from tvl_cli.io.logreader import LearningLog, Session, read_log
 from tvl_cli.io.runfile import RunTrace, read_run
@@ -20,59 +21,134 @@ from tvl_cli.sim.worldmap import parse_world
 
 
 @dataclass(frozen=True, slots=True)
-class Replay:
-    """A summary: a title, rows of (label, value), and per-minute rows for a learning log."""
+class SessionSummary:
+    """One session of a learning log, as `tvl replay` sums it up."""
 
-    kind: str  # the file format
-    facts: list[tuple[str, Any]]
-    minutes: list[dict[str, str | float]] | None = None  # a learning log's; None for a run
-    # The method each was made by (core.method.method_record; None: unrecorded): a run's
-    # under "run", a log's by session name.
-    methods: dict[str, dict[str, Any] | None] | None = None
+    session: str
+    kind: str  # KIND_LEARNING or KIND_BEHAVING
+    world: str
+    seed: int
+    explore: str | None  # the exploration rule of a learning session; None for behaving
+    status: str
+    episodes: int
+    collisions: int
+    exemplars: int
+    sim_minutes: float
+    coverage: float  # share of the reachable floor the session's paths visited
+    method: dict[str, Any] | None  # core.method.method_record; None: unrecorded
+
+
+@dataclass(frozen=True, slots=True)
+class LogReplay:
+    """A learning log summed up: each session, and each whole minute of each."""
+
+    sessions: list[SessionSummary]
+    exemplars: int
+    minutes: list[dict[str, str | int | float]]  # one per whole minute, learn's rows
+    sessions_drawn: list[str] | None = None  # with --png
+    animation_frames: int | None = None  # with --gif or --mp4
+
+    kind = LOG_FORMAT
 
     def to_dict(self) -> dict[str, Any]:
-        """The facts by label; the methods; a learning log's per-minute rows under `minutes`
-        (a run's `minutes` is its length, one of its parameters)."""
-        rows = {} if self.minutes is None else {"minutes": self.minutes}
-        return {"format": self.kind, **dict(self.facts), "methods": self.methods, **rows}
+        return {
+            "format": self.kind,
+            "sessions": [asdict(s) for s in self.sessions],
+            "exemplars": self.exemplars,
+            "minutes": self.minutes,
+            "sessions_drawn": self.sessions_drawn,
+            "animation_frames": self.animation_frames,
+        }
+
+
+@dataclass(frozen=True, slots=True)
+class StepCount:
+    """How many steps of a run something took: an event began, a reflex drove, a
+    trajectory was driven."""
+
+    name: str
+    steps: int
+    at_s: list[float] | None = None  # an event's: when each began (the end of its step)
+
+
+@dataclass(frozen=True, slots=True)
+class RunReplay:
+    """A run trace summed up: what the run was asked, what it measured, how its steps went.
+    The counts by step are None for a trace that records no decisions (format_version 1)."""
+
+    world: str
+    parameters: dict[str, Any]
+    steps: int
+    metrics: dict[str, Any]
+    events: list[StepCount] | None
+    reflexes: list[StepCount] | None
+    trajectories: list[StepCount] | None
+    method: dict[str, Any] | None  # core.method.method_record; None: unrecorded
+    animation_frames: int | None = None
+
+    kind = RUN_FORMAT
+
+    def to_dict(self) -> dict[str, Any]:
+        def counts(found: list[StepCount] | None, what: str) -> list[dict[str, Any]] | None:
+            if found is None:
+                return None
+            rows = [{what: c.name, "steps": c.steps} for c in found]
+            if what == "event":
+                rows = [{**row, "at_s": c.at_s} for row, c in zip(rows, found, strict=True)]
+            return rows
+
+        return {
+            "format": self.kind,
+            "world": self.world,
+            "parameters": self.parameters,
+            "method": self.method,
+            "steps": self.steps,
+            "metrics": self.metrics,
+            "events": counts(self.events, "event"),
+            "reflexes": counts(self.reflexes, "reflex"),
+            "trajectories": counts(self.trajectories, "trajectory"),
+            "animation_frames": self.animation_frames,
+        }
+
+
+Replay = LogReplay | RunReplay
 
 
 def _learning(
     log: LearningLog, png: Path | None, curves: Path | None, session: str | None
-) -> Replay:
-    facts: list[tuple[str, Any]] = [("sessions", len(log.sessions))]
-    minutes: list[dict[str, str | float]] = []
+) -> LogReplay:
+    sessions: list[SessionSummary] = []
+    minutes: list[dict[str, str | int | float]] = []
     coverage: dict[str, list[float]] = {}  # by session: at the end of each whole minute
     for s in log.sessions:
-        collisions = int(s.episode_table["bumped"].sum())
         sim_s = float(s.episode_table["end_time_s"][-1]) if len(s.episode_table) else 0.0
         floor = world_floor(
             parse_world(s.world_text, f"{log.path} session {s.name}"), s.robot_config
         )
         exemplars = s.minutes[:, MINUTE_COLUMNS.index("exemplars")]
         coverage[s.name] = coverage_by_minute(floor, s.pose, exemplars)
-        whole = coverage_of(floor, s.pose)
-        explore = f"explore {explore_rule(s.parameters)}, " if s.kind == KIND_LEARNING else ""
-        facts.append(
-            (
-                f"session {s.name}",
-                f"{s.world_name}, seed {s.seed}, {explore}{s.status}: "
-                f"{len(s.episode_table)} episodes, {collisions} collisions, "
-                f"{s.exemplar_count} exemplars, {sim_s / 60:.1f} simulated min, "
-                f"coverage {whole:.0%}",
+        sessions.append(
+            SessionSummary(
+                session=s.name,
+                kind=s.kind,
+                world=s.world_name,
+                seed=s.seed,
+                explore=explore_rule(s.parameters) if s.kind == KIND_LEARNING else None,
+                status=s.status,
+                episodes=len(s.episode_table),
+                collisions=int(s.episode_table["bumped"].sum()),
+                exemplars=s.exemplar_count,
+                sim_minutes=sim_s / 60.0,
+                coverage=coverage_of(floor, s.pose),
+                method=s.method,
             )
         )
-        facts.append((f"session {s.name} method", describe_record(s.method)))
         minutes += [
-            {
-                "session": s.name,
-                **dict(zip(MINUTE_COLUMNS, map(float, row), strict=True)),
-                "coverage": fraction,
-            }
+            {"session": s.name, **_minute_row(row), "coverage": fraction}
             for row, fraction in zip(s.minutes, coverage[s.name], strict=True)
         ]
-    facts.append(("exemplars", log.exemplar_count))
     chosen = _session(log, session)
+    drawn_names = None
     if png is not None or curves is not None:
         from tvl_cli.render import plot  # matplotlib only when a picture is wanted
 
@@ -85,8 +161,8 @@ def _learning(
             )
             world = parse_world(chosen.world_text, f"{log.path} session {chosen.name}")
             paths = [e.pose for s in drawn for e in s.episodes()]
-            names = ", ".join(s.name for s in drawn)
-            facts.append(("sessions drawn", names))
+            drawn_names = [s.name for s in drawn]
+            names = ", ".join(drawn_names)
             plot.render_paths(world, paths, png, f"learning episodes, session {names}")
         if curves is not None:
             if not len(chosen.minutes):
@@ -98,7 +174,16 @@ def _learning(
                 curves,
                 f"learning in {chosen.world_name}, session {chosen.name}",
             )
-    return Replay(LOG_FORMAT, facts, minutes, {s.name: s.method for s in log.sessions})
+    return LogReplay(sessions, log.exemplar_count, minutes, drawn_names)
+
+
+def _minute_row(row: np.ndarray) -> dict[str, int | float]:
+    """A log's minute row (stored as floats) with the types `tvl learn` gives it: counts
+    as whole numbers, ΔV as a float."""
+    return {
+        name: float(value) if name == "delta_v" else int(value)
+        for name, value in zip(MINUTE_COLUMNS, row, strict=True)
+    }
 
 
 def _session(log: LearningLog, name: str | None) -> Session:
@@ -112,42 +197,35 @@ def _session(log: LearningLog, name: str | None) -> Session:
     raise BadInput(f"{log.path}: no session {name!r} (it has {names})")
 
 
-# Events a person looks for first, each listed with the times the steps began them.
-LISTED_EVENTS = (BUMP, NEAR_MISS, TRAPPED)
-
-
-def _events(trace: RunTrace) -> list[tuple[str, Any]]:
-    """How many steps began each event, and when the contacts and traps happened."""
+def _step_counts(
+    trace: RunTrace,
+) -> tuple[list[StepCount], list[StepCount], list[StepCount]] | tuple[None, None, None]:
+    """How many steps began each event (and when), were taken by each reflex, and drove
+    each trajectory: a robot that keeps to the sharp arcs is slow however few things it
+    meets."""
     if not trace.has_decisions:
-        return [("decisions", "not recorded (a format_version 1 trace)")]
+        return None, None, None
     period_s = trace.period_s
-    facts: list[tuple[str, Any]] = []
+    events = []
     for event in EVENTS:
         steps = trace.event_steps(event)
-        facts.append((f"events: {event}", len(steps)))
-        if event in LISTED_EVENTS and len(steps):
-            # The time an event began: the end of the step that began it.
-            facts.append((f"{event} at (s)", [round(float(i + 1) * period_s, 1) for i in steps]))
+        # The time an event began: the end of the step that began it.
+        at_s = [float(i + 1) * period_s for i in steps]
+        events.append(StepCount(event, len(steps), at_s))
     overridden = trace.arrays["reflex"]
-    for index, name in enumerate(trace.reflex_names):
-        facts.append((f"steps taken by reflex {name}", int((overridden == index).sum())))
-    # Which trajectories carried the run: a robot that keeps to the sharp arcs is slow
-    # however few things it meets.
-    driven = trace.arrays["trajectory"]
-    for index, trajectory in enumerate(trace.robot_config.get("trajectories", ())):
-        facts.append((f"steps driving {trajectory['name']}", int((driven == index).sum())))
-    return facts
-
-
-def _run(trace: RunTrace, png: Path | None) -> Replay:
-    facts: list[tuple[str, Any]] = [
-        ("world", trace.world_name),
-        ("method", describe_record(trace.method)),
-        *trace.parameters.items(),
-        ("steps", trace.steps),
-        *trace.metrics.items(),
-        *_events(trace),
+    reflexes = [
+        StepCount(name, int((overridden == index).sum()))
+        for index, name in enumerate(trace.reflex_names)
     ]
+    driven = trace.arrays["trajectory"]
+    trajectories = [
+        StepCount(t["name"], int((driven == index).sum()))
+        for index, t in enumerate(trace.robot_config.get("trajectories", ()))
+    ]
+    return events, reflexes, trajectories
+
+
+def _run(trace: RunTrace, png: Path | None) -> RunReplay:
     if png is not None:
         from tvl_cli.render import plot
 
@@ -164,7 +242,33 @@ def _run(trace: RunTrace, png: Path | None) -> Replay:
             title=f"{trace.parameters.get('behaviour')} in {trace.world_name}",
             goal=tuple(goal) if goal else None,
         )
-    return Replay(RUN_FORMAT, facts, methods={"run": trace.method})
+    events, reflexes, trajectories = _step_counts(trace)
+    return RunReplay(
+        trace.world_name,
+        _parameters(trace),
+        trace.steps,
+        trace.metrics,
+        events,
+        reflexes,
+        trajectories,
+        trace.method,
+    )
+
+
+def _parameters(trace: RunTrace) -> dict[str, Any]:
+    """The run's parameters as its trace keeps them, the FAM as a file read (path and
+    SHA-256); the sonars each table reads, which only the autopsy needs, left out."""
+    parameters = {
+        key: value
+        for key, value in trace.parameters.items()
+        if key not in ("sonars_read", "fam", "fam_sha256")
+    }
+    if "fam" in trace.parameters:
+        parameters["fam"] = {
+            "path": trace.parameters["fam"],
+            "sha256": trace.parameters.get("fam_sha256"),
+        }
+    return parameters
 
 
 @dataclass(frozen=True, slots=True)
@@ -195,14 +299,14 @@ def replay(
         if session is not None:
             raise BadInput(f"{path}: a run trace has no sessions (--session is for logs)")
         trace = read_run(path)
-        summary = _run(trace, png)
+        run = _run(trace, png)
         if animation is not None:
             from tvl_cli.render.animate import Window, animate_run  # matplotlib: only here
 
             window = Window(animation.from_s, animation.to_s, animation.every)
             frames = animate_run(trace, animation.out, window, animation.fps, animation.video)
-            summary.facts.append(("animation frames", frames))
-        return summary
+            return replace(run, animation_frames=frames)
+        return run
 
     if kind == LOG_FORMAT:
         log = read_log(path)
@@ -213,6 +317,6 @@ def replay(
             window = Window(animation.from_s, animation.to_s, animation.every)
             chosen = _session(log, session)
             frames = animate_session(chosen, animation.out, window, animation.fps, animation.video)
-            summary.facts.append(("animation frames", frames))
+            return replace(summary, animation_frames=frames)
         return summary
     raise BadInput(f"{path}: is a {kind} file; replay reads tvl-log and tvl-run files")

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from contextlib import AbstractContextManager, ExitStack
-from dataclasses import asdict, dataclass, fields, replace
+from dataclasses import asdict, dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any
 
@@ -68,15 +68,15 @@ class RunResult:
     learnt: OnlineSummary | None = None  # with --learn
     session: str | None = None  # the session appended to the log, with --learn LOG
     method: dict[str, Any] | None = None  # the run's method_record
+    # The options the run was made with, as resolved (the FAM's sonar and memory, the
+    # world's goal): the run's inputs beside its FAM and world files
+    options: dict[str, Any] = field(default_factory=dict)
 
     def to_dict(self) -> dict[str, Any]:
-        """`tvl run --json`: the metrics, the contacts of each simulated minute, the method,
-        and with --learn what the run learnt and the log session it went to."""
-        printed = {
-            **asdict(self.metrics),
-            "minutes": [asdict(m) for m in self.minutes],
-            "method": self.method,
-        }
+        """What `tvl run --json` found: the metrics, the contacts of each simulated minute,
+        and with --learn what the run learnt and the log session it went to (the method and
+        the options are among its inputs)."""
+        printed = {**asdict(self.metrics), "minutes": [asdict(m) for m in self.minutes]}
         if self.learnt is not None:
             # Not "learning": results files mark the ablation's runs with that key.
             printed["learnt"] = {**asdict(self.learnt), "session": self.session}
@@ -243,7 +243,8 @@ def run_behaviour(request: RunRequest, watch: StepSink | None = None) -> RunResu
             goal=goal,
         )
     learnt = learner.summary() if learner is not None else None
-    return RunResult(metrics, tally.minutes(metrics), learnt, session, recorded)
+    options = run_options(request, robot, method, goal)
+    return RunResult(metrics, tally.minutes(metrics), learnt, session, recorded, options)
 
 
 def training_params(fam_file: FamFile, fam_path: Path) -> TrainParams:
@@ -261,13 +262,14 @@ def training_params(fam_file: FamFile, fam_path: Path) -> TrainParams:
         ) from None
 
 
-def _run_parameters(
+def run_options(
     request: RunRequest,
     robot: RobotConfig,
     method: Method,
     goal: tuple[float, float] | None,
 ) -> dict[str, Any]:
-    """The run's parameters, as its trace and a behaving log session keep them."""
+    """What a run was asked to do, as it was done: the sonar and memory it drove with and
+    the goal it sought, where the request left them to the FAM or the world."""
     return {
         "behaviour": request.behaviour,
         "threshold": request.threshold,
@@ -277,6 +279,18 @@ def _run_parameters(
         "reflexes": list(method.reflexes),
         "sonar": sonar_model_name(robot.sonar),
         "memory": method.memory.to_dict(),
+    }
+
+
+def _run_parameters(
+    request: RunRequest,
+    robot: RobotConfig,
+    method: Method,
+    goal: tuple[float, float] | None,
+) -> dict[str, Any]:
+    """The run's parameters, as its trace and a behaving log session keep them."""
+    return {
+        **run_options(request, robot, method, goal),
         "fam": str(request.fam),
         "fam_sha256": file_sha256(request.fam),
     }

@@ -144,10 +144,9 @@ def run_sweep(
     on_progress(0, len(todo))
 
     def record(cell: Cell, result: RunResult) -> None:
-        # What `tvl run --json` prints, after the cell's grid values (the method as the grid
+        # What `tvl run --json` finds, after the cell's grid values (the method as the grid
         # names it: its record is in the sweep's logs and FAMs).
-        printed = {k: v for k, v in result.to_dict().items() if k != "method"}
-        rows[cell] = {"kind": RUN_KIND, **asdict(cell), **printed}
+        rows[cell] = {"kind": RUN_KIND, **asdict(cell), **result.to_dict()}
         append_row(journal, rows[cell])
         on_progress(len(rows) - skipped, len(todo))
 

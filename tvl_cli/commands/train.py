@@ -37,18 +37,37 @@ from tvl_cli.io.logreader import LearningLog, Session, read_log
 
 
 @dataclass(frozen=True, slots=True)
+class RepeatedSession:
+    """A log session recorded again (a log copied into another, or one learnt twice from
+    the same seed stream), and the session it repeats, which alone was used."""
+
+    log: str
+    session: str
+    repeats_log: str
+    repeats_session: str
+
+    def text(self) -> str:
+        """As a FAM's provenance and the summary tables give it."""
+        return (
+            f"{self.log} session {self.session} repeats {self.repeats_log} session "
+            f"{self.repeats_session}"
+        )
+
+
+@dataclass(frozen=True, slots=True)
 class TrainSummary:
     fam: Fam
     robot: RobotConfig
     memory: MemoryConfig  # what the FAM was trained to read through
     method: dict[str, Any]  # method_record of the learning choices that made it
+    training: TrainParams  # how its exemplars became entries
     provenance: dict[str, Any]
     exemplars: int
     episodes: int
     rules_touched: int
     rules_total: int
     wall_s: float
-    repeated_sessions: list[str] = field(default_factory=list)  # found again, trained once
+    repeated_sessions: list[RepeatedSession] = field(default_factory=list)  # trained once
 
 
 def common_robot(logs: Sequence[LearningLog]) -> RobotConfig:
@@ -76,23 +95,23 @@ def refuse_repeated(files: Sequence[tuple[Path, str]], what: str) -> None:
         seen[sha256] = path
 
 
-def distinct_sessions(logs: Sequence[LearningLog]) -> tuple[list[Session], list[str]]:
+def distinct_sessions(
+    logs: Sequence[LearningLog],
+) -> tuple[list[Session], list[RepeatedSession]]:
     """Every session of the logs in order, but each recorded more than once only the first
-    time (a log copied into another, or one learnt twice from the same seed stream); and
-    the repeats, as "LOG session NAME repeats LOG session NAME"."""
-    first: dict[bytes, str] = {}
+    time; and the repeats."""
+    first: dict[bytes, tuple[str, str]] = {}
     kept: list[Session] = []
-    repeats: list[str] = []
+    repeats: list[RepeatedSession] = []
     for log in logs:
         for session in log.sessions:
-            where = f"{log.path} session {session.name}"
             # Each episode's start, length, trajectory, ending time and place: two sessions
             # agree on all of them only if one repeats the other.
             key = hashlib.sha256(session.episode_table.tobytes()).digest()
             if len(session.episode_table) and key in first:
-                repeats.append(f"{where} repeats {first[key]}")
+                repeats.append(RepeatedSession(str(log.path), session.name, *first[key]))
                 continue
-            first.setdefault(key, where)
+            first.setdefault(key, (str(log.path), session.name))
             kept.append(session)
     return kept, repeats
 
@@ -281,10 +300,11 @@ def train_from_logs(
         robot=robot,
         memory=memory_read,
         method=record,
+        training=params,
         provenance={
             **provenance(logs, params, config),
             "until_minute": until_minute,
-            "repeated_sessions": repeats,
+            "repeated_sessions": [r.text() for r in repeats],
         },
         exemplars=total,
         episodes=len(episodes),

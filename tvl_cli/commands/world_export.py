@@ -25,10 +25,8 @@ class Exported:
     occupied_cells: int
 
     def to_dict(self) -> dict[str, object]:
+        """What was written, in cells (the files are the command's outputs)."""
         return {
-            "world": str(self.world),
-            "output": str(self.map_yaml),
-            "image": str(self.image),
             "cell_m": self.cell_m,
             "columns": self.columns,
             "rows": self.rows,

@@ -31,11 +31,9 @@ class Imported:
     world: GridWorld
     free_cells: int
 
-    def to_dict(self, output: Path) -> dict[str, object]:
+    def to_dict(self) -> dict[str, object]:
         place, (x, y, heading) = self.world.place, self.world.start
         return {
-            "map": str(self.map.meta.path),
-            "output": str(output),
             "cell_m": place.cell_m,
             "columns": self.world.columns,
             "rows": self.world.rows,

@@ -388,13 +388,15 @@ def _wall_segments(grid: _Grid) -> tuple[Segment, ...]:
 
 
 def world_to_dict(world: WorldMap) -> dict[str, Any]:
-    """The world's geometry as plain JSON values (`tvl world show --json`)."""
+    """The world's geometry as plain JSON values (`tvl world show --json`); the start's
+    heading in degrees, as every --json document gives a pose."""
+    x, y, heading = world.start
     return {
         "name": world.name,
         "cell_m": world.cell_m,
         "segments": [list(s) for s in world.segments],
         "discs": [list(d) for d in world.discs],
-        "start": list(world.start),
+        "start": [x, y, math.degrees(heading)],
         "goals": [list(g) for g in world.goals],
         "rings": [list(r) for r in world.rings],
     }
