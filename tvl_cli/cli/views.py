@@ -365,13 +365,5 @@ def sweep_json(result: SweepResult) -> dict[str, Any]:
         "done": result.done,
         "skipped": result.skipped,
         "files": [str(path) for path in result.files],
+        "plot": None if result.plot is None else str(result.plot),
     }
-
-
-def sweep(result: SweepResult) -> None:
-    from tvl_cli.commands.sweep import TABLE_CSV
-
-    out.print(
-        f"{result.cells} cells: {result.done} run now, {result.skipped} done before; "
-        f"the table is {result.out / TABLE_CSV}"
-    )
