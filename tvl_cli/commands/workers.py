@@ -70,7 +70,8 @@ def local_cluster(workers: int, on_dashboard: OnDashboard) -> Iterator[Executor]
             )
     except Exception as error:  # whatever stopped it, the sweep cannot run
         raise EnvironmentFailure(
-            f"--scheduler {LOCAL}:{workers}: cannot start a Dask cluster ({error})"
+            f"--scheduler {LOCAL}:{workers}: cannot start a Dask cluster "
+            f"({' '.join(str(error).split())})"
         ) from None
     with cluster, distributed.Client(cluster) as client:
         on_dashboard(_dashboard(client))
