@@ -111,7 +111,7 @@ RELEASED = {
     "demo": (1, "c88c79c7a7f71b2e"),
     "baseline dwa": (1, "e0f3277360075c6f"),
     "baseline qlearn": (1, "601c3039f73e2ea8"),
-    "sweep": (1, "b970505423cd0134"),
+    "sweep": (1, "4997e9e693b79d5d"),
     "export": (1, "caf3b528ec2a4eda"),
     "figure": (1, "61eb15ecf07304b2"),
     "schema": (1, "893b36e7d5ed3f09"),

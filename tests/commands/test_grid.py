@@ -14,6 +14,7 @@ from tvl_cli.commands.grid import Cell, read_grid
 from tvl_cli.core.config import SINGLE
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.method import DEFAULT, PAPER, MethodChoice
+from tvl_cli.sim.worldgen import generate_world
 
 WORLDS = Path(__file__).resolve().parents[2] / "worlds"
 
@@ -118,3 +119,49 @@ def test_two_worlds_of_one_name_are_refused(tmp_path: Path) -> None:
     text = 'world = ["square", "copy.txt"]\nseed = 1\nbehaviour = "avoid"\n'
     with pytest.raises(BadInput, match=r"worlds 'square' and 'copy\.txt' are both named 'square'"):
         read_grid(grid_of(tmp_path, text))
+
+
+def test_generated_worlds_of_other_seeds_are_kept_apart_by_their_names(tmp_path: Path) -> None:
+    for seed in (3, 7):
+        (tmp_path / f"rooms{seed}.txt").write_text(generate_world("rooms", None, None, seed))
+    text = 'world = ["rooms3.txt", "rooms7.txt", "rooms"]\nseed = 1\nbehaviour = "avoid"\n'
+    grid = read_grid(grid_of(tmp_path, text))
+    # The shipped rooms world, generated before names carried the seed, keeps its name.
+    assert list(grid.worlds) == ["rooms-s3", "rooms-s7", "rooms"]
+    assert [c.world for c in grid.cells] == ["rooms-s3", "rooms-s7", "rooms"]
+
+
+def test_a_mistyped_key_is_refused_with_the_nearest_one(tmp_path: Path) -> None:
+    text = 'world = "square"\nseed = 1\nbehaviour = "avoid"\ntreshold = 0.8\n'
+    with pytest.raises(BadInput, match=r"unknown key 'treshold' \(did you mean 'threshold'\?\)"):
+        read_grid(grid_of(tmp_path, text))
+
+
+GOAL_GRID = (
+    f'world = ["{WORLDS / "obstacles.txt"}", "narrow"]\nseed = [1, 2]\n'
+    'behaviour = ["avoid", "goal"]\nconfig = ["single", "multi"]\nthreshold = [0.7, 0.9]\n'
+)
+
+
+def test_the_cap_counts_the_cells_the_grid_makes(tmp_path: Path) -> None:
+    path = grid_of(tmp_path, GOAL_GRID)
+    cells = len(read_grid(path).cells)
+    # obstacles: avoid and 1 goal; narrow: avoid and its goal; each for 2 seeds, 2
+    # configurations and 2 thresholds.
+    assert cells == 2 * 2 * 2 * 2 * 2
+    assert len(read_grid(path, max_cells=cells).cells) == cells
+    with pytest.raises(BadInput, match=rf"{cells:,} cells, over the cap of {cells - 1:,}"):
+        read_grid(path, max_cells=cells - 1)
+
+
+def test_goals_multiply_the_count_as_they_multiply_the_cells(tmp_path: Path) -> None:
+    text = (
+        f'world = "{WORLDS / "obstacles.txt"}"\nseed = [1, 2]\nbehaviour = ["avoid", "goal"]\n'
+        'config = ["single", "multi"]\nthreshold = [0.7, 0.9]\n'
+        'goal = ["5.875,3.875", "4.875,1.625", "5.875,1.125"]\n'
+    )
+    path = grid_of(tmp_path, text)
+    cells = len(read_grid(path).cells)
+    assert cells == (1 + 3) * 2 * 2 * 2  # avoid and 3 goals
+    with pytest.raises(BadInput, match=f"{cells} cells, over the cap of {cells - 1}"):
+        read_grid(path, max_cells=cells - 1)

@@ -6,10 +6,14 @@ from __future__ import annotations
 
 import csv
 import json
+import os
 import re
 import shutil
+import signal
 import subprocess
 import sys
+import time
+from collections.abc import Callable
 from dataclasses import fields
 from pathlib import Path
 
@@ -208,3 +212,142 @@ def test_a_dask_clusters_workers_give_the_local_rows(swept: Path, tmp_path: Path
     assert (summary["done"], summary["skipped"]) == (4, 0)
     assert (out / "results.csv").read_text() == (swept / "results.csv").read_text()
     assert sorted(journal(out), key=str) == sorted(journal(swept), key=str)
+
+
+def with_seed_three(swept: Path, out: Path) -> Path:
+    """A copy of the swept directory whose journal holds the cells of a second seed too, as
+    if swept already, each run a little faster and with a contact more a minute than seed
+    2's; the grid of both seeds."""
+    shutil.copytree(swept, out)
+    rows = journal(out)
+    more = [
+        {
+            **row,
+            "seed": 3,
+            "mean_speed_mps": row["mean_speed_mps"] + 0.02,
+            "contacts_per_min": row["contacts_per_min"] + 1.0,
+        }
+        for row in rows
+    ]
+    with open(out / "results.jsonl", "a") as journal_file:
+        journal_file.writelines(json.dumps(row) + "\n" for row in more)
+    grid = out.parent / "two-seeds.toml"
+    grid.write_text(GRID.replace("seed = 2", "seed = [2, 3]"))
+    return grid
+
+
+@pytest.mark.slow
+def test_the_terminal_shows_each_settings_mean_and_interval_over_seeds(
+    swept: Path, tmp_path: Path
+) -> None:
+    out = tmp_path / "out"
+    grid = with_seed_three(swept, out)
+    shown = tvl("sweep", grid, "--out", out)
+    assert shown.returncode == 0, shown.stderr
+    lines = shown.stdout.splitlines()
+    assert lines[0].startswith("8 cells: 0 run now, 8 done before; the table is")
+    assert str(out / "results.csv") in shown.stdout.replace("\n", "")  # folded, not cut
+    assert max(map(len, lines)) <= 80  # a terminal's width when there is none
+    assert "mean ± 95 % interval over seeds (Student's t)" in shown.stdout
+    for row in (r for r in journal(swept) if r["config"] == "multi"):
+        speed = row["mean_speed_mps"] + 0.01  # the mean of seeds 2 and 3
+        # Two seeds 0.02 apart: a standard error of 0.01, and t of one degree of freedom.
+        speed_text = f"{speed:.3f} ± {12.706205 * 0.01:.3f}"
+        contacts_text = f"{row['contacts_per_min'] + 0.5:.2f} ± {12.706205 * 0.5:.2f}"
+        (line,) = [line for line in lines if f"│ multi  │ {row['threshold']:<9g} │" in line]
+        assert [cell.strip() for cell in line.split("│")[3:6]] == ["2", contacts_text, speed_text]
+
+
+@pytest.mark.slow
+def test_a_plot_of_the_sweep_is_drawn_beside_its_table_or_where_asked(
+    swept: Path, tmp_path: Path
+) -> None:
+    out = tmp_path / "out"
+    grid = with_seed_three(swept, out)
+    summary = sweep(grid, "--out", out, "--plot", "x=threshold,y=mean_speed_mps,hue=config")
+    beside = out / "mean_speed_mps-by-threshold-config.png"
+    assert summary["plot"] == str(beside)
+    assert beside.read_bytes().startswith(b"\x89PNG")
+    picture = tmp_path / "speed.svg"
+    drawn = sweep(grid, "--out", out, "--plot", "x=config,y=contacts_per_min", "-o", picture)
+    assert drawn["plot"] == str(picture)
+    assert picture.read_bytes().startswith(b"<?xml")
+    assert (drawn["done"], drawn["skipped"]) == (0, 8)
+    again = ("sweep", grid, "--out", out, "--plot", "x=world,y=distance_m", "-o", picture)
+    before = picture.read_bytes()
+    kept = tvl(*again)
+    assert (kept.returncode, kept.stderr) == (
+        2, f"tvl: error: {picture}: already exists (use --force to overwrite)\n"
+    )  # fmt: skip
+    assert picture.read_bytes() == before
+    assert sweep(*again[1:], "--force")["plot"] == str(picture)
+    assert picture.read_bytes() != before
+
+
+@pytest.mark.slow
+def test_a_killed_sweep_leaves_a_lock_the_next_one_takes_over(swept: Path, tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    grid = swept.parent / "grid.toml"
+    # Its own session, so that its worker processes are killed with it.
+    first = subprocess.Popen(
+        [TVL, "sweep", grid, "--out", out, "--json"],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+        start_new_session=True,
+    )
+    try:
+        wait_for(lambda: any((out / "logs").glob("*")))  # learning has begun
+        second = tvl("sweep", grid, "--out", out)
+        assert second.returncode == 2
+        assert second.stderr == (
+            f"tvl: error: {out.absolute() / 'results.jsonl'}: locked by another tvl sweep in "
+            f"this directory (pid {first.pid})\n"
+        )
+    finally:
+        os.killpg(first.pid, signal.SIGKILL)
+        first.wait()
+    assert (out / "results.jsonl.lock").read_text() == f"{first.pid}\n"  # left behind
+    summary = sweep(grid, "--out", out)
+    assert summary["done"] + summary["skipped"] == 4  # the runs that ended before the kill kept
+    assert len(journal(out)) == 4  # each cell once
+    assert (out / "results.csv").read_text() == (swept / "results.csv").read_text()
+    assert not (out / "results.jsonl.lock").exists()
+
+
+@pytest.mark.slow
+def test_a_local_cluster_shows_its_dashboard_and_outlives_its_workers(
+    swept: Path, tmp_path: Path
+) -> None:
+    psutil = pytest.importorskip("psutil")
+    pytest.importorskip("distributed")
+    out = tmp_path / "out"
+    running = subprocess.Popen(
+        [TVL, "sweep", swept.parent / "grid.toml", "--out", out, "--scheduler", "local:2"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        wait_for(lambda: any((out / "logs").glob("*")))  # a worker is learning
+        # Every worker process, the one learning among them, killed as if its machine died.
+        children = psutil.Process(running.pid).children(recursive=True)
+        workers = [child for child in children if "spawn_main" in " ".join(child.cmdline())]
+        assert len(workers) == 2
+        for worker in workers:
+            worker.kill()
+        stdout, stderr = running.communicate(timeout=300)
+    finally:
+        running.kill()
+        running.wait()
+    assert running.returncode == 0, stderr
+    assert re.search(r"^dashboard: http://127\.0\.0\.1:\d+/status$", stderr, re.MULTILINE)
+    assert "Traceback" not in stderr
+    assert stdout.startswith("4 cells: 4 run now, 0 done before")
+    assert (out / "results.csv").read_text() == (swept / "results.csv").read_text()
+
+
+def wait_for(condition: Callable[[], bool], timeout_s: float = 120.0) -> None:
+    deadline = time.monotonic() + timeout_s
+    while not condition():
+        assert time.monotonic() < deadline, "waited too long"
+        time.sleep(0.05)

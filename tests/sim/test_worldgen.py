@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from tvl_cli.core.errors import BadInput
-from tvl_cli.sim.worldgen import KINDS, bundled_world_path, generate_world
+from tvl_cli.sim.worldgen import KINDS, SMOOTH, Materials, bundled_world_path, generate_world
 from tvl_cli.sim.worldmap import WorldMap, load_world, parse_world
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -25,8 +25,12 @@ def test_every_kind_at_its_smallest_size_parses(kind: str) -> None:
 
 
 @pytest.mark.parametrize("kind", KINDS)
-def test_shipped_world_is_the_generator_output(kind: str) -> None:
-    text = generate_world(kind, None, None, 1)
+def test_shipped_world_is_the_generator_output_named_for_its_kind(kind: str) -> None:
+    """The shipped worlds are the generator's seed-1 layouts under their kind's name alone,
+    the name grids, traces and figures know them by."""
+    made = generate_world(kind, None, None, 1)
+    named = parse_world(made, kind).name
+    text = made.replace(f"\nname: {named}\n", f"\nname: {kind}\n", 1)
     assert (ROOT / "worlds" / f"{kind}.txt").read_text(encoding="utf-8") == text
     assert bundled_world_path(kind).read_text(encoding="utf-8") == text
     assert load_world(bundled_world_path(kind)).name == kind
@@ -106,3 +110,27 @@ def test_narrow_puts_the_goal_inside_a_passage_0_75_m_wide() -> None:
     below = max(y for y in walls_over_goal if y < gy)
     above = min(y for y in walls_over_goal if y > gy)
     assert above - below == 0.75
+
+
+@pytest.mark.parametrize(
+    "kind, size_m, seed, materials, name",
+    [
+        ("rooms", None, 7, SMOOTH, "rooms-s7"),
+        ("lab", None, 1, SMOOTH, "lab-s1"),
+        ("square", None, 5, SMOOTH, "square"),  # unseeded: the seed changes nothing
+        ("square", (6.0, 5.0), 1, SMOOTH, "square-6x5"),
+        ("rooms", (12.0, 9.5), 3, SMOOTH, "rooms-12x9.5-s3"),
+        ("rooms", None, 2, Materials(0.5), "rooms-s2-rough0.5"),
+        ("rooms", None, 2, Materials(1.0, 0.6), "rooms-s2-rough1-roughness0.6"),
+    ],
+)
+def test_a_generated_world_is_named_for_what_sets_it_apart(
+    kind: str,
+    size_m: tuple[float, float] | None,
+    seed: int,
+    materials: Materials,
+    name: str,
+) -> None:
+    width_m, height_m = size_m or (None, None)
+    text = generate_world(kind, width_m, height_m, seed, materials)
+    assert parse_world(text, "made").name == name

@@ -328,11 +328,16 @@ def sweep_json(result: SweepResult, request: SweepRequest) -> dict[str, Any]:
         "out": str(request.out),
         "workers": request.workers if request.scheduler is None else None,
         "scheduler": request.scheduler,
+        "scheduler_timeout_s": request.scheduler_timeout_s,
+        "max_cells": request.max_cells,
+        "measures": None if request.measures is None else list(request.measures),
+        "plot": None if request.plot is None else asdict(request.plot),
     }
+    outputs = {"files": [str(path) for path in result.files], "plot": output_path(result.plot)}
     return document(
         "sweep",
         inputs,
-        outputs={"files": [str(path) for path in result.files]},
+        outputs=outputs,
         cells=result.cells,
         done=result.done,
         skipped=result.skipped,

@@ -16,7 +16,7 @@ from typing import NoReturn
 import click
 
 from tvl_cli import __version__
-from tvl_cli.core.errors import BadInput
+from tvl_cli.core.errors import BadInput, EnvironmentFailure
 
 # name -> (module, attribute, the line `tvl --help` shows for it). The line is kept here so
 # the top-level help needs no import; a test holds it to the command's own first line.
@@ -96,8 +96,9 @@ WRITE_ERRNOS = frozenset({errno.ENOSPC, errno.EDQUOT, errno.EFBIG})
 
 
 class TvlGroup(click.Group):
-    """Loads commands on demand; turns BadInput into one line on stderr and exit 2, and an
-    operating-system error into one line and exit 1 or 2 (--debug shows the traceback)."""
+    """Loads commands on demand; turns BadInput into one line on stderr and exit 2, an
+    EnvironmentFailure into one line and exit 1, and an operating-system error into one line
+    and exit 1 or 2 (--debug shows the traceback)."""
 
     def list_commands(self, ctx: click.Context) -> list[str]:
         return list(COMMANDS)
@@ -123,6 +124,11 @@ class TvlGroup(click.Group):
                 raise
             click.echo(f"tvl: error: {error}", err=True)
             sys.exit(2)
+        except EnvironmentFailure as error:
+            if ctx.obj and ctx.obj.get("debug"):
+                raise
+            click.echo(f"tvl: error: {error}", err=True)
+            sys.exit(1)
         except (OSError, RuntimeError) as error:
             if ctx.obj and ctx.obj.get("debug"):
                 raise

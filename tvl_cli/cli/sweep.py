@@ -8,9 +8,17 @@ from pathlib import Path
 
 import click
 
-from tvl_cli.cli import documents, views
-from tvl_cli.cli.options import print_csv, print_json, refuse_both_formats
-from tvl_cli.commands.sweep import SweepRequest, default_out, run_sweep
+from tvl_cli.cli import documents, sweep_view, views
+from tvl_cli.cli.options import (
+    PICTURE,
+    print_csv,
+    print_json,
+    refuse_both_formats,
+    refuse_existing,
+)
+from tvl_cli.commands.sweep import DEFAULT_MAX_CELLS, SweepRequest, default_out, run_sweep
+from tvl_cli.commands.sweep_report import PLOT_FORM, parse_measures, parse_plot
+from tvl_cli.commands.workers import DEFAULT_SCHEDULER_TIMEOUT_S
 
 
 @click.command()
@@ -30,10 +38,51 @@ from tvl_cli.commands.sweep import SweepRequest, default_out, run_sweep
 )
 @click.option(
     "--scheduler",
-    metavar="tcp://HOST:PORT",
+    metavar="local[:N]|tcp://HOST:PORT",
     default=None,
-    help="Run the cells on the workers of this Dask scheduler (needs tvl[sweep]).",
+    help="Run the cells on a Dask cluster: local[:N] starts one of N workers here (default: "
+    "one a core), an address uses that scheduler's workers (needs tvl[sweep]).",
 )
+@click.option(
+    "--scheduler-timeout",
+    "scheduler_timeout_s",
+    type=click.FloatRange(min=0.0, min_open=True),
+    default=DEFAULT_SCHEDULER_TIMEOUT_S,
+    show_default=True,
+    help="Seconds a scheduler has to answer.",
+)
+@click.option(
+    "--max-cells",
+    type=click.IntRange(min=1),
+    default=DEFAULT_MAX_CELLS,
+    show_default=True,
+    help="Refuse a grid of more cells, counted before any is made.",
+)
+@click.option("--yes", is_flag=True, help="Run a grid of any number of cells.")
+@click.option(
+    "--measures",
+    default=None,
+    metavar="NAME,...",
+    help="The table's measures, as `tvl run --json` names them (default: contacts/min and "
+    "speed, with wall clearance and goals reached where the grid has those runs).",
+)
+@click.option(
+    "--plot",
+    "plot_text",
+    default=None,
+    metavar=PLOT_FORM,
+    help="Plot a measure's mean and 95 % interval over seeds against a grid key, a line "
+    "for each value of another (e.g. x=threshold,y=mean_speed_mps,hue=config).",
+)
+@click.option(
+    "-o",
+    "--plot-out",
+    type=PICTURE,
+    default=None,
+    help="The plot's picture: .png, .svg, .pdf or .jpg (default: beside the table, "
+    "redrawn by each sweep).",
+)
+@click.option("--force", is_flag=True, help="Overwrite the plot's picture given by -o.")
 @click.option("--json", "as_json", is_flag=True, help="Print a JSON summary.")
 @click.option("--csv", "as_csv", is_flag=True, help="Print the results table as CSV.")
 def sweep(
@@ -41,6 +90,13 @@ def sweep(
     out: Path | None,
     workers: int | None,
     scheduler: str | None,
+    scheduler_timeout_s: float,
+    max_cells: int,
+    yes: bool,
+    measures: str | None,
+    plot_text: str | None,
+    plot_out: Path | None,
+    force: bool,
     as_json: bool,
     as_csv: bool,
 ) -> None:
@@ -50,16 +106,35 @@ def sweep(
     behaviour, and config, learn_minutes, threshold, goal, run_minutes and reflexes (README,
     "Sweeps"). Each combination is a cell: one run, after the learning and training it needs,
     each done once for every cell that shares it. Rows go to results.jsonl as runs end, and
-    the grid's table to results.csv (and results.parquet with pyarrow) in the directory."""
+    the grid's table to results.csv (and results.parquet with pyarrow) in the directory. The
+    terminal shows each setting's mean and 95 % interval over its seeds. One sweep at a time
+    runs in a directory."""
     refuse_both_formats(as_json, as_csv)
     if workers is not None and scheduler is not None:
         raise click.UsageError("give --workers or --scheduler, not both (a cluster has its own)")
+    if plot_out is not None and plot_text is None:
+        raise click.UsageError("-o/--plot-out is the plot's file; give --plot too")
+    if plot_out is not None:
+        refuse_existing(plot_out, force)
     request = SweepRequest(
-        grid, out or default_out(grid), workers or os.cpu_count() or 1, scheduler
+        grid,
+        out or default_out(grid),
+        workers or os.cpu_count() or 1,
+        scheduler,
+        scheduler_timeout_s,
+        None if yes else max_cells,
+        parse_measures(measures) if measures is not None else None,
+        parse_plot(plot_text) if plot_text is not None else None,
+        plot_out,
     )
+
+    def on_dashboard(link: str) -> None:
+        if not as_json:  # a script reading the JSON keeps a clean stderr, as with the bar
+            views.say(f"dashboard: {link}")
+
     try:
         with views.progress("cells", quiet=as_json) as bar:
-            result = run_sweep(request, bar)
+            result = run_sweep(request, bar, on_dashboard)
     except KeyboardInterrupt:
         views.say(f"interrupted: the runs that ended are in {request.out}; run again to go on")
         sys.exit(130)
@@ -68,4 +143,4 @@ def sweep(
     elif as_csv:
         print_csv(result.rows)
     else:
-        views.sweep(result)
+        sweep_view.show(result)

@@ -28,7 +28,6 @@ if TYPE_CHECKING:
     from tvl_cli.commands.learn import LearnResult
     from tvl_cli.commands.replay import LogReplay, Replay, RunReplay
     from tvl_cli.commands.run import RunResult
-    from tvl_cli.commands.sweep import SweepResult
     from tvl_cli.commands.train import TrainSummary
     from tvl_cli.core.explain import Explanation
     from tvl_cli.core.metrics import RunMetrics
@@ -382,12 +381,3 @@ def demo(result: DemoResult) -> None:
             str(row.png),
         )
     out.print(runs)
-
-
-def sweep(result: SweepResult) -> None:
-    from tvl_cli.commands.sweep import TABLE_CSV
-
-    out.print(
-        f"{result.cells} cells: {result.done} run now, {result.skipped} done before; "
-        f"the table is {result.out / TABLE_CSV}"
-    )

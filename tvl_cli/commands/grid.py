@@ -35,6 +35,7 @@ from tvl_cli.core.errors import (
     BadInput,
     check_minutes,
     check_run_minutes,
+    did_you_mean,
 )
 from tvl_cli.core.method import (
     DEFAULT_NAME,
@@ -112,13 +113,16 @@ _TYPE_NAMES = {str: "text", int: "a whole number", float: "a number"}
 _FILE_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]*")
 
 
-def read_grid(path: Path) -> Grid:
+def read_grid(path: Path, max_cells: int | None = None) -> Grid:
     """The grid of a TOML file, every value checked; BadInput naming the file and the key (or
-    the line of a syntax error) at the first fault."""
+    the line of a syntax error) at the first fault, or the number of cells when it is over
+    `max_cells` (None: no cap), counted before any cell is made."""
     table = read_toml(path, "grid")
     unknown = [key for key in table if key not in _KEYS]
     if unknown:
-        raise BadInput(f"{path}: unknown key {unknown[0]!r} (known: {', '.join(_KEYS)})")
+        raise BadInput(
+            f"{path}: unknown key {unknown[0]!r} ({did_you_mean(unknown[0], list(_KEYS))})"
+        )
     values = {key: _values(path, table, key) for key in _KEYS}
     for seed in values["seed"]:
         if not 0 <= seed <= MAX_SEED:
@@ -151,6 +155,7 @@ def read_grid(path: Path) -> Grid:
         name: _goals_in(path, world, goals) if "goal" in values["behaviour"] else []
         for name, world in worlds.items()
     }
+    _check_cap(path, _count_cells(values, configs, goals_in), max_cells)
     cells = [
         Cell(world, seed, config, learn, behaviour, threshold, goal, run, method, reflexes)
         for world, seed, config, learn, behaviour, threshold in product(
@@ -175,6 +180,32 @@ def read_grid(path: Path) -> Grid:
     )
 
 
+def _count_cells(
+    values: dict[str, tuple[Any, ...]],
+    configs: dict[str, FamConfig],
+    goals_in: dict[str, list[str | None]],
+) -> int:
+    """The cells read_grid makes, from the lengths of its lists, as its product nests them
+    (without reflexes in the grid, each method runs once, with its own)."""
+    runs = sum(
+        len(goals_in[world]) if behaviour == "goal" else 1
+        for world in goals_in
+        for behaviour in values["behaviour"]
+    )
+    per_run = math.prod(
+        len(values[key]) for key in ("seed", "learn_minutes", "threshold", "run_minutes", "method")
+    )
+    return runs * per_run * len(configs) * (len(values["reflexes"]) or 1)
+
+
+def _check_cap(path: Path, cells: int, max_cells: int | None) -> None:
+    if max_cells is not None and cells > max_cells:
+        raise BadInput(
+            f"{path}: {cells:,} cells, over the cap of {max_cells:,}; give --max-cells "
+            f"{cells} or --yes to run them all"
+        )
+
+
 def _values(path: Path, table: dict[str, Any], key: str) -> tuple[Any, ...]:
     """A key's values: the one given, or the list; checked for type and repeats."""
     kind, default = _KEYS[key]
@@ -191,9 +222,11 @@ def _values(path: Path, table: dict[str, Any], key: str) -> tuple[Any, ...]:
             which = f"{key!r} item {number}" if isinstance(given, list) else repr(key)
             raise BadInput(f"{path}: {which} is {item!r}, expected {_TYPE_NAMES[kind]}")
     values = tuple(float(item) if kind is float else item for item in items)
-    repeated = next((v for i, v in enumerate(values) if v in values[:i]), None)
-    if repeated is not None:
-        raise BadInput(f"{path}: {key!r} gives {repeated!r} twice")
+    seen: set[Any] = set()  # a set: a grid's lists may be long
+    for value in values:
+        if value in seen:
+            raise BadInput(f"{path}: {key!r} gives {value!r} twice")
+        seen.add(value)
     return values
 
 
@@ -275,7 +308,8 @@ def _named(path: Path, key: str, by_entry: dict[str, Any]) -> dict[str, Any]:
             )
         if name in named:
             raise BadInput(
-                f"{path}: {key}s {entries[name]!r} and {entry!r} are both named {name!r}"
+                f"{path}: {key}s {entries[name]!r} and {entry!r} are both named {name!r}; "
+                "a sweep knows each by its name, so give one of them another"
             )
         named[name], entries[name] = value, entry
     return named

@@ -1,5 +1,5 @@
 """`tvl sweep`: every cell of a grid learnt, trained and run, on local processes or a Dask
-cluster, into one results table.
+cluster, into one results table, with each setting's mean and interval over its seeds.
 
 A learning log is learnt once for every cell that shares it, a FAM trained once likewise, and
 both stay in the sweep's directory for the next sweep. Each row joins results.jsonl as its run
@@ -23,8 +23,16 @@ from tvl_cli.analysis.results import read_results
 from tvl_cli.commands.grid import COLUMNS, Cell, Grid, read_grid
 from tvl_cli.commands.learn import LearnRequest, learn_to_log
 from tvl_cli.commands.run import RunRequest, RunResult, run_behaviour
+from tvl_cli.commands.sweep_report import PlotAxes, SweepSummary, default_plot_path, plot, summarise
 from tvl_cli.commands.train import train_from_logs, write_trained
-from tvl_cli.commands.workers import dask_cluster, local_processes
+from tvl_cli.commands.workers import (
+    DEFAULT_SCHEDULER_TIMEOUT_S,
+    OnDashboard,
+    dask_cluster,
+    local_cluster,
+    local_processes,
+    parse_scheduler,
+)
 from tvl_cli.core.config import SINGLE, FamConfig
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.method import (
@@ -36,6 +44,7 @@ from tvl_cli.core.method import (
     method_record,
 )
 from tvl_cli.io.atomic import atomic_output
+from tvl_cli.io.lock import WriterLock
 from tvl_cli.io.loglayout import STATUS_FINISHED
 from tvl_cli.io.table import Row, append_row, write_csv, write_parquet
 
@@ -47,6 +56,12 @@ RUN_KIND = "tvl"
 # Every log is learnt exploring with this FAM, as `tvl learn` does by default, so that one
 # log serves the cells of every configuration: each is trained from it.
 LEARN_CONFIG = SINGLE.name
+# Cells a grid may have unless the user confirms more. The paper's figures take tens to
+# hundreds of cells; beyond ten thousand a grid is more likely a list written too long than a
+# study, and one of 10^8 cells would not even fit in memory to be refused later.
+DEFAULT_MAX_CELLS = 10_000
+# Who holds a sweep's directory, as its lock refuses a second sweep there.
+SWEEP_HOLDER = "another tvl sweep in this directory"
 
 
 @dataclass(frozen=True, slots=True)
@@ -54,7 +69,14 @@ class SweepRequest:
     grid: Path
     out: Path
     workers: int = 1  # local processes
-    scheduler: str | None = None  # a Dask scheduler's address: its workers run the cells
+    # `local` or `local:N` (a Dask cluster started here), or a Dask scheduler's address:
+    # its workers run the cells.
+    scheduler: str | None = None
+    scheduler_timeout_s: float = DEFAULT_SCHEDULER_TIMEOUT_S
+    max_cells: int | None = DEFAULT_MAX_CELLS  # None: as many as the grid has
+    measures: tuple[str, ...] | None = None  # the table's; None: the behaviours' headline ones
+    plot: PlotAxes | None = None
+    plot_out: Path | None = None  # None: beside the table, named for what it plots
 
 
 @dataclass(frozen=True, slots=True)
@@ -65,6 +87,8 @@ class SweepResult:
     skipped: int  # in the results already
     rows: list[Row]  # the grid's, in the grid's order
     files: list[Path]  # written by this sweep, relative to `out`
+    summary: SweepSummary  # each setting's mean and 95 % interval over its seeds
+    plot: Path | None  # the plot drawn, if one was asked for
 
 
 def default_out(grid: Path) -> Path:
@@ -129,12 +153,34 @@ def learning_tag(method: Method) -> str:
 
 
 def run_sweep(
-    request: SweepRequest, on_progress: Callable[[int, int], None] = lambda done, total: None
+    request: SweepRequest,
+    on_progress: Callable[[int, int], None] = lambda done, total: None,
+    on_dashboard: OnDashboard = lambda link: None,
 ) -> SweepResult:
-    """Run the grid's cells not yet in the results, then write the grid's table; each run's
-    progress as (cells done, cells to do)."""
-    grid = read_grid(request.grid)
-    layout = _Layout(request.out.absolute(), grid)
+    """Run the grid's cells not yet in the results, then write the grid's table (and draw its
+    plot); each run's progress as (cells done, cells to do), and a cluster's dashboard link.
+    The directory is locked meanwhile: a second sweep there is refused, not run beside."""
+    grid = read_grid(request.grid, request.max_cells)
+    if request.scheduler is not None:
+        parse_scheduler(request.scheduler)  # refused before anything is written
+    root = request.out.absolute()
+    if root.exists() and not root.is_dir():
+        raise BadInput(f"{root}: is a file, not a directory for the sweep")
+    root.mkdir(parents=True, exist_ok=True)
+    lock = WriterLock.acquire(root / RESULTS, SWEEP_HOLDER)
+    try:
+        return _sweep(request, _Layout(root, grid), on_progress, on_dashboard)
+    finally:
+        lock.release()
+
+
+def _sweep(
+    request: SweepRequest,
+    layout: _Layout,
+    on_progress: Callable[[int, int], None],
+    on_dashboard: OnDashboard,
+) -> SweepResult:
+    grid = layout.grid
     written = _prepare(layout)
     journal = layout.root / RESULTS
     recorded = _recorded(journal)
@@ -151,11 +197,15 @@ def run_sweep(
         on_progress(len(rows) - skipped, len(todo))
 
     if todo:
-        with _executor(request) as pool:
+        with _executor(request, on_dashboard) as pool:
             written += _work(pool, layout, todo, record)
         written.append(journal)
     table = [rows[cell] for cell in grid.cells if cell in rows]
     written += _write_tables(layout.root, table)
+    drawn = None
+    if request.plot is not None:
+        drawn = request.plot_out or default_plot_path(request.out, request.plot)
+        plot(table, request.plot, drawn)
     return SweepResult(
         out=request.out,
         cells=len(grid.cells),
@@ -163,6 +213,8 @@ def run_sweep(
         skipped=skipped,
         rows=table,
         files=[path.relative_to(layout.root) for path in written],
+        summary=summarise(table, request.measures),
+        plot=drawn,
     )
 
 
@@ -171,8 +223,6 @@ def _prepare(layout: _Layout) -> list[Path]:
     (a cluster's workers see the sweep's directory, not the grid's); the copies made.
     A world is known by its name: a copy of another world by that name is refused, since the
     logs beside it were learnt there."""
-    if layout.root.exists() and not layout.root.is_dir():
-        raise BadInput(f"{layout.root}: is a file, not a directory for the sweep")
     for folder in ("worlds", "logs", "fams"):
         (layout.root / folder).mkdir(parents=True, exist_ok=True)
     made = []
@@ -211,10 +261,13 @@ def _with_method(row: Row) -> Row:
     return {**row, "method": DEFAULT_NAME}
 
 
-def _executor(request: SweepRequest) -> AbstractContextManager[Executor]:
-    if request.scheduler is not None:
-        return dask_cluster(request.scheduler)
-    return local_processes(request.workers)
+def _executor(request: SweepRequest, on_dashboard: OnDashboard) -> AbstractContextManager[Executor]:
+    if request.scheduler is None:
+        return local_processes(request.workers)
+    workers = parse_scheduler(request.scheduler)
+    if workers is not None:
+        return local_cluster(workers, on_dashboard)
+    return dask_cluster(request.scheduler, request.scheduler_timeout_s, on_dashboard)
 
 
 def _work(

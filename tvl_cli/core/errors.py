@@ -1,10 +1,26 @@
-"""The one exception type for bad input: the CLI prints its message as one line and exits 2."""
+"""The exception types a user meets: bad input (the CLI prints its message as one line and
+exits 2) and a failure of what the command relies on (one line, exit 1)."""
 
+import difflib
 import math
+from collections.abc import Sequence
 
 
 class BadInput(Exception):
     """Input a user can fix. The message names the file, the line and what is wrong."""
+
+
+class EnvironmentFailure(Exception):
+    """What the command relies on beyond the user's input fails: a service that does not
+    answer, or answers as something else. The message names it and what happened."""
+
+
+def did_you_mean(word: str, choices: Sequence[str]) -> str:
+    """What to say after a word that is none of `choices`: the nearest one (by spelling, else
+    the first that holds the word: `speed` for `mean_speed_mps`), else them all."""
+    close = difflib.get_close_matches(word, choices, n=1)
+    close = close or [choice for choice in choices if word and word in choice][:1]
+    return f"did you mean {close[0]!r}?" if close else f"known: {', '.join(choices)}"
 
 
 # Seeds are stored as 64-bit integers in logs and traces, and numpy takes no negative seed.

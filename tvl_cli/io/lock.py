@@ -1,4 +1,5 @@
-"""An exclusive lock held by the one process that writes a file, so a second writer is refused.
+"""An exclusive lock held by the one process that writes a file, so a second writer is refused
+(a log's learner; a sweep, on its directory's journal).
 
 The lock is a sidecar file `NAME.lock` next to the file, locked with flock and holding the
 writer's pid for the error message. It is a sidecar, not a lock on the HDF5 file itself,
@@ -27,7 +28,9 @@ class WriterLock:
         self._fd: int | None = fd
 
     @classmethod
-    def acquire(cls, path: Path) -> WriterLock:
+    def acquire(cls, path: Path, holder: str = "another tvl learn or run --learn") -> WriterLock:
+        """The lock on `path`; BadInput saying `holder` (and its pid) has it. A lock file left
+        by a process that died is taken over: its flock died with it."""
         sidecar = lock_path(path)
         while True:
             try:
@@ -41,10 +44,8 @@ class WriterLock:
             except BlockingIOError:
                 os.close(fd)
                 pid = writer_pid(path)
-                holder = f" (pid {pid})" if pid is not None else ""
-                raise BadInput(
-                    f"{path}: locked by another tvl learn or run --learn{holder}"
-                ) from None
+                pid_text = f" (pid {pid})" if pid is not None else ""
+                raise BadInput(f"{path}: locked by {holder}{pid_text}") from None
             # A previous holder may have unlinked the sidecar between our open and our
             # flock; then we hold a lock nobody else can see, so start again.
             if _same_file(fd, sidecar):

@@ -38,14 +38,15 @@ class Canvas:
     def disc(self, x_m: float, y_m: float, r_m: float) -> None:
         self.header.append(f"disc: {x_m:g} {y_m:g} {r_m:g}")
 
-    def text(self, kind: str, about: str, command: str) -> str:
-        """The world file: what made it, the header, then the map."""
+    def text(self, kind: str, about: str, command: str, name: str | None = None) -> str:
+        """The world file: what made it, the header, then the map; named `name`, else for
+        its kind."""
         return "\n".join(
             [
                 f"; {kind}: {about}",
                 f"; made by: {command}",
                 f"version: {FORMAT_VERSION}",
-                f"name: {kind}",
+                f"name: {name or kind}",
                 f"cell: {CELL_M:g}",
                 *self.header,
                 "",

@@ -249,6 +249,7 @@ def draw_world(
     cols, rows = round(width_m / CELL_M), round(height_m / CELL_M)
     command = f"tvl world new {kind} --size {cols * CELL_M:g} {rows * CELL_M:g}"
     command += f" --seed {seed}" if spec.seeded else ""
+    name = generated_name(kind, cols, rows, seed, materials)
     rng = np.random.default_rng(seed)
     error = ""
     for _ in range(ATTEMPTS if spec.seeded else 1):
@@ -257,13 +258,33 @@ def draw_world(
             record = spec.layout(canvas, rng)
             if isinstance(record, RoomsPlan) and materials != SMOOTH:
                 _lay_materials(canvas, record, materials, seed)
-            text = canvas.text(kind, spec.about, command + _materials_options(materials))
+            text = canvas.text(kind, spec.about, command + _materials_options(materials), name)
             parse_world(text, f"<{kind}>")
         except WorldMapError as problem:  # a layout may box its start or goal in: draw again
             error = str(problem)
             continue
         return text, record
     raise BadInput(f"cannot make a {kind} world of {width_m:g} x {height_m:g} m ({error})")
+
+
+def generated_name(kind: str, cols: int, rows: int, seed: int, materials: Materials) -> str:
+    """A generated world's name: its kind, then what sets it apart from others of that kind,
+    a size other than the kind's default (metres), the seed of a seeded kind, rough rooms
+    (`rooms-s7`, `square-6x6`, `rooms-s7-rough0.5`). A sweep knows a world by its name, so
+    worlds generated apart stay apart in one grid. Worlds of an older tvl, named for their
+    kind alone, still load under that name."""
+    spec = KINDS[kind]
+    default_cells = tuple(round(size_m / CELL_M) for size_m in spec.default_size_m)
+    name = kind
+    if (cols, rows) != default_cells:
+        name += f"-{cols * CELL_M:g}x{rows * CELL_M:g}"
+    if spec.seeded:
+        name += f"-s{seed}"
+    if materials != SMOOTH:
+        name += f"-rough{materials.share:g}"
+        if materials.roughness != DEFAULT_ROUGHNESS:
+            name += f"-roughness{materials.roughness:g}"
+    return name
 
 
 def _lay_materials(canvas: Canvas, plan: RoomsPlan, materials: Materials, seed: int) -> None:
