@@ -14,7 +14,8 @@ import click
 from click.core import ParameterSource
 
 from tvl_cli.agent.reflexes import STACK_ORDER, parse_reflexes
-from tvl_cli.core.config import BUILTIN_FAM_CONFIGS
+from tvl_cli.cli.params import complete_config, complete_reflexes
+from tvl_cli.core.config import BUILTIN_FAM_CONFIGS, SLOWEST_TOP_MPS
 from tvl_cli.core.errors import MAX_SEED, BadInput
 from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS
 from tvl_cli.core.labels import (
@@ -114,6 +115,7 @@ def training_options(command: Callable[..., None]) -> Callable[..., None]:
             "--config",
             default="single",
             show_default=True,
+            shell_complete=complete_config,
             help=f"{', '.join(BUILTIN_FAM_CONFIGS)} or FILE.json.",
         ),
         click.option(
@@ -140,7 +142,7 @@ def training_options(command: Callable[..., None]) -> Callable[..., None]:
         click.option("--no-symmetric", is_flag=True, help="Train each trajectory only on itself."),
         click.option(
             "--init-velocity",
-            type=float,
+            type=click.FloatRange(0.0, SLOWEST_TOP_MPS, max_open=True),
             default=DEFAULT_INIT_VELOCITY_MPS,
             show_default=True,
             help="Every entry's velocity before training, m/s.",
@@ -186,6 +188,7 @@ def reflex_options(default: str) -> Callable[[Callable[..., None]], Callable[...
             "--reflex",
             default=default,
             show_default=True,
+            shell_complete=complete_reflexes,
             metavar="NAMES",
             help=f"Reflexes beyond the paper, comma-separated: {', '.join(STACK_ORDER)}; "
             "or all, or none.",

@@ -36,6 +36,7 @@ from tvl_cli.core.errors import (
     BadInput,
     check_minutes,
     check_run_minutes,
+    did_you_mean,
 )
 from tvl_cli.core.labels import PAPER_DECEL_MPS2, PAPER_MARGIN_M
 from tvl_cli.core.training import TrainParams
@@ -127,7 +128,10 @@ def read_grid(path: Path) -> Grid:
     table = _read_toml(path)
     unknown = [key for key in table if key not in _KEYS]
     if unknown:
-        raise BadInput(f"{path}: unknown key {unknown[0]!r} (known: {', '.join(_KEYS)})")
+        raise BadInput(
+            f"{path}: unknown key {unknown[0]!r} (known: {', '.join(_KEYS)})"
+            f"{did_you_mean(unknown[0], _KEYS)}"
+        )
     values = {key: _values(path, table, key) for key in _KEYS}
     for seed in values["seed"]:
         if not 0 <= seed <= MAX_SEED:

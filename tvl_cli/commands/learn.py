@@ -19,7 +19,7 @@ from tvl_cli.analysis.coverage import CoverageTracker, Floor, grid_over, reachab
 from tvl_cli.commands.train import distinct_sessions, perceived_episodes, provenance, train_on
 from tvl_cli.core.config import BUILTIN_FAM_CONFIGS, SONAR_MODELS, FamConfig, RobotConfig
 from tvl_cli.core.episode import Episode
-from tvl_cli.core.errors import BadInput
+from tvl_cli.core.errors import BadInput, did_you_mean
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_configs import fam_config_from_json
 from tvl_cli.core.memory import DEFAULT_MEMORY, MemoryConfig
@@ -46,6 +46,7 @@ def resolve_fam_config(spec: str, robot: RobotConfig) -> FamConfig:
         raise BadInput(
             f"{spec}: no such FAM configuration "
             f"(use {', '.join(BUILTIN_FAM_CONFIGS)} or a JSON file that exists)"
+            f"{did_you_mean(spec, BUILTIN_FAM_CONFIGS)}"
         )
     try:
         text = path.read_text(encoding="utf-8")

@@ -1,10 +1,24 @@
-"""The one exception type for bad input: the CLI prints its message as one line and exits 2."""
+"""The exception types the CLI prints as one line: bad input (exit 2), and what the machine
+lacks (exit 1); and the hint a mistyped name gets."""
 
+import difflib
 import math
+from collections.abc import Iterable
 
 
 class BadInput(Exception):
     """Input a user can fix. The message names the file, the line and what is wrong."""
+
+
+class EnvironmentFailure(RuntimeError):
+    """Something the machine lacks, not the user's input: no display to open a window on."""
+
+
+def did_you_mean(given: str, known: Iterable[str]) -> str:
+    """ "; did you mean 'x'?" naming the known name nearest a mistyped one; empty if none is
+    near (difflib's similarity of at least 0.6)."""
+    near = difflib.get_close_matches(given, list(known), n=1)
+    return f"; did you mean {near[0]!r}?" if near else ""
 
 
 # Seeds are stored as 64-bit integers in logs and traces, and numpy takes no negative seed.

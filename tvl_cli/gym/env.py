@@ -37,6 +37,7 @@ from tvl_cli.sim.worldmap import WorldMap
 
 if TYPE_CHECKING:
     from tvl_cli.render.animate import RobotFrame
+    from tvl_cli.render.window import FrameWindow
 
 __all__ = [
     "ACTION_NAMES",
@@ -65,7 +66,7 @@ class SonarRingEnv(gymnasium.Env[np.ndarray, np.int64]):
 
     # Gymnasium declares metadata on its Env as a mutable instance default; typed as it is.
     metadata: dict[str, Any] = {  # noqa: RUF012
-        "render_modes": ["ansi", "rgb_array"],
+        "render_modes": ["ansi", "rgb_array", "human"],
         "render_fps": 1 / ROBOT.control_period_s,
     }
 
@@ -84,7 +85,9 @@ class SonarRingEnv(gymnasium.Env[np.ndarray, np.int64]):
         `memory` (a MemoryConfig, or the name of a kind with its default settings) makes the
         observed ring the echo memory's virtual ring, as a FAM trained through it reads."""
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
-            raise ValueError(f"unknown render_mode {render_mode!r} (choose from ansi, rgb_array)")
+            raise ValueError(
+                f"unknown render_mode {render_mode!r} (choose from ansi, rgb_array, human)"
+            )
         self.robot_task = RobotTask.of(world, task, goal, speed_fraction, memory)
         self.world = self.robot_task.world
         self.memory = self.robot_task.memory
@@ -97,6 +100,7 @@ class SonarRingEnv(gymnasium.Env[np.ndarray, np.int64]):
         self._sim: Simulator | None = None
         self._episode = RobotEpisode(self.robot_task)
         self._frame: RobotFrame | None = None
+        self._window: FrameWindow | None = None  # render_mode human's, opened when first drawn
 
     def reset(
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
@@ -118,7 +122,10 @@ class SonarRingEnv(gymnasium.Env[np.ndarray, np.int64]):
                     sim.step(command)
         else:
             sim = self._sim = Simulator(self.world, ROBOT, self.np_random)
-        return self._episode.begin(sim.read_sonar(), now_of(sim), remember=going_on)
+        began = self._episode.begin(sim.read_sonar(), now_of(sim), remember=going_on)
+        if self.render_mode == "human":
+            self.render()
+        return began
 
     def step(
         self, action: np.int64 | int
@@ -128,6 +135,8 @@ class SonarRingEnv(gymnasium.Env[np.ndarray, np.int64]):
         obs, reward, terminated, info = self._episode.after(
             int(action), sim.read_sonar(), now_of(sim)
         )
+        if self.render_mode == "human":
+            self.render()
         return obs, reward, terminated, False, info
 
     def render(self) -> str | np.ndarray | None:
@@ -135,10 +144,26 @@ class SonarRingEnv(gymnasium.Env[np.ndarray, np.int64]):
             return self._text(self._running())
         if self.render_mode == "rgb_array":
             return self._picture(self._running())
+        if self.render_mode == "human":
+            self._show(self._picture(self._running()))
         return None
 
     def close(self) -> None:
         self._frame = None
+        if self._window is not None:
+            self._window.close()
+            self._window = None
+
+    def _show(self, frame: np.ndarray) -> None:
+        """In a window, at the environment's own pace (render_fps), as Gymnasium's human
+        mode is."""
+        from tvl_cli.render.animate import WINDOW_DPI
+        from tvl_cli.render.window import FrameWindow
+
+        if self._window is None:
+            self._window = FrameWindow(f"tvl: {self.world.name}", frame.shape[:2], WINDOW_DPI)
+        self._window.show(frame)
+        self._window.hold(1.0 / self.metadata["render_fps"])
 
     def _running(self) -> Simulator:
         if self._sim is None:
@@ -169,13 +194,14 @@ class SonarRingEnv(gymnasium.Env[np.ndarray, np.int64]):
 
     def _picture(self, sim: Simulator) -> np.ndarray:
         # matplotlib only when a picture is wanted
-        from tvl_cli.render.animate import RobotFrame
+        from tvl_cli.render.animate import DPI, WINDOW_DPI, RobotFrame
 
         if self._frame is None:
             world = (
                 self.world if self.goal_xy is None else replace(self.world, goals=(self.goal_xy,))
             )
-            self._frame = RobotFrame(world, ROBOT)
+            dpi = WINDOW_DPI if self.render_mode == "human" else DPI
+            self._frame = RobotFrame(world, ROBOT, dpi)
         last = self._episode.last
         events = " ".join(last[2]) if last else ""
         return self._frame.draw(
