@@ -132,6 +132,12 @@ def test_explain_draws_the_moment(ran: dict[str, Path], tmp_path: Path) -> None:
     assert code == 2 and "already exists" in err
     code, _, err = tvl("explain", ran["trace"], "--contacts", "--png", tmp_path / "c.png")
     assert code == 2 and "--png draws one moment" in err
+    # In the format its name's extension says.
+    svg = tmp_path / "moment.svg"
+    assert tvl("explain", ran["trace"], "--step", "20", "--png", svg)[0] == 0
+    assert b"<svg" in svg.read_bytes()[:400]
+    code, _, err = tvl("explain", ran["trace"], "--step", "20", "--png", tmp_path / "m.bmp")
+    assert code == 2 and ".bmp is no picture format tvl writes" in err
 
 
 def test_inspect_draws_a_multi_fam_over_inputs_its_tables_have(tmp_path: Path) -> None:

@@ -141,6 +141,8 @@ def _draw_robot(
     _draw_trajectories(ax, robot, pose, moment)
     ax.set_xlim(max(x - NEAR_M, ax.get_xlim()[0]), min(x + NEAR_M, ax.get_xlim()[1]))
     ax.set_ylim(max(y - NEAR_M, ax.get_ylim()[0]), min(y + NEAR_M, ax.get_ylim()[1]))
+    for text in ax.texts:  # the scale bar's label and the names, where the view is cut
+        text.set_clip_on(True)
     ax.set_title(f"{world.name}: the ring, and the trajectories in view {moment.rotation}")
 
 
