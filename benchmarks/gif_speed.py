@@ -5,9 +5,9 @@ the lab with a trace (not timed). Then times `tvl replay RUN --gif OUT --every E
 steps, every 6th a frame: 200 frames) and `tvl replay RUN` without the GIF, R times each;
 the difference of their median CPU seconds, over the frames, is what a frame costs, the
 process's start-up and the summary left out. With --against DIR, that checkout's tvl draws
-the same GIF in turn with this one: a checkout from before frames were blitted (up to
-commit d2a4fe1) drew each frame whole with matplotlib, 93 ms of CPU a frame on the
-machine where this script first ran, where this one drew them in 8 ms.
+the same GIF in turn with this one. Measured so on a 2-core machine shared with other
+work: 10.0 ms a frame, where a checkout from before frames were blitted (up to commit
+d2a4fe1), drawing each frame whole with matplotlib, took 98.7 ms.
 
     python benchmarks/gif_speed.py [--every 6] [--repeats 3] [--against DIR] [--json]
 """
