@@ -299,4 +299,4 @@ def test_train_refuses_a_negative_minute(run_tvl, tmp_path):
 def test_an_initial_velocity_may_not_be_fast(run_tvl, tmp_path):
     log = _log(tmp_path / "log.h5", RobotConfig())
     result = run_tvl("train", log, "-o", tmp_path / "f.h5", "--init-velocity", "5")
-    _assert_refused(result, "--init-velocity 5", "slowest")
+    _assert_refused(result, "--init-velocity", "5.0 is not in the range 0.0<=x<0.35")

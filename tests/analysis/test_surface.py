@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tvl_cli.analysis.surface import GRID_POINTS, velocity_surfaces
-from tvl_cli.core.config import MULTI, SINGLE, RobotConfig
+from tvl_cli.analysis.surface import GRID_POINTS, shared_inputs, velocity_surfaces
+from tvl_cli.core.config import DESIGNED, MULTI, SINGLE, FamConfig, FamTable, RobotConfig
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
 
@@ -49,6 +49,19 @@ def test_each_point_is_what_the_fam_perceives_of_such_a_ring() -> None:
 def test_a_multi_fam_draws_the_trajectories_whose_tables_read_both_inputs() -> None:
     found = surfaces(trained(MULTI), ("S0", "S1"))
     assert [s.trajectory for s in found] == ["T2L", "T1L", "T0", "T1R"]
+
+
+def test_by_default_it_draws_over_the_inputs_most_tables_read() -> None:
+    assert shared_inputs(SINGLE) == ("front", "front-left")
+    # Every table of multi but T0's reads S0 and S3: six panels of seven.
+    assert shared_inputs(MULTI) == ("S0", "S3")
+    assert len(surfaces(trained(MULTI), shared_inputs(MULTI))) == 6
+    assert len(surfaces(trained(DESIGNED), shared_inputs(DESIGNED))) == 3  # the left arcs
+    lone = FamConfig(
+        "lone", tuple(FamTable(t.name, t.inputs[:1], t.trajectories) for t in MULTI.tables)
+    )
+    with pytest.raises(BadInput, match="no table of the lone FAM reads two inputs"):
+        shared_inputs(lone)
 
 
 @pytest.mark.parametrize(

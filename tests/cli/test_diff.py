@@ -104,5 +104,5 @@ def test_inspect_draws_the_learnt_velocity_over_two_inputs(
     assert done.returncode == 0, done.stderr
     assert png.read_bytes().startswith(b"\x89PNG")
     bad = tvl("inspect", fams["late"], "--png", tmp_path / "x.png", "--fix", "front-left=near")
-    assert bad.returncode == 2 and "expected INPUT=METRES" in bad.stderr
+    assert bad.returncode == 2 and "'front-left=near' is not INPUT=METRES" in bad.stderr
     assert not (tmp_path / "x.png").exists()

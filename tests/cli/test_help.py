@@ -59,11 +59,13 @@ def test_h_is_help_for_the_group_and_for_a_command(run_tvl) -> None:
     assert "-h, --help" in run_tvl("run", "-h").stdout
 
 
-def test_a_usage_error_of_the_group_itself_is_one_line_without_clicks_hint(run_tvl) -> None:
-    # Click would add "Try 'tvl --help' for help." and a blank line: bad input is one line.
+def test_a_usage_error_of_the_group_itself_is_one_line_with_clicks_hint(run_tvl) -> None:
+    # Click would put its hint on a line of its own, after a blank one: bad input is one line.
     done = run_tvl("--no-such-option")
     assert done.returncode == 2
-    assert done.stderr == "tvl: error: tvl: No such option '--no-such-option'.\n"
+    assert done.stderr == (
+        "tvl: error: tvl: No such option '--no-such-option'. Try 'tvl -h' for help.\n"
+    )
 
 
 def test_a_group_given_no_command_shows_its_help_not_an_error(run_tvl) -> None:

@@ -60,7 +60,7 @@ def test_a_video_without_ffmpeg_is_one_line_and_leaves_nothing(tmp_path: Path) -
     from matplotlib.animation import FFMpegWriter
 
     video = tmp_path / "log.mp4"
-    done = tvl("replay", EXAMPLE_LOG, "--mp4", video, "--to", "10", "--json")
+    done = tvl("replay", EXAMPLE_LOG, "--mp4", video, "--to", "20", "--json")
     if FFMpegWriter.isAvailable():
         assert done.returncode == 0 and video.read_bytes()[4:8] == b"ftyp", done.stderr
     else:
@@ -100,3 +100,30 @@ def test_an_animation_named_for_another_format_is_refused(
     done = tvl("replay", EXAMPLE_LOG, option, out, "--to", "20")
     assert_one_line_refusal(done, f"{out}: it is written as .{option[2:]}")
     assert not out.exists()
+
+
+def test_a_gif_shows_a_progress_bar_on_a_terminal(tmp_path: Path) -> None:
+    # stderr a terminal (a pseudo-terminal's), as a person running the command sees it.
+    import os
+    import pty
+
+    leader, follower = pty.openpty()
+    gif = tmp_path / "log.gif"
+    with subprocess.Popen(
+        [TVL, "replay", EXAMPLE_LOG, "--gif", gif, "--to", "30"],
+        stdout=subprocess.DEVNULL,
+        stderr=follower,
+    ) as process:
+        os.close(follower)
+        seen = b""
+        while True:
+            try:
+                chunk = os.read(leader, 4096)
+            except OSError:  # the process closed its end
+                break
+            if not chunk:
+                break
+            seen += chunk
+        assert process.wait(timeout=300) == 0
+    os.close(leader)
+    assert b"drawing frames" in seen and gif.exists()

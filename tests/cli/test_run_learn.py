@@ -1,5 +1,5 @@
-"""`tvl run --learn [LOG]`: learning while behaving, into a log `tvl train` replays, or in
-memory; its refusals are one line and exit 2."""
+"""`tvl run --learn` and `--learn-log LOG`: learning while behaving, in memory or into a log
+`tvl train` replays; its refusals are one line and exit 2."""
 
 from __future__ import annotations
 
@@ -79,7 +79,7 @@ def test_learn_appends_a_behaving_session_that_train_replays(
     shutil.copy(learnt[0], log)
     fam = learnt[1]
     done = subprocess.run(
-        [TVL, "run", fam, SQUARE, *AVOID, "--learn", log, "--json"],
+        [TVL, "run", fam, SQUARE, *AVOID, "--learn-log", log, "--json"],
         capture_output=True, text=True, timeout=60,
     )  # fmt: skip
     assert done.returncode == 0, done.stderr
@@ -155,7 +155,7 @@ def test_the_same_seed_writes_the_same_values(fam: Path, tmp_path: Path) -> None
     logs = [tmp_path / "a.h5", tmp_path / "b.h5"]
     for log in logs:
         code, _, err = invoke(fam, SQUARE, "--behaviour", "wall-right", "--minutes", "0.3",
-                              "--seed", "5", "--learn", log)  # fmt: skip
+                              "--seed", "5", "--learn-log", log)  # fmt: skip
         assert code == 0, err
     (a,), (b,) = (read_log(log).sessions for log in logs)
     assert len(a.episode_table) > 3
@@ -184,23 +184,24 @@ def test_bad_logs_are_one_line_and_exit_2(
     fam = learnt[1]
     kept = fam.read_bytes()
     assert_one_line_refusal(
-        run_tvl("run", fam, SQUARE, *AVOID, "--learn", fam), "given as both --learn and FAM"
+        run_tvl("run", fam, SQUARE, *AVOID, "--learn-log", fam),
+        "given as both --learn-log and FAM",
     )
     trace = tmp_path / "trace.h5"
-    code, _, err = invoke(fam, SQUARE, *AVOID, "--learn", trace, "--log", trace)
-    assert code == 2 and "given as both --log and --learn" in err
-    code, _, err = invoke(fam, SQUARE, *AVOID, "--learn", tmp_path / "no" / "log.h5")
+    code, _, err = invoke(fam, SQUARE, *AVOID, "--learn-log", trace, "--log", trace)
+    assert code == 2 and "given as both --log and --learn-log" in err
+    code, _, err = invoke(fam, SQUARE, *AVOID, "--learn-log", tmp_path / "no" / "log.h5")
     assert code == 2 and "does not exist" in err and err.count("\n") == 1
     world_text = tmp_path / "world.h5"
     shutil.copy(SQUARE, world_text)
-    code, _, err = invoke(fam, SQUARE, *AVOID, "--learn", world_text)
+    code, _, err = invoke(fam, SQUARE, *AVOID, "--learn-log", world_text)
     assert code == 2 and err.count("\n") == 1 and str(world_text) in err
     assert world_text.read_bytes() == SQUARE.read_bytes()
     locked = tmp_path / "locked.h5"
     shutil.copy(learnt[0], locked)
     held = WriterLock.acquire(locked)
     try:
-        code, _, err = invoke(fam, SQUARE, *AVOID, "--learn", locked)
+        code, _, err = invoke(fam, SQUARE, *AVOID, "--learn-log", locked)
     finally:
         held.release()
     assert code == 2 and "locked by another tvl learn or run --learn" in err

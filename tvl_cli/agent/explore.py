@@ -22,7 +22,7 @@ from tvl_cli.agent.perception import Perception
 from tvl_cli.agent.policy import Decision, Observation, Pose
 from tvl_cli.agent.recording import EpisodeRecord
 from tvl_cli.core.command import Command
-from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.config import FASTEST_MPS, RobotConfig
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput, check_minutes
 from tvl_cli.core.fam import Fam
@@ -45,8 +45,11 @@ class LearnParams:
 
     def __post_init__(self) -> None:
         check_minutes(self.minutes)
-        if not (math.isfinite(self.learn_speed_mps) and self.learn_speed_mps > 0):
-            raise BadInput(f"--learn-speed {self.learn_speed_mps:g} must be > 0 m/s")
+        if not (math.isfinite(self.learn_speed_mps) and 0 < self.learn_speed_mps <= FASTEST_MPS):
+            raise BadInput(
+                f"--learn-speed {self.learn_speed_mps:g} must be > 0 and at most "
+                f"{FASTEST_MPS:g} m/s, the fastest trajectory's"
+            )
 
     def to_dict(self) -> dict[str, float | str]:
         return asdict(self)

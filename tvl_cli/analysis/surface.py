@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from tvl_cli.core.config import FamTable
+from tvl_cli.core.config import FamConfig, FamTable
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
 
@@ -20,6 +20,17 @@ class Surface:
     over: tuple[str, str]  # the inputs along x and y
     ranges_m: np.ndarray  # (GRID_POINTS,) the values both inputs take, metres
     velocity_mps: np.ndarray  # (GRID_POINTS, GRID_POINTS), [y, x]
+
+
+def shared_inputs(config: FamConfig) -> tuple[str, str]:
+    """The two inputs the most of the configuration's tables read together, so that a
+    picture over them has a panel for the most trajectories; of pairs as many tables
+    share, the first in the tables' order (single: front, front-left)."""
+    tables = [[fam_input.name for fam_input in table.inputs] for table in config.tables]
+    pairs = [(a, b) for names in tables for i, a in enumerate(names) for b in names[i + 1 :]]
+    if not pairs:
+        raise BadInput(f"no table of the {config.name} FAM reads two inputs to draw over")
+    return max(pairs, key=lambda pair: sum(set(pair) <= set(names) for names in tables))
 
 
 def velocity_surfaces(

@@ -19,8 +19,8 @@ from tvl_cli.cli.options import (
     refuse_existing,
     refuse_shared_paths,
 )
+from tvl_cli.cli.params import Parsed, goal_point
 from tvl_cli.commands.baseline import dwa_session, qlearn_session
-from tvl_cli.commands.run import parse_goal
 from tvl_cli.core.method import NONE, MethodChoice
 
 
@@ -32,7 +32,13 @@ def baseline() -> None:
 @baseline.command("dwa")
 @click.argument("world_file", metavar="WORLD", type=click.Path(path_type=Path))
 @click.option("--behaviour", type=click.Choice(DWA_BEHAVIOURS), default="avoid", show_default=True)
-@click.option("--goal", default=None, metavar="X,Y", help="Goal in metres (default: the world's).")
+@click.option(
+    "--goal",
+    type=Parsed("point", goal_point),
+    default=None,
+    metavar="X,Y",
+    help="Goal in metres (default: the world's).",
+)
 @click.option("--minutes", type=float, default=5.0, show_default=True, help="Simulated minutes.")
 @click.option("--seed", type=SEED, default=1, show_default=True)
 @click.option("--png", type=PICTURE, default=None, help="Draw the path.")
@@ -52,7 +58,7 @@ def baseline() -> None:
 def baseline_dwa(
     world_file: Path,
     behaviour: str,
-    goal: str | None,
+    goal: tuple[float, float] | None,
     minutes: float,
     seed: int,
     png: Path | None,
@@ -65,11 +71,10 @@ def baseline_dwa(
     refuse_shared_paths({"--png": png}, {"WORLD": world_file})
     if png is not None:
         refuse_existing(png, force)
-    goal_xy = parse_goal(goal) if goal else None
     report = dwa_session(
         world_file,
         behaviour,
-        goal_xy,
+        goal,
         minutes,
         seed,
         png,
@@ -79,7 +84,7 @@ def baseline_dwa(
     if as_json:
         options = {
             "behaviour": behaviour,
-            "goal": list(goal_xy) if goal_xy else None,
+            "goal": list(goal) if goal else None,
             "minutes": minutes,
             "sensor": sensor,
         }

@@ -31,6 +31,7 @@ from tvl_cli.cli.options import (
     refuse_existing,
     refuse_shared_paths,
 )
+from tvl_cli.cli.params import Parsed, goal_point
 from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD
 from tvl_cli.core.config import SONAR_MODELS
 from tvl_cli.core.contacts import EVENT_CHOICES
@@ -40,6 +41,11 @@ from tvl_cli.core.method import ALL, MethodChoice
 if TYPE_CHECKING:
     from tvl_cli.agent.drive import StepSink
     from tvl_cli.commands.run import RunRequest
+
+
+# Where `tvl run --view` shows the run as it goes.
+TERMINAL, WINDOW = "terminal", "window"
+VIEWS = (TERMINAL, WINDOW)
 
 
 @click.command()
@@ -53,7 +59,13 @@ if TYPE_CHECKING:
     show_default=True,
     help="A trajectory is fast at this fraction of its maximum, in (0, 1].",
 )
-@click.option("--goal", default=None, metavar="X,Y", help="Goal in metres (default: the world's).")
+@click.option(
+    "--goal",
+    type=Parsed("point", goal_point),
+    default=None,
+    metavar="X,Y",
+    help="Goal in metres (default: the world's).",
+)
 @click.option(
     "--minutes",
     type=float,
@@ -76,48 +88,61 @@ if TYPE_CHECKING:
 )
 @click.option(
     "--learn",
-    "learn_log",
-    is_flag=False,
-    flag_value="",
+    is_flag=True,
+    help="Learn while behaving: train the FAM on what the run meets, in memory.",
+)
+@click.option(
+    "--learn-log",
+    type=click.Path(path_type=Path),
     default=None,
-    metavar="[LOG]",
-    help="Learn while behaving: train the FAM on what the run meets and append it to LOG as "
-    "a behaving session; without LOG (--learn last, or before another option), in memory.",
+    metavar="LOG",
+    help="Learn while behaving (as --learn) and append what is learnt to LOG as a behaving "
+    "session, for `tvl train`.",
 )
 @memory_options(base="the one the FAM was trained through")
 @click.option("--force", is_flag=True, help="Overwrite the --png and --log files.")
 @click.option("--json", "as_json", is_flag=True, help="Print the metrics as JSON.")
 @click.option("--csv", "as_csv", is_flag=True, help="Print the metrics as a CSV row.")
 @live_options("run")
+@click.option(
+    "--view",
+    type=click.Choice(VIEWS),
+    default=None,
+    help="Watch the run as it goes: in the terminal (as --live), or in a window (as "
+    "replay --gif draws it).",
+)
 def run(
     fam: Path,
     world_file: Path,
     behaviour: str,
     threshold: float,
-    goal: str | None,
+    goal: tuple[float, float] | None,
     minutes: float,
     seed: int,
     png: Path | None,
     trace: Path | None,
     method: MethodChoice,
-    learn_log: str | None,
+    learn: bool,
+    learn_log: Path | None,
     force: bool,
     as_json: bool,
     as_csv: bool,
     live: bool,
     pace: float | None,
+    view: str | None,
 ) -> None:
     """Perform a behaviour in WORLD with a learnt FAM.
 
     Every rule beyond the paper's method is a reflex: --reflex none runs the paper's choice
     rule alone, and --paper the paper's whole method (no reflex, no echo memory) on the FAM."""
-    from tvl_cli.commands.run import OnlineLearning, RunRequest, parse_goal, run_behaviour
+    from tvl_cli.commands.run import OnlineLearning, RunRequest, run_behaviour
 
     refuse_both_formats(as_json, as_csv)
-    # click hands an empty string for --learn given without a LOG.
-    learning = None if learn_log is None else OnlineLearning(Path(learn_log) if learn_log else None)
+    if live and view is not None:
+        raise click.UsageError("give --live or --view, not both")
+    learning = OnlineLearning(learn_log) if learn or learn_log is not None else None
     refuse_shared_paths(
-        {"--png": png, "--log": trace, "--learn": learning.log if learning else None},
+        {"--png": png, "--log": trace, "--learn-log": learn_log},
         {"FAM": fam, "WORLD": world_file},
     )
     for output in (png, trace):
@@ -130,13 +155,13 @@ def run(
         threshold,
         minutes,
         seed,
-        parse_goal(goal) if goal else None,
+        goal,
         png,
         trace,
         method,
         learning,
     )
-    with _watching(request, live, pace) as watch:
+    with _watching(request, TERMINAL if live else view, pace) as watch:
         result = run_behaviour(request, watch)
     if as_json:
         print_json(documents.run_json(request, result))
@@ -230,7 +255,8 @@ def replay(
         if moving is not None
         else None
     )
-    summary = replay_file(file, png, curves, session, animation)
+    with views.progress("drawing frames", quiet=animation is None) as on_frame:
+        summary = replay_file(file, png, curves, session, animation, on_frame)
     if as_json:
         pictures = {"png": png, "curves": curves, "animation": moving}
         print_json(documents.replay_json(summary, file, session, pictures))
@@ -276,6 +302,14 @@ def demo(directory: Path, force: bool, as_json: bool) -> None:
     help="The contact autopsy instead: every contact's cause, where the time went and why "
     "a goal was missed.",
 )
+@click.option(
+    "--png",
+    type=PICTURE,
+    default=None,
+    help="Draw the moment: the pose, the rays, the trajectories of the view with the fast "
+    "set, the perceived velocities and the strongest rules that fired.",
+)
+@click.option("--force", is_flag=True, help="Overwrite the --png file.")
 @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
 def explain(
     trace: Path,
@@ -285,6 +319,8 @@ def explain(
     index: int,
     fam_path: Path | None,
     contacts: bool,
+    png: Path | None,
+    force: bool,
     as_json: bool,
 ) -> None:
     """Explain one moment of a run trace in the rules of its FAM.
@@ -294,6 +330,8 @@ def explain(
     if contacts:
         if any(x is not None for x in (step, at_s, event)):
             raise BadInput("--contacts explains the whole run: give no --step, --at or --event")
+        if png is not None:
+            raise BadInput("--png draws one moment: it is not for --contacts")
         from tvl_cli.commands.autopsy import trace_autopsy
 
         autopsy = trace_autopsy(trace)
@@ -304,7 +342,12 @@ def explain(
         return
     from tvl_cli.commands.explain import Moment, explain_run
 
-    found = explain_run(trace, Moment(step, at_s, event, index), fam_path)
+    if png is not None:
+        refuse_shared_paths({"--png": png}, {"RUN": trace, "--fam": fam_path})
+        refuse_existing(png, force)
+    found = explain_run(trace, Moment(step, at_s, event, index), fam_path, png)
+    if found.moved:
+        click.echo(found.moved, err=True)
     if as_json:
         moment = {"step": step, "at_s": at_s, "event": event, "index": index}
         print_json(documents.explain_json(found, trace, moment))
@@ -313,21 +356,24 @@ def explain(
 
 
 @contextmanager
-def _watching(request: RunRequest, live: bool, pace: float | None) -> Iterator[StepSink]:
-    """What shows the run as it goes: the live view on a terminal that asked for it, else
-    a progress bar (itself shown only on a terminal)."""
-    if not (live and views.out.is_terminal):
+def _watching(request: RunRequest, view: str | None, pace: float | None) -> Iterator[StepSink]:
+    """What shows the run as it goes: a window, or the live view on a terminal that asked
+    for either; else a progress bar (itself shown only on a terminal)."""
+    if view is None or (view == TERMINAL and not views.out.is_terminal):
         with views.run_progress(request.minutes) as bar:
             yield bar
         return
-    from tvl_cli.cli.live import LiveView, live_view
+    from tvl_cli.cli.live import LiveView, WindowView, live_view, window_view
     from tvl_cli.commands.run import resolve_goal
     from tvl_cli.core.config import RobotConfig
     from tvl_cli.sim.worldmap import load_world
 
     world = load_world(request.world)
     robot = RobotConfig()
+    if view == WINDOW:
+        with window_view(WindowView(world, robot, request.threshold, pace)) as shown:
+            yield shown
+        return
     goal = resolve_goal(request.world, world, request.behaviour, request.goal)
-    view = LiveView(world, robot, request.threshold, goal, pace)
-    with live_view(view, views.out) as watch:
+    with live_view(LiveView(world, robot, request.threshold, goal, pace), views.out) as watch:
         yield watch

@@ -8,7 +8,7 @@ import click
 
 from tvl_cli.analysis.famdiff import DEFAULT_TOLERANCE_MPS, diff_fams
 from tvl_cli.analysis.rules import SORT_KEYS, parse_ring, select_rules
-from tvl_cli.analysis.surface import velocity_surfaces
+from tvl_cli.analysis.surface import shared_inputs, velocity_surfaces
 from tvl_cli.cli import documents, views
 from tvl_cli.cli.options import (
     PICTURE,
@@ -21,10 +21,10 @@ from tvl_cli.cli.options import (
     refuse_shared_paths,
     training_options,
 )
+from tvl_cli.cli.params import Parsed, complete_trajectory, name_and_metres, pair_of_names
 from tvl_cli.commands.learn import resolve_fam_config
 from tvl_cli.commands.train import refuse_repeated, train_from_logs, write_trained
 from tvl_cli.core.config import RobotConfig
-from tvl_cli.core.errors import BadInput
 from tvl_cli.core.method import MethodChoice, describe_record
 from tvl_cli.io.famfile import FamFile, read_fam
 from tvl_cli.io.logreader import file_sha256
@@ -72,7 +72,12 @@ def train(
 
 @click.command()
 @click.argument("fam", type=click.Path(path_type=Path))
-@click.option("--trajectory", default=None, help="Only this trajectory's rules, e.g. T1L.")
+@click.option(
+    "--trajectory",
+    default=None,
+    shell_complete=complete_trajectory,
+    help="Only this trajectory's rules, e.g. T1L.",
+)
 @click.option(
     "--top",
     type=click.IntRange(min=0),
@@ -96,9 +101,17 @@ def train(
     default=None,
     help="Draw the learnt velocity over the two inputs of --over, a panel per trajectory.",
 )
-@click.option("--over", default="front,front-left", show_default=True, metavar="A,B")
+@click.option(
+    "--over",
+    type=Parsed("inputs", pair_of_names),
+    default=None,
+    metavar="A,B",
+    help="The two inputs of --png (default: the pair most of the FAM's tables read, "
+    "front,front-left for single).",
+)
 @click.option(
     "--fix",
+    type=Parsed("input", name_and_metres),
     multiple=True,
     metavar="INPUT=METRES",
     help="Hold another input at a range for --png (default: open space); repeatable.",
@@ -114,8 +127,8 @@ def inspect(
     as_json: bool,
     as_csv: bool,
     png: Path | None,
-    over: str,
-    fix: tuple[str, ...],
+    over: tuple[str, str] | None,
+    fix: tuple[tuple[str, float], ...],
     force: bool,
 ) -> None:
     """Print a FAM file's rules as a person reads them.
@@ -151,7 +164,7 @@ def inspect(
 @click.argument("second", type=click.Path(path_type=Path))
 @click.option(
     "--tolerance",
-    type=float,
+    type=click.FloatRange(min=0.0),
     default=DEFAULT_TOLERANCE_MPS,
     show_default=True,
     help="m/s: velocities closer than this agree.",
@@ -176,25 +189,24 @@ def diff(first: Path, second: Path, tolerance: float, top: int, as_json: bool) -
         views.fam_difference(difference, first, second)
 
 
-def draw_surfaces(loaded: FamFile, png: Path, over: str, fix: tuple[str, ...]) -> None:
+def draw_surfaces(
+    loaded: FamFile,
+    png: Path,
+    over: tuple[str, str] | None,
+    fix: tuple[tuple[str, float], ...],
+) -> None:
     """`inspect --png`: the learnt velocity over two inputs, the others held."""
     from tvl_cli.render.plot import render_surfaces  # matplotlib only when a picture is wanted
 
-    names = tuple(part.strip() for part in over.split(","))
-    if len(names) != 2:
-        raise BadInput(f"--over {over!r}: two input names, e.g. front,front-left")
-    fixed: dict[str, float] = {}
-    for given in fix:
-        name, _, metres = given.partition("=")
-        try:
-            fixed[name.strip()] = float(metres)
-        except ValueError:
-            raise BadInput(
-                f"--fix {given!r}: expected INPUT=METRES, e.g. front-right=0.5"
-            ) from None
     sonar = loaded.robot_config.sonar
+    fixed = dict(fix)
     surfaces = velocity_surfaces(
-        loaded.fam, (names[0], names[1]), fixed, sonar.min_range_m, sonar.max_range_m, sonar.count
+        loaded.fam,
+        over or shared_inputs(loaded.fam.config),
+        fixed,
+        sonar.min_range_m,
+        sonar.max_range_m,
+        sonar.count,
     )
     held = ", ".join(f"{n} {v:g} m" for n, v in fixed.items()) or "the rest open"
     render_surfaces(surfaces, png, f"{loaded.fam.config.name} FAM, {held}")

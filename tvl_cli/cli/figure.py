@@ -14,10 +14,11 @@ from tvl_cli.cli.options import (
     refuse_existing,
     refuse_shared_paths,
 )
+from tvl_cli.cli.params import complete_figure
 
 
 @click.command()
-@click.argument("name", metavar="NAME")
+@click.argument("name", metavar="NAME", shell_complete=complete_figure)
 @click.argument("results", type=click.Path(path_type=Path))
 @click.option("-o", "--output", type=PICTURE, required=True, help=PICTURE_HELP)
 @click.option("--table", type=click.Path(path_type=Path), default=None, help="Markdown file.")

@@ -21,7 +21,7 @@ from tvl_cli.cli.options import (
 )
 from tvl_cli.commands.learn import LearnRequest, LearnResult, learn_to_log
 from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
-from tvl_cli.core.config import EDGE_ECHO_RANGE_M, SONAR_MODELS
+from tvl_cli.core.config import EDGE_ECHO_RANGE_M, FASTEST_MPS, SONAR_MODELS
 from tvl_cli.core.method import DEFAULT, EXPLORATION_RULES, LEARNING_FIELDS, MethodChoice
 from tvl_cli.sim.worldmap import load_world
 
@@ -55,10 +55,10 @@ DEFAULT_LEARN = LearnParams()
 )
 @click.option(
     "--learn-speed",
-    type=float,
+    type=click.FloatRange(0.0, FASTEST_MPS, min_open=True),
     default=DEFAULT_LEARN.learn_speed_mps,
     show_default=True,
-    help="m/s.",
+    help="m/s, up to the fastest trajectory's.",
 )
 @click.option(
     "--near",

@@ -1,8 +1,9 @@
-"""`tvl run --live`: the run drawn in the terminal as it goes, in 80 x 24 characters.
+"""The run drawn as it goes: `tvl run --live`, in the terminal, and `--view window`.
 
-Left, the world in characters with the robot (an arrow by its heading), its path and the
-goal; right, the ring of sixteen readings, the seven perceived velocities as bars against
-the threshold, what acted this step and the running counts.
+In the terminal, in 80 x 24 characters: left, the world in characters with the robot (an
+arrow by its heading), its path and the goal; right, the ring of sixteen readings, the seven
+perceived velocities as bars against the threshold, what acted this step and the running
+counts. In a window, the frames of `tvl replay --gif`.
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ from tvl_cli.agent.drive import Step
 from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.contacts import BUMP, NEAR_MISS
 from tvl_cli.sim.world import clearances_m, static_geometry
-from tvl_cli.sim.worldmap import WorldMap
+from tvl_cli.sim.worldmap import WALL, WorldMap, layout
 
 MAP_COLUMNS, MAP_ROWS = 44, 20  # the world's share of an 80 x 24 terminal
 REFRESH_PER_S = 4  # redraws a second: enough to follow, cheap beside the simulation
@@ -63,11 +64,7 @@ class LiveView:
         for event in step.events:
             if event in self.counts:
                 self.counts[event] += 1
-        if self.pace:
-            # Hold the simulation back to `pace` simulated seconds a wall second.
-            ahead_s = step.time_s / self.pace - (time.monotonic() - self._started)
-            if ahead_s > 0:
-                time.sleep(ahead_s)
+        _hold_back(step.time_s, self.pace, self._started)
 
     def panel(self) -> Table:
         layout = Table.grid(padding=(0, 1))
@@ -82,15 +79,20 @@ class LiveView:
         return row, column
 
     def _wall_cells(self, world: WorldMap) -> set[tuple[int, int]]:
-        """Cells within half a cell of an obstacle."""
+        """Cells whose centre is in a wall's material, or within half a cell of an obstacle.
+        The material counts apart: where the view's cells line up with the map's, an outer
+        wall runs along their edges, exactly half a cell from either side's centre."""
         rows, columns = np.mgrid[0 : self.rows, 0 : self.columns]
         centres = np.stack(
             [(columns.ravel() + 0.5) * self.scale, (self.rows - rows.ravel() - 0.5) * self.scale],
             axis=1,
         )
         near = clearances_m(static_geometry(world), centres, 0.0) < self.scale / 2
+        solid = _in_material(world, centres)
+        walls = near | solid
         return {
-            (int(r), int(c)) for r, c in zip(rows.ravel()[near], columns.ravel()[near], strict=True)
+            (int(r), int(c))
+            for r, c in zip(rows.ravel()[walls], columns.ravel()[walls], strict=True)
         }
 
     def _map(self) -> Text:
@@ -165,6 +167,92 @@ class LiveView:
             style = "green" if fast is not None and fast[j] else ""
             lines.append(Text(f"{driven}{trajectory.name:>3} {bar} {v:.2f}", style=style))
         return lines
+
+
+def _hold_back(time_s: float, pace: float | None, started: float) -> None:
+    """Hold the simulation back to `pace` simulated seconds a wall second (None: flat out)
+    since the wall-clock moment `started`."""
+    if pace:
+        ahead_s = time_s / pace - (time.monotonic() - started)
+        if ahead_s > 0:
+            time.sleep(ahead_s)
+
+
+class WindowView:
+    """A step sink that shows the run in a window as `tvl replay --gif` draws it, a few
+    frames a wall second, and paces the run."""
+
+    def __init__(
+        self, world: WorldMap, robot: RobotConfig, threshold: float, pace: float | None
+    ) -> None:
+        from tvl_cli.render.animate import FIGURE_SIZE_IN, WINDOW_DPI, RunFrame
+        from tvl_cli.render.window import FrameWindow
+
+        self.robot, self.pace = robot, pace
+        # Opened first: without a display, the run stops before anything is drawn.
+        width_in, height_in = FIGURE_SIZE_IN
+        size_px = (round(height_in * WINDOW_DPI), round(width_in * WINDOW_DPI))
+        self.window = FrameWindow(f"tvl run: {world.name}", size_px, WINDOW_DPI)
+        self.frame = RunFrame(world, robot, threshold, WINDOW_DPI)
+        self.window.show(self.frame.blitter.still())
+        self.trail: list[tuple[float, float]] = []
+        self.step: Step | None = None
+        self._started = time.monotonic()
+
+    def __call__(self, step: Step) -> None:
+        self.step = step
+        self.trail.append((step.pose[0], step.pose[1]))
+        _hold_back(step.time_s, self.pace, self._started)
+        if self.window.due():
+            self.draw()
+
+    def draw(self) -> None:
+        """The last step, in the window."""
+        from tvl_cli.render.animate import run_caption, run_title
+
+        step = self.step
+        if step is None:
+            return
+        decision = step.decision
+        ring_m = np.zeros(self.robot.sonar.count) if step.ring_m is None else step.ring_m
+        frame = self.frame.draw(
+            np.array(self.trail),
+            np.array(step.pose),
+            ring_m * 1000.0,
+            decision.velocities,
+            decision.fast,
+            decision.trajectory,
+            run_title(step.time_s + self.robot.control_period_s, step.events),
+            run_caption(decision.rotation, decision.reflex or None),
+        )
+        self.window.show(frame)
+
+
+@contextmanager
+def window_view(view: WindowView) -> Iterator[WindowView]:
+    """Show the run's last step once the block ends, a moment, then close the window."""
+    from tvl_cli.render.window import LAST_FRAME_S
+
+    try:
+        yield view
+        view.draw()
+        view.window.hold(LAST_FRAME_S)
+    finally:
+        view.window.close()
+
+
+def _in_material(world: WorldMap, points: np.ndarray) -> np.ndarray:
+    """(N,) bool: whether each of the (N, 2) points, metres, lies in a wall cell of the map."""
+    map_rows, _ = layout(world)
+    row = np.floor(len(map_rows) - points[:, 1] / world.cell_m).astype(int)
+    column = np.floor(points[:, 0] / world.cell_m).astype(int)
+    return np.array(
+        [
+            0 <= r < len(map_rows) and 0 <= c < len(map_rows[r]) and map_rows[r][c] == WALL
+            for r, c in zip(row, column, strict=True)
+        ],
+        dtype=bool,
+    )
 
 
 @contextmanager

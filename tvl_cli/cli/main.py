@@ -96,9 +96,9 @@ WRITE_ERRNOS = frozenset({errno.ENOSPC, errno.EDQUOT, errno.EFBIG})
 
 
 class TvlGroup(click.Group):
-    """Loads commands on demand; turns BadInput into one line on stderr and exit 2, an
-    EnvironmentFailure into one line and exit 1, and an operating-system error into one line
-    and exit 1 or 2 (--debug shows the traceback)."""
+    """Loads commands on demand; turns BadInput into one line on stderr and exit 2, what the
+    machine lacks (EnvironmentFailure) into one line and exit 1, and an operating-system
+    error into one line and exit 1 or 2 (--debug shows the traceback)."""
 
     def list_commands(self, ctx: click.Context) -> list[str]:
         return list(COMMANDS)
@@ -162,12 +162,16 @@ _HELP_FOR_NO_COMMAND = getattr(click.exceptions, "NoArgsIsHelpError", ())
 
 
 def _refuse_usage(error: click.UsageError) -> NoReturn:
-    """A usage error in one line like every other bad input, exit 2. Click's "Try 'tvl
-    COMMAND --help' for help." is left out, as it would be a second line."""
+    """A usage error in one line like every other bad input, exit 2, ending with click's
+    hint ("Try 'tvl COMMAND -h' for help."), which click would put on a line of its own."""
     if isinstance(error, _HELP_FOR_NO_COMMAND):
         raise error  # click prints the help
     command = f" {error.ctx.command_path}" if error.ctx else ""
     message = " ".join(error.format_message().split())  # click lists choices on lines
+    if error.ctx is not None and error.ctx.command.get_help_option(error.ctx) is not None:
+        ended = message if message.endswith((".", "?", "!")) else f"{message}."
+        asking = f"{error.ctx.command_path} {error.ctx.help_option_names[0]}"
+        message = f"{ended} Try '{asking}' for help."
     click.echo(f"tvl: error:{command}: {message}", err=True)
     sys.exit(2)
 

@@ -13,7 +13,8 @@ from typing import Any
 import click
 from click.core import ParameterSource
 
-from tvl_cli.core.config import BUILTIN_FAM_CONFIGS
+from tvl_cli.cli.params import complete_config, complete_reflexes
+from tvl_cli.core.config import BUILTIN_FAM_CONFIGS, SLOWEST_TOP_MPS
 from tvl_cli.core.errors import MAX_SEED, BadInput
 from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS
 from tvl_cli.core.memory import (
@@ -104,6 +105,7 @@ def training_options(command: Callable[..., None]) -> Callable[..., None]:
             "--config",
             default="single",
             show_default=True,
+            shell_complete=complete_config,
             help=f"{', '.join(BUILTIN_FAM_CONFIGS)} or FILE.json.",
         ),
         click.option(
@@ -123,7 +125,7 @@ def training_options(command: Callable[..., None]) -> Callable[..., None]:
         click.option("--no-symmetric", is_flag=True, help="Train each trajectory only on itself."),
         click.option(
             "--init-velocity",
-            type=float,
+            type=click.FloatRange(0.0, SLOWEST_TOP_MPS, max_open=True),
             default=DEFAULT_INIT_VELOCITY_MPS,
             show_default=True,
             help="Every entry's velocity before training, m/s.",
@@ -213,6 +215,7 @@ def reflex_options(default: str) -> Callable[[Callable[..., None]], Callable[...
         return click.option(
             "--reflex",
             default=None,
+            shell_complete=complete_reflexes,
             metavar="NAMES",
             help=f"Reflexes beyond the paper, comma-separated: {', '.join(REFLEX_NAMES)}; "
             f"or all, or none (default: the method's; without one, {default}).",

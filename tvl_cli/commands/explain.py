@@ -9,6 +9,7 @@ from typing import Any
 
 import numpy as np
 
+from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.contacts import EVENT_ALIASES, EVENT_CHOICES, EVENTS
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.explain import Explanation, restricted
@@ -17,6 +18,7 @@ from tvl_cli.core.ring import mm_to_ring
 from tvl_cli.io.famfile import read_fam
 from tvl_cli.io.logreader import file_sha256
 from tvl_cli.io.runfile import RunTrace, read_run
+from tvl_cli.sim.worldmap import parse_world
 
 
 @dataclass(frozen=True, slots=True)
@@ -47,23 +49,31 @@ class StepExplanation:
     focus: tuple[str, ...]  # the trajectories explained: the choice and the best rated
     why: Explanation | None  # the FAM's view of the ring, for the focus trajectories
     fam: Path  # the FAM that explains it: the one the run used
+    # Why another step than the one asked for is explained (--at a step that made no
+    # decision: the nearest that did); None if it is the one asked for. Said, not printed.
+    moved: str | None = None
 
     def to_dict(self) -> dict[str, Any]:
         """What was found of the step (the FAM is one of the command's inputs)."""
         found = asdict(self)
         found["focus"] = list(self.focus)
-        del found["fam"]
+        del found["fam"], found["moved"]
         return found
 
 
-def explain_run(trace_path: Path, moment: Moment, fam_path: Path | None = None) -> StepExplanation:
-    """Explain one step of a recorded run with the FAM that drove it."""
+def explain_run(
+    trace_path: Path, moment: Moment, fam_path: Path | None = None, png: Path | None = None
+) -> StepExplanation:
+    """Explain one step of a recorded run with the FAM that drove it; with `png`, draw it."""
     trace = read_run(trace_path)
     if not trace.has_decisions:
         raise BadInput(f"{trace_path}: a format_version 1 trace records no decisions to explain")
     if trace.steps == 0:
         raise BadInput(f"{trace_path}: the run has no steps")
     step = _step(trace, trace_path, moment)
+    moved = None
+    if moment.at_s is not None:
+        step, moved = _nearest_decision(trace, step)
     used = _fam_of(trace, trace_path, fam_path)
     fam = read_fam(used).fam
     names = fam.trajectory_names
@@ -85,7 +95,7 @@ def explain_run(trace_path: Path, moment: Moment, fam_path: Path | None = None) 
         view = perceived.take((np.arange(len(perceived)) + rotation) % len(perceived))
         why = restricted(fam.explain(view), focus or names)
     reflex_index = int(arrays["reflex"][step])
-    return StepExplanation(
+    found = StepExplanation(
         step=step,
         time_s=(step + 1) * trace.period_s,
         ring_m=[float(r) for r in ring] if read else None,
@@ -100,6 +110,49 @@ def explain_run(trace_path: Path, moment: Moment, fam_path: Path | None = None) 
         focus=focus,
         why=why,
         fam=used,
+        moved=moved,
+    )
+    if png is not None:
+        from tvl_cli.render.moment import render_moment  # matplotlib only for a picture
+
+        render_moment(
+            parse_world(trace.world_text, trace.world_name),
+            RobotConfig.from_dict(trace.robot_config),
+            arrays["pose"][: step + 1],
+            float(trace.parameters.get("threshold", 0.0)),
+            found,
+            png,
+        )
+    return found
+
+
+def _nearest_decision(trace: RunTrace, step: int) -> tuple[int, str | None]:
+    """The step nearest `step` at which the policy perceived and decided (the earlier of two
+    as near), and why it is not `step` itself; `step` and None if it decided there, or never
+    did. A decision reads the ring and perceives: a spin to face a chosen view, a reflex's
+    manoeuvre, and the step that then follows the trajectory chosen carry out a decision
+    made before them."""
+    arrays = trace.arrays
+    read = arrays["ring_mm"].any(axis=1)  # (steps,)
+    decided = read & ~np.isnan(arrays["velocities"]).all(axis=1)
+    if decided[step]:
+        return step, None
+    steps = np.flatnonzero(decided)
+    if not len(steps):
+        return step, None
+    nearest = int(steps[np.argmin(np.abs(steps - step))])
+    reflex = int(arrays["reflex"][step])
+    if reflex >= 0:
+        doing = f"the {trace.reflex_names[reflex]} reflex was acting"
+    elif arrays["trajectory"][step] >= 0:
+        doing = "it followed a trajectory chosen before"
+    else:
+        doing = "it was spinning"
+    period_s = trace.period_s
+    return nearest, (
+        f"step {step} (ending at {(step + 1) * period_s:.1f} s) made no decision, as "
+        f"{doing}; explaining step {nearest} (ending at {(nearest + 1) * period_s:.1f} s), "
+        "the nearest that did"
     )
 
 

@@ -19,7 +19,7 @@ from tvl_cli.analysis.coverage import CoverageTracker, Floor, grid_over, reachab
 from tvl_cli.commands.train import distinct_sessions, perceived_episodes, provenance, train_on
 from tvl_cli.core.config import BUILTIN_FAM_CONFIGS, FamConfig, RobotConfig
 from tvl_cli.core.episode import Episode
-from tvl_cli.core.errors import BadInput
+from tvl_cli.core.errors import BadInput, did_you_mean
 from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS, Fam
 from tvl_cli.core.fam_configs import fam_config_from_json
 from tvl_cli.core.memory import MemoryConfig
@@ -45,8 +45,8 @@ def resolve_fam_config(spec: str, robot: RobotConfig) -> FamConfig:
     path = Path(spec)
     if not path.is_file():
         raise BadInput(
-            f"{spec}: no such FAM configuration "
-            f"(use {', '.join(BUILTIN_FAM_CONFIGS)} or a JSON file that exists)"
+            f"{spec}: no such FAM configuration, nor a JSON file "
+            f"({did_you_mean(spec, list(BUILTIN_FAM_CONFIGS))})"
         )
     try:
         text = path.read_text(encoding="utf-8")

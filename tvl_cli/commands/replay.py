@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -289,9 +290,11 @@ def replay(
     curves: Path | None = None,
     session: str | None = None,
     animation: Animation | None = None,
+    on_frame: Callable[[int, int], None] | None = None,
 ) -> Replay:
     """Summarise a learning log or a run trace; draw its paths (and learning curves): a
-    log's sessions in one world, or the one named by `session`; animate a run."""
+    log's sessions in one world, or the one named by `session`; animate a run, telling
+    `on_frame` (frames drawn, frames in all) after each frame."""
     kind = file_format(path)
     if kind == RUN_FORMAT:
         if curves is not None:
@@ -304,7 +307,9 @@ def replay(
             from tvl_cli.render.animate import Window, animate_run  # matplotlib: only here
 
             window = Window(animation.from_s, animation.to_s, animation.every)
-            frames = animate_run(trace, animation.out, window, animation.fps, animation.video)
+            frames = animate_run(
+                trace, animation.out, window, animation.fps, animation.video, on_frame
+            )
             return replace(run, animation_frames=frames)
         return run
 
@@ -316,7 +321,9 @@ def replay(
 
             window = Window(animation.from_s, animation.to_s, animation.every)
             chosen = _session(log, session)
-            frames = animate_session(chosen, animation.out, window, animation.fps, animation.video)
+            frames = animate_session(
+                chosen, animation.out, window, animation.fps, animation.video, on_frame
+            )
             return replace(summary, animation_frames=frames)
         return summary
     raise BadInput(f"{path}: is a {kind} file; replay reads tvl-log and tvl-run files")

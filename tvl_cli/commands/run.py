@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from contextlib import AbstractContextManager, ExitStack
 from dataclasses import asdict, dataclass, field, fields, replace
 from pathlib import Path
@@ -37,8 +38,8 @@ from tvl_cli.sim.worldmap import WorldMap, check_goal, load_world
 
 @dataclass(frozen=True, slots=True)
 class OnlineLearning:
-    """`tvl run --learn [LOG]`: train the FAM on what the run meets, appending each episode
-    to a `behaving` session of LOG; without a LOG, in memory only."""
+    """`tvl run --learn`: train the FAM on what the run meets, in memory only; with a `log`
+    (`--learn-log LOG`), appending each episode to a `behaving` session of it."""
 
     log: Path | None = None
 
@@ -66,7 +67,7 @@ class RunResult:
     metrics: RunMetrics
     minutes: list[MinuteContacts]
     learnt: OnlineSummary | None = None  # with --learn
-    session: str | None = None  # the session appended to the log, with --learn LOG
+    session: str | None = None  # the session appended to the log, with --learn-log LOG
     method: dict[str, Any] | None = None  # the run's method_record
     # The options the run was made with, as resolved (the FAM's sonar and memory, the
     # world's goal): the run's inputs beside its FAM and world files
@@ -89,11 +90,13 @@ def check_threshold(threshold: float) -> None:
 
 
 def parse_goal(text: str) -> tuple[float, float]:
-    """'X,Y' in metres."""
+    """'X,Y' in metres (as `--goal` and a grid's goals write a goal)."""
     try:
         x, y = (float(part) for part in text.split(","))
     except ValueError:
-        raise BadInput(f"--goal {text!r}: expected X,Y in metres, e.g. 3.5,2.0") from None
+        x = y = math.nan
+    if not (math.isfinite(x) and math.isfinite(y)):
+        raise BadInput(f"{text!r} is not X,Y in metres, e.g. 3.5,2.0")
     return x, y
 
 

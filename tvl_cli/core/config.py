@@ -47,6 +47,10 @@ DEFAULT_TRAJECTORIES: tuple[Trajectory, ...] = (
     _arc("T2R", 1.0, False, 0.45),
     _arc("T3R", 0.5, False, 0.35),
 )
+# The speeds a user may give lie within these: the robot drives no faster than its fastest
+# trajectory (learning's speed), and a FAM's initial velocity is below its slowest's top.
+FASTEST_MPS = max(t.v_max_mps for t in DEFAULT_TRAJECTORIES)
+SLOWEST_TOP_MPS = min(t.v_max_mps for t in DEFAULT_TRAJECTORIES)
 
 
 @dataclass(frozen=True, slots=True)

@@ -1,5 +1,6 @@
 """The exception types a user meets: bad input (the CLI prints its message as one line and
-exits 2) and a failure of what the command relies on (one line, exit 1)."""
+exits 2) and a failure of what the command relies on, such as a service that does not answer
+or a display that is not there (one line, exit 1); and the hint a mistyped name gets."""
 
 import difflib
 import math
@@ -12,7 +13,8 @@ class BadInput(Exception):
 
 class EnvironmentFailure(Exception):
     """What the command relies on beyond the user's input fails: a service that does not
-    answer, or answers as something else. The message names it and what happened."""
+    answer or answers as something else, a display to open a window on that is not there.
+    The message names it and what happened."""
 
 
 def did_you_mean(word: str, choices: Sequence[str]) -> str:

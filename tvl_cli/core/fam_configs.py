@@ -11,7 +11,7 @@ import numpy as np
 
 from tvl_cli.core import jsontext
 from tvl_cli.core.config import SONAR_COUNT, FamConfig, Partition, SonarConfig
-from tvl_cli.core.errors import BadInput
+from tvl_cli.core.errors import BadInput, did_you_mean
 
 MAX_INPUTS_PER_TABLE = 10  # 2^10 rules fire per reading; more makes inference crawl
 MAX_ENTRIES = 20_000_000  # rules x trajectories in all: 3 float64 arrays that size, 480 MB
@@ -195,7 +195,7 @@ def _check_partition(partition: dict[str, Any], where: str) -> None:
 def _known_keys(data: dict[str, Any], allowed: tuple[str, ...], where: str) -> None:
     unknown = [key for key in data if key not in allowed]
     if unknown:
-        raise BadInput(f"{where}: unknown key {unknown[0]!r} (expected {', '.join(allowed)})")
+        raise BadInput(f"{where}: unknown key {unknown[0]!r} ({did_you_mean(unknown[0], allowed)})")
 
 
 def _text(data: dict[str, Any], key: str, where: str) -> None:

@@ -16,14 +16,13 @@ with).
 
 from __future__ import annotations
 
-import difflib
 import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, fields, replace
 from typing import Any
 
 from tvl_cli.core.config import SONAR_MODELS, RobotConfig
-from tvl_cli.core.errors import BadInput
+from tvl_cli.core.errors import BadInput, did_you_mean
 from tvl_cli.core.labels import DEFAULT_DECEL_MPS2, DEFAULT_MARGIN_M
 from tvl_cli.core.memory import (
     DEFAULT_MEMORY,
@@ -225,9 +224,7 @@ def method_from_dict(data: Mapping[str, Any], where: str) -> Method:
         if key == "preset":  # a record's note of the preset it equals, not a choice
             continue
         if key not in FIELDS:
-            close = difflib.get_close_matches(key, FIELDS, n=1)
-            hint = f" (did you mean {close[0]!r}?)" if close else f" (known: {', '.join(FIELDS)})"
-            raise BadInput(f"{where}: unknown key {key!r}{hint}")
+            raise BadInput(f"{where}: unknown key {key!r} ({did_you_mean(key, FIELDS)})")
         values[key] = _value(key, value, where)
         _check(key, values[key], f"{where}: {key}")
     return replace(DEFAULT, **values)

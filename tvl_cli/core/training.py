@@ -8,7 +8,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from tvl_cli.core.config import DEFAULT_TRAJECTORIES, RobotConfig
+from tvl_cli.core.config import SLOWEST_TOP_MPS, RobotConfig
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS, Fam
@@ -31,7 +31,7 @@ class TrainParams:
             raise BadInput(f"--decel {self.decel_mps2:g} must be > 0 m/s²")
         if not (math.isfinite(self.margin_m) and self.margin_m >= 0):
             raise BadInput(f"--margin {self.margin_m:g} must be >= 0 m")
-        slowest = min(t.v_max_mps for t in DEFAULT_TRAJECTORIES)
+        slowest = SLOWEST_TOP_MPS
         if not (math.isfinite(self.init_velocity_mps) and 0 <= self.init_velocity_mps < slowest):
             # An input never met must be perceived as slow (paper §3.1), never as fast.
             raise BadInput(

@@ -43,6 +43,7 @@ from tvl_cli.sim.worldmap import WorldMap
 
 if TYPE_CHECKING:
     from tvl_cli.render.animate import RobotFrame
+    from tvl_cli.render.window import FrameWindow
 
 __all__ = [
     "ACTION_NAMES",
@@ -67,7 +68,7 @@ class SonarRingEnv(gymnasium.Env[np.ndarray, Any]):
 
     # Gymnasium declares metadata on its Env as a mutable instance default; typed as it is.
     metadata: dict[str, Any] = {  # noqa: RUF012
-        "render_modes": ["ansi", "rgb_array"],
+        "render_modes": ["ansi", "rgb_array", "human"],
         "render_fps": 1 / ROBOT.control_period_s,
     }
 
@@ -94,7 +95,9 @@ class SonarRingEnv(gymnasium.Env[np.ndarray, Any]):
         RobotConfig, by default `tvl run`'s) with `sonar` (a model's name, `real`, `edges`
         or `ideal`, or a SonarConfig) in place of its own."""
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
-            raise ValueError(f"unknown render_mode {render_mode!r} (choose from ansi, rgb_array)")
+            raise ValueError(
+                f"unknown render_mode {render_mode!r} (choose from ansi, rgb_array, human)"
+            )
         self.robot_task = RobotTask.of(
             world,
             task,
@@ -118,6 +121,7 @@ class SonarRingEnv(gymnasium.Env[np.ndarray, Any]):
         self._engine: StepEngine | None = None
         self._episode = RobotEpisode(self.robot_task)
         self._frame: RobotFrame | None = None
+        self._window: FrameWindow | None = None  # render_mode human's, opened when first drawn
 
     def reset(
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
@@ -149,7 +153,10 @@ class SonarRingEnv(gymnasium.Env[np.ndarray, Any]):
         sim = engine.sim
         clearance_m = sim.clearance_m() if self.task == WALL else None
         now = RobotNow(sim.time_s, sim.pose, sim.odometry, sim.bumped, clearance_m)
-        return self._episode.begin(observation.ring_m, now, remember=going_on)
+        began = self._episode.begin(observation.ring_m, now, remember=going_on)
+        if self.render_mode == "human":
+            self.render()
+        return began
 
     def step(self, action: Any) -> tuple[np.ndarray, SupportsFloat, bool, bool, dict[str, Any]]:
         engine = self._running()
@@ -161,6 +168,8 @@ class SonarRingEnv(gymnasium.Env[np.ndarray, Any]):
         obs, reward, terminated, info = self._episode.after(
             action, seen.ring_m, now, outcome.events, outcome.done
         )
+        if self.render_mode == "human":
+            self.render()
         return obs, reward, terminated, False, info
 
     def render(self) -> str | np.ndarray | None:
@@ -168,10 +177,26 @@ class SonarRingEnv(gymnasium.Env[np.ndarray, Any]):
             return self._text(self._running())
         if self.render_mode == "rgb_array":
             return self._picture(self._running())
+        if self.render_mode == "human":
+            self._show(self._picture(self._running()))
         return None
 
     def close(self) -> None:
         self._frame = None
+        if self._window is not None:
+            self._window.close()
+            self._window = None
+
+    def _show(self, frame: np.ndarray) -> None:
+        """In a window, at the environment's own pace (render_fps), as Gymnasium's human
+        mode is."""
+        from tvl_cli.render.animate import WINDOW_DPI
+        from tvl_cli.render.window import FrameWindow
+
+        if self._window is None:
+            self._window = FrameWindow(f"tvl: {self.world.name}", frame.shape[:2], WINDOW_DPI)
+        self._window.show(frame)
+        self._window.hold(1.0 / self.metadata["render_fps"])
 
     def _running(self) -> StepEngine:
         if self._engine is None:
@@ -197,14 +222,15 @@ class SonarRingEnv(gymnasium.Env[np.ndarray, Any]):
 
     def _picture(self, engine: StepEngine) -> np.ndarray:
         # matplotlib only when a picture is wanted
-        from tvl_cli.render.animate import RobotFrame
+        from tvl_cli.render.animate import DPI, WINDOW_DPI, RobotFrame
 
         sim = engine.sim
         if self._frame is None:
             world = (
                 self.world if self.goal_xy is None else replace(self.world, goals=(self.goal_xy,))
             )
-            self._frame = RobotFrame(world, self.robot)
+            dpi = WINDOW_DPI if self.render_mode == "human" else DPI
+            self._frame = RobotFrame(world, self.robot, dpi)
         last = self._episode.last
         events = " ".join(last[2]) if last else ""
         return self._frame.draw(

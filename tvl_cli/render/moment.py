@@ -1,0 +1,237 @@
+"""A picture of one moment of a run (`tvl explain --png`): where the robot was and what its
+sonar ring read, what it perceived and chose, and the FAM rules that made it so.
+
+Left, the world near the robot: its path so far, its body, the rays of the ring, and the
+seven trajectories drawn from it in the view it chose in, each as long as two seconds at
+the velocity it perceived, the fast ones green and the one driven thick. Top right, the
+perceived velocities against the threshold; bottom right, the strongest of the rules that
+fired for the trajectories explained.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Protocol
+
+import numpy as np
+from matplotlib.axes import Axes
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.collections import LineCollection
+from matplotlib.figure import Figure
+from matplotlib.patches import Circle
+
+from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.explain import Explanation, FiredRule
+from tvl_cli.core.ring import beam_lines
+from tvl_cli.render.animate import FAST_COLOUR, NO_ECHO_COLOUR, RAY_COLOUR, SLOW_COLOUR
+from tvl_cli.render.formats import save_picture
+from tvl_cli.render.plot import ROBOT_COLOUR, draw_world
+from tvl_cli.sim.worldmap import WorldMap
+
+PERCEIVED_COLOUR = "#17becf"  # an echo the memory remembered, nearer than the live reading
+AHEAD_S = 2.0  # a trajectory is drawn as far as two seconds at its perceived velocity
+NEAR_M = 3.0  # the world is shown this far around the robot (less where it ends)
+MOST_RULES = 12  # the strongest rules listed
+
+
+class ExplainedStep(Protocol):
+    """What a picture of a moment reads of its explanation (commands.explain's)."""
+
+    @property
+    def step(self) -> int: ...
+    @property
+    def time_s(self) -> float: ...
+    @property
+    def ring_m(self) -> list[float] | None: ...
+    @property
+    def perceived_m(self) -> list[float] | None: ...
+    @property
+    def rotation(self) -> int: ...
+    @property
+    def velocities_mps(self) -> list[float | None]: ...
+    @property
+    def fast(self) -> list[str]: ...
+    @property
+    def choice(self) -> str | None: ...
+    @property
+    def driven(self) -> str | None: ...
+    @property
+    def reflex(self) -> str | None: ...
+    @property
+    def events(self) -> list[str]: ...
+    @property
+    def focus(self) -> tuple[str, ...]: ...
+    @property
+    def why(self) -> Explanation | None: ...
+
+
+def render_moment(
+    world: WorldMap,
+    robot: RobotConfig,
+    poses: np.ndarray,
+    threshold: float,
+    moment: ExplainedStep,
+    path: Path,
+) -> None:
+    """Draw the moment: the robot at the last of `poses` (N, 3) after the others, the run's
+    `threshold` (a fraction of each trajectory's maximum)."""
+    figure = Figure(figsize=(13.0, 6.5), layout="constrained")
+    FigureCanvasAgg(figure)
+    grid = figure.add_gridspec(2, 2, width_ratios=(1.1, 1.0), height_ratios=(1.0, 1.1))
+    world_ax = figure.add_subplot(grid[:, 0])
+    _draw_robot(world_ax, world, robot, poses, moment)
+    _draw_velocities(figure.add_subplot(grid[0, 1]), robot, threshold, moment)
+    _draw_rules(figure.add_subplot(grid[1, 1]), moment)
+    acted = moment.reflex or ("the policy" if moment.choice else "none")
+    happened = f", began {', '.join(moment.events)}" if moment.events else ""
+    figure.suptitle(
+        f"step {moment.step}, ending at {moment.time_s:.1f} s: chose "
+        f"{moment.choice or 'nothing'}, drove {moment.driven or 'no trajectory'}, "
+        f"acting: {acted}{happened}",
+        fontsize=11,
+    )
+    save_picture(figure, path, dpi=110)
+
+
+def _draw_robot(
+    ax: Axes, world: WorldMap, robot: RobotConfig, poses: np.ndarray, moment: ExplainedStep
+) -> None:
+    draw_world(ax, world)
+    ax.plot(poses[:, 0], poses[:, 1], color=ROBOT_COLOUR, linewidth=1.0, alpha=0.5)
+    pose = poses[-1]
+    x, y, heading = pose
+    ax.add_patch(Circle((x, y), robot.radius_m, color=ROBOT_COLOUR, alpha=0.5, zorder=6))
+    reach = 1.5 * robot.radius_m
+    ax.plot(
+        [x, x + reach * math.cos(heading)],
+        [y, y + reach * math.sin(heading)],
+        color="black",
+        linewidth=1.5,
+        zorder=7,
+    )
+    if moment.ring_m is not None:
+        ring = np.array(moment.ring_m)  # (16,) metres
+        start, end = beam_lines(ring, pose, robot.radius_m)
+        heard = ring < robot.sonar.max_range_m
+        ax.add_collection(
+            LineCollection(
+                list(np.stack([start, end], axis=1)),
+                colors=[RAY_COLOUR if h else NO_ECHO_COLOUR for h in heard],
+                linewidths=0.9,
+                zorder=5,
+            )
+        )
+        if moment.perceived_m is not None:
+            perceived = np.array(moment.perceived_m)
+            nearer = perceived < ring
+            _, remembered = beam_lines(perceived, pose, robot.radius_m)
+            ax.plot(
+                remembered[nearer, 0],
+                remembered[nearer, 1],
+                "o",
+                color=PERCEIVED_COLOUR,
+                markersize=4,
+                zorder=6,
+                label="remembered echo",
+            )
+            if nearer.any():
+                ax.legend(loc="upper right", fontsize=8)
+    _draw_trajectories(ax, robot, pose, moment)
+    ax.set_xlim(max(x - NEAR_M, ax.get_xlim()[0]), min(x + NEAR_M, ax.get_xlim()[1]))
+    ax.set_ylim(max(y - NEAR_M, ax.get_ylim()[0]), min(y + NEAR_M, ax.get_ylim()[1]))
+    for text in ax.texts:  # the scale bar's label and the names, where the view is cut
+        text.set_clip_on(True)
+    ax.set_title(f"{world.name}: the ring, and the trajectories in view {moment.rotation}")
+
+
+def _draw_trajectories(
+    ax: Axes, robot: RobotConfig, pose: np.ndarray, moment: ExplainedStep
+) -> None:
+    """Each trajectory from the body's centre, turned to the chosen view, as far as
+    AHEAD_S seconds at its perceived velocity."""
+    x, y, heading = pose
+    facing = heading + 2.0 * math.pi * moment.rotation / robot.sonar.count
+    for trajectory, velocity in zip(robot.trajectories, moment.velocities_mps, strict=True):
+        if velocity is None:
+            continue
+        arc = np.linspace(0.0, AHEAD_S * velocity, 40)  # (40,) metres along the trajectory
+        k = trajectory.curvature_per_m
+        ahead = np.sin(k * arc) / k if k else arc
+        aside = (1.0 - np.cos(k * arc)) / k if k else np.zeros_like(arc)
+        xs = x + ahead * math.cos(facing) - aside * math.sin(facing)
+        ys = y + ahead * math.sin(facing) + aside * math.cos(facing)
+        fast = trajectory.name in moment.fast
+        driven = trajectory.name == (moment.driven or moment.choice)
+        ax.plot(
+            xs,
+            ys,
+            color=FAST_COLOUR if fast else SLOW_COLOUR,
+            linewidth=3.0 if driven else 1.5,
+            zorder=8 if driven else 4,
+        )
+        ax.annotate(
+            trajectory.name, (xs[-1], ys[-1]), fontsize=7, ha="center", va="center", zorder=9
+        )
+
+
+def _draw_velocities(ax: Axes, robot: RobotConfig, threshold: float, moment: ExplainedStep) -> None:
+    names = [t.name for t in robot.trajectories]
+    top = np.array(robot.v_max_mps)
+    shown = [0.0 if v is None else v for v in moment.velocities_mps]
+    bars = ax.bar(
+        names,
+        shown,
+        color=[FAST_COLOUR if n in moment.fast else SLOW_COLOUR for n in names],
+        edgecolor="black",
+    )
+    for name, bar in zip(names, bars, strict=True):
+        bar.set_linewidth(2.5 if name == (moment.driven or moment.choice) else 0.5)
+    ax.hlines(
+        threshold * top,
+        np.arange(len(top)) - 0.4,
+        np.arange(len(top)) + 0.4,
+        colors="black",
+        linestyles="dashed",
+        linewidth=1.0,
+        label=f"threshold {threshold:g}",
+    )
+    ax.set_ylim(0.0, 1.05 * top.max())
+    ax.set_ylabel("perceived velocity (m/s)")
+    ax.legend(loc="upper right", fontsize=8)
+    ax.set_title(f"perceived; fast: {', '.join(moment.fast) or 'none'}", fontsize=10)
+
+
+def _draw_rules(ax: Axes, moment: ExplainedStep) -> None:
+    """The strongest fired rules as bars of their strength, each read as a sentence."""
+    why = moment.why
+    ax.set_xlim(0.0, 1.0)
+    ax.set_xlabel("rule strength")
+    ax.set_yticks([])
+    if why is None or not why.rules:
+        ax.text(0.5, 0.5, "the ring was not read: no rule fired", ha="center", va="center")
+        ax.set_title("fired rules", fontsize=10)
+        return
+    inputs: dict[str, list[str]] = {}
+    for reading in why.inputs:
+        inputs.setdefault(reading.table, []).append(reading.name)
+    rules = sorted(why.rules, key=lambda rule: -rule.strength)[:MOST_RULES]
+    rows = np.arange(len(rules))[::-1]  # the strongest at the top
+    ax.barh(rows, [r.strength for r in rules], color="#dddddd", edgecolor="#999999")
+    for row, rule in zip(rows, rules, strict=True):
+        ax.text(0.01, row, _sentence(inputs[rule.table], rule), va="center", fontsize=7)
+    ax.set_ylim(-0.6, max(len(rules), 4) - 0.4)
+    focus = " and ".join(moment.focus) or "every trajectory"
+    ax.set_title(
+        f"the {len(rules)} strongest of {len(why.rules)} fired rules, for {focus}", fontsize=10
+    )
+
+
+def _sentence(names: Sequence[str], rule: FiredRule) -> str:
+    """A fired rule as `tvl inspect` reads one, its table's inputs `names`."""
+    condition = " AND ".join(f"{n} is {s}" for n, s in zip(names, rule.set_names, strict=True))
+    then = ", ".join(
+        f"{t} = {v:.2f} m/s" for t, v in zip(rule.trajectories, rule.velocities_mps, strict=True)
+    )
+    return f"IF {condition} THEN {then}"
