@@ -148,9 +148,7 @@ def test_a_mistyped_configuration_or_key_is_told_the_name_it_missed(
     config = tmp_path / "mine.json"
     config.write_text(json.dumps({"name": "mine", "tabels": []}))
     code, _, err = tvl("learn", SQUARE, "--log", tmp_path / "l.h5", "--config", config)
-    assert code == 2 and err.rstrip().endswith(
-        "unknown key 'tabels' (did you mean 'tables'?)"
-    )
+    assert code == 2 and err.rstrip().endswith("unknown key 'tabels' (did you mean 'tables'?)")
     grid = tmp_path / "grid.toml"
     grid.write_text('world = "square"\nseed = 1\nbehaviour = "avoid"\nlearn_minute = 1\n')
     code, _, err = tvl("sweep", grid, "--out", tmp_path / "sweep")

@@ -35,9 +35,7 @@ def ran(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
     """A FAM from the example log's first minutes, and a trace of it avoiding in the
     square: it chooses, spins to face what it chose, and drives."""
     directory = tmp_path_factory.mktemp("pictures")
-    trained = train_from_logs(
-        [ROOT / "logs" / "square-s1.h5"], SINGLE, until_minute=3
-    )
+    trained = train_from_logs([ROOT / "logs" / "square-s1.h5"], SINGLE, until_minute=3)
     fam = directory / "fam.h5"
     write_fam(fam, trained.fam, robot_config=trained.robot, provenance=trained.provenance)
     trace = directory / "run.h5"
