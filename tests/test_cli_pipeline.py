@@ -153,9 +153,9 @@ def test_run_prints_the_metrics_json(run_tvl, learnt, tmp_path):
         "sim_s", "distance_m", "mean_speed_mps", "mean_drive_speed_mps", "collisions",
         "near_misses", "contacts", "contacts_per_min", "collisions_per_min", "backoffs",
         "spins", "trapped", "mean_clearance_m", "mean_wall_clearance_m", "goal_reached",
-        "time_to_goal_s", "minutes", "method",
+        "time_to_goal_s", "minutes",
     }  # fmt: skip
-    assert metrics["method"]["preset"] == "default"
+    assert metrics["inputs"]["method"]["preset"] == "default"
     assert metrics["contacts"] == metrics["collisions"] + metrics["near_misses"]
     assert metrics["sim_s"] == pytest.approx(30.0)
     assert png.stat().st_size > 1000

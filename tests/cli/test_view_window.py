@@ -19,10 +19,9 @@ pytestmark = pytest.mark.slow  # each test starts a display server and a process
 def fam(tmp_path_factory: pytest.TempPathFactory) -> Path:
     from tvl_cli.commands.train import train_from_logs
     from tvl_cli.core.config import SINGLE
-    from tvl_cli.core.training import TrainParams
     from tvl_cli.io.famfile import write_fam
 
-    trained = train_from_logs([ROOT / "logs" / "square-s1.h5"], SINGLE, TrainParams())
+    trained = train_from_logs([ROOT / "logs" / "square-s1.h5"], SINGLE)
     path = tmp_path_factory.mktemp("window") / "fam.h5"
     write_fam(path, trained.fam, robot_config=trained.robot, provenance=trained.provenance)
     return path

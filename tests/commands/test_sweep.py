@@ -266,11 +266,11 @@ def test_a_plot_of_the_sweep_is_drawn_beside_its_table_or_where_asked(
     grid = with_seed_three(swept, out)
     summary = sweep(grid, "--out", out, "--plot", "x=threshold,y=mean_speed_mps,hue=config")
     beside = out / "mean_speed_mps-by-threshold-config.png"
-    assert summary["plot"] == str(beside)
+    assert summary["outputs"]["plot"] == str(beside)
     assert beside.read_bytes().startswith(b"\x89PNG")
     picture = tmp_path / "speed.svg"
     drawn = sweep(grid, "--out", out, "--plot", "x=config,y=contacts_per_min", "-o", picture)
-    assert drawn["plot"] == str(picture)
+    assert drawn["outputs"]["plot"] == str(picture)
     assert picture.read_bytes().startswith(b"<?xml")
     assert (drawn["done"], drawn["skipped"]) == (0, 8)
     again = ("sweep", grid, "--out", out, "--plot", "x=world,y=distance_m", "-o", picture)
@@ -280,7 +280,7 @@ def test_a_plot_of_the_sweep_is_drawn_beside_its_table_or_where_asked(
         2, f"tvl: error: {picture}: already exists (use --force to overwrite)\n"
     )  # fmt: skip
     assert picture.read_bytes() == before
-    assert sweep(*again[1:], "--force")["plot"] == str(picture)
+    assert sweep(*again[1:], "--force")["outputs"]["plot"] == str(picture)
     assert picture.read_bytes() != before
 
 
