@@ -5,6 +5,7 @@ ignores, as it does the folders the set-up commands and the documentation build 
 from __future__ import annotations
 
 import os
+import re
 import shutil
 import subprocess
 from pathlib import Path
@@ -39,10 +40,12 @@ def test_the_readme_pipeline_runs_and_writes_only_under_scratch(tmp_path: Path) 
     # Every output the block names, and nothing it does not name.
     named = {word.split("/", 1)[1] for word in block.split() if word.startswith("scratch/")}
     assert written == named
-    # The moment the README explains is the circle run's first bump, as its comment says.
+    # The moment the README explains is the circle run's first bump, as its comment says and
+    # as the events table of `tvl replay` shows it.
     trace = read_run(tmp_path / "scratch" / "circle.h5")
     first_bump_s = (trace.event_steps("bump")[0] + 1) * trace.period_s
-    assert f"bump at (s): [{first_bump_s:.1f}" in block
+    assert f"# events: a bump at {first_bump_s:.1f} s" in block
+    assert re.search(rf"│ bump +│ +1 │ {first_bump_s:.1f} +│", done.stdout)
     assert f"tvl explain scratch/circle.h5 --at {first_bump_s:.1f} " in block
 
 

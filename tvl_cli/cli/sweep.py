@@ -103,12 +103,12 @@ def sweep(
     """Learn, train and run every combination of a grid's settings into one results table.
 
     GRID is a TOML file whose keys each give one value or a list: world, seed and
-    behaviour, and config, learn_minutes, threshold, goal, run_minutes and reflexes (README,
-    "Sweeps"). Each combination is a cell: one run, after the learning and training it needs,
-    each done once for every cell that shares it. Rows go to results.jsonl as runs end, and
-    the grid's table to results.csv (and results.parquet with pyarrow) in the directory. The
-    terminal shows each setting's mean and 95 % interval over its seeds. One sweep at a time
-    runs in a directory."""
+    behaviour, and config, learn_minutes, threshold, goal, run_minutes, method and reflexes
+    (docs/guide/experiments.md, "Sweeps"). Each combination is a cell: one run, after the
+    learning and training it needs, each done once for every cell that shares it. Rows go to
+    results.jsonl as runs end, and the grid's table to results.csv (and results.parquet with
+    pyarrow) in the directory. The terminal shows each setting's mean and 95 % interval over
+    its seeds. One sweep at a time runs in a directory."""
     refuse_both_formats(as_json, as_csv)
     if workers is not None and scheduler is not None:
         raise click.UsageError("give --workers or --scheduler, not both (a cluster has its own)")

@@ -27,7 +27,8 @@ from tvl_cli.core.errors import BadInput
 
 NONE, POINTS, PATCHES = "none", "points", "patches"
 MEMORY_KINDS = (NONE, POINTS, PATCHES)
-# Chosen on the tuning worlds (README, *The echo memory*): 20 s kept the most competent runs.
+# Chosen on the tuning worlds (docs/results.md, *The echo memory*): 20 s kept the most
+# competent runs.
 # Odometry misplaces an echo heard 20 s ago by 3-6 cm (median) and one heard a minute ago by
 # 7-11 cm, a quarter of a metre one time in twenty (benchmarks/memory_drift.py), and a minute
 # did worse; 5 and 10 s forgot walls before the robot met them.

@@ -48,7 +48,7 @@ def action_names(robot: RobotConfig) -> tuple[str, ...]:
 
 ACTION_NAMES = action_names(ROBOT)
 # The wall task's distance, body edge to the nearest obstacle: about what the paper's wall
-# following keeps at threshold 0.85 (README, Experiments: 0.40 m).
+# following keeps at threshold 0.85 (docs/results.md, *Figure 21*: 0.40 m in the square).
 WALL_DISTANCE_M = 0.4
 # Each metre off that distance costs this much reward a step: at the top speed (0.06 m a step)
 # a robot 0.6 m off earns nothing for its progress, and one standing still pays for its error.

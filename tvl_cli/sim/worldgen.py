@@ -17,8 +17,9 @@ from tvl_cli.sim.worldmap import parse_world
 
 MAX_SIZE_M = 100.0  # 400 x 400 cells: a big hall, still a small file
 ATTEMPTS = 20  # random layouts drawn before giving up on a size
-# Rough enough to be heard at a slant close in (47° off the normal within 1.8 m, the sonar's
-# own paragraph in the README), as brick or a curtain is; smooth painted plaster is 0.
+# Rough enough to be heard at a slant close in (47° off the normal within 1.8 m:
+# docs/guide/robot.md, *What real sonars hear beyond the specular rule*), as brick or a
+# curtain is; smooth painted plaster is 0.
 DEFAULT_ROUGHNESS = 0.3
 BUNDLED_DIR = Path(__file__).resolve().parent.parent / "data"
 
