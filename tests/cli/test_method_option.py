@@ -32,7 +32,7 @@ GOLDEN_LOG = ROOT / "tests" / "data" / "golden-log-v1.h5"
 RUN = ("--behaviour", "avoid", "--minutes", "0.2")
 # The paper's method as a method file, every field by name.
 PAPER_TOML = """
-decel_mps2 = 0.5
+decel_mps2 = 0.2
 margin_m = 0.05
 near_m = 0.0
 exploration = "least-experience"
@@ -117,7 +117,8 @@ def test_train_keeps_the_logs_collision_points_and_takes_its_own_labels(
     made = printed("train", learnt["ours_log"], "-o", tmp_path / "f.h5", "--paper")["inputs"][
         "method"
     ]
-    assert (made["preset"], made["near_m"], made["decel_mps2"]) == (None, DEFAULT.near_m, 0.5)
+    labels = (made["near_m"], made["decel_mps2"])
+    assert made["preset"] is None and labels == (DEFAULT.near_m, PAPER.decel_mps2)
     assert read_fam(tmp_path / "f.h5").method == made
 
 
@@ -180,7 +181,8 @@ def test_files_from_before_methods_were_recorded_say_so(
         (("--paper", "--explore", "novelty"), "--explore cannot be given with --paper"),
         (("--paper", "--memory-window", "5"), "--memory-window cannot be given with --paper"),
         (("--paper", "--method", "paper"), "give --method or --paper, not both"),
-        (("--method", "nowhere.toml"), "--method nowhere.toml: neither paper nor default, nor a"),
+        (("--method", "nowhere.toml"), "--method nowhere.toml: neither a preset nor a method file"),
+        (("--method", "papr"), "neither a preset nor a method file (did you mean 'paper'?)"),
     ],
 )  # fmt: skip
 def test_contradictions_and_unknown_methods_are_one_line_and_exit_2(
@@ -196,7 +198,7 @@ def test_finer_options_that_agree_with_the_paper_or_change_ours_are_taken(
     tmp_path: Path,
 ) -> None:
     agreeing = printed("learn", SQUARE, "--log", tmp_path / "a.h5", "--minutes", "0.1",
-                       "--paper", "--decel", "0.5", "--sonar", "edges")  # fmt: skip
+                       "--paper", "--decel", "0.2", "--sonar", "edges")  # fmt: skip
     assert agreeing["inputs"]["method"] == method_record(PAPER, LEARNING_FIELDS) | {
         "preset": None,
         "sonar": "edges",

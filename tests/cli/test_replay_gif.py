@@ -60,12 +60,21 @@ def test_a_video_without_ffmpeg_is_one_line_and_leaves_nothing(tmp_path: Path) -
     from matplotlib.animation import FFMpegWriter
 
     video = tmp_path / "log.mp4"
-    done = tvl("replay", EXAMPLE_LOG, "--mp4", video, "--to", "20", "--json")
     if FFMpegWriter.isAvailable():
+        done = tvl("replay", EXAMPLE_LOG, "--mp4", video, "--to", "20", "--json")
         assert done.returncode == 0 and video.read_bytes()[4:8] == b"ftyp", done.stderr
-    else:
-        assert_one_line_refusal(done, "an MP4 needs ffmpeg, which is not installed")
-        assert not video.exists()
+        video.unlink()
+    # A search path with no ffmpeg on it: what the machine lacks is exit 1, not bad input.
+    nowhere = tmp_path / "bin"
+    nowhere.mkdir()
+    done = subprocess.run(
+        [TVL, "replay", EXAMPLE_LOG, "--mp4", video, "--to", "20"],
+        capture_output=True, text=True, timeout=300, env={"PATH": str(nowhere)},
+    )  # fmt: skip
+    assert done.returncode == 1 and done.stderr == (
+        "tvl: error: an MP4 needs ffmpeg, which is not installed (use --gif)\n"
+    )
+    assert not video.exists()
     both = tvl("replay", EXAMPLE_LOG, "--mp4", video, "--gif", tmp_path / "x.gif")
     assert_one_line_refusal(both, "give --gif or --mp4, not both")
 

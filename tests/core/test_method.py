@@ -89,9 +89,8 @@ def test_a_record_names_the_preset_it_equals_on_the_fields_it_keeps() -> None:
     # The paper's learning, behaving with our reflexes: the paper's on learning alone.
     mixed = replace(PAPER, reflexes=REFLEX_NAMES)
     assert preset_name(mixed) is None and preset_name(mixed, LEARNING_FIELDS) == "paper"
-    assert describe_record(method_record(mixed)) == "custom: decel_mps2 0.5, margin_m 0.05, " + (
-        "near_m 0, memory none"
-    )
+    labels = f"decel_mps2 {PAPER.decel_mps2:g}, margin_m {PAPER.margin_m:g}"
+    assert describe_record(method_record(mixed)) == f"custom: {labels}, near_m 0, memory none"
     assert describe_record(None) == "unrecorded"
 
 
@@ -123,7 +122,7 @@ def test_a_setting_contradicts_the_papers_method_only_by_name_and_only_if_it_dif
         return MethodChoice(PAPER, name, settings, MemoryChoice(**memory)).contradictions()
 
     assert contradictions("paper", ("decel_mps2", 0.1), ("near_m", 0.0)) == ["--decel"]
-    assert contradictions("paper", ("reflexes", ()), ("decel_mps2", 0.5)) == []
+    assert contradictions("paper", ("reflexes", ()), ("decel_mps2", PAPER.decel_mps2)) == []
     assert contradictions("paper", kind="patches", window_s=10.0) == [
         "--memory",
         "--memory-window",

@@ -28,9 +28,10 @@ from tvl_cli.core.method import PAPER
 class DwaParams:
     """Limits and weights; defaults are ours (the paper fixes none for this robot)."""
 
-    # The paper's robot's braking (its labels' deceleration, `--paper`), a real robot's
-    # limit; our TVL labels brake more gently. 2 rad/s² reaches the full turn rate in 0.5 s.
-    accel_mps2: float = PAPER.decel_mps2
+    # A firm brake, a real robot of this size's limit (not a label's rate: TVL's labels, the
+    # paper's as read off its Figure 21 and ours, brake more gently). 2 rad/s² reaches the
+    # full turn rate in 0.5 s.
+    accel_mps2: float = 0.5
     angular_accel_radps2: float = 2.0
     v_max_mps: float = 0.6  # T0's maximum: no faster than a TVL trajectory
     w_max_radps: float = 1.0  # the spin rate, beyond every trajectory's (T3 at 0.35 m/s: 0.7)

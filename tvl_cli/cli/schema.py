@@ -2,13 +2,12 @@
 
 from __future__ import annotations
 
-import difflib
 import json
 
 import click
 
 from tvl_cli.cli.options import print_json
-from tvl_cli.core.errors import BadInput
+from tvl_cli.core.errors import BadInput, did_you_mean
 from tvl_cli.io.json_documents import (
     SCHEMA_COMMANDS,
     command_schema,
@@ -51,13 +50,11 @@ def schema(command: tuple[str, ...], as_json: bool) -> None:
 
 
 def _known(given: str) -> str:
-    """The command named, as SCHEMA_COMMANDS spells it; BadInput with the nearest names."""
+    """The command named, as SCHEMA_COMMANDS spells it; BadInput with the nearest name."""
     words = " ".join(given.replace("-", " ").split())
     if words in SCHEMA_COMMANDS:
         return words
-    near = difflib.get_close_matches(words, SCHEMA_COMMANDS, n=3, cutoff=0.6)
-    hint = f"; did you mean {' or '.join(repr(n) for n in near)}?" if near else ""
-    raise BadInput(f"no command {given!r} prints JSON{hint} (tvl schema lists them)")
+    raise BadInput(f"no command {given!r} prints JSON ({did_you_mean(words, SCHEMA_COMMANDS)})")
 
 
 def _listing() -> list[dict[str, object]]:

@@ -290,6 +290,10 @@ LEARNT_COLUMNS = (
 )
 
 
+def _count(n: int, thing: str) -> str:
+    return f"{n} {thing}" if n == 1 else f"{n} {thing}s"
+
+
 def _log_replay(summary: LogReplay) -> None:
     # Two tables of a row a session, each narrow enough for 80 columns.
     sessions = table(
@@ -299,7 +303,8 @@ def _log_replay(summary: LogReplay) -> None:
         "seed",
         "explore",
         "status",
-        title=f"learning log: {len(summary.sessions)} sessions, {summary.exemplars} exemplars",
+        title=f"learning log: {_count(len(summary.sessions), 'session')}, "
+        f"{summary.exemplars} exemplars",
         right=("seed",),
     )
     learnt = table(*LEARNT_COLUMNS, title="what each session learnt", right=LEARNT_COLUMNS[1:])

@@ -1,7 +1,7 @@
 """Method files (`--method FILE.toml`): a method's fields as TOML keys, those not given ours.
 
 # The paper's method, remembering echoes as patches.
-decel_mps2 = 0.5
+decel_mps2 = 0.2
 margin_m = 0.05
 near_m = 0.0                    # collision points at bumps alone
 exploration = "least-experience"
@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from tvl_cli.core.errors import BadInput
+from tvl_cli.core.errors import BadInput, did_you_mean
 from tvl_cli.core.method import PRESETS, Method, method_from_dict
 from tvl_cli.io.tomlfile import read_toml
 
@@ -29,5 +29,8 @@ def chosen_method(text: str) -> Method:
         return PRESETS[text]
     path = Path(text)
     if not path.exists():
-        raise BadInput(f"--method {text}: neither {' nor '.join(PRESETS)}, nor a method file")
+        raise BadInput(
+            f"--method {text}: neither a preset nor a method file "
+            f"({did_you_mean(text, list(PRESETS))})"
+        )
     return read_method(path)

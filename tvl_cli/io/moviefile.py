@@ -18,7 +18,7 @@ from typing import IO, Protocol
 import numpy as np
 from PIL import Image
 
-from tvl_cli.core.errors import BadInput
+from tvl_cli.core.errors import BadInput, EnvironmentFailure
 from tvl_cli.io.atomic import atomic_output
 
 GIF_COLOURS = 256
@@ -30,10 +30,11 @@ class FrameSink(Protocol):
 
 
 def ffmpeg_path() -> str:
-    """ffmpeg, which an MP4 needs; BadInput before any frame is drawn if it is missing."""
+    """ffmpeg, which an MP4 needs; EnvironmentFailure (what the machine lacks, not the
+    user's input) before any frame is drawn if it is missing."""
     found = shutil.which("ffmpeg")
     if found is None:
-        raise BadInput("an MP4 needs ffmpeg, which is not installed (use --gif)")
+        raise EnvironmentFailure("an MP4 needs ffmpeg, which is not installed (use --gif)")
     return found
 
 
