@@ -10,6 +10,7 @@ from tvl_cli.baselines.dwa import BEHAVIOURS as DWA_BEHAVIOURS
 from tvl_cli.baselines.dwa import SENSORS as DWA_SENSORS
 from tvl_cli.cli import documents, views
 from tvl_cli.cli.options import (
+    GOAL,
     PICTURE,
     SEED,
     memory_options,
@@ -19,7 +20,6 @@ from tvl_cli.cli.options import (
     refuse_existing,
     refuse_shared_paths,
 )
-from tvl_cli.cli.params import Parsed, goal_point
 from tvl_cli.commands.baseline import dwa_session, qlearn_session
 from tvl_cli.core.method import NONE, MethodChoice
 
@@ -32,13 +32,7 @@ def baseline() -> None:
 @baseline.command("dwa")
 @click.argument("world_file", metavar="WORLD", type=click.Path(path_type=Path))
 @click.option("--behaviour", type=click.Choice(DWA_BEHAVIOURS), default="avoid", show_default=True)
-@click.option(
-    "--goal",
-    type=Parsed("point", goal_point),
-    default=None,
-    metavar="X,Y",
-    help="Goal in metres (default: the world's).",
-)
+@GOAL
 @click.option("--minutes", type=float, default=5.0, show_default=True, help="Simulated minutes.")
 @click.option("--seed", type=SEED, default=1, show_default=True)
 @click.option("--png", type=PICTURE, default=None, help="Draw the path.")

@@ -17,6 +17,7 @@ import click
 from tvl_cli.cli import documents, views
 from tvl_cli.cli.options import (
     GIF,
+    GOAL,
     MP4,
     PICTURE,
     SEED,
@@ -31,7 +32,6 @@ from tvl_cli.cli.options import (
     refuse_existing,
     refuse_shared_paths,
 )
-from tvl_cli.cli.params import Parsed, goal_point
 from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD
 from tvl_cli.core.config import SONAR_MODELS
 from tvl_cli.core.contacts import EVENT_CHOICES
@@ -59,13 +59,7 @@ VIEWS = (TERMINAL, WINDOW)
     show_default=True,
     help="A trajectory is fast at this fraction of its maximum, in (0, 1].",
 )
-@click.option(
-    "--goal",
-    type=Parsed("point", goal_point),
-    default=None,
-    metavar="X,Y",
-    help="Goal in metres (default: the world's).",
-)
+@GOAL
 @click.option(
     "--minutes",
     type=float,

@@ -13,7 +13,7 @@ from typing import Any
 import click
 from click.core import ParameterSource
 
-from tvl_cli.cli.params import complete_config, complete_reflexes
+from tvl_cli.cli.params import Parsed, complete_config, complete_reflexes, goal_point
 from tvl_cli.core.config import BUILTIN_FAM_CONFIGS, SLOWEST_TOP_MPS
 from tvl_cli.core.errors import MAX_SEED, BadInput
 from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS
@@ -63,6 +63,14 @@ PICTURE = FormattedPath(picture_format)
 PICTURE_HELP = "Picture file: .png, .svg, .pdf or .jpg."
 GIF = FormattedPath(functools.partial(refuse_other_extension, extension=".gif"))
 MP4 = FormattedPath(functools.partial(refuse_other_extension, extension=".mp4"))
+# --goal X,Y, for the commands that seek a goal; checked against the world where it is read.
+GOAL = click.option(
+    "--goal",
+    type=Parsed("point", goal_point),
+    default=None,
+    metavar="X,Y",
+    help="Goal in metres (default: the world's).",
+)
 
 
 def refuse_existing(path: Path, force: bool) -> None:

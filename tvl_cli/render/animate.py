@@ -18,6 +18,7 @@ from typing import TypeVar
 
 import numpy as np
 from matplotlib.artist import Artist
+from matplotlib.axes import Axes
 from matplotlib.collections import LineCollection
 from matplotlib.figure import Figure
 from matplotlib.patches import Circle
@@ -195,6 +196,23 @@ class _RobotArtists:
         return colours
 
 
+def velocity_axis(ax: Axes, top: np.ndarray, threshold: float) -> LineCollection:
+    """The perceived velocities' axis: each trajectory's threshold share of its top speed
+    dashed over its bar, the scale to just above the fastest. Returns the dashes."""
+    dashes = ax.hlines(
+        threshold * top,
+        np.arange(len(top)) - 0.4,
+        np.arange(len(top)) + 0.4,
+        colors="black",
+        linestyles="dashed",
+        linewidth=1.0,
+        label=f"threshold {threshold:g}",
+    )
+    ax.set_ylim(0.0, 1.05 * top.max())
+    ax.set_ylabel("perceived velocity (m/s)")
+    return dashes
+
+
 class RunFrame:
     """A run's frame: world and robot left; right, the seven perceived velocities of the
     view the robot chose in against the threshold, fast ones green, the one driven framed."""
@@ -209,17 +227,7 @@ class RunFrame:
         names = [t.name for t in robot.trajectories]
         top = np.array(robot.v_max_mps)
         self.bars = bars_ax.bar(names, top, color=SLOW_COLOUR, edgecolor="black")
-        self.threshold = bars_ax.hlines(
-            threshold * top,
-            np.arange(len(top)) - 0.4,
-            np.arange(len(top)) + 0.4,
-            colors="black",
-            linestyles="dashed",
-            linewidth=1.0,
-            label=f"threshold {threshold:g}",
-        )
-        bars_ax.set_ylim(0.0, 1.05 * top.max())
-        bars_ax.set_ylabel("perceived velocity (m/s)")
+        self.threshold = velocity_axis(bars_ax, top, threshold)
         self.legend = bars_ax.legend(loc="upper right", fontsize=7)
         self.bars_title = bars_ax.set_title("", fontsize=9)
         figure.tight_layout(rect=(0.0, 0.0, 1.0, 0.95))  # room for the titles

@@ -25,7 +25,13 @@ from matplotlib.patches import Circle
 from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.explain import Explanation, FiredRule
 from tvl_cli.core.ring import beam_lines
-from tvl_cli.render.animate import FAST_COLOUR, NO_ECHO_COLOUR, RAY_COLOUR, SLOW_COLOUR
+from tvl_cli.render.animate import (
+    FAST_COLOUR,
+    NO_ECHO_COLOUR,
+    RAY_COLOUR,
+    SLOW_COLOUR,
+    velocity_axis,
+)
 from tvl_cli.render.formats import save_picture
 from tvl_cli.render.plot import ROBOT_COLOUR, draw_world
 from tvl_cli.sim.worldmap import WorldMap
@@ -188,17 +194,7 @@ def _draw_velocities(ax: Axes, robot: RobotConfig, threshold: float, moment: Exp
     )
     for name, bar in zip(names, bars, strict=True):
         bar.set_linewidth(2.5 if name == (moment.driven or moment.choice) else 0.5)
-    ax.hlines(
-        threshold * top,
-        np.arange(len(top)) - 0.4,
-        np.arange(len(top)) + 0.4,
-        colors="black",
-        linestyles="dashed",
-        linewidth=1.0,
-        label=f"threshold {threshold:g}",
-    )
-    ax.set_ylim(0.0, 1.05 * top.max())
-    ax.set_ylabel("perceived velocity (m/s)")
+    velocity_axis(ax, top, threshold)
     ax.legend(loc="upper right", fontsize=8)
     ax.set_title(f"perceived; fast: {', '.join(moment.fast) or 'none'}", fontsize=10)
 
