@@ -9,8 +9,8 @@ from rich.table import Table
 from tvl_cli.analysis.intervals import Interval
 from tvl_cli.analysis.measures import MEASURES, Measure
 from tvl_cli.cli.views import out
-from tvl_cli.commands.sweep import TABLE_CSV, SweepResult
-from tvl_cli.commands.sweep_report import KEY_LABELS, SweepSummary
+from tvl_cli.sweep.runner import TABLE_CSV, SweepResult
+from tvl_cli.sweep.summary import KEY_LABELS, SweepSummary
 
 TITLE = "mean ± 95 % interval over seeds (Student's t)"
 # A table's left edge; and each column's padding either side and its rule on the right.

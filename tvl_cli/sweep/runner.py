@@ -20,12 +20,12 @@ from pathlib import Path
 from typing import Any
 
 from tvl_cli.analysis.results import read_results
-from tvl_cli.commands.grid import COLUMNS, Cell, Grid, read_grid
+from tvl_cli.sweep.grid import COLUMNS, Cell, Grid, read_grid
 from tvl_cli.commands.learn import LearnRequest, learn_to_log
 from tvl_cli.commands.run import RunRequest, RunResult, run_behaviour
-from tvl_cli.commands.sweep_report import PlotAxes, SweepSummary, default_plot_path, plot, summarise
+from tvl_cli.sweep.summary import PlotAxes, SweepSummary, default_plot_path, plot, summarise
 from tvl_cli.commands.train import train_from_logs, write_trained
-from tvl_cli.commands.workers import (
+from tvl_cli.sweep.executors import (
     DEFAULT_SCHEDULER_TIMEOUT_S,
     OnDashboard,
     dask_cluster,

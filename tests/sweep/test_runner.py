@@ -21,8 +21,8 @@ import pytest
 from conftest import TVL
 from json_schemas import ENVELOPE, valid
 
-from tvl_cli.commands.grid import COLUMNS
-from tvl_cli.commands.workers import CLUSTER_EXTRA, dask_cluster
+from tvl_cli.sweep.grid import COLUMNS
+from tvl_cli.sweep.executors import CLUSTER_EXTRA, dask_cluster
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.metrics import RunMetrics
 

@@ -9,7 +9,7 @@ from typing import Any
 
 from tvl_cli.analysis.intervals import Group, Interval, group_intervals
 from tvl_cli.analysis.measures import MEASURES, headline
-from tvl_cli.commands.grid import COLUMNS
+from tvl_cli.sweep.grid import COLUMNS
 from tvl_cli.core.errors import BadInput, did_you_mean
 from tvl_cli.io.table import Row
 

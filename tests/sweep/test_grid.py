@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 from tvl_cli.agent.explore import LearnParams
-from tvl_cli.commands.grid import Cell, read_grid
+from tvl_cli.sweep.grid import Cell, read_grid
 from tvl_cli.core.config import SINGLE
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.method import DEFAULT, PAPER, MethodChoice

@@ -10,8 +10,8 @@ import pytest
 
 from tvl_cli.analysis.intervals import Interval, t_975
 from tvl_cli.analysis.measures import MEASURES
-from tvl_cli.commands.grid import COLUMNS
-from tvl_cli.commands.sweep_report import (
+from tvl_cli.sweep.grid import COLUMNS
+from tvl_cli.sweep.summary import (
     KEY_LABELS,
     SETTING_KEYS,
     PlotAxes,
