@@ -10,11 +10,11 @@ from pathlib import Path
 import pytest
 
 from tvl_cli.agent.explore import LearnParams
-from tvl_cli.sweep.grid import Cell, read_grid
 from tvl_cli.core.config import SINGLE
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.method import DEFAULT, PAPER, MethodChoice
 from tvl_cli.sim.worldgen import generate_world
+from tvl_cli.sweep.grid import Cell, read_grid
 
 WORLDS = Path(__file__).resolve().parents[2] / "worlds"
 
@@ -41,7 +41,24 @@ def test_cells_are_every_combination_with_the_last_key_fastest(tmp_path: Path) -
     ]
     # What the grid leaves out is what `tvl learn`, `train` and `run` do by default.
     assert grid.cells[0] == Cell(
-        "square", 1, "single", 15.0, "avoid", 0.7, None, 5.0, "default", "all"
+        kind="tvl",
+        world="square",
+        seed=1,
+        learn_config="single",
+        learn_minutes=15.0,
+        explore=None,
+        collision_points=None,
+        config="single",
+        minute=None,
+        behaviour="avoid",
+        threshold=0.7,
+        goal=None,
+        run_minutes=5.0,
+        online=False,
+        competence_every=None,
+        trace=False,
+        method="default",
+        reflexes="all",
     )
     assert grid.methods == {"default": DEFAULT}
     assert grid.configs == {"single": SINGLE}

@@ -10,6 +10,8 @@ import pytest
 
 from tvl_cli.analysis.intervals import Interval, t_975
 from tvl_cli.analysis.measures import MEASURES
+from tvl_cli.core.errors import BadInput
+from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.sweep.grid import COLUMNS
 from tvl_cli.sweep.summary import (
     KEY_LABELS,
@@ -22,8 +24,6 @@ from tvl_cli.sweep.summary import (
     plot_data,
     summarise,
 )
-from tvl_cli.core.errors import BadInput
-from tvl_cli.core.metrics import RunMetrics
 
 CELL = {
     "world": "rooms-s3",

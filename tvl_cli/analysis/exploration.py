@@ -1,4 +1,4 @@
-"""The exploration experiment's numbers (experiments/exploration.sh): coverage while learning
+"""The exploration experiment's numbers (experiments/grids/exploration.toml): coverage while learning
 and time to competence, by the rule that chose where to learn (`tvl learn --explore`).
 
 Its learn runs carry `explore`, `collision_points` (`sonar`, the learner's default, or
@@ -83,12 +83,12 @@ def competence_rows(rows: list[Row]) -> tuple[list[str], list[list[str]]]:
     (the mean over the trials that became competent, and how many did)."""
     snapshots = select(rows, kind="tvl", behaviour="avoid")
     worlds = distinct(snapshots, "world", ("lab",))
-    horizon = max((r["learnt_minutes"] for r in snapshots), default=None)
+    horizon = max((r["minute"] for r in snapshots), default=None)
     header = ["rule", *worlds, "all worlds"]
     body = []
     for rule in distinct(snapshots, "explore"):
         # A snapshot's learning length is the minute time to competence reads.
-        runs = [{**r, "minute": r["learnt_minutes"]} for r in select(snapshots, explore=rule)]
+        runs = select(snapshots, explore=rule)
         cells = [
             describe_competence(competence_times(select(runs, world=world)), horizon)
             for world in worlds

@@ -1,10 +1,10 @@
 """The experiments' numbers: result rows (one JSON line per run) into competence times,
 means and summary tables. No drawing: render.figures draws from these.
 
-Each line of a results file is one run: its parameters (`kind`: learn, tvl, dwa or qlearn;
-`world`, `seed`, `config`, `minute`, `behaviour`, `threshold`, `reflexes`, ...) and what
-`tvl ... --json` printed. Trials are the seeds; figures show their mean, tables their mean
-and counts.
+Each line of a results file (a sweep's results.jsonl) is one cell: its grid values (`kind`:
+learn, tvl, dwa or qlearn; `world`, `seed`, `config`, `minute`, `behaviour`, `threshold`,
+`method`, `reflexes`, ...) and what its work found, as `tvl ... --json` prints it. Trials are
+the seeds; figures show their mean and 95 % interval, tables their mean ± that interval.
 """
 
 from __future__ import annotations
@@ -21,6 +21,7 @@ import numpy as np
 from tvl_cli.core import competence, jsontext
 from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, is_threshold
 from tvl_cli.core.errors import BadInput
+from tvl_cli.core.method import PAPER_NAME
 from tvl_cli.core.metrics import RunMetrics
 
 Row = dict[str, Any]
@@ -34,8 +35,9 @@ WORLD_ORDER = ("square", "circle", "corridor", "obstacles", "narrow", "lab")
 ABLATION_SETTINGS = (
     "none", "blocked-ways", "near-miss", "bump", "tie", "wall-start", "all", "paper",
 )  # fmt: skip
-# The online experiment's runs: the FAM fixed, or learning while behaving (`tvl run --learn`).
-ONLINE_SETTINGS = ("fixed", "learns")
+# The online experiment's runs (their `online`): the FAM fixed, or learning while behaving
+# (`tvl run --learn`), by their labels.
+ONLINE_SETTINGS = {False: "fixed", True: "learns"}
 # The paper's reported ends (SPEC §10): threshold -> (wall clearance m, mean speed m/s) in
 # wall following (§5.1, Fig. 21), and learning minute -> mean speed m/s in the lab, multi FAM
 # (§5.2, Fig. 27).
@@ -85,37 +87,48 @@ def read_results(path: Path) -> dict[int, Row]:
 
 # The keys the figures read, by what they must hold. Parameters and measures are numbers
 # (finite: json reads NaN and Infinity, which would show as "–"); only the measures a run may
-# not have taken can be null. `minutes` (a learn run's) and `competence_checks` (Q-learning's)
-# are lists of objects whose keys are checked as a run's are.
+# not have taken, and the grid values a kind of cell does not read, can be null. `minutes` (a
+# learn cell's or a run's) and `competence_checks` (Q-learning's) are lists of objects whose
+# keys are checked as a run's are.
 _WORDS = (
     "world",
     "config",
+    "learn_config",
     "behaviour",
+    "method",
     "reflexes",
-    "learning",
     "goal",
-    "online",
     "explore",
     "collision_points",
+    "trace_file",
 )
 _NUMBERS = (
     "seed",
     "minute",
-    "start_minutes",
-    "learnt_minutes",
     "coverage",
     "threshold",
     "learn_minutes",
     "run_minutes",
-    "goal_index",
+    "competence_every",
     "delta_v",
     "learn_collisions",
     *(f.name for f in fields(RunMetrics) if f.name != "goal_reached"),
 )
-_MAYBE_TAKEN = ("mean_wall_clearance_m", "time_to_goal_s", "time_to_competence_min")
-# A `tvl sweep` row records a goal for every run, null for those that seek none.
-_MAYBE_NAMED = ("goal",)
-_FLAGS = ("goal_reached",)
+_MAYBE_TAKEN = (
+    "mean_wall_clearance_m",
+    "time_to_goal_s",
+    "time_to_competence_min",
+    # grid values some kinds of cell do not read
+    "minute",
+    "threshold",
+    "learn_minutes",
+    "run_minutes",
+    "competence_every",
+)
+_MAYBE_NAMED = (
+    "goal", "config", "learn_config", "behaviour", "reflexes", "explore", "collision_points",
+)  # fmt: skip
+_FLAGS = ("goal_reached", "online", "trace")
 _LISTS = ("minutes", "competence_checks")
 
 
@@ -126,7 +139,7 @@ def _check_types(row: Row, where: str) -> None:
             if row[key] is None and key in _MAYBE_NAMED:
                 continue
             raise BadInput(f"{where}: {key!r} is {row[key]!r}, expected text")
-    for key in (*_NUMBERS, *_MAYBE_TAKEN):
+    for key in dict.fromkeys((*_NUMBERS, *_MAYBE_TAKEN)):
         value = row.get(key)
         if key not in row or (value is None and key in _MAYBE_TAKEN):
             continue
@@ -139,7 +152,7 @@ def _check_types(row: Row, where: str) -> None:
     for key in _FLAGS:
         if key in row and not isinstance(row[key], bool):
             raise BadInput(f"{where}: {key!r} is {row[key]!r}, expected true or false")
-    if "threshold" in row and not is_threshold(row["threshold"]):
+    if row.get("threshold") is not None and not is_threshold(row["threshold"]):
         raise BadInput(f"{where}: 'threshold' is {row['threshold']!r}, outside (0, 1]")
     for key in _LISTS:
         items = row.get(key, [])
@@ -196,18 +209,13 @@ FIGURE_NEEDS: dict[str, tuple[Needs, ...]] = {
     ),
     "fig27": (Needs("snapshots", {"kind": "tvl"}, (*_RUN_KEYS, "config", "minute"), _PLOTTED),),
     "ablation": (
-        Needs(
-            "runs",
-            {"kind": "tvl", "reflexes": ABLATION_SETTINGS},
-            (*_RUN_KEYS, "config"),
-            ("contacts_per_min",),
-        ),
+        Needs("runs", {"kind": "tvl"}, (*_RUN_KEYS, "config", "method"), ("contacts_per_min",)),
     ),
     "online": (
         Needs(
             "behaving runs",
-            {"kind": "tvl", "online": ONLINE_SETTINGS},
-            (*_RUN_KEYS, "start_minutes", "threshold", "minutes"),
+            {"kind": "tvl"},
+            (*_RUN_KEYS, "online", "minute", "threshold", "minutes"),
             ("minutes",),
         ),
     ),
@@ -221,33 +229,16 @@ FIGURE_NEEDS: dict[str, tuple[Needs, ...]] = {
         Needs(
             "avoid snapshots",
             {"kind": "tvl", "behaviour": "avoid"},
-            (*_RUN_KEYS, "explore", "learnt_minutes"),
+            (*_RUN_KEYS, "explore", "minute"),
             _PLOTTED,
         ),
     ),
 }
-# Each experiment script marks its TVL runs with a key no other one records: the learning
-# `minute` of a snapshot FAM, the ablation's `learning`, fig22's `goal_index`, the online
-# experiment's `start_minutes` (of exploration before behaving), the exploration
-# experiment's `explore` (the rule that chose where to learn); fig21's
-# threshold runs have none. A figure refuses the TVL runs of another experiment, which it
-# would otherwise average in silently (the ablation would average over fig21's thresholds).
-FIGURE_MARKS: dict[str, str | None] = {
-    "fig19": "minute",
-    "fig21": None,
-    "fig22": "goal_index",
-    "fig24": "minute",
-    "fig27": "minute",
-    "ablation": "learning",
-    "online": "start_minutes",
-    "exploration": "explore",
-}
-_MARKS = tuple(dict.fromkeys(mark for mark in FIGURE_MARKS.values() if mark))
 
 
 def check_needs(name: str, rows: dict[int, Row], source: str) -> None:
     """BadInput unless the rows (by line number) hold the runs figure NAME draws, with the keys
-    it reads and something to plot, and no TVL run of another experiment."""
+    it reads and something to plot."""
     for needs in FIGURE_NEEDS[name]:
         runs = select(rows.values(), **needs.where)
         kinds = ", ".join(f"{k} {_alternatives(v)}" for k, v in needs.where.items())
@@ -262,14 +253,6 @@ def check_needs(name: str, rows: dict[int, Row], source: str) -> None:
         for key in needs.plotted:
             if not any(run[key] not in (None, []) for run in runs):
                 raise BadInput(f"{source}: no {needs.what} ({kinds}) with a {key!r} for {name}")
-    own = FIGURE_MARKS[name]
-    for number, row in rows.items():
-        marks = [mark for mark in _MARKS if mark in row]
-        if row["kind"] == "tvl" and marks != ([own] if own else []):
-            mark = next((m for m in marks if m != own), None)
-            owners = ", ".join(figure for figure, m in FIGURE_MARKS.items() if m == mark)
-            has = f"with {mark!r}" if mark else f"without {own!r}"
-            raise BadInput(f"{source}:{number}: a TVL run {has} is from {owners}, not {name}")
 
 
 def _alternatives(value: Any) -> str:
@@ -485,6 +468,11 @@ def goal_methods(rows: list[Row]) -> list[tuple[str, list[Row]]]:
     return methods + ([("DWA", dwa)] if dwa else [])
 
 
+def ablation_setting(run: Row) -> str:
+    """A TVL run's place in the ablation: its reflexes, or "paper" for the paper's method."""
+    return PAPER_NAME if run["method"] == PAPER_NAME else str(run["reflexes"])
+
+
 def per_min(runs: list[Row], key: str) -> float | None:
     """The mean over runs of a count per simulated minute."""
     return mean(r[key] / (r["sim_s"] / 60.0) for r in runs if r["sim_s"])
@@ -499,7 +487,11 @@ def ablation_rows(rows: list[Row], behaviour: str) -> list[list[str]]:
     for world in distinct(runs_of, "world", WORLD_ORDER):
         for config in distinct(select(runs_of, world=world), "config", ("single", "multi")):
             for setting in ABLATION_SETTINGS:
-                runs = select(runs_of, world=world, config=config, reflexes=setting)
+                runs = [
+                    r
+                    for r in select(runs_of, world=world, config=config)
+                    if ablation_setting(r) == setting
+                ]
                 if not runs:
                     continue
                 competent = sum(is_competent(r) for r in runs)
@@ -569,11 +561,11 @@ def minute_rates(run: Row) -> list[float]:
 
 def online_conditions(rows: Iterable[Row]) -> list[tuple[float, float]]:
     """(exploration minutes before behaving, threshold) of the online experiment's runs."""
-    runs = select(rows, kind="tvl", online=ONLINE_SETTINGS)
+    runs = select(rows, kind="tvl", online=tuple(ONLINE_SETTINGS))
     return [
         (start, threshold)
-        for start in distinct(runs, "start_minutes")
-        for threshold in distinct(select(runs, start_minutes=start), "threshold")
+        for start in distinct(runs, "minute")
+        for threshold in distinct(select(runs, minute=start), "threshold")
     ]
 
 
@@ -582,10 +574,8 @@ def online_rows(rows: list[Row]) -> list[list[str]]:
     minutes and over the whole run, speed, and the episodes learnt while behaving."""
     table = []
     for start, threshold in online_conditions(rows):
-        for setting in ONLINE_SETTINGS:
-            runs = select(
-                rows, kind="tvl", online=setting, start_minutes=start, threshold=threshold
-            )
+        for setting, label in ONLINE_SETTINGS.items():
+            runs = select(rows, kind="tvl", online=setting, minute=start, threshold=threshold)
             if not runs:
                 continue
             rates = [minute_rates(r) for r in runs]
@@ -594,7 +584,7 @@ def online_rows(rows: list[Row]) -> list[list[str]]:
                 [
                     f"{start:g}",
                     f"{threshold:g}",
-                    setting,
+                    label,
                     number(mean(r[0] for r in rates if r)),
                     number(mean(r[-1] for r in rates if r)),
                     number(mean(r["contacts_per_min"] for r in runs)),

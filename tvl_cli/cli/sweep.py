@@ -16,9 +16,9 @@ from tvl_cli.cli.options import (
     refuse_both_formats,
     refuse_existing,
 )
+from tvl_cli.sweep.executors import DEFAULT_SCHEDULER_TIMEOUT_S
 from tvl_cli.sweep.runner import DEFAULT_MAX_CELLS, SweepRequest, default_out, run_sweep
 from tvl_cli.sweep.summary import PLOT_FORM, parse_measures, parse_plot
-from tvl_cli.sweep.executors import DEFAULT_SCHEDULER_TIMEOUT_S
 
 
 @click.command()

@@ -1,11 +1,10 @@
 """The experiment figures (paper §5), drawn from the numbers analysis.results computes out
-of the scripts' JSON lines; each figure also returns its summary table."""
+of a sweep's rows; each figure also returns its summary table."""
 
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Sequence
 from itertools import pairwise
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -34,7 +33,7 @@ from tvl_cli.analysis.results import (
     WORLD_ORDER,
     Row,
     ablation_rows,
-    check_needs,
+    ablation_setting,
     competence_note,
     competence_times,
     curve,
@@ -52,21 +51,15 @@ from tvl_cli.analysis.results import (
     online_rows,
     prone,
     qlearn_checks,
-    read_results,
     select,
     threshold_points,
 )
 from tvl_cli.core import competence
-from tvl_cli.core.errors import BadInput
-from tvl_cli.io.atomic import atomic_output
-from tvl_cli.io.runfile import read_run
-from tvl_cli.render.formats import save_picture
 from tvl_cli.render.plot import draw_world
 from tvl_cli.sim.worldmap import parse_world
 
 CONFIG_STYLE = {"single": "#1f77b4", "multi": "#d62728"}
 DWA_COLOUR, QLEARN_COLOUR = "#2ca02c", "#9467bd"
-DPI = 120
 PAPER_COLOUR = "grey"
 
 
@@ -228,16 +221,16 @@ def figure21(rows: list[Row]) -> tuple[Figure, str]:
 # --- Figure 22: goal seeking ---------------------------------------------------------
 
 
-def draw_paths(ax: Axes, runs: list[Row], base: Path) -> None:
-    """The world and the recorded paths of one trial's goal runs (their run traces)."""
-    traced = [r for r in runs if r.get("trace")]
+def draw_paths(ax: Axes, runs: list[Row]) -> None:
+    """The world and the recorded paths of one trial's goal runs (the `pose` arrays, N x 3
+    m, m, rad, and `world_text` of their traces, which commands.figure reads in)."""
+    traced = [r for r in runs if "pose" in r]
     if not traced:
         ax.set_axis_off()
         return
-    first = read_run(base / traced[0]["trace"])
-    draw_world(ax, parse_world(first.world_text, traced[0]["trace"]))
+    draw_world(ax, parse_world(traced[0]["world_text"], traced[0]["trace_file"]))
     for run in traced:
-        pose = read_run(base / run["trace"]).arrays["pose"]  # (N, 3) m, m, rad
+        pose = run["pose"]
         colour = f"C{run['goal_index'] - 1}"
         style = "-" if run["goal_reached"] else ":"
         ax.plot(pose[:, 0], pose[:, 1], style, color=colour, linewidth=1.4, zorder=4)
@@ -252,8 +245,18 @@ def draw_paths(ax: Axes, runs: list[Row], base: Path) -> None:
         )
 
 
-def figure22(rows: list[Row], base: Path) -> tuple[Figure, str]:
-    goal_runs = select(rows, behaviour="goal")
+def numbered_goals(goal_runs: list[Row]) -> list[Row]:
+    """The goal runs with each goal's number in its world (`goal_index`, from 1), in the order
+    the runs first seek them."""
+    numbers: dict[tuple[str, str], int] = {}
+    for run in goal_runs:
+        in_world = sum(world == run["world"] for world, _ in numbers)
+        numbers.setdefault((run["world"], run["goal"]), in_world + 1)
+    return [{**run, "goal_index": numbers[run["world"], run["goal"]]} for run in goal_runs]
+
+
+def figure22(rows: list[Row]) -> tuple[Figure, str]:
+    goal_runs = numbered_goals(select(rows, behaviour="goal"))
     worlds = distinct(goal_runs, "world", WORLD_ORDER)
     configs = distinct(select(goal_runs, kind="tvl"), "config", ("single", "multi"))
     columns = len(configs) + 1
@@ -265,7 +268,7 @@ def figure22(rows: list[Row], base: Path) -> tuple[Figure, str]:
         for column, config in enumerate(configs):
             tvl_runs = select(in_world, kind="tvl", config=config)
             trial = min((r["seed"] for r in tvl_runs), default=None)
-            draw_paths(axes[row_index, column], select(tvl_runs, seed=trial), base)
+            draw_paths(axes[row_index, column], select(tvl_runs, seed=trial))
             axes[row_index, column].set_title(f"{world}, {config} FAM, trial {trial}")
         bars = axes[row_index, -1]
         goals = distinct(in_world, "goal_index")
@@ -412,7 +415,8 @@ def ablation(rows: list[Row]) -> tuple[Figure, str]:
             for offset, config in ((-width / 2, "single"), (width / 2, "multi")):
                 runs = select(rows, kind="tvl", behaviour=behaviour, world=world, config=config)
                 values = [
-                    mean(r["contacts_per_min"] for r in select(runs, reflexes=s)) for s in settings
+                    mean(r["contacts_per_min"] for r in runs if ablation_setting(r) == s)
+                    for s in settings
                 ]
                 heights = [np.nan if v is None else v for v in values]
                 ax.bar(x + offset, heights, width, color=CONFIG_STYLE[config], label=config)
@@ -441,18 +445,16 @@ def online(rows: list[Row]) -> tuple[Figure, str]:
     conditions = online_conditions(rows)
     figure = new_figure(3.6 * len(conditions), 3.4)
     axes = figure.subplots(1, len(conditions), squeeze=False)[0]
-    styles = {"fixed": ("s--", "grey"), "learns": ("o-", CONFIG_STYLE["single"])}
+    styles = {False: ("s--", "grey"), True: ("o-", CONFIG_STYLE["single"])}
     for ax, (start, threshold) in zip(axes, conditions, strict=True):
-        for setting in ONLINE_SETTINGS:
-            runs = select(
-                rows, kind="tvl", online=setting, start_minutes=start, threshold=threshold
-            )
+        for setting, label in ONLINE_SETTINGS.items():
+            runs = select(rows, kind="tvl", online=setting, minute=start, threshold=threshold)
             rates = [minute_rates(r) for r in runs]
             longest = max((len(r) for r in rates), default=0)
             minutes = np.arange(1, longest + 1)
             means = [mean(r[k] for r in rates if k < len(r)) for k in range(longest)]
             style, colour = styles[setting]
-            ax.plot(minutes, means, style, ms=3, color=colour, label=f"FAM {setting}")
+            ax.plot(minutes, means, style, ms=3, color=colour, label=f"FAM {label}")
         competence_limit(ax, COLLISION_PRONE_PER_MIN)
         collision_axis(ax)
         ax.set_title(f"after {start:g} min exploring, threshold {threshold:g}", fontsize=9)
@@ -530,35 +532,15 @@ def exploration(rows: list[Row]) -> tuple[Figure, str]:
     return figure, "\n".join(tables) + "\n" + note + competence_note(rows)
 
 
-# --- the registry and the command's entry point ---------------------------------------
+# --- the registry -----------------------------------------------------------------------
 
-FIGURES: dict[str, Callable[[list[Row], Path], tuple[Figure, str]]] = {
-    "fig19": lambda rows, _base: figure19(rows),
-    "fig21": lambda rows, _base: figure21(rows),
+FIGURES: dict[str, Callable[[list[Row]], tuple[Figure, str]]] = {
+    "fig19": figure19,
+    "fig21": figure21,
     "fig22": figure22,
-    "fig24": lambda rows, _base: figure24(rows),
-    "fig27": lambda rows, _base: figure27(rows),
-    "ablation": lambda rows, _base: ablation(rows),
-    "online": lambda rows, _base: online(rows),
-    "exploration": lambda rows, _base: exploration(rows),
+    "fig24": figure24,
+    "fig27": figure27,
+    "ablation": ablation,
+    "online": online,
+    "exploration": exploration,
 }
-
-
-def draw_figure(name: str, results: Path, png: Path, table: Path | None = None) -> str:
-    """Draw figure NAME from a results file into the picture `png` (in the format its
-    extension names); return (and write) its markdown table."""
-    if name not in FIGURES:
-        raise BadInput(f"unknown figure {name!r} (choose from {', '.join(FIGURES)})")
-    by_line = read_results(results)
-    if not by_line:
-        raise BadInput(f"{results}: no runs")
-    check_needs(name, by_line, str(results))
-    try:
-        figure, summary = FIGURES[name](list(by_line.values()), results.parent)
-    except KeyError as error:
-        raise BadInput(f"{results}: a run lacks the key {error} that {name} needs") from None
-    save_picture(figure, png, dpi=DPI)
-    if table is not None:
-        with atomic_output(table) as temporary:
-            temporary.write_text(summary, encoding="utf-8")
-    return summary

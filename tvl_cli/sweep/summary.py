@@ -9,22 +9,30 @@ from typing import Any
 
 from tvl_cli.analysis.intervals import Group, Interval, group_intervals
 from tvl_cli.analysis.measures import MEASURES, headline
-from tvl_cli.sweep.grid import COLUMNS
 from tvl_cli.core.errors import BadInput, did_you_mean
 from tvl_cli.io.table import Row
+from tvl_cli.sweep.grid import COLUMNS
 
 # What the intervals are over: a setting is every grid key but this one.
 TRIALS = "seed"
 SETTING_KEYS = tuple(column for column in COLUMNS if column != TRIALS)
 # The grid keys as a table's header or a plot's axis names them, with their units.
 KEY_LABELS = {
+    "kind": "kind",
     "world": "world",
-    "config": "config",
+    "learn_config": "learnt with",
     "learn_minutes": "learn (min)",
+    "explore": "explore",
+    "collision_points": "collision points",
+    "config": "config",
+    "minute": "FAM at (min)",
     "behaviour": "behaviour",
     "threshold": "threshold",
     "goal": "goal (m)",
     "run_minutes": "run (min)",
+    "online": "learns as it runs",
+    "competence_every": "checks every (min)",
+    "trace": "traced",
     "method": "method",
     "reflexes": "reflexes",
 }
