@@ -1,9 +1,9 @@
-"""The exploration experiment's numbers (experiments/grids/exploration.toml): coverage while learning
-and time to competence, by the rule that chose where to learn (`tvl learn --explore`).
+"""The exploration experiment's numbers (experiments/grids/exploration.toml): coverage while
+learning and time to competence, by the rule that chose where to learn (`tvl learn --explore`).
 
-Its learn runs carry `explore`, `collision_points` (`sonar`, the learner's default, or
+Its learn cells carry `explore`, `collision_points` (`sonar`, the learner's default, or
 `bumps`) and the per-minute rows `tvl replay --json` prints, with their `coverage`; its avoid
-runs carry `explore` and `learnt_minutes`, the length of learning their FAM had.
+runs carry `explore` and `minute`, the length of learning their FAM had.
 """
 
 from __future__ import annotations

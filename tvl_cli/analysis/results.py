@@ -126,7 +126,8 @@ _MAYBE_TAKEN = (
     "competence_every",
 )
 _MAYBE_NAMED = (
-    "goal", "config", "learn_config", "behaviour", "reflexes", "explore", "collision_points",
+    "goal", "config", "learn_config", "behaviour", "method", "reflexes", "explore",
+    "collision_points",
 )  # fmt: skip
 _FLAGS = ("goal_reached", "online", "trace")
 _LISTS = ("minutes", "competence_checks")

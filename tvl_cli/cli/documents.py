@@ -330,6 +330,7 @@ def sweep_json(result: SweepResult, request: SweepRequest) -> dict[str, Any]:
         "scheduler": request.scheduler,
         "scheduler_timeout_s": request.scheduler_timeout_s,
         "max_cells": request.max_cells,
+        "size": request.size,
         "measures": None if request.measures is None else list(request.measures),
         "plot": None if request.plot is None else asdict(request.plot),
     }

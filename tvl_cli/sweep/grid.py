@@ -30,9 +30,10 @@ reads only its own keys (`minute` means nothing to DWA), so one list of kinds ma
 baseline cell once, not once per snapshot minute.
 
 `[[part]]` tables are grids of their own that take the keys above them and change some: the
-cells of a grid are every part's (a cell two parts make is run once). `[tiny]` and `[quick]`
-tables give keys that override the file's everywhere, top and parts alike, for `tvl sweep
---size tiny|quick`; the file as written is the full size.
+cells of a grid are every part's (a cell two parts make is run once). The file as written is
+the full size, the paper's trial counts; `[tiny]` and `[quick]` tables give keys that override
+the file's everywhere, top and parts alike, for `tvl sweep --size tiny|quick`, and a part's
+own `[part.tiny]` or `[part.quick]` has the last word on that part.
 
 Files are named relative to the grid file's folder.
 """
@@ -114,7 +115,8 @@ class Cell:
     online: bool  # the run learns as it goes (`tvl run --learn`)
     competence_every: float | None  # Q-learning's competence checks, learning minutes apart
     trace: bool  # the run keeps its trace in the sweep's directory
-    method: str  # as `--method` takes it: a preset's name, or a method file beside the grid
+    method: str | None  # as `--method` takes it: a preset's name, or a method file beside
+    # the grid; None for a baseline
     reflexes: str | None  # as `--reflex` takes them
 
     def key(self) -> tuple[Any, ...]:
@@ -137,6 +139,10 @@ class Cell:
         """The run's method: the cell's, with the cell's reflexes."""
         reflexes = parse_reflexes(self.reflexes or reflexes_text(method.reflexes))
         return MethodChoice(method, self.method, (("reflexes", reflexes),))
+
+    def baseline_method(self) -> MethodChoice:
+        """A baseline's method: alone, with the cell's reflexes, as `tvl baseline --reflex`."""
+        return MethodChoice(settings=(("reflexes", parse_reflexes(self.reflexes or "none")),))
 
     def goal_xy(self) -> tuple[float, float] | None:
         return None if self.goal is None else parse_goal(self.goal)
@@ -185,7 +191,8 @@ _KEYS: dict[str, _Key] = {
     "online": _Key(bool, (False,), (TVL,)),
     "competence_every": _Key(float, (None,), (QLEARN,)),
     "trace": _Key(bool, (False,), (TVL,)),
-    "method": _Key(str, (DEFAULT_NAME,), _EVERY),
+    # A baseline takes nothing of a method but its reflexes, which the cell gives.
+    "method": _Key(str, (DEFAULT_NAME,), _LEARNT),
     "reflexes": _Key(str, (), _RUNS),
 }
 _TYPE_NAMES = {str: "text", int: "a whole number", float: "a number", bool: "true or false"}
@@ -199,19 +206,28 @@ def read_grid(path: Path, max_cells: int | None = None, size: str = FULL) -> Gri
     the key (or the line of a syntax error) at the first fault, or the number of cells when
     it is over `max_cells` (None: no cap), counted before any cell is made."""
     table = read_toml(path, "grid")
-    overrides = _size_table(path, table, size)
     top = {k: v for k, v in table.items() if k not in (*SIZES, PART)}
     parts = table.get(PART, [{}])
     if not isinstance(parts, list) or not all(isinstance(p, dict) for p in parts) or not parts:
         raise BadInput(f"{path}: {PART!r} must be [[{PART}]] tables, each a grid of its own")
+    # A size needs a table of its own in the file or in one of its parts.
+    overrides = _size_table(path, table, size, not any(size in part for part in parts))
     values_of = []
     for number, part in enumerate(parts, start=1):
         where = f"{path} [[{PART}]] {number}" if PART in table else str(path)
-        if PART in part or any(size in part for size in SIZES):
-            raise BadInput(f"{where}: a part holds grid keys only, not parts or sizes")
-        own = part if PART in table else top
-        values_of.append(_part_values(where, {**top, **part, **overrides}, own))
-    methods = {e: _method(path, e) for values in values_of for e in values["method"]}
+        if PART in part:
+            raise BadInput(f"{where}: a part holds grid keys and sizes, not parts")
+        own = {k: v for k, v in part.items() if k not in SIZES} if PART in table else top
+        # Its own size table has the last word on a part.
+        own_size = _size_table(where, part, size, required=False)
+        merged = {**top, **own, **overrides, **own_size}
+        values_of.append(_part_values(where, merged, {**own, **own_size}))
+    methods = {
+        e: _method(path, e)
+        for values in values_of
+        if set(values["kind"]) & set(_LEARNT)
+        for e in values["method"]
+    }
     worlds = _named(
         path, "world", {e: _world(path, e) for values in values_of for e in values["world"]}
     )
@@ -255,22 +271,26 @@ def read_grid(path: Path, max_cells: int | None = None, size: str = FULL) -> Gri
     )
 
 
-def _size_table(path: Path, table: dict[str, Any], size: str) -> dict[str, Any]:
-    """The keys a size overrides: none at full size, else the file's table of that name."""
+def _size_table(
+    where: Path | str, table: dict[str, Any], size: str, required: bool = True
+) -> dict[str, Any]:
+    """The keys a size overrides: none at full size, else the table of that name (the file's
+    must be there; a part's may not)."""
     if size not in SIZES:
         raise BadInput(f"--size {size}: not one of {', '.join(SIZES)}")
     for name in SIZES:
         if name == FULL and name in table:
-            raise BadInput(f"{path}: no [{FULL}] table: the file as written is the full size")
+            raise BadInput(f"{where}: no [{FULL}] table: the file as written is the full size")
         if name in table and not isinstance(table[name], dict):
-            raise BadInput(f"{path}: {name!r} must be a [{name}] table of grid keys")
-    if size == FULL:
+            raise BadInput(f"{where}: {name!r} must be a [{name}] table of grid keys")
+    if size == FULL or (size not in table and not required):
         return {}
     if size not in table:
-        raise BadInput(f"{path}: no [{size}] table for --size {size}")
+        raise BadInput(f"{where}: no [{size}] table for --size {size}")
     overrides: dict[str, Any] = table[size]
-    if PART in overrides:
-        raise BadInput(f"{path} [{size}]: a size overrides grid keys, not parts")
+    for key, value in overrides.items():
+        if key == PART or key in SIZES or (isinstance(value, dict) and key not in _KEYS):
+            raise BadInput(f"{where} [{size}]: a size overrides grid keys, not {key!r}")
     return overrides
 
 
@@ -384,11 +404,12 @@ def _cells(
             cell["trace"] = bool(cell["trace"])
             if cell["learn_config"] == SAME:
                 cell["learn_config"] = cell["config"]
-            if cell["reflexes"] is None and kind != LEARN:
-                # A TVL run with its method's own reflexes; a baseline alone, as `tvl
-                # baseline` runs it.
-                own = reflexes_text(methods[cell["method"]].reflexes)
-                cell["reflexes"] = own if kind == TVL else "none"
+            # Not given: a TVL run with its method's own reflexes; a baseline alone, as `tvl
+            # baseline` runs it.
+            if cell["reflexes"] is None and kind == TVL:
+                cell["reflexes"] = reflexes_text(methods[cell["method"]].reflexes)
+            elif cell["reflexes"] is None and kind in (DWA, QLEARN):
+                cell["reflexes"] = "none"
             behaviour = cell["behaviour"]
             for goal in goals[cell["world"]] if behaviour == "goal" else [None]:
                 cells.append(Cell(**cell, goal=goal))

@@ -107,6 +107,8 @@ class _Layout:
         return self.root / "worlds" / f"{cell.world}.txt"
 
     def method(self, cell: Cell) -> Method:
+        """A TVL or learn cell's method, with its exploration and collision points."""
+        assert cell.method is not None  # every cell that learns has one
         return cell.learning_method(self.grid.methods[cell.method])
 
     def log(self, cell: Cell) -> Path:
@@ -147,7 +149,6 @@ class _Layout:
 
     def work(self, cell: Cell) -> CellWork:
         """What a cell does once its log (and FAM) are there."""
-        method = self.grid.methods[cell.method]
         if cell.kind == LEARN:
             return CellWork(LEARN, log=self.log(cell))
         if cell.kind == TVL:
@@ -164,7 +165,7 @@ class _Layout:
                 learn=OnlineLearning() if cell.online else None,
             )
             return CellWork(TVL, run=run, root=self.root)
-        return CellWork(cell.kind, baseline=(self.world(cell), cell, cell.run_method(method)))
+        return CellWork(cell.kind, baseline=(self.world(cell), cell, cell.baseline_method()))
 
 
 def _given(value: Any) -> Any:
