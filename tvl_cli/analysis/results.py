@@ -18,10 +18,11 @@ from typing import Any
 
 import numpy as np
 
+from tvl_cli.analysis.intervals import Interval, interval
 from tvl_cli.core import competence, jsontext
 from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, is_threshold
 from tvl_cli.core.errors import BadInput
-from tvl_cli.core.method import PAPER_NAME
+from tvl_cli.core.method import DEFAULT_NAME, PAPER_NAME
 from tvl_cli.core.metrics import RunMetrics
 
 Row = dict[str, Any]
@@ -281,13 +282,35 @@ def mean(values: Iterable[float | None]) -> float | None:
     return sum(known) / len(known) if known else None
 
 
-def curve(rows: Iterable[Row], x: str, y: str) -> tuple[np.ndarray, np.ndarray]:
-    """Mean of `y` over the rows at each value of `x` (trials averaged): (K,), (K,) arrays."""
-    by_x: dict[float, list[float | None]] = {}
+def seed_interval(rows: Iterable[Row], key: str) -> Interval | None:
+    """The mean of `key` over the seeds (each seed's rows averaged first: the wall sides of a
+    threshold, say) and its 95 % interval; None if no row has it."""
+    by_seed: dict[Any, list[float | None]] = {}
     for row in rows:
-        by_x.setdefault(row[x], []).append(row.get(y))
-    xs = sorted(v for v in by_x if mean(by_x[v]) is not None)
-    return np.array(xs, dtype=float), np.array([mean(by_x[v]) for v in xs], dtype=float)
+        by_seed.setdefault(row.get("seed"), []).append(row.get(key))
+    means = [mean(values) for values in by_seed.values()]
+    return interval([m for m in means if m is not None])
+
+
+def curve(rows: Iterable[Row], x: str, y: str) -> tuple[np.ndarray, np.ndarray]:
+    """Mean of `y` over the trials at each value of `x`: (K,), (K,) arrays."""
+    xs, means, _ = curve_band(rows, x, y)
+    return xs, means
+
+
+def curve_band(rows: Iterable[Row], x: str, y: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Mean of `y` over the trials (seeds) at each value of `x`, and the half width of its
+    95 % interval (NaN from one trial): (K,), (K,), (K,) arrays."""
+    by_x: dict[float, list[Row]] = {}
+    for row in rows:
+        by_x.setdefault(row[x], []).append(row)
+    points = [(v, seed_interval(by_x[v], y)) for v in sorted(by_x)]
+    known = [(v, shown) for v, shown in points if shown is not None]
+    return (
+        np.array([v for v, _ in known], dtype=float),
+        np.array([shown.mean for _, shown in known], dtype=float),
+        np.array([np.nan if s.half_width is None else s.half_width for _, s in known], dtype=float),
+    )
 
 
 def by_trial(rows: Iterable[Row]) -> dict[int, list[Row]]:
@@ -322,6 +345,34 @@ def number(value: float | None, digits: int = 2) -> str:
     return "–" if value is None or not math.isfinite(value) else f"{value:.{digits}f}"
 
 
+def spread(values: Iterable[float | None], digits: int = 2) -> str:
+    """'0.31 ± 0.04': the mean of the values and the half width of its 95 % interval (the
+    mean alone from one value; a dash from none)."""
+    return interval_text(interval([v for v in values if v is not None]), digits)
+
+
+def interval_text(shown: Interval | None, digits: int = 2) -> str:
+    if shown is None:
+        return "–"
+    if shown.half_width is None:
+        return number(shown.mean, digits)
+    return f"{number(shown.mean, digits)} ± {number(shown.half_width, digits)}"
+
+
+# How figures and tables name a sweep's methods: ours (the default) and the paper's.
+METHOD_LABELS = {DEFAULT_NAME: "ours", PAPER_NAME: "paper's method"}
+
+
+def method_label(method: str | None) -> str:
+    return METHOD_LABELS.get(method or DEFAULT_NAME, str(method))
+
+
+def methods_of(rows: Iterable[Row]) -> list[str]:
+    """The methods TVL learnt and ran by among the rows: ours first, then the paper's, then
+    any method file."""
+    return distinct(select(rows, kind=("tvl", "learn")), "method", tuple(METHOD_LABELS))
+
+
 def markdown(title: str, header: Sequence[str], body: Iterable[Sequence[str]]) -> str:
     lines = [f"### {title}", "", "| " + " | ".join(header) + " |"]
     lines.append("|" + "|".join(" --- " for _ in header) + "|")
@@ -341,28 +392,31 @@ def learning_minutes(rows: Iterable[Row]) -> list[Row]:
 
 
 def method_rows(rows: list[Row], world: str, configs: Sequence[str]) -> list[list[str]]:
-    """Table rows for TVL's configurations, DWA and Q-learning in one world: time to
-    competence, collision rate, speed and clearance of an avoid run, collisions in learning."""
+    """Table rows for TVL's configurations by each method, DWA and Q-learning in one world:
+    time to competence, collision rate, speed and clearance of an avoid run (each trial's
+    last; mean ± 95 % interval over trials), collisions in learning."""
     table: list[list[str]] = []
-    learnt = learning_minutes(select(rows, world=world))
-    learn_rate = mean(m["collisions"] for m in learnt)
-    horizon = max((m["minute"] for m in learnt), default=None)
-    for config in configs:
-        snapshots = select(rows, kind="tvl", world=world, config=config, behaviour="avoid")
-        if not snapshots:
-            continue
-        last = final_runs(snapshots)
-        table.append(
-            [
-                world,
-                f"TVL {config} FAM",
-                describe_competence(competence_times(snapshots), horizon),
-                number(mean(r["contacts_per_min"] for r in last)),
-                number(mean(r["mean_speed_mps"] for r in last)),
-                number(mean(r["mean_clearance_m"] for r in last)),
-                number(learn_rate),
-            ]
-        )
+    for method in methods_of(select(rows, world=world)):
+        by_method = select(rows, world=world, method=method)
+        learnt = learning_minutes(by_method)
+        horizon = max((m["minute"] for m in learnt), default=None)
+        for config in configs:
+            snapshots = select(by_method, kind="tvl", config=config, behaviour="avoid")
+            if not snapshots:
+                continue
+            last = final_runs(snapshots)
+            horizon = horizon or max(r["minute"] for r in snapshots)
+            table.append(
+                [
+                    world,
+                    f"TVL {config} FAM, {method_label(method)}",
+                    describe_competence(competence_times(snapshots), horizon),
+                    spread(r["contacts_per_min"] for r in last),
+                    spread(r["mean_speed_mps"] for r in last),
+                    spread(r["mean_clearance_m"] for r in last),
+                    spread(_learning_rates(learnt)),
+                ]
+            )
     dwa = select(rows, kind="dwa", world=world, behaviour="avoid")
     if dwa:
         table.append(
@@ -370,9 +424,9 @@ def method_rows(rows: list[Row], world: str, configs: Sequence[str]) -> list[lis
                 world,
                 "DWA (knows the map)",
                 "no learning",
-                number(mean(r["contacts_per_min"] for r in dwa)),
-                number(mean(r["mean_speed_mps"] for r in dwa)),
-                number(mean(r["mean_clearance_m"] for r in dwa)),
+                spread(r["contacts_per_min"] for r in dwa),
+                spread(r["mean_speed_mps"] for r in dwa),
+                spread(r["mean_clearance_m"] for r in dwa),
                 "–",
             ]
         )
@@ -384,13 +438,18 @@ def method_rows(rows: list[Row], world: str, configs: Sequence[str]) -> list[lis
                 world,
                 "Q-learning",
                 describe_competence(times, max(r["learn_minutes"] for r in qlearn)),
-                number(mean(r["contacts_per_min"] for r in qlearn)),
-                number(mean(r["mean_speed_mps"] for r in qlearn)),
-                number(mean(r["mean_clearance_m"] for r in qlearn)),
-                number(mean(r["learn_collisions"] / r["learn_minutes"] for r in qlearn)),
+                spread(r["contacts_per_min"] for r in qlearn),
+                spread(r["mean_speed_mps"] for r in qlearn),
+                spread(r["mean_clearance_m"] for r in qlearn),
+                spread(r["learn_collisions"] / r["learn_minutes"] for r in qlearn),
             ]
         )
     return table
+
+
+def _learning_rates(learnt: list[Row]) -> list[float | None]:
+    """Each trial's collisions a minute while learning."""
+    return [mean(m["collisions"] for m in minutes) for minutes in by_trial(learnt).values()]
 
 
 METHOD_HEADER = (
@@ -411,7 +470,8 @@ COMPETENCE_NOTE = (
 )
 METHOD_NOTE = (
     "Avoid columns: the FAM at the end of learning (Q-learning: its greedy policy); "
-    "means over trials.\n"
+    "mean ± 95 % interval over trials (Student's t; the mean alone from one trial). "
+    "Ours is the default method; the paper's is `--method paper`.\n"
 )
 
 
@@ -435,35 +495,35 @@ def qlearn_checks(qlearn: Iterable[Row]) -> list[Row]:
     ]
 
 
-def threshold_points(rows: list[Row], world: str) -> list[tuple[float, Row]]:
-    """Per threshold, the means over trials and wall sides of one world's wall runs."""
+def threshold_points(rows: list[Row], world: str) -> list[tuple[float, dict[str, Interval | None]]]:
+    """Per threshold, the means over trials (each trial's wall sides averaged) of one world's
+    wall runs, with their 95 % intervals."""
     walls = select(rows, kind="tvl", world=world, behaviour=WALL_BEHAVIOURS)
-    points = []
-    for threshold in distinct(walls, "threshold"):
-        runs = select(walls, threshold=threshold)
-        points.append(
-            (
-                threshold,
-                {
-                    key: mean(r[key] for r in runs)
-                    for key in ("mean_wall_clearance_m", "mean_speed_mps", "contacts_per_min")
-                },
-            )
+    return [
+        (
+            threshold,
+            {
+                key: seed_interval(select(walls, threshold=threshold), key)
+                for key in ("mean_wall_clearance_m", "mean_speed_mps", "contacts_per_min")
+            },
         )
-    return points
+        for threshold in distinct(walls, "threshold")
+    ]
 
 
-def prone(point: Row) -> bool:
+def prone(point: dict[str, Interval | None]) -> bool:
     rate = point["contacts_per_min"]
-    return rate is not None and rate > COLLISION_PRONE_PER_MIN
+    return rate is not None and rate.mean > COLLISION_PRONE_PER_MIN
 
 
 def goal_methods(rows: list[Row]) -> list[tuple[str, list[Row]]]:
-    """(label, goal runs) for each TVL configuration and DWA."""
+    """(label, goal runs) for each TVL configuration by each method, and DWA."""
     goal_runs = select(rows, behaviour="goal")
+    tvl = select(goal_runs, kind="tvl")
     methods = [
-        (f"TVL {config}", select(goal_runs, kind="tvl", config=config))
-        for config in distinct(select(goal_runs, kind="tvl"), "config", ("single", "multi"))
+        (f"TVL {config}, {method_label(method)}", select(tvl, config=config, method=method))
+        for method in methods_of(tvl)
+        for config in distinct(select(tvl, method=method), "config", ("single", "multi"))
     ]
     dwa = select(goal_runs, kind="dwa")
     return methods + ([("DWA", dwa)] if dwa else [])
@@ -501,10 +561,10 @@ def ablation_rows(rows: list[Row], behaviour: str) -> list[list[str]]:
                         world,
                         config,
                         setting,
-                        number(mean(r["contacts_per_min"] for r in runs)),
+                        interval_text(seed_interval(runs, "contacts_per_min")),
                         f"{number(per_min(runs, 'collisions'))} + "
                         f"{number(per_min(runs, 'near_misses'))}",
-                        number(mean(r["mean_speed_mps"] for r in runs)),
+                        interval_text(seed_interval(runs, "mean_speed_mps")),
                         number(mean(r["mean_drive_speed_mps"] for r in runs)),
                         number(per_min(runs, "spins"), 1),
                         number(per_min(runs, "backoffs"), 1),
@@ -529,28 +589,29 @@ ABLATION_HEADER = (
 
 
 def learning_time_rows(
-    snapshots: list[Row], series: Sequence[tuple[str, str]], dwa: list[Row]
+    snapshots: list[Row], series: Sequence[tuple[str, str, str]], dwa: list[Row]
 ) -> tuple[list[str], list[list[str]]]:
-    """Figure 27's table: per learning minute, each (config, behaviour)'s mean speed and
-    contacts a minute over the trials, then the DWA's avoid run as the last row."""
+    """Figure 27's table: per learning minute, each (config, behaviour, method)'s mean speed
+    and contacts a minute ± their 95 % intervals over the trials, then the DWA's avoid run
+    as the last row."""
 
     def cell(runs: list[Row]) -> str:
         return (
-            f"{number(mean(r['mean_speed_mps'] for r in runs))}, "
-            f"{number(mean(r['contacts_per_min'] for r in runs))}"
+            f"{interval_text(seed_interval(runs, 'mean_speed_mps'))}, "
+            f"{interval_text(seed_interval(runs, 'contacts_per_min'))}"
         )
 
-    header = ["minute"] + [f"{c} {b}: m/s, contacts/min" for c, b in series]
+    header = ["minute"] + [f"{c} {b}, {method_label(m)}: m/s, contacts/min" for c, b, m in series]
     body = [
         [f"{minute:g}"]
         + [
-            cell(select(snapshots, config=config, behaviour=behaviour, minute=minute))
-            for config, behaviour in series
+            cell(select(snapshots, config=c, behaviour=b, method=m, minute=minute))
+            for c, b, m in series
         ]
         for minute in distinct(snapshots, "minute")
     ]
     if dwa:
-        body.append(["DWA (avoid)"] + [cell(dwa) if b == "avoid" else "–" for _, b in series])
+        body.append(["DWA (avoid)"] + [cell(dwa) if b == "avoid" else "–" for _, b, _ in series])
     return header, body
 
 
@@ -588,8 +649,8 @@ def online_rows(rows: list[Row]) -> list[list[str]]:
                     label,
                     number(mean(r[0] for r in rates if r)),
                     number(mean(r[-1] for r in rates if r)),
-                    number(mean(r["contacts_per_min"] for r in runs)),
-                    number(mean(r["mean_speed_mps"] for r in runs)),
+                    interval_text(seed_interval(runs, "contacts_per_min")),
+                    interval_text(seed_interval(runs, "mean_speed_mps")),
                     f"{mean(learnt):.0f}" if learnt else "–",
                     str(len(runs)),
                 ]
