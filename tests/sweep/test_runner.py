@@ -93,7 +93,7 @@ def test_every_cell_is_a_row_of_its_grid_values_and_its_run_metrics(swept: Path)
         assert [m["sim_s"] for m in json.loads(row["minutes"])] == [30.0]
     recorded = journal(swept)
     assert len(recorded) == 4
-    assert all(list(row) == ["kind", *COLUMNS, *PRINTED] for row in recorded)
+    assert all(list(row) == [*COLUMNS, *PRINTED] for row in recorded)
 
 
 @pytest.mark.slow
@@ -166,7 +166,7 @@ BAD_GRIDS = {
         "world 'nowhere.txt': no such world file",
     ),
     "a TOML syntax error": (BASE.replace("seed = 1", "seed = 1 2"), "grid.toml:2:"),
-    "a key it must give": (BASE.replace('behaviour = "avoid"\n', ""), "no 'behaviour'"),
+    "a key it must give": (BASE.replace("seed = 1\n", ""), "no 'seed'"),
     "a reflex it does not know": (BASE + 'reflexes = "bumpy"\n', "reflexes 'bumpy' is not"),
     "a value given twice": (BASE.replace("seed = 1", "seed = [1, 1]"), "'seed' gives 1 twice"),
     "a goal and no goal run": (BASE + 'goal = "1.0,1.0"\n', "goal is for the goal behaviour"),

@@ -26,7 +26,10 @@ def show(result: SweepResult) -> None:
         f"the table is {result.out / TABLE_CSV}"
     )
     shared = result.summary.fixed.items()
-    fixed = ", ".join(f"{KEY_LABELS[k]} {_grid_value(v)}" for k, v in shared if v is not None)
+    # Keys no run set (null) or set off (false) say nothing every run shares.
+    fixed = ", ".join(
+        f"{KEY_LABELS[k]} {_grid_value(v)}" for k, v in shared if v is not None and v is not False
+    )
     if fixed:
         out.print(f"every run: {fixed}")
     for table in sweep_tables(result.summary, out.width):
@@ -91,6 +94,8 @@ def _room(column: Column, whole_header: bool) -> int:
 def _grid_value(value: object) -> str:
     if value is None:
         return "–"
+    if isinstance(value, bool):
+        return "yes" if value else "no"
     return f"{value:g}" if isinstance(value, float) else str(value)
 
 

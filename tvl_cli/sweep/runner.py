@@ -324,7 +324,9 @@ def _with_new_columns(row: Row) -> Row:
     memory: those match no cell now."""
     if row["kind"] != TVL or row.get("reflexes") == PAPER_NAME:
         return row
-    return {"method": DEFAULT_NAME, **_OLDER_RUNS, **row}
+    filled = {"method": DEFAULT_NAME, **_OLDER_RUNS, **row}
+    # In the columns' order, as the grid's own rows are.
+    return {key: filled[key] for key in (*COLUMNS, *row) if key in filled}
 
 
 def _executor(request: SweepRequest, on_dashboard: OnDashboard) -> AbstractContextManager[Executor]:
