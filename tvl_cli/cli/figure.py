@@ -29,8 +29,10 @@ def figure(
     name: str, results: Path, output: Path, table: Path | None, force: bool, as_json: bool
 ) -> None:
     """Draw figure NAME (fig19, fig21, fig22, fig24, fig27, ablation, online, exploration)
-    from a sweep's RESULTS (its results.jsonl: `tvl sweep experiments/grids/NAME.toml`) and
-    print its summary table."""
+    from an experiment's RESULTS (JSON lines) and print its summary table.
+
+    RESULTS is the results.jsonl of the experiment's sweep: `tvl sweep
+    experiments/grids/NAME.toml --out DIR` writes DIR/results.jsonl."""
     refuse_shared_paths({"-o": output, "--table": table}, {"RESULTS": results})
     for path in (output, table):
         if path is not None:

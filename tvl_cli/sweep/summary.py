@@ -106,10 +106,11 @@ def _check_measure(where: str, measure: str) -> None:
 def summarise(rows: list[Row], measures: tuple[str, ...] | None = None) -> SweepSummary:
     """The table of the rows (a sweep's, in the grid's order), with these measures or, by
     default, the headline ones of the rows' behaviours."""
-    values = {key: list(dict.fromkeys(row[key] for row in rows)) for key in SETTING_KEYS}
+    values = {key: list(dict.fromkeys(row.get(key) for row in rows)) for key in SETTING_KEYS}
     varying = tuple(key for key in SETTING_KEYS if len(values[key]) > 1)
     fixed = {key: found[0] for key, found in values.items() if len(found) == 1}
-    shown = measures or headline(values["behaviour"])
+    # Learn cells have no behaviour: their rows add no measure of their own.
+    shown = measures or headline(b for b in values["behaviour"] if b is not None)
     return SweepSummary(varying, fixed, shown, group_intervals(rows, varying, shown))
 
 
