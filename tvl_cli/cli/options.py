@@ -13,7 +13,13 @@ from typing import Any
 import click
 from click.core import ParameterSource
 
-from tvl_cli.cli.params import Parsed, complete_config, complete_reflexes, goal_point
+from tvl_cli.cli.params import (
+    Parsed,
+    complete_config,
+    complete_method,
+    complete_reflexes,
+    goal_point,
+)
 from tvl_cli.core.config import BUILTIN_FAM_CONFIGS, SLOWEST_TOP_MPS
 from tvl_cli.core.errors import MAX_SEED, BadInput
 from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS
@@ -209,6 +215,7 @@ def method_options(command: Callable[..., None]) -> Callable[..., None]:
         "--method",
         default=None,
         metavar="paper|default|FILE.toml",
+        shell_complete=complete_method,
         help="Every choice of the method at once: the paper's, ours, or a method file; the "
         "options below change one choice of it (default: ours, with what the inputs were "
         "made with).",

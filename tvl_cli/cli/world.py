@@ -29,8 +29,8 @@ def world() -> None:
     """Make, check, show and draw text-map worlds; import and export occupancy grids."""
 
 
-@world.command("new")
-@click.argument("kind", type=click.Choice(list(KINDS)))
+@world.command("new", help=f"Write a generated world of KIND: {', '.join(KINDS)}.")
+@click.argument("kind", metavar="KIND", type=click.Choice(list(KINDS)))
 @click.option("-o", "--output", type=click.Path(path_type=Path), required=True, help="World file.")
 @click.option("--size", type=(float, float), default=None, metavar="W H", help="Metres.")
 @click.option(
@@ -67,7 +67,6 @@ def world_new(
     force: bool,
     as_json: bool,
 ) -> None:
-    """Write a generated world of KIND."""
     width_m, height_m = size if size else (None, None)
     text = generate_world(kind, width_m, height_m, seed, Materials(rough_share, roughness))
     refuse_existing(output, force)
