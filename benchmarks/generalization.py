@@ -61,19 +61,14 @@ from tvl_cli.commands.autopsy import run_autopsy
 from tvl_cli.commands.learn import resolve_fam_config
 from tvl_cli.core import competence
 from tvl_cli.core.behaviours import DEFAULT_THRESHOLD, is_threshold
-from tvl_cli.core.config import (
-    BUILTIN_FAM_CONFIGS,
-    SINGLE,
-    SONAR_MODELS,
-    FamConfig,
-    RobotConfig,
-)
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS, Fam
+from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS, SINGLE, FamConfig
 from tvl_cli.core.memory import MEMORY_KINDS, NO_MEMORY, MemoryConfig
 from tvl_cli.core.method import ALL, DEFAULT, PAPER, Method, parse_reflexes
 from tvl_cli.core.metrics import RunMetrics
+from tvl_cli.core.robot_config import SONAR_MODELS, RobotConfig
 from tvl_cli.core.training import TrainParams, train_episode, train_params
 from tvl_cli.sim.worldgen import DEFAULT_ROUGHNESS, SMOOTH, Materials, generate_world
 from tvl_cli.sim.worldmap import WorldMap, parse_world

@@ -12,9 +12,10 @@ import numpy as np
 import pytest
 from conftest import TVL
 
-from tvl_cli.core.config import SINGLE, RobotConfig
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.fam_config import SINGLE
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.famfile import write_fam
 from tvl_cli.io.lock import lock_path
 from tvl_cli.io.logfile import LogWriter

@@ -12,7 +12,7 @@ import pytest
 from conftest import TVL
 from json_schemas import ENVELOPE, valid
 
-from tvl_cli.core.config import EDGE_ECHO_RANGE_M, RobotConfig
+from tvl_cli.core.robot_config import EDGE_ECHO_RANGE_M, RobotConfig
 from tvl_cli.io.famfile import read_fam
 from tvl_cli.io.logreader import read_log
 

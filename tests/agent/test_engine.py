@@ -20,12 +20,13 @@ from tvl_cli.baselines.dwa import MAP, RING, run_dwa
 from tvl_cli.baselines.qlearning import learn_and_evaluate
 from tvl_cli.commands.train import train_from_logs
 from tvl_cli.core.command import Command
-from tvl_cli.core.config import SINGLE, RobotConfig
 from tvl_cli.core.contacts import BUMP, SPIN
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.memory import NONE, PATCHES, MemoryChoice, MemoryConfig
 from tvl_cli.core.method import REFLEX_NAMES, Method, MethodChoice
 from tvl_cli.core.metrics import RunMetrics
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.robot import Simulator
 from tvl_cli.sim.worldmap import WorldMap, load_world
 

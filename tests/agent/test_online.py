@@ -27,11 +27,12 @@ from tvl_cli.agent.online import (
 )
 from tvl_cli.agent.policy import Decision, Observation
 from tvl_cli.core.command import Command
-from tvl_cli.core.config import SINGLE, RobotConfig
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.memory import NO_MEMORY
 from tvl_cli.core.method import DEFAULT
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.core.training import TrainParams
 from tvl_cli.sim.robot import Simulator
 from tvl_cli.sim.worldmap import load_world

@@ -21,11 +21,12 @@ from tvl_cli.agent.reflexes import (
     wrap,
 )
 from tvl_cli.core.command import Command
-from tvl_cli.core.config import SINGLE, RobotConfig
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.memory import NO_MEMORY
 from tvl_cli.core.method import DEFAULT, REFLEX_NAMES, parse_reflexes
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.worldmap import parse_world
 
 ROBOT = RobotConfig()

@@ -11,8 +11,9 @@ import pytest
 from conftest import TVL
 from test_bad_numbers import SQUARE, assert_one_line_refusal
 
-from tvl_cli.core.config import MULTI, SINGLE, RobotConfig
-from tvl_cli.core.fam_configs import MAX_CENTRE_M, fam_config_from_json
+from tvl_cli.core.fam_config import MULTI, SINGLE
+from tvl_cli.core.fam_config_json import MAX_CENTRE_M, fam_config_from_json
+from tvl_cli.core.robot_config import RobotConfig
 
 FRONT = "tables.0.inputs.0"  # SINGLE's first input: sonars 15, 0, 1, five fuzzy sets
 

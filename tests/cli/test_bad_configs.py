@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 from test_bad_numbers import SQUARE, assert_one_line_refusal
 
-from tvl_cli.core.config import SINGLE
+from tvl_cli.core.fam_config import SINGLE
 
 
 def single_with(change) -> dict:

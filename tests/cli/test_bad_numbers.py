@@ -6,9 +6,10 @@ from pathlib import Path
 
 import pytest
 
-from tvl_cli.core.config import SINGLE, RobotConfig
 from tvl_cli.core.errors import MAX_SIMULATED_MINUTES
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.fam_config import SINGLE
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.famfile import write_fam
 
 SQUARE = Path(__file__).resolve().parents[2] / "worlds" / "square.txt"

@@ -15,7 +15,7 @@ from json_schemas import ENVELOPE, valid
 from test_bad_numbers import SQUARE
 
 from tvl_cli.cli.main import COMMANDS
-from tvl_cli.core.config import DESIGNED
+from tvl_cli.core.fam_config import DESIGNED
 
 COUNTS = {"segments", "discs", "rings", "goals"}
 

@@ -21,9 +21,9 @@ from tvl_cli.core.behaviours import (
     trajectory_headings,
 )
 from tvl_cli.core.command import Command
-from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.memory import NO_MEMORY
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.core.wall_rules import FIRST_SEEN, WALL_RULES
 
 # Trapped (nothing fast in any direction): turn slowly on the spot so the ring sees anew.

@@ -12,7 +12,7 @@ from tvl_cli.cli.options import SEED, print_json, refuse_existing, refuse_shared
 from tvl_cli.cli.tables import table
 from tvl_cli.cli.views import out
 from tvl_cli.commands.design import DesignSummary, design_from_logs
-from tvl_cli.core.fam_configs import MAX_ENTRIES
+from tvl_cli.core.fam_config_json import MAX_ENTRIES
 
 
 @click.command()

@@ -11,7 +11,7 @@ from dataclasses import asdict
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from tvl_cli.core.config import BUILTIN_FAM_CONFIGS
+from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS
 from tvl_cli.io.json_documents import document, input_file, optional_file, output_path
 
 if TYPE_CHECKING:

@@ -24,8 +24,8 @@ from tvl_cli.cli.options import (
 from tvl_cli.cli.params import Parsed, complete_trajectory, name_and_metres, pair_of_names
 from tvl_cli.commands.learn import resolve_fam_config
 from tvl_cli.commands.train import refuse_repeated, train_from_logs, write_trained
-from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.method import MethodChoice, describe_record
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.famfile import FamFile, read_fam
 from tvl_cli.io.logreader import file_sha256
 

@@ -16,7 +16,7 @@ from tvl_cli.commands.train import (
     refuse_repeated,
 )
 from tvl_cli.core.errors import BadInput
-from tvl_cli.core.fam_configs import fam_config_from_json
+from tvl_cli.core.fam_config_json import fam_config_from_json
 from tvl_cli.core.training import TrainParams
 from tvl_cli.io.atomic import atomic_output
 from tvl_cli.io.logreader import read_log

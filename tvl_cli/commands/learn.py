@@ -17,13 +17,14 @@ from tvl_cli.agent.drive import StepSink
 from tvl_cli.agent.explore import Learner, LearnParams, LearnSummary, MinuteStats
 from tvl_cli.analysis.coverage import CoverageTracker, Floor, grid_over, reachable_floor
 from tvl_cli.commands.train import distinct_sessions, perceived_episodes, provenance, train_on
-from tvl_cli.core.config import BUILTIN_FAM_CONFIGS, FamConfig, RobotConfig
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput, did_you_mean
 from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS, Fam
-from tvl_cli.core.fam_configs import fam_config_from_json
+from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS, FamConfig
+from tvl_cli.core.fam_config_json import fam_config_from_json
 from tvl_cli.core.memory import MemoryConfig
 from tvl_cli.core.method import DEFAULT, LEARNING_FIELDS, Method, method_record
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.core.training import TrainParams, train_params
 from tvl_cli.io.famfile import read_fam, write_fam
 from tvl_cli.io.logfile import LogWriter

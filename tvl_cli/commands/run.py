@@ -13,7 +13,6 @@ from tvl_cli.agent.drive import Step, StepSink
 from tvl_cli.agent.online import ECHO_AFTER_S, ECHO_BEFORE_S, OnlineLearner, OnlineSummary
 from tvl_cli.agent.trace import ColumnSink, PathRecorder, TraceRecorder
 from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, is_threshold
-from tvl_cli.core.config import SONAR_MODELS, RobotConfig, sonar_model_name
 from tvl_cli.core.errors import BadInput, check_run_minutes
 from tvl_cli.core.method import (
     BEHAVING_FIELDS,
@@ -27,6 +26,7 @@ from tvl_cli.core.method import (
     method_record,
 )
 from tvl_cli.core.metrics import MinuteContacts, MinuteTally, RunMetrics
+from tvl_cli.core.robot_config import SONAR_MODELS, RobotConfig, sonar_model_name
 from tvl_cli.core.training import TrainParams
 from tvl_cli.io.famfile import FamFile, read_fam
 from tvl_cli.io.logfile import LogWriter

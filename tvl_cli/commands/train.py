@@ -13,10 +13,10 @@ from typing import Any
 import numpy as np
 
 from tvl_cli.agent.perception import replayed_rings
-from tvl_cli.core.config import FamConfig, RobotConfig, sonar_model_name
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS, Fam
+from tvl_cli.core.fam_config import FamConfig
 from tvl_cli.core.memory import NO_MEMORY, MemoryConfig
 from tvl_cli.core.method import (
     DEFAULT,
@@ -30,6 +30,7 @@ from tvl_cli.core.method import (
     method_record,
 )
 from tvl_cli.core.ring import mm_to_ring
+from tvl_cli.core.robot_config import RobotConfig, sonar_model_name
 from tvl_cli.core.training import TrainParams, train_episode, train_params
 from tvl_cli.io.famfile import write_fam
 from tvl_cli.io.loglayout import KIND_LEARNING
