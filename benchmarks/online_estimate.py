@@ -26,7 +26,7 @@ from typing import Any
 
 import numpy as np
 
-from tvl_cli.agent.behave import behave
+from tvl_cli.agent.drive_tvl import behave
 from tvl_cli.agent.explore import Learner, LearnParams
 from tvl_cli.agent.online import (
     ECHO_AFTER_S,

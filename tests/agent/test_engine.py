@@ -11,16 +11,16 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from tvl_cli.agent.behave import behave
 from tvl_cli.agent.drive import drive
+from tvl_cli.agent.drive_tvl import behave
 from tvl_cli.agent.engine import GOAL_RADIUS_M, StepEngine, within_goal
 from tvl_cli.agent.policy import Decision, Observation
 from tvl_cli.agent.trace import Columns, TraceRecorder
 from tvl_cli.baselines.dwa import MAP, RING, run_dwa
 from tvl_cli.baselines.qlearning import learn_and_evaluate
 from tvl_cli.commands.train import train_from_logs
-from tvl_cli.core.command import Command
 from tvl_cli.core.contacts import BUMP, SPIN
+from tvl_cli.core.drive_command import Command
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.memory import NONE, PATCHES, MemoryChoice, MemoryConfig

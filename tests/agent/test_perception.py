@@ -10,8 +10,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from tvl_cli.agent.behave import behave
 from tvl_cli.agent.drive import Step
+from tvl_cli.agent.drive_tvl import behave
 from tvl_cli.agent.explore import Learner, LearnParams
 from tvl_cli.agent.perception import EchoMemory, Perception, replayed_rings
 from tvl_cli.commands.train import perceived_episodes

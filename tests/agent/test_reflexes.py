@@ -8,8 +8,8 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from tvl_cli.agent.behave import behave
 from tvl_cli.agent.drive import Step
+from tvl_cli.agent.drive_tvl import behave
 from tvl_cli.agent.policy import Decision, Observation
 from tvl_cli.agent.reflexes import (
     BLOCKED_S,
@@ -20,7 +20,7 @@ from tvl_cli.agent.reflexes import (
     WallStart,
     wrap,
 )
-from tvl_cli.core.command import Command
+from tvl_cli.core.drive_command import Command
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import SINGLE

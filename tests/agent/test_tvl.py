@@ -7,8 +7,8 @@ from dataclasses import replace
 
 import pytest
 
-from tvl_cli.agent.behave import behave
 from tvl_cli.agent.drive import Step
+from tvl_cli.agent.drive_tvl import behave
 from tvl_cli.agent.explore import Learner, LearnParams
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import SINGLE

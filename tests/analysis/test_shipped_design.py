@@ -7,7 +7,7 @@ from dataclasses import replace
 import pytest
 
 from tvl_cli.agent.explore import Learner, LearnParams
-from tvl_cli.analysis.design import design_inputs
+from tvl_cli.analysis.input_selection import design_inputs
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import DESIGNED, SINGLE

@@ -16,7 +16,7 @@ from conftest import TVL
 from json_schemas import valid
 from test_bad_numbers import SQUARE, assert_one_line_refusal
 
-from tvl_cli.agent.behave import behave
+from tvl_cli.agent.drive_tvl import behave
 from tvl_cli.agent.online import OnlineLearner
 from tvl_cli.cli import main
 from tvl_cli.commands.train import distinct_sessions, train_from_logs, train_on

@@ -12,7 +12,7 @@ import pytest
 from click.testing import CliRunner
 from json_schemas import valid
 
-from tvl_cli.agent.behave import behave
+from tvl_cli.agent.drive_tvl import behave
 from tvl_cli.agent.trace import Columns, TraceRecorder
 from tvl_cli.analysis.autopsy import (
     BLIND_ZONE,

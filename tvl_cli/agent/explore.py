@@ -21,7 +21,7 @@ from tvl_cli.agent.motions import BACKOFF_M, backoff_commands, spin_commands
 from tvl_cli.agent.perception import Perception
 from tvl_cli.agent.policy import Decision, Observation, Pose
 from tvl_cli.agent.recording import EpisodeRecord
-from tvl_cli.core.command import Command
+from tvl_cli.core.drive_command import Command
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput, check_minutes
 from tvl_cli.core.fam import Fam

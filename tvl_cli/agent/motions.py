@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-from tvl_cli.core.command import Command
+from tvl_cli.core.drive_command import Command
 from tvl_cli.core.robot_config import RobotConfig
 
 # Reversed along the path after a collision while learning (paper Fig. 14), and by the

@@ -34,7 +34,7 @@ from tvl_cli.baselines.dwa_window import (
     recovery_spin,
     wander_heading,
 )
-from tvl_cli.core.command import Command
+from tvl_cli.core.drive_command import Command
 from tvl_cli.core.memory import NO_MEMORY, PATCHES, MemoryConfig
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.core.robot_config import RobotConfig

@@ -33,7 +33,7 @@ if TYPE_CHECKING:
     from tvl_cli.commands.train import RepeatedSession, TrainSummary
     from tvl_cli.commands.world_export import Exported as WorldExported
     from tvl_cli.commands.world_import import Imported, ImportRequest
-    from tvl_cli.core.explain import Explanation
+    from tvl_cli.core.fired_rules import Explanation
     from tvl_cli.io.famfile import FamFile
 
 

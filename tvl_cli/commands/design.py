@@ -8,7 +8,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-from tvl_cli.analysis.design import DEFAULT_BUDGET_RULES, Design, design_inputs
+from tvl_cli.analysis.input_selection import DEFAULT_BUDGET_RULES, Design, design_inputs
 from tvl_cli.commands.train import (
     RepeatedSession,
     common_robot,

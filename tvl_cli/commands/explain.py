@@ -11,7 +11,7 @@ import numpy as np
 
 from tvl_cli.core.contacts import EVENT_ALIASES, EVENT_CHOICES, EVENTS
 from tvl_cli.core.errors import BadInput
-from tvl_cli.core.explain import Explanation, restricted
+from tvl_cli.core.fired_rules import Explanation, restricted
 from tvl_cli.core.memory import MemoryConfig
 from tvl_cli.core.ring import mm_to_ring
 from tvl_cli.core.robot_config import RobotConfig

@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 
-from tvl_cli.core.command import Command
+from tvl_cli.core.drive_command import Command
 from tvl_cli.core.robot_config import sonars_within
 
 # Sideways sonars do not count: a wall alongside, as in a narrow passage, is passed, not met.

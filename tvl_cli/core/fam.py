@@ -18,9 +18,9 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from tvl_cli.core.errors import BadInput
-from tvl_cli.core.explain import Explanation, FiredRule, reading
 from tvl_cli.core.fam_config import FamConfig, FamTable, Partition
 from tvl_cli.core.fam_config_json import validate_fam_config
+from tvl_cli.core.fired_rules import Explanation, FiredRule, reading
 from tvl_cli.core.fuzzy import StackedPartitions
 from tvl_cli.core.robot_config import SONAR_COUNT, mirror_sonar, mirror_trajectory
 

@@ -20,7 +20,7 @@ from tvl_cli.agent.engine import within_goal
 from tvl_cli.agent.perception import Perception
 from tvl_cli.agent.tvl import goal_bearing
 from tvl_cli.baselines.qlearning import DEFAULT_Q, forward_travel_m, step_reward
-from tvl_cli.core.command import STOP, Command
+from tvl_cli.core.drive_command import STOP, Command
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.memory import MemoryConfig
 from tvl_cli.core.robot_config import SONAR_MODELS, RobotConfig, SonarConfig

@@ -15,7 +15,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from tvl_cli.core.command import Command
+from tvl_cli.core.drive_command import Command
 from tvl_cli.core.robot_config import RobotConfig
 
 Pose = tuple[float, float, float]  # x, y metres; heading radians, CCW from +x, not wrapped

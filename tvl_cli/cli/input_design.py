@@ -6,7 +6,7 @@ from pathlib import Path
 
 import click
 
-from tvl_cli.analysis.design import DEFAULT_BUDGET_RULES
+from tvl_cli.analysis.input_selection import DEFAULT_BUDGET_RULES
 from tvl_cli.cli import documents
 from tvl_cli.cli.options import SEED, print_json, refuse_existing, refuse_shared_paths
 from tvl_cli.cli.tables import table

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from doc_pages import page, section
 
-from tvl_cli.analysis.design import (
+from tvl_cli.analysis.input_selection import (
     DEFAULT_BUDGET_RULES,
     GROUP_SIZES,
     HELDOUT_FRACTION,
