@@ -58,7 +58,6 @@ from tvl_cli.agent.trace import Columns, TraceRecorder
 from tvl_cli.analysis.autopsy import CAUSES, GOAL_FAILURES, TIME_CLASSES, tally
 from tvl_cli.baselines.dwa import MAP, RING, run_dwa
 from tvl_cli.commands.autopsy import run_autopsy
-from tvl_cli.commands.learn import resolve_fam_config
 from tvl_cli.core import competence
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
@@ -70,6 +69,7 @@ from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.core.robot_config import SONAR_MODELS, RobotConfig
 from tvl_cli.core.training import TrainParams, train_episode, train_params
 from tvl_cli.core.trajectory_choice import DEFAULT_THRESHOLD, is_threshold
+from tvl_cli.io.fam_config_file import resolve_fam_config
 from tvl_cli.sim.worldgen import DEFAULT_ROUGHNESS, SMOOTH, Materials, generate_world
 from tvl_cli.sim.worldmap import WorldMap, parse_world
 

@@ -25,7 +25,6 @@ from pathlib import Path
 from typing import Any
 
 from tvl_cli.agent.explore import LearnParams
-from tvl_cli.commands.learn import resolve_fam_config
 from tvl_cli.commands.run import parse_goal
 from tvl_cli.core.errors import (
     DEFAULT_RUN_MINUTES,
@@ -48,6 +47,7 @@ from tvl_cli.core.method import (
 )
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.core.trajectory_choice import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD, is_threshold
+from tvl_cli.io.fam_config_file import resolve_fam_config
 from tvl_cli.io.methodfile import read_method
 from tvl_cli.io.tomlfile import read_toml
 from tvl_cli.sim.worldgen import bundled_world_path
