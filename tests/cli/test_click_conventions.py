@@ -16,9 +16,10 @@ from click.testing import CliRunner
 from tvl_cli.agent.reflexes import STACK_ORDER
 from tvl_cli.cli import main
 from tvl_cli.cli.main import COMMANDS
-from tvl_cli.core.config import BUILTIN_FAM_CONFIGS, FASTEST_MPS, SINGLE, RobotConfig
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS, SINGLE
 from tvl_cli.core.method import PRESETS
+from tvl_cli.core.robot_config import FASTEST_MPS, RobotConfig
 from tvl_cli.io.famfile import write_fam
 from tvl_cli.io.json_documents import SCHEMA_COMMANDS
 from tvl_cli.io.logreader import read_log

@@ -19,9 +19,9 @@ from typing import Any
 import numpy as np
 
 from tvl_cli.core import competence, jsontext
-from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, is_threshold
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.metrics import RunMetrics
+from tvl_cli.core.trajectory_choice import BEHAVIOUR_NAMES, is_threshold
 
 Row = dict[str, Any]
 

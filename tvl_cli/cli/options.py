@@ -20,9 +20,9 @@ from tvl_cli.cli.params import (
     complete_reflexes,
     goal_point,
 )
-from tvl_cli.core.config import BUILTIN_FAM_CONFIGS, SLOWEST_TOP_MPS
 from tvl_cli.core.errors import MAX_SEED, BadInput
 from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS
+from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS
 from tvl_cli.core.memory import (
     DEFAULT_PATCH_M,
     DEFAULT_RANGE_M,
@@ -39,6 +39,7 @@ from tvl_cli.core.method import (
     MethodChoice,
     parse_reflexes,
 )
+from tvl_cli.core.robot_config import SLOWEST_TOP_MPS
 from tvl_cli.io.atomic import refuse_non_file
 from tvl_cli.io.methodfile import chosen_method
 from tvl_cli.io.table import csv_text

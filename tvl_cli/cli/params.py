@@ -69,7 +69,7 @@ def complete_config(
     ctx: click.Context, param: click.Parameter, incomplete: str
 ) -> list[CompletionItem]:
     """--config: a shipped configuration by name, or a JSON file."""
-    from tvl_cli.core.config import BUILTIN_FAM_CONFIGS
+    from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS
 
     return [*_starting(incomplete, list(BUILTIN_FAM_CONFIGS)), CompletionItem(incomplete, "file")]
 
@@ -119,7 +119,7 @@ def complete_trajectory(
     ctx: click.Context, param: click.Parameter, incomplete: str
 ) -> list[CompletionItem]:
     """--trajectory: the robot's trajectory names."""
-    from tvl_cli.core.config import ALL_TRAJECTORY_NAMES
+    from tvl_cli.core.robot_config import ALL_TRAJECTORY_NAMES
 
     return _starting(incomplete, ALL_TRAJECTORY_NAMES)
 

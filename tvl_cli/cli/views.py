@@ -12,8 +12,8 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, TimeElapsedColumn
 
 from tvl_cli.cli.tables import NOTHING, cell, facts, label, labelled, number, percent, table
-from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
 from tvl_cli.core.method import describe_record
+from tvl_cli.core.trajectory_choice import DEFAULT_THRESHOLD
 
 if TYPE_CHECKING:
     # What is shown, named for its type only: a command's `--help` imports this module, and
@@ -28,7 +28,7 @@ if TYPE_CHECKING:
     from tvl_cli.commands.replay import LogReplay, Replay, RunReplay
     from tvl_cli.commands.run import RunResult
     from tvl_cli.commands.train import TrainSummary
-    from tvl_cli.core.explain import Explanation
+    from tvl_cli.core.fired_rules import Explanation
     from tvl_cli.core.metrics import RunMetrics
 
 out = Console(highlight=False)

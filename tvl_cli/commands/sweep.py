@@ -33,8 +33,8 @@ from tvl_cli.commands.workers import (
     local_processes,
     parse_scheduler,
 )
-from tvl_cli.core.config import SINGLE, FamConfig
 from tvl_cli.core.errors import BadInput
+from tvl_cli.core.fam_config import SINGLE, FamConfig
 from tvl_cli.core.method import (
     DEFAULT,
     DEFAULT_NAME,
