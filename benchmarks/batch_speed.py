@@ -24,8 +24,8 @@ import numpy as np
 from sim_speed import LAB, wander
 from timing import figure_line
 
-from tvl_cli.core.command import Command
-from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.drive_command import Command
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.batch import RobotBatch
 from tvl_cli.sim.motion import Pose
 from tvl_cli.sim.robot import Simulator

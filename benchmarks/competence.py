@@ -27,12 +27,13 @@ from typing import Any
 
 import numpy as np
 
-from tvl_cli.agent.behave import behave
+from tvl_cli.agent.drive_tvl import behave
 from tvl_cli.agent.explore import Learner, LearnParams
-from tvl_cli.core.config import SINGLE, RobotConfig
 from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS, Fam
+from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.memory import NO_MEMORY
 from tvl_cli.core.method import ALL, DEFAULT, PAPER, Method, parse_reflexes
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.worldmap import WorldMap, load_world
 
 WORLDS = Path(__file__).resolve().parent.parent / "worlds"

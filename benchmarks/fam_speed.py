@@ -27,10 +27,11 @@ from pathlib import Path
 import numpy as np
 from timing import cpu_seconds, figure_line
 
-from tvl_cli.core.config import BUILTIN_FAM_CONFIGS, SINGLE, SONAR_COUNT, RobotConfig
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS, SINGLE
 from tvl_cli.core.kernels.perception_reference import infer_views_reference
 from tvl_cli.core.kernels.rule_updates_reference import train_table_reference
+from tvl_cli.core.robot_config import SONAR_COUNT, RobotConfig
 from tvl_cli.io.famfile import write_fam
 
 # The benchmark times the very translation to simpful that the agreement test checks.

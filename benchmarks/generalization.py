@@ -50,31 +50,26 @@ from typing import Any
 
 import numpy as np
 
-from tvl_cli.agent.behave import behave
 from tvl_cli.agent.drive import Step, StepSink
+from tvl_cli.agent.drive_tvl import behave
 from tvl_cli.agent.explore import Learner, LearnParams
 from tvl_cli.agent.online import OnlineLearner
 from tvl_cli.agent.trace import Columns, TraceRecorder
 from tvl_cli.analysis.autopsy import CAUSES, GOAL_FAILURES, TIME_CLASSES, tally
 from tvl_cli.baselines.dwa import MAP, RING, run_dwa
 from tvl_cli.commands.autopsy import run_autopsy
-from tvl_cli.commands.learn import resolve_fam_config
 from tvl_cli.core import competence
-from tvl_cli.core.behaviours import DEFAULT_THRESHOLD, is_threshold
-from tvl_cli.core.config import (
-    BUILTIN_FAM_CONFIGS,
-    SINGLE,
-    SONAR_MODELS,
-    FamConfig,
-    RobotConfig,
-)
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS, Fam
+from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS, SINGLE, FamConfig
 from tvl_cli.core.memory import MEMORY_KINDS, NO_MEMORY, MemoryConfig
 from tvl_cli.core.method import ALL, DEFAULT, PAPER, Method, parse_reflexes
 from tvl_cli.core.metrics import RunMetrics
+from tvl_cli.core.robot_config import SONAR_MODELS, RobotConfig
 from tvl_cli.core.training import TrainParams, train_episode, train_params
+from tvl_cli.core.trajectory_choice import DEFAULT_THRESHOLD, is_threshold
+from tvl_cli.io.fam_config_file import resolve_fam_config
 from tvl_cli.sim.worldgen import DEFAULT_ROUGHNESS, SMOOTH, Materials, generate_world
 from tvl_cli.sim.worldmap import WorldMap, parse_world
 

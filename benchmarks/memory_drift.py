@@ -25,7 +25,7 @@ import h5py
 import numpy as np
 from timing import TVL
 
-from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.robot_config import RobotConfig
 
 ROOT = Path(__file__).resolve().parent.parent
 LAB = ROOT / "worlds" / "lab.txt"

@@ -26,7 +26,7 @@ from typing import Any
 
 import numpy as np
 
-from tvl_cli.agent.behave import behave
+from tvl_cli.agent.drive_tvl import behave
 from tvl_cli.agent.explore import Learner, LearnParams
 from tvl_cli.agent.online import (
     ECHO_AFTER_S,
@@ -35,12 +35,13 @@ from tvl_cli.agent.online import (
     OnlineLearner,
     first_contact_m,
 )
-from tvl_cli.core.config import SINGLE, RobotConfig
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.labels import velocity_labels
 from tvl_cli.core.memory import NO_MEMORY
 from tvl_cli.core.method import DEFAULT
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.core.training import TrainParams, episode_labels, train_params
 from tvl_cli.sim.worldgen import generate_world
 from tvl_cli.sim.worldmap import WorldMap, parse_world

@@ -24,8 +24,8 @@ from pathlib import Path
 
 import numpy as np
 
-from tvl_cli.core.command import Command
-from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.drive_command import Command
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.robot import Simulator
 from tvl_cli.sim.worldmap import parse_world
 

@@ -20,9 +20,9 @@ import numpy as np
 import pymunk
 from timing import cpu_seconds, figure_line
 
-from tvl_cli.core.command import Command
-from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.drive_command import Command
 from tvl_cli.core.kernels.ring_reference import ring_ranges_reference
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.robot import Simulator
 from tvl_cli.sim.worldmap import WorldMap, load_world
 

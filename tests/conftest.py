@@ -1,4 +1,6 @@
-"""Shared fixtures: the real `tvl` command as a subprocess; and the fast tier's rules.
+"""Shared fixtures: the `tvl` command line run in this process (`invoke_tvl`, most command-line
+tests) or as the real console script in a subprocess (`run_tvl`, for what only a process shows:
+exit at a signal, a crash at exit, the script itself); and the fast tier's rules.
 
 The fast tier (`pytest -m "not slow"`) leaves out the tests marked `slow`: those that start a
 real `tvl` process (one costs about 0.15 s of CPU just to start) or run for more than about a
@@ -39,8 +41,8 @@ PROCESS_FIXTURES = frozenset({"run_tvl"})
 # command and exits 0, and refuses bad input in one line with exit status 2.
 FAST_PROCESS_TESTS = frozenset(
     {
-        "tests/test_cli_world.py::test_check_reports_ok_with_the_counts",
-        "tests/test_cli_world.py::test_missing_world_file_is_one_error_line_and_exit_2",
+        "tests/cli/test_world_cli.py::test_check_reports_ok_with_the_counts",
+        "tests/cli/test_world_cli.py::test_missing_world_file_is_one_error_line_and_exit_2",
     }
 )
 
@@ -55,6 +57,30 @@ def run_tvl() -> Callable[..., subprocess.CompletedProcess[str]]:
         )
 
     return run
+
+
+def invoke(*args: str | Path) -> subprocess.CompletedProcess[str]:
+    """Run `tvl ARGS...` in this process through click's CliRunner, and return what a real
+    process would have: exit status, stdout and stderr apart (never raises for a refusal).
+
+    For what the command line parses, says and writes. A real process is still what checks
+    a signal, a crash at exit or the console script itself (`run_tvl`). An exception that
+    escapes the command, which a real process would print as a traceback, fails the test."""
+    from click.testing import CliRunner
+
+    from tvl_cli.cli.main import main
+
+    argv = list(map(str, args))
+    done = CliRunner().invoke(main, argv, prog_name="tvl")
+    if done.exception is not None and not isinstance(done.exception, SystemExit):
+        raise done.exception
+    return subprocess.CompletedProcess(["tvl", *argv], done.exit_code, done.stdout, done.stderr)
+
+
+@pytest.fixture
+def invoke_tvl() -> Callable[..., subprocess.CompletedProcess[str]]:
+    """`invoke`: `tvl ARGS...` in this process (the fast tier's command line)."""
+    return invoke
 
 
 def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:

@@ -10,7 +10,7 @@ from pathlib import Path
 import h5py
 import pytest
 from conftest import TVL
-from test_cli_pipeline import _datasets
+from hdf5_contents import datasets
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLES = ("square-s1.h5", "lab-s1.h5")
@@ -52,5 +52,5 @@ def written_today(tmp_path_factory: pytest.TempPathFactory) -> Path:
 @pytest.mark.parametrize("name", EXAMPLES)
 def test_an_example_log_is_what_learning_writes_today(written_today: Path, name: str) -> None:
     shipped, today = ROOT / "logs" / name, written_today / name
-    assert _datasets(shipped) == _datasets(today), f"run logs/make_examples.sh ({name})"
+    assert datasets(shipped) == datasets(today), f"run logs/make_examples.sh ({name})"
     assert _attributes(shipped) == _attributes(today), f"run logs/make_examples.sh ({name})"

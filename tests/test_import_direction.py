@@ -124,7 +124,7 @@ def test_the_kernels_folder_imports_numba() -> None:
 
 def test_importing_the_run_loop_loads_no_file_or_terminal_library() -> None:
     code = (
-        "import sys, tvl_cli.agent.behave, tvl_cli.agent.explore, tvl_cli.baselines.dwa; "
+        "import sys, tvl_cli.agent.drive_tvl, tvl_cli.agent.explore, tvl_cli.baselines.dwa; "
         "print(sorted(m for m in ('h5py', 'click', 'rich', 'matplotlib') if m in sys.modules))"
     )
     result = subprocess.run(

@@ -22,7 +22,7 @@ from gymnasium.wrappers import RecordEpisodeStatistics
 from tvl_cli.baselines.qlearning import QLearning
 from tvl_cli.baselines.qtable import QParams, QTable, RuleStates
 from tvl_cli.core.competence import COMPETENCE_RUN_MINUTES, is_competent
-from tvl_cli.core.config import SINGLE
+from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.gym import ENV_ID, resolve_world  # importing tvl_cli.gym registers the env
 from tvl_cli.gym.env import ROBOT

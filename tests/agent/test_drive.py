@@ -8,9 +8,9 @@ import pytest
 
 from tvl_cli.agent.drive import Step, drive
 from tvl_cli.agent.policy import Decision, Observation
-from tvl_cli.core.command import Command
-from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.drive_command import Command
 from tvl_cli.core.metrics import MetricsRecorder
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.robot import Simulator
 from tvl_cli.sim.worldmap import parse_world
 

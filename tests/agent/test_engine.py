@@ -11,21 +11,22 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from tvl_cli.agent.behave import behave
 from tvl_cli.agent.drive import drive
+from tvl_cli.agent.drive_tvl import behave
 from tvl_cli.agent.engine import GOAL_RADIUS_M, StepEngine, within_goal
 from tvl_cli.agent.policy import Decision, Observation
 from tvl_cli.agent.trace import Columns, TraceRecorder
 from tvl_cli.baselines.dwa import MAP, RING, run_dwa
 from tvl_cli.baselines.qlearning import learn_and_evaluate
 from tvl_cli.commands.train import train_from_logs
-from tvl_cli.core.command import Command
-from tvl_cli.core.config import SINGLE, RobotConfig
 from tvl_cli.core.contacts import BUMP, SPIN
+from tvl_cli.core.drive_command import Command
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.memory import NONE, PATCHES, MemoryChoice, MemoryConfig
 from tvl_cli.core.method import REFLEX_NAMES, Method, MethodChoice
 from tvl_cli.core.metrics import RunMetrics
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.robot import Simulator
 from tvl_cli.sim.worldmap import WorldMap, load_world
 

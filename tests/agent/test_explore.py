@@ -10,11 +10,12 @@ import numpy as np
 
 from tvl_cli.agent.explore import Learner, LearnParams, spin_commands
 from tvl_cli.agent.explore_rules import least_experienced
-from tvl_cli.core.config import SINGLE, RobotConfig
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.memory import NO_MEMORY
 from tvl_cli.core.method import DEFAULT
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.core.training import episode_labels
 from tvl_cli.sim.worldmap import load_world, parse_world
 

@@ -8,7 +8,7 @@ import numpy as np
 from tvl_cli.agent.collision_points import NEAR_CLOSING_M, sonar_collision_points
 from tvl_cli.agent.explore_rules import EXPLORATION_RULES, LeastExperience, Novelty, RandomPair
 from tvl_cli.core import method
-from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.core.wall_rules import FIRST_SEEN, WALL_RULES, WALL_SEEN_M
 
 ROBOT = RobotConfig()

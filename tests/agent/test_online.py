@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 from doc_pages import page, section
 
-from tvl_cli.agent.behave import behave
 from tvl_cli.agent.drive import Step, drive
+from tvl_cli.agent.drive_tvl import behave
 from tvl_cli.agent.explore import Learner, LearnParams
 from tvl_cli.agent.online import (
     BUMP,
@@ -26,12 +26,13 @@ from tvl_cli.agent.online import (
     first_contact_m,
 )
 from tvl_cli.agent.policy import Decision, Observation
-from tvl_cli.core.command import Command
-from tvl_cli.core.config import SINGLE, RobotConfig
+from tvl_cli.core.drive_command import Command
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.memory import NO_MEMORY
 from tvl_cli.core.method import DEFAULT
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.core.training import TrainParams
 from tvl_cli.sim.robot import Simulator
 from tvl_cli.sim.worldmap import load_world

@@ -10,15 +10,15 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from tvl_cli.agent.behave import behave
 from tvl_cli.agent.drive import Step
+from tvl_cli.agent.drive_tvl import behave
 from tvl_cli.agent.explore import Learner, LearnParams
 from tvl_cli.agent.perception import EchoMemory, Perception, replayed_rings
 from tvl_cli.commands.train import perceived_episodes
-from tvl_cli.core.config import SINGLE, RobotConfig
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.memory import (
     NO_MEMORY,
     NOT_CHOSEN,
@@ -29,6 +29,7 @@ from tvl_cli.core.memory import (
 )
 from tvl_cli.core.method import DEFAULT
 from tvl_cli.core.ring import mm_to_ring
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.worldmap import load_world
 
 ROOT = Path(__file__).resolve().parents[2]

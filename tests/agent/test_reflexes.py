@@ -8,8 +8,8 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from tvl_cli.agent.behave import behave
 from tvl_cli.agent.drive import Step
+from tvl_cli.agent.drive_tvl import behave
 from tvl_cli.agent.policy import Decision, Observation
 from tvl_cli.agent.reflexes import (
     BLOCKED_S,
@@ -20,12 +20,13 @@ from tvl_cli.agent.reflexes import (
     WallStart,
     wrap,
 )
-from tvl_cli.core.command import Command
-from tvl_cli.core.config import SINGLE, RobotConfig
+from tvl_cli.core.drive_command import Command
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.memory import NO_MEMORY
 from tvl_cli.core.method import DEFAULT, REFLEX_NAMES, parse_reflexes
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.worldmap import parse_world
 
 ROBOT = RobotConfig()

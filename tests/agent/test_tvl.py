@@ -7,13 +7,14 @@ from dataclasses import replace
 
 import pytest
 
-from tvl_cli.agent.behave import behave
 from tvl_cli.agent.drive import Step
+from tvl_cli.agent.drive_tvl import behave
 from tvl_cli.agent.explore import Learner, LearnParams
-from tvl_cli.core.config import SINGLE, RobotConfig
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.memory import NO_MEMORY
 from tvl_cli.core.method import DEFAULT, REFLEX_NAMES
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.worldmap import WorldMap, parse_world
 
 ROBOT = RobotConfig()

@@ -16,8 +16,8 @@ from tvl_cli.analysis.coverage import (
     reachable_floor,
 )
 from tvl_cli.commands.learn import world_floor
-from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.kernels.clearance_reference import clearances_reference
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.world import static_geometry
 from tvl_cli.sim.worldmap import parse_world
 

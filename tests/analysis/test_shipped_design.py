@@ -7,12 +7,13 @@ from dataclasses import replace
 import pytest
 
 from tvl_cli.agent.explore import Learner, LearnParams
-from tvl_cli.analysis.design import design_inputs
-from tvl_cli.core.config import DESIGNED, SINGLE, RobotConfig
+from tvl_cli.analysis.input_selection import design_inputs
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.fam_config import DESIGNED, SINGLE
 from tvl_cli.core.memory import NO_MEMORY
 from tvl_cli.core.method import DEFAULT
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.core.training import TrainParams
 from tvl_cli.sim.worldgen import generate_world
 from tvl_cli.sim.worldmap import parse_world

@@ -6,9 +6,10 @@ import numpy as np
 import pytest
 
 from tvl_cli.analysis.surface import GRID_POINTS, shared_inputs, velocity_surfaces
-from tvl_cli.core.config import DESIGNED, MULTI, SINGLE, FamConfig, FamTable, RobotConfig
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.fam_config import DESIGNED, MULTI, SINGLE, FamConfig, FamTable
+from tvl_cli.core.robot_config import RobotConfig
 
 ROBOT = RobotConfig()
 SONAR = ROBOT.sonar

@@ -9,8 +9,8 @@ import pytest
 
 from tvl_cli.agent.policy import LazyRing, Observation
 from tvl_cli.baselines.dwa import RING, DwaPolicy, MapSensing, run_dwa
-from tvl_cli.core.command import Command
-from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.drive_command import Command
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.robot import Simulator
 from tvl_cli.sim.worldmap import load_world
 

@@ -10,8 +10,9 @@ import pytest
 from tvl_cli.agent.policy import LazyRing, Observation
 from tvl_cli.baselines.qlearning import QLearning, QPolicy, forward_travel_m, learn_and_evaluate
 from tvl_cli.baselines.qtable import QParams, RuleStates
-from tvl_cli.core.command import Command
-from tvl_cli.core.config import SINGLE, RobotConfig
+from tvl_cli.core.drive_command import Command
+from tvl_cli.core.fam_config import SINGLE
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.robot import Simulator
 from tvl_cli.sim.worldmap import load_world
 

@@ -13,8 +13,9 @@ from tvl_cli.baselines.qtable import (
     preference_order,
     q_update,
 )
-from tvl_cli.core.config import ALL_TRAJECTORY_NAMES, SINGLE
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.fam_config import SINGLE
+from tvl_cli.core.robot_config import ALL_TRAJECTORY_NAMES
 
 TABLE = SINGLE.tables[0]
 

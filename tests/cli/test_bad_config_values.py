@@ -1,18 +1,18 @@
-"""FAM configurations with values a user got wrong, through the real `tvl` process: one line
+"""FAM configurations with values a user got wrong, on the command line, run in process: one line
 naming the file, exit 2, no log or FAM written."""
 
 from __future__ import annotations
 
 import json
-import subprocess
 from pathlib import Path
 
 import pytest
-from conftest import TVL
+from conftest import invoke
 from test_bad_numbers import SQUARE, assert_one_line_refusal
 
-from tvl_cli.core.config import MULTI, SINGLE, RobotConfig
-from tvl_cli.core.fam_configs import MAX_CENTRE_M, fam_config_from_json
+from tvl_cli.core.fam_config import MULTI, SINGLE
+from tvl_cli.core.fam_config_json import MAX_CENTRE_M, fam_config_from_json
+from tvl_cli.core.robot_config import RobotConfig
 
 FRONT = "tables.0.inputs.0"  # SINGLE's first input: sonars 15, 0, 1, five fuzzy sets
 
@@ -55,21 +55,21 @@ BAD_CONFIGS = {
 def log(tmp_path_factory) -> Path:
     """A learning log to train from, made once for the module."""
     path = tmp_path_factory.mktemp("log") / "log.h5"
-    subprocess.run([TVL, "learn", SQUARE, "--log", path, "--minutes", "0.5"], check=True)
+    assert invoke("learn", SQUARE, "--log", path, "--minutes", "0.5").returncode == 0
     return path
 
 
 @pytest.mark.parametrize("case", BAD_CONFIGS)
 @pytest.mark.parametrize("command", ["learn", "train"])
-def test_a_bad_value_is_refused_naming_the_file(run_tvl, log, tmp_path, case, command):
+def test_a_bad_value_is_refused_naming_the_file(invoke_tvl, log, tmp_path, case, command):
     text, phrase = BAD_CONFIGS[case]
     path = tmp_path / "config.json"
     path.write_text(text)
     out = tmp_path / "out.h5"
     if command == "learn":
-        result = run_tvl("learn", SQUARE, "--log", out, "--config", path)
+        result = invoke_tvl("learn", SQUARE, "--log", out, "--config", path)
     else:
-        result = run_tvl("train", log, "-o", out, "--config", path)
+        result = invoke_tvl("train", log, "-o", out, "--config", path)
     assert_one_line_refusal(result, f"tvl: error: {path}: ", phrase)
     assert not out.exists()
 

@@ -1,4 +1,4 @@
-"""FAM configurations a user got wrong, through the real `tvl` process: one line, exit 2."""
+"""FAM configurations a user got wrong, on the command line, run in process: one line, exit 2."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 from test_bad_numbers import SQUARE, assert_one_line_refusal
 
-from tvl_cli.core.config import SINGLE
+from tvl_cli.core.fam_config import SINGLE
 
 
 def single_with(change) -> dict:
@@ -34,25 +34,25 @@ BAD_CONFIGS = {
 @pytest.mark.parametrize("case", BAD_CONFIGS)
 @pytest.mark.parametrize("command", ["learn", "train"])
 def test_a_bad_configuration_is_refused_before_any_file_is_written(
-    run_tvl, tmp_path: Path, case: str, command: str
+    invoke_tvl, tmp_path: Path, case: str, command: str
 ) -> None:
     config, phrase = BAD_CONFIGS[case]
     path = tmp_path / "config.json"
     path.write_text(json.dumps(config))
     out = tmp_path / "out.h5"
     if command == "learn":
-        result = run_tvl("learn", SQUARE, "--log", out, "--config", path)
+        result = invoke_tvl("learn", SQUARE, "--log", out, "--config", path)
     else:
         log = tmp_path / "log.h5"
-        assert run_tvl("learn", SQUARE, "--log", log, "--minutes", "0.5").returncode == 0
-        result = run_tvl("train", log, "-o", out, "--config", path)
+        assert invoke_tvl("learn", SQUARE, "--log", log, "--minutes", "0.5").returncode == 0
+        result = invoke_tvl("train", log, "-o", out, "--config", path)
     assert_one_line_refusal(result, str(path), phrase)
     assert not out.exists()
 
 
-def test_json_nested_beyond_reason_is_one_line(run_tvl, tmp_path: Path) -> None:
+def test_json_nested_beyond_reason_is_one_line(invoke_tvl, tmp_path: Path) -> None:
     path = tmp_path / "deep.json"
     path.write_text("[" * 100_000 + "]" * 100_000)
-    result = run_tvl("learn", SQUARE, "--log", tmp_path / "log.h5", "--config", path)
+    result = invoke_tvl("learn", SQUARE, "--log", tmp_path / "log.h5", "--config", path)
     assert_one_line_refusal(result, str(path), "nested too deeply")
     assert not (tmp_path / "log.h5").exists()

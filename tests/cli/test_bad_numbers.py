@@ -1,4 +1,4 @@
-"""Numeric options out of range, through the real `tvl` process: one line, exit 2, no file."""
+"""Numeric options out of range, on the command line, run in process: one line, exit 2, no file."""
 
 from __future__ import annotations
 
@@ -6,9 +6,10 @@ from pathlib import Path
 
 import pytest
 
-from tvl_cli.core.config import SINGLE, RobotConfig
 from tvl_cli.core.errors import MAX_SIMULATED_MINUTES
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.fam_config import SINGLE
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.famfile import write_fam
 
 SQUARE = Path(__file__).resolve().parents[2] / "worlds" / "square.txt"
@@ -35,9 +36,9 @@ def fam(tmp_path_factory) -> Path:
 
 
 @pytest.mark.parametrize("seed", ["-1", TOO_BIG_SEED])
-def test_learn_refuses_a_seed_out_of_range_and_writes_no_log(run_tvl, tmp_path, seed):
+def test_learn_refuses_a_seed_out_of_range_and_writes_no_log(invoke_tvl, tmp_path, seed):
     log = tmp_path / "log.h5"
-    result = run_tvl("learn", SQUARE, "--log", log, "--seed", seed)
+    result = invoke_tvl("learn", SQUARE, "--log", log, "--seed", seed)
     assert_one_line_refusal(result, "--seed", seed)
     assert not log.exists()
 
@@ -49,18 +50,18 @@ def test_learn_refuses_a_seed_out_of_range_and_writes_no_log(run_tvl, tmp_path, 
         ("baseline", "qlearn", SQUARE),
     ],
 )
-def test_baselines_refuse_a_negative_seed(run_tvl, command):
-    assert_one_line_refusal(run_tvl(*command, "--seed", "-1"), "--seed")
+def test_baselines_refuse_a_negative_seed(invoke_tvl, command):
+    assert_one_line_refusal(invoke_tvl(*command, "--seed", "-1"), "--seed")
 
 
-def test_run_refuses_a_seed_too_big_to_store(run_tvl, fam):
-    result = run_tvl("run", fam, SQUARE, "--behaviour", "avoid", "--seed", TOO_BIG_SEED)
+def test_run_refuses_a_seed_too_big_to_store(invoke_tvl, fam):
+    result = invoke_tvl("run", fam, SQUARE, "--behaviour", "avoid", "--seed", TOO_BIG_SEED)
     assert_one_line_refusal(result, "--seed")
 
 
-def test_learn_refuses_a_huge_finite_duration_and_writes_no_log(run_tvl, tmp_path):
+def test_learn_refuses_a_huge_finite_duration_and_writes_no_log(invoke_tvl, tmp_path):
     log = tmp_path / "log.h5"
-    result = run_tvl("learn", SQUARE, "--log", log, "--minutes", TOO_LONG)
+    result = invoke_tvl("learn", SQUARE, "--log", log, "--minutes", TOO_LONG)
     assert_one_line_refusal(result, "--minutes", f"{MAX_SIMULATED_MINUTES:g}")
     assert not log.exists()
 
@@ -73,29 +74,29 @@ def test_learn_refuses_a_huge_finite_duration_and_writes_no_log(run_tvl, tmp_pat
         (("baseline", "qlearn", SQUARE), "--learn-minutes"),
     ],
 )
-def test_baselines_refuse_a_huge_finite_duration(run_tvl, command, option):
-    assert_one_line_refusal(run_tvl(*command, option, TOO_LONG), option)
+def test_baselines_refuse_a_huge_finite_duration(invoke_tvl, command, option):
+    assert_one_line_refusal(invoke_tvl(*command, option, TOO_LONG), option)
 
 
-def test_run_refuses_a_huge_finite_duration(run_tvl, fam):
-    result = run_tvl("run", fam, SQUARE, "--behaviour", "avoid", "--minutes", TOO_LONG)
+def test_run_refuses_a_huge_finite_duration(invoke_tvl, fam):
+    result = invoke_tvl("run", fam, SQUARE, "--behaviour", "avoid", "--minutes", TOO_LONG)
     assert_one_line_refusal(result, "--minutes")
 
 
-def test_a_missing_choice_is_one_line_listing_the_choices(run_tvl, fam):
-    result = run_tvl("run", fam, SQUARE)
+def test_a_missing_choice_is_one_line_listing_the_choices(invoke_tvl, fam):
+    result = invoke_tvl("run", fam, SQUARE)
     assert_one_line_refusal(result, "--behaviour", "avoid, wall-left")
 
 
-def test_learning_too_short_for_an_episode_keeps_the_log_and_writes_no_fam(run_tvl, tmp_path):
+def test_learning_too_short_for_an_episode_keeps_the_log_and_writes_no_fam(invoke_tvl, tmp_path):
     log, fam = tmp_path / "log.h5", tmp_path / "fam.h5"
-    result = run_tvl("learn", SQUARE, "--log", log, "--minutes", "0.05", "--fam", fam)
+    result = invoke_tvl("learn", SQUARE, "--log", log, "--minutes", "0.05", "--fam", fam)
     assert_one_line_refusal(result, str(fam), "no episode finished", str(log))
     assert log.exists() and not fam.exists()
 
 
 @pytest.mark.parametrize("command", [["run", "FAM"], ["baseline", "dwa"]])
-def test_a_run_shorter_than_one_control_step_is_refused(run_tvl, fam: Path, command) -> None:
+def test_a_run_shorter_than_one_control_step_is_refused(invoke_tvl, fam: Path, command) -> None:
     args = [fam if part == "FAM" else part for part in command]
-    result = run_tvl(*args, SQUARE, "--behaviour", "avoid", "--minutes", "1e-9")
+    result = invoke_tvl(*args, SQUARE, "--behaviour", "avoid", "--minutes", "1e-9")
     assert_one_line_refusal(result, "--minutes 1e-09 is shorter than one control step (0.1 s)")

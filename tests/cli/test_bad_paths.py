@@ -1,4 +1,4 @@
-"""Output paths the system refuses, through the real `tvl` process: one line, no traceback."""
+"""Output paths the system refuses, on the command line, run in process: one line, no traceback."""
 
 from __future__ import annotations
 
@@ -7,21 +7,23 @@ from pathlib import Path
 from test_bad_numbers import assert_one_line_refusal
 
 
-def test_demo_under_a_file_is_one_line_naming_the_path(run_tvl, tmp_path: Path) -> None:
+def test_demo_under_a_file_is_one_line_naming_the_path(invoke_tvl, tmp_path: Path) -> None:
     a_file = tmp_path / "notes.txt"
     a_file.write_text("keep me")
-    result = run_tvl("demo", a_file / "demo")
+    result = invoke_tvl("demo", a_file / "demo")
     assert_one_line_refusal(result, str(a_file / "demo"), "Not a directory")
     assert a_file.read_text() == "keep me"
 
 
 def test_an_output_named_like_an_input_or_another_output_is_refused(
-    run_tvl, tmp_path: Path
+    invoke_tvl, tmp_path: Path
 ) -> None:
     from test_bad_numbers import SQUARE
 
     log, fam, out = tmp_path / "log.h5", tmp_path / "fam.h5", tmp_path / "out.png"
-    assert run_tvl("learn", SQUARE, "--log", log, "--minutes", "0.5", "--fam", fam).returncode == 0
+    assert (
+        invoke_tvl("learn", SQUARE, "--log", log, "--minutes", "0.5", "--fam", fam).returncode == 0
+    )
     # A world named as a picture, so that drawing it over itself passes the picture's check.
     world = tmp_path / "square.png"
     world.write_bytes(SQUARE.read_bytes())
@@ -35,17 +37,17 @@ def test_an_output_named_like_an_input_or_another_output_is_refused(
         (["replay", log, "--png", out, "--curves", out], "given as both --png and --curves"),
         (["world", "render", world, "-o", world, "--force"], "given as both -o and FILE"),
     ):
-        result = run_tvl(*args)
+        result = invoke_tvl(*args)
         assert_one_line_refusal(result, "", message)
     assert {path: path.read_bytes() for path in (log, fam, world)} == kept
     assert not out.exists()
 
 
-def test_a_special_file_is_never_replaced_even_with_force(run_tvl, tmp_path: Path) -> None:
+def test_a_special_file_is_never_replaced_even_with_force(invoke_tvl, tmp_path: Path) -> None:
     import os
 
     pipe = tmp_path / "pipe"
     os.mkfifo(pipe)
-    result = run_tvl("world", "new", "square", "-o", pipe, "--force")
+    result = invoke_tvl("world", "new", "square", "-o", pipe, "--force")
     assert_one_line_refusal(result, str(pipe), "is a device or other special file")
     assert pipe.is_fifo()

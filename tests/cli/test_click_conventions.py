@@ -16,9 +16,12 @@ from click.testing import CliRunner
 from tvl_cli.agent.reflexes import STACK_ORDER
 from tvl_cli.cli import main
 from tvl_cli.cli.main import COMMANDS
-from tvl_cli.core.config import BUILTIN_FAM_CONFIGS, FASTEST_MPS, SINGLE, RobotConfig
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS, SINGLE
+from tvl_cli.core.method import PRESETS
+from tvl_cli.core.robot_config import FASTEST_MPS, RobotConfig
 from tvl_cli.io.famfile import write_fam
+from tvl_cli.io.json_documents import SCHEMA_COMMANDS
 from tvl_cli.io.logreader import read_log
 from tvl_cli.render.figures import FIGURES
 
@@ -118,6 +121,17 @@ def test_every_named_choice_completes() -> None:
         f"{first},{name}" for name in STACK_ORDER[1:]
     ]
     assert f"{first},{second}" in _completions(["baseline", "dwa", "w", "--reflex"], f"{first},")
+    assert _completions(["learn", "square.txt", "--method"], "pa") == ["paper", "pa"]
+    assert _completions(["train", "log.h5", "--method"], "") == [*PRESETS, ""]
+
+
+def test_schema_completes_the_commands_a_word_at_a_time() -> None:
+    assert _completions(["schema"], "wo") == ["world"]
+    assert _completions(["schema", "world"], "") == [
+        c.split()[1] for c in SCHEMA_COMMANDS if c.startswith("world ")
+    ]
+    assert _completions(["schema", "baseline"], "q") == ["qlearn"]
+    assert "run" in _completions(["schema"], "") and "new" not in _completions(["schema"], "")
 
 
 def test_every_choice_option_of_every_command_completes_its_choices() -> None:

@@ -4,21 +4,20 @@
 from __future__ import annotations
 
 import shutil
-import subprocess
 from collections.abc import Callable
 from pathlib import Path
 
 import h5py
 import numpy as np
 import pytest
-from conftest import TVL
+from conftest import invoke
 from test_bad_numbers import SQUARE, assert_one_line_refusal
 
 
 @pytest.fixture(scope="module")
 def good_log(tmp_path_factory) -> Path:
     path = tmp_path_factory.mktemp("log") / "log.h5"
-    subprocess.run([TVL, "learn", str(SQUARE), "--log", str(path), "--minutes", "1"], check=True)
+    assert invoke("learn", SQUARE, "--log", path, "--minutes", "1").returncode == 0
     return path
 
 
@@ -94,7 +93,7 @@ DAMAGE: dict[str, tuple[Callable[[h5py.File], None], str]] = {
 
 @pytest.mark.parametrize("case", DAMAGE)
 def test_a_damaged_log_is_refused_by_train_and_by_learn(
-    run_tvl, good_log: Path, tmp_path: Path, case: str
+    invoke_tvl, good_log: Path, tmp_path: Path, case: str
 ) -> None:
     damage, phrase = DAMAGE[case]
     log = tmp_path / "log.h5"
@@ -102,33 +101,37 @@ def test_a_damaged_log_is_refused_by_train_and_by_learn(
     with h5py.File(log, "r+") as f:
         damage(f)
     before = log.read_bytes()
-    assert_one_line_refusal(run_tvl("train", log, "-o", tmp_path / "fam.h5"), str(log), phrase)
+    assert_one_line_refusal(invoke_tvl("train", log, "-o", tmp_path / "fam.h5"), str(log), phrase)
     assert not (tmp_path / "fam.h5").exists()
-    appended = run_tvl("learn", SQUARE, "--log", log, "--minutes", "0.5")
+    appended = invoke_tvl("learn", SQUARE, "--log", log, "--minutes", "0.5")
     assert_one_line_refusal(appended, str(log), phrase)
     assert log.read_bytes() == before
 
 
 def test_a_run_trace_with_a_flat_pose_is_refused_not_drawn(
-    run_tvl, good_log: Path, tmp_path: Path
+    invoke_tvl, good_log: Path, tmp_path: Path
 ) -> None:
     fam, trace = tmp_path / "fam.h5", tmp_path / "run.h5"
-    assert run_tvl("train", good_log, "-o", fam).returncode == 0
-    made = run_tvl("run", fam, SQUARE, "--behaviour", "avoid", "--minutes", "0.2", "--log", trace)
+    assert invoke_tvl("train", good_log, "-o", fam).returncode == 0
+    made = invoke_tvl(
+        "run", fam, SQUARE, "--behaviour", "avoid", "--minutes", "0.2", "--log", trace
+    )
     assert made.returncode == 0, made.stderr
     with h5py.File(trace, "r+") as f:
         flat = f["pose"][:].ravel()
         del f["pose"]
         f["pose"] = flat
-    result = run_tvl("replay", trace, "--png", tmp_path / "path.png")
+    result = invoke_tvl("replay", trace, "--png", tmp_path / "path.png")
     assert_one_line_refusal(result, str(trace), "pose is")
     assert not (tmp_path / "path.png").exists()
 
 
-def _trace(run_tvl, log: Path, directory: Path) -> Path:
+def _trace(invoke_tvl, log: Path, directory: Path) -> Path:
     fam, trace = directory / "fam.h5", directory / "run.h5"
-    assert run_tvl("train", log, "-o", fam).returncode == 0
-    made = run_tvl("run", fam, SQUARE, "--behaviour", "avoid", "--minutes", "0.2", "--log", trace)
+    assert invoke_tvl("train", log, "-o", fam).returncode == 0
+    made = invoke_tvl(
+        "run", fam, SQUARE, "--behaviour", "avoid", "--minutes", "0.2", "--log", trace
+    )
     assert made.returncode == 0, made.stderr
     return trace
 
@@ -145,27 +148,27 @@ def _trace(run_tvl, log: Path, directory: Path) -> Path:
     ],
 )
 def test_a_run_trace_with_impossible_values_is_refused(
-    run_tvl, good_log: Path, tmp_path: Path, damage, phrase: str
+    invoke_tvl, good_log: Path, tmp_path: Path, damage, phrase: str
 ) -> None:
-    trace = _trace(run_tvl, good_log, tmp_path)
+    trace = _trace(invoke_tvl, good_log, tmp_path)
     with h5py.File(trace, "r+") as f:
         damage(f)
     for args in (["--json"], ["--png", tmp_path / "path.png"]):
-        assert_one_line_refusal(run_tvl("replay", trace, *args), str(trace), phrase)
+        assert_one_line_refusal(invoke_tvl("replay", trace, *args), str(trace), phrase)
     assert not (tmp_path / "path.png").exists()
 
 
 def test_a_run_trace_without_a_dataset_of_its_version_is_one_line_naming_it(
-    run_tvl, good_log: Path, tmp_path: Path
+    invoke_tvl, good_log: Path, tmp_path: Path
 ) -> None:
-    trace = _trace(run_tvl, good_log, tmp_path)
+    trace = _trace(invoke_tvl, good_log, tmp_path)
     for dataset in ("fast", "reflex"):
         damaged = tmp_path / f"no-{dataset}.h5"
         shutil.copy(trace, damaged)
         with h5py.File(damaged, "r+") as f:
             del f[dataset]
         for command in (["explain", damaged, "--step", "0"], ["replay", damaged, "--json"]):
-            refused = run_tvl(*command)
+            refused = invoke_tvl(*command)
             assert_one_line_refusal(refused, f"{damaged}: run trace has no {dataset} dataset")
 
 
@@ -178,11 +181,11 @@ def test_a_run_trace_without_a_dataset_of_its_version_is_one_line_naming_it(
     ],
 )
 def test_a_fam_with_velocities_it_could_not_have_learnt_is_refused(
-    run_tvl, good_log: Path, tmp_path: Path, velocities, phrase: str
+    invoke_tvl, good_log: Path, tmp_path: Path, velocities, phrase: str
 ) -> None:
     fam = tmp_path / "fam.h5"
-    assert run_tvl("train", good_log, "-o", fam).returncode == 0
+    assert invoke_tvl("train", good_log, "-o", fam).returncode == 0
     with h5py.File(fam, "r+") as f:
         replace(f, "fams/all/velocity", velocities(f["fams/all/velocity"][()]))
     for args in (["inspect", fam], ["run", fam, SQUARE, "--behaviour", "avoid"]):
-        assert_one_line_refusal(run_tvl(*args), str(fam), phrase)
+        assert_one_line_refusal(invoke_tvl(*args), str(fam), phrase)

@@ -1,23 +1,16 @@
-"""`tvl diff`: where two FAMs disagree, through the real `tvl` process."""
+"""`tvl diff`: where two FAMs disagree, on the command line, run in process."""
 
 from __future__ import annotations
 
-import subprocess
 from pathlib import Path
 
 import pytest
-from conftest import TVL
+from conftest import invoke as tvl
 from json_schemas import valid
 
 from tvl_cli.io.famfile import read_fam, write_fam
 
 EXAMPLE_LOG = Path(__file__).resolve().parents[2] / "logs" / "square-s1.h5"
-
-pytestmark = pytest.mark.slow  # every test here starts a real `tvl` process
-
-
-def tvl(*args: str | Path) -> subprocess.CompletedProcess[str]:
-    return subprocess.run([TVL, *map(str, args)], capture_output=True, text=True, timeout=120)
 
 
 @pytest.fixture(scope="module")
@@ -64,6 +57,7 @@ def test_one_fam_given_twice_is_refused_as_train_refuses_one_log_twice(
     assert "given twice" in done.stderr
 
 
+@pytest.mark.slow  # over a second: learns, runs or draws at length
 def test_more_learning_changes_rules_named_largest_first(fams: dict[str, Path]) -> None:
     done = tvl("diff", fams["early"], fams["late"], "--json", "--top", "0")
     assert done.returncode == 0, done.stderr
@@ -95,6 +89,7 @@ def test_fams_of_two_configurations_are_refused(fams: dict[str, Path]) -> None:
     assert "different configurations" in done.stderr
 
 
+@pytest.mark.slow  # over a second: learns, runs or draws at length
 def test_inspect_draws_the_learnt_velocity_over_two_inputs(
     fams: dict[str, Path], tmp_path: Path
 ) -> None:

@@ -51,23 +51,23 @@ def test_no_commands_help_loads_the_compiler() -> None:
     assert loaded == "[]"
 
 
-def test_h_is_help_for_the_group_and_for_a_command(run_tvl) -> None:
+def test_h_is_help_for_the_group_and_for_a_command(invoke_tvl) -> None:
     for command in ([], ["run"], ["world", "new"]):
-        short, long = run_tvl(*command, "-h"), run_tvl(*command, "--help")
+        short, long = invoke_tvl(*command, "-h"), invoke_tvl(*command, "--help")
         assert short.returncode == long.returncode == 0, short.stderr
         assert short.stdout == long.stdout and short.stdout.startswith("Usage: tvl")
-    assert "-h, --help" in run_tvl("run", "-h").stdout
+    assert "-h, --help" in invoke_tvl("run", "-h").stdout
 
 
-def test_a_usage_error_of_the_group_itself_is_one_line_with_clicks_hint(run_tvl) -> None:
+def test_a_usage_error_of_the_group_itself_is_one_line_with_clicks_hint(invoke_tvl) -> None:
     # Click would put its hint on a line of its own, after a blank one: bad input is one line.
-    done = run_tvl("--no-such-option")
+    done = invoke_tvl("--no-such-option")
     assert done.returncode == 2
     assert done.stderr == (
         "tvl: error: tvl: No such option '--no-such-option'. Try 'tvl -h' for help.\n"
     )
 
 
-def test_a_group_given_no_command_shows_its_help_not_an_error(run_tvl) -> None:
-    done = run_tvl("world")
+def test_a_group_given_no_command_shows_its_help_not_an_error(invoke_tvl) -> None:
+    done = invoke_tvl("world")
     assert "Usage: tvl world" in done.stdout + done.stderr and "tvl: error" not in done.stderr

@@ -1,30 +1,27 @@
 """`--json` on every command that reports something: one JSON document on stdout, following
-the schema the package ships for it, through the real `tvl` process."""
+the schema the package ships for it, on the command line, run in process."""
 
 from __future__ import annotations
 
 import hashlib
 import importlib
-import subprocess
 from pathlib import Path
 
 import click
 import pytest
-from conftest import TVL
+from conftest import invoke
 from json_schemas import ENVELOPE, valid
 from test_bad_numbers import SQUARE
 
 from tvl_cli.cli.main import COMMANDS
-from tvl_cli.core.config import DESIGNED
+from tvl_cli.core.fam_config import DESIGNED
 
 COUNTS = {"segments", "discs", "rings", "goals"}
 
 
 def tvl_json(command: str, *args: str | Path) -> dict:
     """What `tvl COMMAND ARGS --json` printed, once it is found to follow its schema."""
-    done = subprocess.run(
-        [TVL, *command.split(), *map(str, args), "--json"], capture_output=True, text=True
-    )
+    done = invoke(*command.split(), *args, "--json")
     assert done.returncode == 0, done.stderr
     return valid(command, done.stdout)
 
@@ -37,7 +34,6 @@ def learnt(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return log
 
 
-@pytest.mark.slow
 def test_world_commands_print_what_the_world_holds(tmp_path: Path) -> None:
     world, png = tmp_path / "rooms.txt", tmp_path / "rooms.png"
     made = tvl_json("world new", "rooms", "--seed", "3", "-o", world)
@@ -53,7 +49,6 @@ def test_world_commands_print_what_the_world_holds(tmp_path: Path) -> None:
     assert drawn["outputs"] == {"picture": str(png)} and png.stat().st_size > 1000
 
 
-@pytest.mark.slow
 def test_train_prints_its_summary(learnt: Path, tmp_path: Path) -> None:
     fam = tmp_path / "fam.h5"
     printed = tvl_json("train", learnt, "-o", fam, "--config", "multi")
@@ -69,7 +64,6 @@ def test_train_prints_its_summary(learnt: Path, tmp_path: Path) -> None:
     assert fam.exists()
 
 
-@pytest.mark.slow
 def test_train_takes_the_designed_configuration_by_name(learnt: Path, tmp_path: Path) -> None:
     fam = tmp_path / "fam.h5"
     printed = tvl_json("train", learnt, "-o", fam, "--config", "designed")
@@ -77,7 +71,7 @@ def test_train_takes_the_designed_configuration_by_name(learnt: Path, tmp_path: 
     assert tvl_json("inspect", fam)["config"]["name"] == "designed"
 
 
-@pytest.mark.slow
+@pytest.mark.slow  # over a second: learns, runs or draws at length
 def test_demo_prints_learning_and_every_run(tmp_path: Path) -> None:
     printed = tvl_json("demo", tmp_path / "demo")
     assert printed["learning"]["status"] == "finished"
@@ -93,32 +87,21 @@ def test_demo_prints_learning_and_every_run(tmp_path: Path) -> None:
         assert Path(run["png"]).exists()
 
 
-@pytest.mark.slow
 def test_csv_rows_of_rules_and_of_run_metrics(learnt: Path, tmp_path: Path) -> None:
     import csv
     import io
 
     fam = tmp_path / "multi.h5"
     tvl_json("train", learnt, "-o", fam, "--config", "multi")
-    listed = subprocess.run(
-        [TVL, "inspect", str(fam), "--top", "5", "--csv"], capture_output=True, text=True
-    )
+    listed = invoke("inspect", fam, "--top", "5", "--csv")
     rows = list(csv.DictReader(io.StringIO(listed.stdout)))
     assert len(rows) == 5 and {"trajectory", "velocity_mps", "experience"} <= rows[0].keys()
     # Each table of the multi FAM has its own inputs: a row leaves the others' empty.
     assert all(0 < sum(bool(v) for v in row.values()) < len(row) for row in rows)
-    ran = subprocess.run(
-        [TVL, "run", str(fam), str(SQUARE), "--behaviour", "avoid", "--minutes", "0.2", "--csv"],
-        capture_output=True,
-        text=True,
-    )
+    ran = invoke("run", fam, SQUARE, "--behaviour", "avoid", "--minutes", "0.2", "--csv")
     (row,) = csv.DictReader(io.StringIO(ran.stdout))
     assert float(row["sim_s"]) == 12.0 and row["mean_wall_clearance_m"] == ""
-    both = subprocess.run(
-        [TVL, "run", str(fam), str(SQUARE), "--behaviour", "avoid", "--csv", "--json"],
-        capture_output=True,
-        text=True,
-    )
+    both = invoke("run", fam, SQUARE, "--behaviour", "avoid", "--csv", "--json")
     assert both.returncode == 2 and "give --json or --csv, not both" in both.stderr
 
 

@@ -13,8 +13,8 @@ import h5py
 import pytest
 from conftest import TVL
 from json_schemas import valid
+from test_bad_input import start_learning
 from test_bad_numbers import SQUARE
-from test_cli_bad_input import start_learning
 
 from tvl_cli.core.errors import BadInput
 from tvl_cli.io.logreader import read_log

@@ -12,8 +12,9 @@ from rich.console import Console
 from tvl_cli.cli.live import ARROWS, LiveView
 from tvl_cli.commands.run import RunRequest, run_fam
 from tvl_cli.commands.train import train_from_logs
-from tvl_cli.core.config import SINGLE, RobotConfig
+from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.method import DEFAULT
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.famfile import write_fam
 from tvl_cli.sim.worldmap import load_world
 

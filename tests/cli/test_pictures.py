@@ -17,8 +17,9 @@ from tvl_cli.cli import main
 from tvl_cli.cli.live import LiveView
 from tvl_cli.commands.run import RunRequest, run_fam
 from tvl_cli.commands.train import train_from_logs
-from tvl_cli.core.config import MULTI, SINGLE, RobotConfig
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.fam_config import MULTI, SINGLE
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.famfile import write_fam
 from tvl_cli.io.runfile import read_run
 from tvl_cli.render.animate import DPI, FIGURE_SIZE_IN, RAY_COLOUR, Window, _TraceFrame, animate_run

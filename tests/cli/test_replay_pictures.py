@@ -3,12 +3,11 @@ events of a run marked on its path."""
 
 from __future__ import annotations
 
-import subprocess
 from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import TVL
+from conftest import invoke as tvl
 from json_schemas import valid
 from test_bad_numbers import SQUARE
 
@@ -16,10 +15,6 @@ from tvl_cli.core.contacts import BACKOFF, BUMP, EVENTS, NEAR_MISS
 from tvl_cli.render.plot import PATH_MARKS, bump_marks, path_marks
 
 PNG_MAGIC = b"\x89PNG"
-
-
-def tvl(*args: str | Path) -> subprocess.CompletedProcess[str]:
-    return subprocess.run([TVL, *map(str, args)], capture_output=True, text=True, timeout=120)
 
 
 @pytest.fixture(scope="module")
@@ -30,7 +25,6 @@ def two_sessions(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return log
 
 
-@pytest.mark.slow
 def test_a_log_picture_draws_every_session_of_its_world(two_sessions: Path, tmp_path: Path):
     png = tmp_path / "all.png"
     printed = valid("replay", tvl("replay", two_sessions, "--png", png, "--json").stdout)
@@ -38,7 +32,6 @@ def test_a_log_picture_draws_every_session_of_its_world(two_sessions: Path, tmp_
     assert png.read_bytes().startswith(PNG_MAGIC)
 
 
-@pytest.mark.slow
 def test_a_log_picture_of_one_session(two_sessions: Path, tmp_path: Path) -> None:
     png, curves = tmp_path / "one.png", tmp_path / "curves.png"
     done = tvl("replay", two_sessions, "--png", png, "--session", "0", "--curves", curves, "--json")

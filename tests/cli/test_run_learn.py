@@ -16,14 +16,15 @@ from conftest import TVL
 from json_schemas import valid
 from test_bad_numbers import SQUARE, assert_one_line_refusal
 
-from tvl_cli.agent.behave import behave
+from tvl_cli.agent.drive_tvl import behave
 from tvl_cli.agent.online import OnlineLearner
 from tvl_cli.cli import main
 from tvl_cli.commands.train import distinct_sessions, train_from_logs, train_on
-from tvl_cli.core.config import SINGLE, RobotConfig
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.memory import NO_MEMORY
 from tvl_cli.core.method import DEFAULT
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.core.training import TrainParams
 from tvl_cli.io.lock import WriterLock
 from tvl_cli.io.logfile import LogWriter

@@ -9,7 +9,7 @@ from test_bad_numbers import SQUARE
 
 from tvl_cli.commands.run import RunRequest, run_fam
 from tvl_cli.commands.train import train_from_logs
-from tvl_cli.core.config import SINGLE
+from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.io.famfile import write_fam
 
 EXAMPLE_LOG = Path(__file__).resolve().parents[2] / "logs" / "square-s1.h5"

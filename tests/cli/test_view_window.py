@@ -18,7 +18,7 @@ pytestmark = pytest.mark.slow  # each test starts a display server and a process
 @pytest.fixture(scope="module")
 def fam(tmp_path_factory: pytest.TempPathFactory) -> Path:
     from tvl_cli.commands.train import train_from_logs
-    from tvl_cli.core.config import SINGLE
+    from tvl_cli.core.fam_config import SINGLE
     from tvl_cli.io.famfile import write_fam
 
     trained = train_from_logs([ROOT / "logs" / "square-s1.h5"], SINGLE)
@@ -45,7 +45,7 @@ import numpy as np
 from PIL import ImageGrab
 from tvl_cli.cli.live import WindowView
 from tvl_cli.commands.run import RunRequest, run_fam
-from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.render.animate import FAST_COLOUR, RAY_COLOUR
 from tvl_cli.render.blit import inks
 from tvl_cli.render.plot import ROBOT_COLOUR

@@ -12,7 +12,7 @@ import pytest
 from click.testing import CliRunner
 from json_schemas import valid
 
-from tvl_cli.agent.behave import behave
+from tvl_cli.agent.drive_tvl import behave
 from tvl_cli.agent.trace import Columns, TraceRecorder
 from tvl_cli.analysis.autopsy import (
     BLIND_ZONE,
@@ -26,11 +26,12 @@ from tvl_cli.analysis.autopsy import (
 )
 from tvl_cli.cli.main import main as cli
 from tvl_cli.commands.autopsy import run_autopsy
-from tvl_cli.core.config import SINGLE, RobotConfig
 from tvl_cli.core.contacts import BUMP
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.memory import NO_MEMORY
 from tvl_cli.core.method import DEFAULT
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.famfile import write_fam
 from tvl_cli.sim.worldmap import WorldMap, parse_world
 

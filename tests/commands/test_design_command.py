@@ -7,10 +7,10 @@ from pathlib import Path
 import pytest
 
 from tvl_cli.commands.design import DesignSummary, design_from_logs
-from tvl_cli.commands.learn import resolve_fam_config
 from tvl_cli.commands.train import train_from_logs
-from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.errors import BadInput
+from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.io.fam_config_file import resolve_fam_config
 from tvl_cli.io.logreader import file_sha256, read_log
 
 EXAMPLE_LOG = Path(__file__).resolve().parents[2] / "logs" / "square-s1.h5"

@@ -9,22 +9,19 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from tvl_cli.core.config import (
-    ALL_TRAJECTORY_NAMES,
+from tvl_cli.core.errors import BadInput
+from tvl_cli.core.fam import Fam, rule_set_indices
+from tvl_cli.core.fam_config import (
     DESIGNED,
     MULTI,
     SINGLE,
-    SONAR_COUNT,
     FamConfig,
     FamInput,
     FamTable,
     Partition,
-    mirror_sonar,
-    sonars_within,
 )
-from tvl_cli.core.errors import BadInput
-from tvl_cli.core.fam import Fam, rule_set_indices
-from tvl_cli.core.fam_configs import fam_config_from_json, validate_fam_config
+from tvl_cli.core.fam_config_json import fam_config_from_json, validate_fam_config
+from tvl_cli.core.robot_config import ALL_TRAJECTORY_NAMES, SONAR_COUNT, mirror_sonar, sonars_within
 
 NAMES = ALL_TRAJECTORY_NAMES  # T3L T2L T1L T0 T1R T2R T3R
 T1L, T0, T1R = NAMES.index("T1L"), NAMES.index("T0"), NAMES.index("T1R")

@@ -8,16 +8,10 @@ from typing import Any
 
 import pytest
 
-from tvl_cli.core.config import (
-    MULTI,
-    SINGLE,
-    FamConfig,
-    FamDesign,
-    InputChoice,
-    RobotConfig,
-)
 from tvl_cli.core.errors import BadInput
-from tvl_cli.core.fam_configs import fam_config_from_json
+from tvl_cli.core.fam_config import MULTI, SINGLE, FamConfig, FamDesign, InputChoice
+from tvl_cli.core.fam_config_json import fam_config_from_json
+from tvl_cli.core.robot_config import RobotConfig
 
 NAMES = [t.name for t in RobotConfig().trajectories]
 RECORDED = replace(

@@ -11,8 +11,9 @@ import numpy as np
 import pytest
 from simpful import FuzzySet, FuzzySystem, LinguisticVariable
 
-from tvl_cli.core.config import SONAR_COUNT, FamConfig, FamInput, FamTable, Partition
 from tvl_cli.core.fam import Fam, rule_set_indices
+from tvl_cli.core.fam_config import FamConfig, FamInput, FamTable, Partition
+from tvl_cli.core.robot_config import SONAR_COUNT
 
 NAMES = ("TL", "T0", "TR", "TX")
 

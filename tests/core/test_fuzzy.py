@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from tvl_cli.core.config import PARTITIONS, Partition
+from tvl_cli.core.fam_config import PARTITIONS, Partition
 from tvl_cli.core.fuzzy import StackedPartitions, memberships
 
 FIVE = PARTITIONS[5]  # centres 0.20 0.45 0.80 1.30 2.00

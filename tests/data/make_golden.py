@@ -15,10 +15,11 @@ from pathlib import Path
 
 import numpy as np
 
-from tvl_cli.core.config import SINGLE, FamConfig, FamInput, FamTable, Partition, RobotConfig
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.fam_config import SINGLE, FamConfig, FamInput, FamTable, Partition
 from tvl_cli.core.memory import NO_MEMORY, MemoryConfig
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.famfile import write_fam
 from tvl_cli.io.logfile import LogWriter
 

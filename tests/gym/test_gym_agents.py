@@ -16,9 +16,9 @@ from tvl_cli.baselines.qlearning import QLearning
 from tvl_cli.baselines.qtable import QParams
 from tvl_cli.commands.train import train_from_logs
 from tvl_cli.core.competence import MAX_CONTACTS_PER_MIN, MIN_MEAN_SPEED_MPS, is_competent
-from tvl_cli.core.config import SINGLE
 from tvl_cli.core.contacts import BUMP, NEAR_MISS
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.memory import NONE, MemoryChoice
 from tvl_cli.core.method import MethodChoice
 from tvl_cli.gym import ENV_ID, MAX_EPISODE_STEPS, QTableAgent, TvlGymPolicy

@@ -17,7 +17,7 @@ from gymnasium.utils.passive_env_checker import env_render_passive_checker
 from tvl_cli.agent.engine import GOAL_RADIUS_M
 from tvl_cli.agent.motions import BACKOFF_M
 from tvl_cli.baselines.qlearning import DEFAULT_Q, step_reward
-from tvl_cli.core.command import STOP, Command
+from tvl_cli.core.drive_command import STOP, Command
 from tvl_cli.core.memory import MemoryConfig
 from tvl_cli.gym import ENV_ID, MAX_EPISODE_STEPS, SonarRingEnv
 from tvl_cli.gym.env import ACTION_NAMES, ROBOT, SPIN_LEFT, SPIN_RIGHT, STOP_ACTION

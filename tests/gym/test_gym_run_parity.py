@@ -13,8 +13,8 @@ from click.testing import CliRunner
 from tvl_cli.agent.trace import NOT_READ_MM
 from tvl_cli.cli import main
 from tvl_cli.commands.train import train_from_logs
-from tvl_cli.core.config import SINGLE
 from tvl_cli.core.contacts import BUMP, EVENTS, NEAR_MISS, TRAPPED
+from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.memory import NONE, MemoryChoice
 from tvl_cli.core.method import MethodChoice
 from tvl_cli.gym import SonarRingEnv

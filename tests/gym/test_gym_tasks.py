@@ -13,7 +13,7 @@ from gymnasium.utils.env_checker import check_env
 from gymnasium.utils.passive_env_checker import env_render_passive_checker
 
 from tvl_cli.baselines.qlearning import forward_travel_m
-from tvl_cli.core.config import SONAR_MODELS, RobotConfig
+from tvl_cli.core.robot_config import SONAR_MODELS, RobotConfig
 from tvl_cli.gym import ENV_ID, SonarRingEnv
 from tvl_cli.gym.env import ROBOT, STOP_ACTION
 from tvl_cli.gym.episode import WALL_DISTANCE_M, WALL_ERROR_WEIGHT

@@ -6,9 +6,10 @@ from pathlib import Path
 
 import numpy as np
 
-from tvl_cli.core.config import SINGLE, RobotConfig
 from tvl_cli.core.episode import Episode
+from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.ring import ring_to_mm
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.logfile import LogWriter
 
 ROBOT = RobotConfig()

@@ -12,10 +12,18 @@ import numpy as np
 import pytest
 
 from tvl_cli import __version__
-from tvl_cli.core.config import DESIGNED, MULTI, SINGLE, FamConfig, FamInput, FamTable, Partition
-from tvl_cli.core.config import RobotConfig as Robot
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.fam_config import (
+    DESIGNED,
+    MULTI,
+    SINGLE,
+    FamConfig,
+    FamInput,
+    FamTable,
+    Partition,
+)
+from tvl_cli.core.robot_config import RobotConfig as Robot
 from tvl_cli.io import famfile, schema
 from tvl_cli.io.famfile import read_fam, write_fam
 from tvl_cli.io.schema import FormatError

@@ -10,7 +10,7 @@ from types import ModuleType
 import numpy as np
 from log_samples import assert_same_episode
 
-from tvl_cli.core.config import SINGLE
+from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.memory import NO_MEMORY, MemoryConfig
 from tvl_cli.io.famfile import read_fam
 from tvl_cli.io.logreader import read_log

@@ -9,8 +9,8 @@ from pathlib import Path
 import pytest
 from log_samples import ROBOT, open_sample_writer, sample_episode
 
-from tvl_cli.core.config import SINGLE
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.io.famfile import write_fam
 
 pytestmark = pytest.mark.skipif(

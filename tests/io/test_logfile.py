@@ -22,9 +22,10 @@ from log_samples import (
     sample_episode,
 )
 
-from tvl_cli.core.config import SINGLE, RobotConfig
 from tvl_cli.core.errors import BadInput
+from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.ring import mm_to_ring, ring_to_mm
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.famfile import write_fam
 from tvl_cli.io.loglayout import MINUTE_COLUMNS
 from tvl_cli.io.logreader import read_log

@@ -8,8 +8,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from tvl_cli.core.command import Command
-from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.drive_command import Command
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.batch import RobotBatch
 from tvl_cli.sim.robot import Simulator
 from tvl_cli.sim.worldmap import WorldMap, load_world

@@ -7,8 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from tvl_cli.core.command import Command
-from tvl_cli.core.config import RobotConfig, SonarConfig
+from tvl_cli.core.drive_command import Command
+from tvl_cli.core.robot_config import RobotConfig, SonarConfig
 from tvl_cli.sim.robot import Simulator
 from tvl_cli.sim.sonar import SonarRing
 from tvl_cli.sim.world import static_geometry

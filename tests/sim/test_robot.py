@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 from test_world import room, square_block
 
-from tvl_cli.core.command import STOP, Command
-from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.drive_command import STOP, Command
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.robot import Simulator
 from tvl_cli.sim.world import clearances_m
 from tvl_cli.sim.worldmap import WorldMap

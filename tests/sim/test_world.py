@@ -8,7 +8,7 @@ import numpy as np
 import pymunk
 import pytest
 
-from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.world import (
     CORNER_TOLERANCE_M,
     RING_MAX_SAG_M,

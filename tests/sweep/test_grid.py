@@ -10,8 +10,8 @@ from pathlib import Path
 import pytest
 
 from tvl_cli.agent.explore import LearnParams
-from tvl_cli.core.config import SINGLE
 from tvl_cli.core.errors import BadInput
+from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.method import DEFAULT, PAPER, MethodChoice
 from tvl_cli.sim.worldgen import generate_world
 from tvl_cli.sweep.grid import Cell, read_grid

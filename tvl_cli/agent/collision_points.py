@@ -8,7 +8,7 @@ import math
 
 import numpy as np
 
-from tvl_cli.core.config import RobotConfig, sonars_within
+from tvl_cli.core.robot_config import RobotConfig, sonars_within
 
 # How much nearer than at the episode's start a sonar must read before `near_m` counts: well
 # above the noise (about 1.2 cm close in), so a wall the robot runs beside but does not

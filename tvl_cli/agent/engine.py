@@ -24,9 +24,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from tvl_cli.agent.policy import LazyRing, Observation, Pose
-from tvl_cli.core.command import Command
-from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.contacts import EventDetector, near_miss_sonars
+from tvl_cli.core.drive_command import Command
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.robot import Simulator
 from tvl_cli.sim.worldmap import WorldMap
 

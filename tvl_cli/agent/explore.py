@@ -21,13 +21,13 @@ from tvl_cli.agent.motions import BACKOFF_M, backoff_commands, spin_commands
 from tvl_cli.agent.perception import Perception
 from tvl_cli.agent.policy import Decision, Observation, Pose
 from tvl_cli.agent.recording import EpisodeRecord
-from tvl_cli.core.command import Command
-from tvl_cli.core.config import FASTEST_MPS, RobotConfig
+from tvl_cli.core.drive_command import Command
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput, check_minutes
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.method import DEFAULT, Method
 from tvl_cli.core.ring import mm_to_ring, ring_to_mm
+from tvl_cli.core.robot_config import FASTEST_MPS, RobotConfig
 from tvl_cli.core.training import train_episode, train_params
 from tvl_cli.sim.robot import Simulator
 from tvl_cli.sim.worldmap import WorldMap

@@ -15,8 +15,8 @@ import numpy as np
 
 from tvl_cli.agent.novelty import Places
 from tvl_cli.agent.policy import Pose
-from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.method import LEAST_EXPERIENCE, NOVELTY, RANDOM, Method
+from tvl_cli.core.robot_config import RobotConfig
 
 
 def least_experienced(experience: np.ndarray, rng: np.random.Generator) -> tuple[int, int]:

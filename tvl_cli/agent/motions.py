@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import math
 
-from tvl_cli.core.command import Command
-from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.drive_command import Command
+from tvl_cli.core.robot_config import RobotConfig
 
 # Reversed along the path after a collision while learning (paper Fig. 14), and by the
 # back-off reflexes while behaving.

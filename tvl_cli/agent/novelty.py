@@ -16,7 +16,7 @@ import math
 import numpy as np
 
 from tvl_cli.agent.policy import Pose
-from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.robot_config import RobotConfig
 
 # Two body widths and a little more: small enough that a room holds many, large enough that
 # odometry drift (tens of centimetres over 45 simulated minutes in the lab) seldom moves the

@@ -37,12 +37,12 @@ from tvl_cli.agent.drive import Step
 from tvl_cli.agent.perception import Perception
 from tvl_cli.agent.policy import Pose
 from tvl_cli.agent.recording import EpisodeRecord
-from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.contacts import blind_ahead, near_miss_sonars
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.memory import NO_MEMORY, MemoryConfig
 from tvl_cli.core.ring import mm_to_ring, ring_to_mm
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.core.training import TrainParams, train_episode
 
 # The sonar returns a stretch's collision point is estimated from: those read from a moment

@@ -14,8 +14,8 @@ from collections.abc import Sequence
 import numpy as np
 
 from tvl_cli.agent.policy import Pose
-from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.memory import POINTS, MemoryConfig
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.sonar import SonarRing
 
 

@@ -13,7 +13,7 @@ from typing import Protocol
 
 import numpy as np
 
-from tvl_cli.core.command import Command
+from tvl_cli.core.drive_command import Command
 
 Pose = tuple[float, float, float]  # x, y metres; heading radians, CCW from +x
 

@@ -18,11 +18,11 @@ import numpy as np
 from tvl_cli.agent.motions import BACKOFF_M, backoff_commands
 from tvl_cli.agent.policy import Decision, KeepOut, Observation, Policy
 from tvl_cli.core.angles import wrap_rad
-from tvl_cli.core.behaviours import trajectory_headings
-from tvl_cli.core.command import Command
-from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.contacts import blind_ahead, drives_forward, near_miss_sonars
+from tvl_cli.core.drive_command import Command
 from tvl_cli.core.method import BLOCKED_WAYS, BUMP, NEAR_MISS, REFLEX_NAMES, TIE, WALL_START
+from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.core.trajectory_choice import trajectory_headings
 
 # How long a way that met an obstacle stays out of the choice once backed off: time to drive
 # clear of the spot, short enough to try that way again later.

@@ -11,9 +11,9 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from tvl_cli.agent.drive import Step
-from tvl_cli.core.config import DEFAULT_TRAJECTORIES
 from tvl_cli.core.contacts import EVENTS
 from tvl_cli.core.ring import ring_to_mm
+from tvl_cli.core.robot_config import DEFAULT_TRAJECTORIES
 
 # A view's columns: the robot's trajectories, one velocity and one fast flag each.
 TRAJECTORIES = len(DEFAULT_TRAJECTORIES)

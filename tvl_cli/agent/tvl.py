@@ -13,17 +13,17 @@ from tvl_cli.agent.motions import BACKOFF_M, spin_commands
 from tvl_cli.agent.perception import Perception
 from tvl_cli.agent.policy import Decision, Observation
 from tvl_cli.core.angles import wrap_rad
-from tvl_cli.core.behaviours import (
+from tvl_cli.core.drive_command import Command
+from tvl_cli.core.fam import Fam
+from tvl_cli.core.memory import NO_MEMORY
+from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.core.trajectory_choice import (
     Choice,
     Context,
     choose,
     fast_set,
     trajectory_headings,
 )
-from tvl_cli.core.command import Command
-from tvl_cli.core.config import RobotConfig
-from tvl_cli.core.fam import Fam
-from tvl_cli.core.memory import NO_MEMORY
 from tvl_cli.core.wall_rules import FIRST_SEEN, WALL_RULES
 
 # Trapped (nothing fast in any direction): turn slowly on the spot so the ring sees anew.

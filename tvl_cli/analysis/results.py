@@ -20,10 +20,10 @@ import numpy as np
 
 from tvl_cli.analysis.intervals import Interval, interval
 from tvl_cli.core import competence, jsontext
-from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, is_threshold
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.method import DEFAULT_NAME, PAPER_NAME
 from tvl_cli.core.metrics import RunMetrics
+from tvl_cli.core.trajectory_choice import BEHAVIOUR_NAMES, is_threshold
 
 Row = dict[str, Any]
 
@@ -211,7 +211,12 @@ FIGURE_NEEDS: dict[str, tuple[Needs, ...]] = {
     ),
     "fig27": (Needs("snapshots", {"kind": "tvl"}, (*_RUN_KEYS, "config", "minute"), _PLOTTED),),
     "ablation": (
-        Needs("runs", {"kind": "tvl"}, (*_RUN_KEYS, "config", "method"), ("contacts_per_min",)),
+        Needs(
+            "runs",
+            {"kind": "tvl", "reflexes": ABLATION_SETTINGS},
+            (*_RUN_KEYS, "config", "method"),
+            ("contacts_per_min",),
+        ),
     ),
     "online": (
         Needs(

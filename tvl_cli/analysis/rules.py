@@ -6,9 +6,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from tvl_cli.core.config import FamTable
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam, rule_set_indices
+from tvl_cli.core.fam_config import FamTable
 
 SORT_KEYS = ("experience", "velocity")
 

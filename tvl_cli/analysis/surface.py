@@ -7,9 +7,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from tvl_cli.core.config import FamConfig, FamTable
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.fam_config import FamConfig, FamTable
 
 GRID_POINTS = 60  # per input: finer than any partition, coarse enough to infer at once
 

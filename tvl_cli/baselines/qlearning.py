@@ -20,10 +20,11 @@ from tvl_cli.agent.motions import backoff_commands
 from tvl_cli.agent.policy import Decision, Observation
 from tvl_cli.agent.reflexes import wrap
 from tvl_cli.baselines.qtable import QParams, QTable, RuleStates
-from tvl_cli.core.command import Command
 from tvl_cli.core.competence import COMPETENCE_RUN_MINUTES, is_competent
-from tvl_cli.core.config import SINGLE, FamTable, RobotConfig
+from tvl_cli.core.drive_command import Command
+from tvl_cli.core.fam_config import SINGLE, FamTable
 from tvl_cli.core.metrics import RunMetrics
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.robot import Pose, Simulator
 from tvl_cli.sim.worldmap import WorldMap
 

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from tvl_cli.agent.motions import BACKOFF_M
-from tvl_cli.core.config import FamTable
+from tvl_cli.core.fam_config import FamTable
 from tvl_cli.core.fuzzy import StackedPartitions
 
 

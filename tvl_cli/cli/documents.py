@@ -11,7 +11,7 @@ from dataclasses import asdict
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from tvl_cli.core.config import BUILTIN_FAM_CONFIGS
+from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS
 from tvl_cli.io.json_documents import document, input_file, optional_file, output_path
 
 if TYPE_CHECKING:
@@ -32,7 +32,7 @@ if TYPE_CHECKING:
     from tvl_cli.commands.train import RepeatedSession, TrainSummary
     from tvl_cli.commands.world_export import Exported as WorldExported
     from tvl_cli.commands.world_import import Imported, ImportRequest
-    from tvl_cli.core.explain import Explanation
+    from tvl_cli.core.fired_rules import Explanation
     from tvl_cli.io.famfile import FamFile
     from tvl_cli.sweep.runner import SweepRequest, SweepResult
 

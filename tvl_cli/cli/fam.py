@@ -1,4 +1,5 @@
-"""`tvl train` and `tvl inspect`: FAM files from logs, and their rules in words."""
+"""`tvl train`, `tvl inspect` and `tvl diff`: FAM files from logs, their rules in words, and
+where two disagree."""
 
 from __future__ import annotations
 
@@ -6,9 +7,8 @@ from pathlib import Path
 
 import click
 
-from tvl_cli.analysis.famdiff import DEFAULT_TOLERANCE_MPS, diff_fams
-from tvl_cli.analysis.rules import SORT_KEYS, parse_ring, select_rules
-from tvl_cli.analysis.surface import shared_inputs, velocity_surfaces
+from tvl_cli.analysis.famdiff import DEFAULT_TOLERANCE_MPS
+from tvl_cli.analysis.rules import SORT_KEYS
 from tvl_cli.cli import documents, views
 from tvl_cli.cli.options import (
     PICTURE,
@@ -22,12 +22,11 @@ from tvl_cli.cli.options import (
     training_options,
 )
 from tvl_cli.cli.params import Parsed, complete_trajectory, name_and_metres, pair_of_names
-from tvl_cli.commands.learn import resolve_fam_config
-from tvl_cli.commands.train import refuse_repeated, train_from_logs, write_trained
-from tvl_cli.core.config import RobotConfig
+from tvl_cli.commands.diff import diff_files
+from tvl_cli.commands.inspect import InspectRequest, inspect_fam
+from tvl_cli.commands.train import TrainRequest
+from tvl_cli.commands.train import train as train_fam
 from tvl_cli.core.method import MethodChoice, describe_record
-from tvl_cli.io.famfile import FamFile, read_fam
-from tvl_cli.io.logreader import file_sha256
 
 
 @click.command()
@@ -58,12 +57,11 @@ def train(
     """Train a FAM file from learning logs (log replay)."""
     refuse_shared_paths({"-o": output}, {f"LOG {i + 1}": log for i, log in enumerate(logs)})
     refuse_existing(output, force)
-    fam_config = resolve_fam_config(config, RobotConfig())
+    request = TrainRequest(
+        logs, output, config, method, until_minute, symmetric, init_velocity_mps, force
+    )
     with views.progress("training") as bar:
-        summary = train_from_logs(
-            list(logs), fam_config, method, bar, until_minute, symmetric, init_velocity_mps
-        )
-    write_trained(output, summary, overwrite=force)
+        summary = train_fam(request, bar)
     if as_json:
         print_json(documents.train_json(summary, logs, config, until_minute, output))
     else:
@@ -138,24 +136,26 @@ def inspect(
     refuse_both_formats(as_json, as_csv)
     if explain is not None and as_csv:
         raise click.UsageError("--csv lists rules; --explain prints in words or --json")
-    loaded = read_fam(fam)
     if png is not None:
         refuse_shared_paths({"--png": png}, {"FAM": fam})
         refuse_existing(png, force)
-        draw_surfaces(loaded, png, over, fix)
-    ring = None if explain is None else parse_ring(explain, loaded.robot_config.sonar.count)
-    explanation = None if ring is None else loaded.fam.explain(ring)
-    rules = select_rules(loaded.fam, trajectory, top, sort, untrained) if ring is None else None
+    found = inspect_fam(
+        InspectRequest(fam, trajectory, top, sort, untrained, explain, png, over, fix)
+    )
     if as_json:
         options = {"trajectory": trajectory, "top": top, "sort": sort, "untrained": untrained}
-        print_json(documents.inspect_json(fam, loaded, options, ring, rules, explanation, png))
-    elif explanation is not None:
-        views.explanation(explanation)
+        print_json(
+            documents.inspect_json(
+                fam, found.loaded, options, found.ring, found.rules, found.explanation, png
+            )
+        )
+    elif found.explanation is not None:
+        views.explanation(found.explanation)
     elif as_csv:
-        print_csv([rule.to_row() for rule in rules or []])
+        print_csv([rule.to_row() for rule in found.rules or []])
     else:
-        click.echo(f"method: {describe_record(loaded.method)}")
-        for rule in rules or []:
+        click.echo(f"method: {describe_record(found.loaded.method)}")
+        for rule in found.rules or []:
             click.echo(rule.sentence())
 
 
@@ -179,34 +179,8 @@ def inspect(
 @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
 def diff(first: Path, second: Path, tolerance: float, top: int, as_json: bool) -> None:
     """Show where two FAM files of one configuration disagree, rule by rule."""
-    fams = read_fam(first).fam, read_fam(second).fam
-    # As train refuses one log given twice: a FAM compared with itself tells nothing.
-    refuse_repeated([(path, file_sha256(path)) for path in (first, second)], "FAM")
-    difference = diff_fams(*fams, tolerance, top)
+    difference = diff_files(first, second, tolerance, top)
     if as_json:
         print_json(documents.diff_json(difference, first, second, top))
     else:
         views.fam_difference(difference, first, second)
-
-
-def draw_surfaces(
-    loaded: FamFile,
-    png: Path,
-    over: tuple[str, str] | None,
-    fix: tuple[tuple[str, float], ...],
-) -> None:
-    """`inspect --png`: the learnt velocity over two inputs, the others held."""
-    from tvl_cli.render.plot import render_surfaces  # matplotlib only when a picture is wanted
-
-    sonar = loaded.robot_config.sonar
-    fixed = dict(fix)
-    surfaces = velocity_surfaces(
-        loaded.fam,
-        over or shared_inputs(loaded.fam.config),
-        fixed,
-        sonar.min_range_m,
-        sonar.max_range_m,
-        sonar.count,
-    )
-    held = ", ".join(f"{n} {v:g} m" for n, v in fixed.items()) or "the rest open"
-    render_surfaces(surfaces, png, f"{loaded.fam.config.name} FAM, {held}")

@@ -20,9 +20,9 @@ from tvl_cli.cli.options import (
     training_options,
 )
 from tvl_cli.commands.learn import LearnRequest, LearnResult, learn_to_log
-from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
-from tvl_cli.core.config import EDGE_ECHO_RANGE_M, FASTEST_MPS, SONAR_MODELS
 from tvl_cli.core.method import DEFAULT, EXPLORATION_RULES, LEARNING_FIELDS, MethodChoice
+from tvl_cli.core.robot_config import EDGE_ECHO_RANGE_M, FASTEST_MPS, SONAR_MODELS
+from tvl_cli.core.trajectory_choice import DEFAULT_THRESHOLD
 from tvl_cli.sim.worldmap import load_world
 
 DEFAULT_LEARN = LearnParams()

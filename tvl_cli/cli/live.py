@@ -20,8 +20,8 @@ from rich.table import Table
 from rich.text import Text
 
 from tvl_cli.agent.drive import Step
-from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.contacts import BUMP, NEAR_MISS
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.world import clearances_m, static_geometry
 from tvl_cli.sim.worldmap import WALL, WorldMap, layout
 

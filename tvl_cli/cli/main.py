@@ -39,23 +39,23 @@ COMMANDS: dict[str, tuple[str, str, str]] = {
         "Show where two FAM files of one configuration disagree, rule by rule.",
     ),
     "design": (
-        "tvl_cli.cli.design",
+        "tvl_cli.cli.input_design",
         "design",
         "Choose each FAM table's sonars and fuzzy sets from learning logs.",
     ),
-    "run": ("tvl_cli.cli.behaving", "run", "Perform a behaviour in WORLD with a learnt FAM."),
+    "run": ("tvl_cli.cli.runs", "run", "Perform a behaviour in WORLD with a learnt FAM."),
     "replay": (
-        "tvl_cli.cli.behaving",
+        "tvl_cli.cli.runs",
         "replay",
         "Summarise a learning log or a run trace, and draw it.",
     ),
     "explain": (
-        "tvl_cli.cli.behaving",
+        "tvl_cli.cli.runs",
         "explain",
         "Explain one moment of a run trace in the rules of its FAM.",
     ),
     "demo": (
-        "tvl_cli.cli.behaving",
+        "tvl_cli.cli.runs",
         "demo",
         "Learn, train, run and draw on a bundled world, in seconds.",
     ),

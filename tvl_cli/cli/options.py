@@ -13,10 +13,16 @@ from typing import Any
 import click
 from click.core import ParameterSource
 
-from tvl_cli.cli.params import Parsed, complete_config, complete_reflexes, goal_point
-from tvl_cli.core.config import BUILTIN_FAM_CONFIGS, SLOWEST_TOP_MPS
+from tvl_cli.cli.params import (
+    Parsed,
+    complete_config,
+    complete_method,
+    complete_reflexes,
+    goal_point,
+)
 from tvl_cli.core.errors import MAX_SEED, BadInput
 from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS
+from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS
 from tvl_cli.core.memory import (
     DEFAULT_PATCH_M,
     DEFAULT_RANGE_M,
@@ -33,6 +39,7 @@ from tvl_cli.core.method import (
     MethodChoice,
     parse_reflexes,
 )
+from tvl_cli.core.robot_config import SLOWEST_TOP_MPS
 from tvl_cli.io.atomic import refuse_non_file
 from tvl_cli.io.methodfile import chosen_method
 from tvl_cli.io.table import csv_text
@@ -209,6 +216,7 @@ def method_options(command: Callable[..., None]) -> Callable[..., None]:
         "--method",
         default=None,
         metavar="paper|default|FILE.toml",
+        shell_complete=complete_method,
         help="Every choice of the method at once: the paper's, ours, or a method file; the "
         "options below change one choice of it (default: ours, with what the inputs were "
         "made with).",

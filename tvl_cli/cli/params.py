@@ -69,7 +69,7 @@ def complete_config(
     ctx: click.Context, param: click.Parameter, incomplete: str
 ) -> list[CompletionItem]:
     """--config: a shipped configuration by name, or a JSON file."""
-    from tvl_cli.core.config import BUILTIN_FAM_CONFIGS
+    from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS
 
     return [*_starting(incomplete, list(BUILTIN_FAM_CONFIGS)), CompletionItem(incomplete, "file")]
 
@@ -91,11 +91,35 @@ def complete_reflexes(
     ]
 
 
+def complete_method(
+    ctx: click.Context, param: click.Parameter, incomplete: str
+) -> list[CompletionItem]:
+    """--method: a preset by name, or a method file."""
+    from tvl_cli.core.method import PRESETS
+
+    return [*_starting(incomplete, list(PRESETS)), CompletionItem(incomplete, "file")]
+
+
+def complete_schema_command(
+    ctx: click.Context, param: click.Parameter, incomplete: str
+) -> list[CompletionItem]:
+    """schema COMMAND: the commands that print JSON, a word at a time (`world` then `new`)."""
+    from tvl_cli.io.json_documents import SCHEMA_COMMANDS
+
+    typed = list(ctx.params.get("command") or ())
+    following = [
+        words[len(typed)]
+        for words in (command.split() for command in SCHEMA_COMMANDS)
+        if len(words) > len(typed) and words[: len(typed)] == typed
+    ]
+    return _starting(incomplete, list(dict.fromkeys(following)))
+
+
 def complete_trajectory(
     ctx: click.Context, param: click.Parameter, incomplete: str
 ) -> list[CompletionItem]:
     """--trajectory: the robot's trajectory names."""
-    from tvl_cli.core.config import ALL_TRAJECTORY_NAMES
+    from tvl_cli.core.robot_config import ALL_TRAJECTORY_NAMES
 
     return _starting(incomplete, ALL_TRAJECTORY_NAMES)
 

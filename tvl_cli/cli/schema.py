@@ -2,11 +2,10 @@
 
 from __future__ import annotations
 
-import json
-
 import click
 
 from tvl_cli.cli.options import print_json
+from tvl_cli.cli.params import complete_schema_command
 from tvl_cli.core.errors import BadInput, did_you_mean
 from tvl_cli.io.json_documents import (
     SCHEMA_COMMANDS,
@@ -19,7 +18,7 @@ from tvl_cli.io.json_documents import (
 
 
 @click.command()
-@click.argument("command", nargs=-1, metavar="[COMMAND]")
+@click.argument("command", nargs=-1, metavar="[COMMAND]", shell_complete=complete_schema_command)
 @click.option("--json", "as_json", is_flag=True, help="Print the list (or the schema) as JSON.")
 def schema(command: tuple[str, ...], as_json: bool) -> None:
     """Print the JSON Schema of COMMAND's --json output; with no COMMAND, list them.
@@ -46,7 +45,7 @@ def schema(command: tuple[str, ...], as_json: bool) -> None:
             )
         )
     else:
-        click.echo(json.dumps(command_schema(name), indent=2))
+        print_json(command_schema(name))
 
 
 def _known(given: str) -> str:

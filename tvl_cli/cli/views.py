@@ -12,9 +12,8 @@ from rich.console import Console
 from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, TimeElapsedColumn
 
 from tvl_cli.cli.tables import NOTHING, cell, facts, label, labelled, number, percent, table
-from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
-from tvl_cli.core.contacts import BUMP, NEAR_MISS, TRAPPED
 from tvl_cli.core.method import describe_record
+from tvl_cli.core.trajectory_choice import DEFAULT_THRESHOLD
 
 if TYPE_CHECKING:
     # What is shown, named for its type only: a command's `--help` imports this module, and
@@ -29,7 +28,7 @@ if TYPE_CHECKING:
     from tvl_cli.commands.replay import LogReplay, Replay, RunReplay
     from tvl_cli.commands.run import RunResult
     from tvl_cli.commands.train import TrainSummary
-    from tvl_cli.core.explain import Explanation
+    from tvl_cli.core.fired_rules import Explanation
     from tvl_cli.core.metrics import RunMetrics
 
 out = Console(highlight=False)
@@ -326,8 +325,18 @@ def _log_replay(summary: LogReplay) -> None:
         out.print(f"sessions drawn: {', '.join(summary.sessions_drawn)}")
 
 
-# Events a person looks for first: a run's table lists when each began.
-LISTED_EVENTS = (BUMP, NEAR_MISS, TRAPPED)
+# A run's events table lists when each event began, the first few of them: a run of spins
+# has hundreds, and a row must stay one line.
+LISTED_TIMES = 5
+
+
+def _first_times(at_s: list[float]) -> str:
+    """When an event began, the first LISTED_TIMES times and how many more."""
+    if not at_s:
+        return NOTHING
+    shown = ", ".join(f"{t:.1f}" for t in at_s[:LISTED_TIMES])
+    more = len(at_s) - LISTED_TIMES
+    return f"{shown} … +{more}" if more > 0 else shown
 
 
 def _run_replay(summary: RunReplay) -> None:
@@ -345,10 +354,9 @@ def _run_replay(summary: RunReplay) -> None:
     if summary.events is None:
         out.print("decisions: not recorded (a format_version 1 trace)")
         return
-    events = table("event", "steps", "began at (s)", title="events", right=("steps",))
+    events = table("event", "times", "began at (s)", title="events", right=("times",))
     for e in summary.events:
-        times = ", ".join(f"{t:.1f}" for t in e.at_s or []) if e.name in LISTED_EVENTS else ""
-        events.add_row(e.name, str(e.steps), times or NOTHING)
+        events.add_row(e.name, str(e.steps), _first_times(e.at_s or []))
     out.print(events)
     steps = table("taken by", "steps", title="steps", right=("steps",))
     for r in summary.reflexes or []:

@@ -16,12 +16,18 @@ from tvl_cli.cli.options import (
     refuse_existing,
     refuse_shared_paths,
 )
+from tvl_cli.commands.world import (
+    NewWorldRequest,
+    check_world,
+    new_world,
+    render_world,
+    show_world,
+)
 from tvl_cli.commands.world_export import export_map, image_beside
 from tvl_cli.commands.world_import import ImportRequest, import_map, parse_start
-from tvl_cli.io.atomic import atomic_output
 from tvl_cli.io.occupancy_map import SAVED_FREE_THRESH, UNKNOWN_PIXEL
-from tvl_cli.sim.worldgen import KINDS, SMOOTH, Materials, generate_world
-from tvl_cli.sim.worldmap import WorldMap, describe, load_world, parse_world, world_to_dict
+from tvl_cli.sim.worldgen import KINDS, SMOOTH, Materials
+from tvl_cli.sim.worldmap import describe, world_to_dict
 
 
 @click.group()
@@ -29,8 +35,8 @@ def world() -> None:
     """Make, check, show and draw text-map worlds; import and export occupancy grids."""
 
 
-@world.command("new")
-@click.argument("kind", type=click.Choice(list(KINDS)))
+@world.command("new", help=f"Write a generated world of KIND: {', '.join(KINDS)}.")
+@click.argument("kind", metavar="KIND", type=click.Choice(list(KINDS)))
 @click.option("-o", "--output", type=click.Path(path_type=Path), required=True, help="World file.")
 @click.option("--size", type=(float, float), default=None, metavar="W H", help="Metres.")
 @click.option(
@@ -67,14 +73,11 @@ def world_new(
     force: bool,
     as_json: bool,
 ) -> None:
-    """Write a generated world of KIND."""
     width_m, height_m = size if size else (None, None)
-    text = generate_world(kind, width_m, height_m, seed, Materials(rough_share, roughness))
+    materials = Materials(rough_share, roughness)
     refuse_existing(output, force)
-    with atomic_output(output, overwrite=force) as temporary:
-        temporary.write_text(text, encoding="utf-8")
+    made = new_world(NewWorldRequest(kind, output, width_m, height_m, seed, materials, force))
     if as_json:
-        made = counts(parse_world(text, str(output)))
         given = {"kind": kind, "width_m": width_m, "height_m": height_m, "seed": seed}
         options = {**given, "rough_share": rough_share, "roughness": roughness}
         print_json(documents.world_new_json(options, output, made))
@@ -85,7 +88,7 @@ def world_new(
 @click.option("--json", "as_json", is_flag=True, help="Print the geometry as JSON.")
 def world_show(file: Path, as_json: bool) -> None:
     """Print a summary of a world file (or its geometry as JSON)."""
-    loaded = load_world(file)
+    loaded = show_world(file)
     if as_json:
         # On one line, for a reader with no JSON tool (a shell script may grep it).
         click.echo(json.dumps(documents.world_show_json(file, world_to_dict(loaded))))
@@ -98,7 +101,7 @@ def world_show(file: Path, as_json: bool) -> None:
 @click.option("--json", "as_json", is_flag=True, help="Print the counts as JSON.")
 def world_check(file: Path, as_json: bool) -> None:
     """Validate a world file (exit 2 naming the problem)."""
-    found = counts(load_world(file))
+    found = check_world(file)
     if as_json:
         print_json(documents.world_check_json(file, found))
     else:
@@ -112,14 +115,11 @@ def world_check(file: Path, as_json: bool) -> None:
 @click.option("--json", "as_json", is_flag=True, help="Print what was drawn as JSON.")
 def world_render(file: Path, output: Path, force: bool, as_json: bool) -> None:
     """Draw a world file as a picture."""
-    from tvl_cli.render.plot import render_world  # matplotlib is slow to import; only this needs it
-
     refuse_shared_paths({"-o": output}, {"FILE": file})
-    loaded = load_world(file)
     refuse_existing(output, force)
-    render_world(loaded, output)
+    drawn = render_world(file, output)
     if as_json:
-        print_json(documents.world_render_json(file, output, counts(loaded)))
+        print_json(documents.world_render_json(file, output, drawn))
 
 
 @world.command("import")
@@ -190,13 +190,3 @@ def world_export(file: Path, output: Path, force: bool, as_json: bool) -> None:
             f"{output}, {image.name}: {exported.columns} x {exported.rows} cells of "
             f"{exported.cell_m:g} m, {exported.free_cells:,} free"
         )
-
-
-def counts(world: WorldMap) -> dict[str, int]:
-    """What a world holds, by kind (the keys of `world check --json`)."""
-    return {
-        "segments": len(world.segments),
-        "discs": len(world.discs),
-        "rings": len(world.rings),
-        "goals": len(world.goals),
-    }

@@ -33,10 +33,10 @@ from tvl_cli.analysis.autopsy import (
     goal_failure,
     time_by_class,
 )
-from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.contacts import BUMP, NEAR_MISS, near_miss_sonars, steps_beginning
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.ring import mm_to_ring
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.runfile import read_run
 from tvl_cli.sim.sonar import SonarRing
 from tvl_cli.sim.world import StaticGeometry, nearest_element, static_geometry

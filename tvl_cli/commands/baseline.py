@@ -12,7 +12,6 @@ from tvl_cli.agent.trace import PathRecorder, TraceRecorder
 from tvl_cli.baselines.dwa import BEHAVIOURS, MAP, SENSORS, run_dwa
 from tvl_cli.baselines.qlearning import QLearningResult, learn_and_evaluate
 from tvl_cli.commands.run import resolve_goal
-from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.errors import BadInput, check_minutes, check_run_minutes
 from tvl_cli.core.memory import NO_MEMORY, NONE
 from tvl_cli.core.method import (
@@ -24,6 +23,7 @@ from tvl_cli.core.method import (
     method_record,
 )
 from tvl_cli.core.metrics import RunMetrics
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.worldmap import WorldMap, load_world
 
 # What a baseline takes of a method: the reflexes around it, and the DWA by the ring its echo

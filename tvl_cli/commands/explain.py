@@ -9,12 +9,12 @@ from typing import Any
 
 import numpy as np
 
-from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.contacts import EVENT_ALIASES, EVENT_CHOICES, EVENTS
 from tvl_cli.core.errors import BadInput
-from tvl_cli.core.explain import Explanation, restricted
+from tvl_cli.core.fired_rules import Explanation, restricted
 from tvl_cli.core.memory import MemoryConfig
 from tvl_cli.core.ring import mm_to_ring
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.famfile import read_fam
 from tvl_cli.io.logreader import file_sha256
 from tvl_cli.io.runfile import RunTrace, read_run

@@ -5,8 +5,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.errors import BadInput
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.mcapfile import Robot, Scene, write_run_mcap
 from tvl_cli.io.runfile import read_run
 from tvl_cli.io.schema import LOG_FORMAT, FormatError, file_format

@@ -17,14 +17,15 @@ from tvl_cli.agent.drive import StepSink
 from tvl_cli.agent.explore import Learner, LearnParams, LearnSummary, MinuteStats
 from tvl_cli.analysis.coverage import CoverageTracker, Floor, grid_over, reachable_floor
 from tvl_cli.commands.train import distinct_sessions, perceived_episodes, provenance, train_on
-from tvl_cli.core.config import BUILTIN_FAM_CONFIGS, FamConfig, RobotConfig
 from tvl_cli.core.episode import Episode
-from tvl_cli.core.errors import BadInput, did_you_mean
+from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS, Fam
-from tvl_cli.core.fam_configs import fam_config_from_json
+from tvl_cli.core.fam_config import FamConfig
 from tvl_cli.core.memory import MemoryConfig
 from tvl_cli.core.method import DEFAULT, LEARNING_FIELDS, Method, method_record
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.core.training import TrainParams, train_params
+from tvl_cli.io.fam_config_file import resolve_fam_config
 from tvl_cli.io.famfile import read_fam, write_fam
 from tvl_cli.io.logfile import LogWriter
 from tvl_cli.io.loglayout import STATUS_FINISHED
@@ -36,23 +37,6 @@ from tvl_cli.sim.worldmap import WorldMap, load_world
 # simulated seconds (and at every minute's row, and when it stops): one write instead of
 # several, and a kill loses at most the episodes of this last stretch.
 LOG_WRITE_EVERY_S = 30.0
-
-
-def resolve_fam_config(spec: str, robot: RobotConfig) -> FamConfig:
-    """`single`, `multi`, or a JSON file of the user's own."""
-    if spec in BUILTIN_FAM_CONFIGS:
-        return BUILTIN_FAM_CONFIGS[spec]
-    path = Path(spec)
-    if not path.is_file():
-        raise BadInput(
-            f"{spec}: no such FAM configuration, nor a JSON file "
-            f"({did_you_mean(spec, list(BUILTIN_FAM_CONFIGS))})"
-        )
-    try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as error:
-        raise BadInput(f"{spec}: cannot read the FAM configuration ({error})") from None
-    return fam_config_from_json(text, [t.name for t in robot.trajectories], spec)
 
 
 @dataclass(frozen=True, slots=True)

@@ -8,12 +8,10 @@ from dataclasses import asdict, dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any
 
-from tvl_cli.agent.behave import behave
 from tvl_cli.agent.drive import Step, StepSink
+from tvl_cli.agent.drive_tvl import behave
 from tvl_cli.agent.online import ECHO_AFTER_S, ECHO_BEFORE_S, OnlineLearner, OnlineSummary
 from tvl_cli.agent.trace import ColumnSink, PathRecorder, TraceRecorder
-from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, is_threshold
-from tvl_cli.core.config import SONAR_MODELS, RobotConfig, sonar_model_name
 from tvl_cli.core.errors import BadInput, check_run_minutes
 from tvl_cli.core.method import (
     BEHAVING_FIELDS,
@@ -27,7 +25,9 @@ from tvl_cli.core.method import (
     method_record,
 )
 from tvl_cli.core.metrics import MinuteContacts, MinuteTally, RunMetrics
+from tvl_cli.core.robot_config import SONAR_MODELS, RobotConfig, sonar_model_name
 from tvl_cli.core.training import TrainParams
+from tvl_cli.core.trajectory_choice import BEHAVIOUR_NAMES, is_threshold
 from tvl_cli.io.famfile import FamFile, read_fam
 from tvl_cli.io.logfile import LogWriter
 from tvl_cli.io.loglayout import KIND_BEHAVING

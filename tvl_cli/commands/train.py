@@ -13,10 +13,10 @@ from typing import Any
 import numpy as np
 
 from tvl_cli.agent.perception import replayed_rings
-from tvl_cli.core.config import FamConfig, RobotConfig, sonar_model_name
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS, Fam
+from tvl_cli.core.fam_config import FamConfig
 from tvl_cli.core.memory import NO_MEMORY, MemoryConfig
 from tvl_cli.core.method import (
     DEFAULT,
@@ -30,7 +30,9 @@ from tvl_cli.core.method import (
     method_record,
 )
 from tvl_cli.core.ring import mm_to_ring
+from tvl_cli.core.robot_config import RobotConfig, sonar_model_name
 from tvl_cli.core.training import TrainParams, train_episode, train_params
+from tvl_cli.io.fam_config_file import resolve_fam_config
 from tvl_cli.io.famfile import write_fam
 from tvl_cli.io.loglayout import KIND_LEARNING
 from tvl_cli.io.logreader import LearningLog, Session, read_log
@@ -52,6 +54,20 @@ class RepeatedSession:
             f"{self.log} session {self.session} repeats {self.repeats_log} session "
             f"{self.repeats_session}"
         )
+
+
+@dataclass(frozen=True, slots=True)
+class TrainRequest:
+    """`tvl train`: the logs to train on and the FAM file to write."""
+
+    logs: tuple[Path, ...]
+    output: Path
+    config: str = "single"  # a built-in FAM configuration's name, or a JSON file
+    method: MethodChoice = NOT_GIVEN  # the labels' method (ours when none is chosen)
+    until_minute: float | None = None  # only the episodes each session finished by then
+    symmetric: bool = True
+    init_velocity_mps: float = DEFAULT_INIT_VELOCITY_MPS
+    force: bool = False  # replace an existing output
 
 
 @dataclass(frozen=True, slots=True)
@@ -327,3 +343,21 @@ def write_trained(path: Path, trained: TrainSummary, overwrite: bool = True) -> 
         method=trained.method,
         overwrite=overwrite,
     )
+
+
+def train(
+    request: TrainRequest, on_progress: Callable[[int, int], None] = lambda done, total: None
+) -> TrainSummary:
+    """Train a FAM of the request's configuration on its logs and write it as a FAM file."""
+    config = resolve_fam_config(request.config, RobotConfig())
+    summary = train_from_logs(
+        request.logs,
+        config,
+        request.method,
+        on_progress,
+        request.until_minute,
+        request.symmetric,
+        request.init_velocity_mps,
+    )
+    write_trained(request.output, summary, overwrite=request.force)
+    return summary

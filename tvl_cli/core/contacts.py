@@ -13,8 +13,8 @@ import math
 
 import numpy as np
 
-from tvl_cli.core.command import Command
-from tvl_cli.core.config import sonars_within
+from tvl_cli.core.drive_command import Command
+from tvl_cli.core.robot_config import sonars_within
 
 # Sideways sonars do not count: a wall alongside, as in a narrow passage, is passed, not met.
 NEAR_MISS_WITHIN_RAD = math.pi / 4

@@ -17,18 +17,12 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from tvl_cli.core.config import (
-    SONAR_COUNT,
-    FamConfig,
-    FamTable,
-    Partition,
-    mirror_sonar,
-    mirror_trajectory,
-)
 from tvl_cli.core.errors import BadInput
-from tvl_cli.core.explain import Explanation, FiredRule, reading
-from tvl_cli.core.fam_configs import validate_fam_config
+from tvl_cli.core.fam_config import FamConfig, FamTable, Partition
+from tvl_cli.core.fam_config_json import validate_fam_config
+from tvl_cli.core.fired_rules import Explanation, FiredRule, reading
 from tvl_cli.core.fuzzy import StackedPartitions
+from tvl_cli.core.robot_config import SONAR_COUNT, mirror_sonar, mirror_trajectory
 
 DEFAULT_INIT_VELOCITY_MPS = 0.1  # paper §3.1: an unknown reading must be perceived as slow
 # Training sums this many corners (exemplars x 2^n) apart before adding them to a batch's sums:

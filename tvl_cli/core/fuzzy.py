@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from tvl_cli.core.config import Partition
+from tvl_cli.core.fam_config import Partition
 
 
 @dataclass(frozen=True, slots=True, eq=False)

@@ -21,7 +21,6 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, fields, replace
 from typing import Any
 
-from tvl_cli.core.config import SONAR_MODELS, RobotConfig
 from tvl_cli.core.errors import BadInput, did_you_mean
 from tvl_cli.core.labels import DEFAULT_DECEL_MPS2, DEFAULT_MARGIN_M
 from tvl_cli.core.memory import (
@@ -32,6 +31,7 @@ from tvl_cli.core.memory import (
     MemoryChoice,
     MemoryConfig,
 )
+from tvl_cli.core.robot_config import SONAR_MODELS, RobotConfig
 from tvl_cli.core.wall_rules import FIRST_SEEN, WALL_RULES
 
 # How exploration chooses the next (rotation, trajectory) pair to learn (agent.explore_rules).
@@ -102,7 +102,7 @@ class Method:
     exploration: str = LEAST_EXPERIENCE  # one of EXPLORATION_RULES
     reflexes: tuple[str, ...] = REFLEX_NAMES  # in stacking order
     wall_rule: str = FIRST_SEEN  # one of core.wall_rules.WALL_RULES
-    sonar: str = "real"  # one of core.config.SONAR_MODELS
+    sonar: str = "real"  # one of core.robot_config.SONAR_MODELS
     memory: MemoryConfig = DEFAULT_MEMORY  # what the FAM reads through
 
     def __post_init__(self) -> None:

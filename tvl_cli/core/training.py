@@ -8,12 +8,12 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from tvl_cli.core.config import SLOWEST_TOP_MPS, RobotConfig
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS, Fam
 from tvl_cli.core.labels import DEFAULT_DECEL_MPS2, DEFAULT_MARGIN_M, velocity_labels
 from tvl_cli.core.method import Method
+from tvl_cli.core.robot_config import SLOWEST_TOP_MPS, RobotConfig
 
 
 @dataclass(frozen=True, slots=True)

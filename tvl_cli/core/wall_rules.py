@@ -13,7 +13,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from tvl_cli.core.behaviours import LEFT_SONARS, RIGHT_SONARS
+from tvl_cli.core.trajectory_choice import LEFT_SONARS, RIGHT_SONARS
 
 # A reading this short on one side means a wall to follow on that side.
 WALL_SEEN_M = 1.0

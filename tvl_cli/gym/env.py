@@ -21,9 +21,9 @@ import numpy as np
 from tvl_cli.agent.engine import StepEngine
 from tvl_cli.agent.motions import BACKOFF_M, backoff_commands
 from tvl_cli.agent.tvl import goal_bearing
-from tvl_cli.core.config import RobotConfig, SonarConfig
 from tvl_cli.core.contacts import drives_forward
 from tvl_cli.core.memory import NO_MEMORY, MemoryConfig
+from tvl_cli.core.robot_config import RobotConfig, SonarConfig
 from tvl_cli.gym.episode import (
     ACTION_NAMES,
     DISCRETE,

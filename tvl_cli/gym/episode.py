@@ -20,10 +20,10 @@ from tvl_cli.agent.engine import within_goal
 from tvl_cli.agent.perception import Perception
 from tvl_cli.agent.tvl import goal_bearing
 from tvl_cli.baselines.qlearning import DEFAULT_Q, forward_travel_m, step_reward
-from tvl_cli.core.command import STOP, Command
-from tvl_cli.core.config import SONAR_MODELS, RobotConfig, SonarConfig
+from tvl_cli.core.drive_command import STOP, Command
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.memory import MemoryConfig
+from tvl_cli.core.robot_config import SONAR_MODELS, RobotConfig, SonarConfig
 from tvl_cli.sim.motion import Pose
 from tvl_cli.sim.worldgen import bundled_world_path
 from tvl_cli.sim.worldmap import WorldMap, check_goal, load_world

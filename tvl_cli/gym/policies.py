@@ -17,10 +17,10 @@ from tvl_cli.agent.policy import LazyRing, Observation
 from tvl_cli.agent.tvl import TvlPolicy
 from tvl_cli.baselines.qlearning import DEFAULT_Q
 from tvl_cli.baselines.qtable import QParams, QTable, RuleStates
-from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD, is_threshold
-from tvl_cli.core.config import SINGLE
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.fam_config import SINGLE
+from tvl_cli.core.trajectory_choice import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD, is_threshold
 from tvl_cli.gym.episode import AVOID, DISCRETE, ROBOT, SONARS, SPIN_LEFT, SPIN_RIGHT
 from tvl_cli.io.famfile import read_fam
 

@@ -20,8 +20,8 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
 from tvl_cli.agent.engine import StepJudge
-from tvl_cli.core.config import RobotConfig, SonarConfig
 from tvl_cli.core.memory import NO_MEMORY, MemoryConfig
+from tvl_cli.core.robot_config import RobotConfig, SonarConfig
 from tvl_cli.gym.episode import DISCRETE, WALL, RobotEpisode, RobotNow, RobotTask, reset_option
 from tvl_cli.sim.batch import RobotBatch
 from tvl_cli.sim.worldmap import WorldMap

@@ -32,10 +32,11 @@ from typing import Any
 import h5py
 import numpy as np
 
-from tvl_cli.core.config import FamConfig, FamTable, RobotConfig
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.fam_config import FamConfig, FamTable
 from tvl_cli.core.memory import NO_MEMORY, MemoryConfig
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.schema import (
     FAM_FORMAT,
     FormatError,

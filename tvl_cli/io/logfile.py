@@ -47,9 +47,9 @@ import h5py
 import numpy as np
 
 from tvl_cli import __version__
-from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.atomic import atomic_output
 from tvl_cli.io.lock import WriterLock
 from tvl_cli.io.loglayout import (

@@ -11,9 +11,10 @@ from typing import Any
 import h5py
 import numpy as np
 
-from tvl_cli.core.config import FamConfig, RobotConfig
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
+from tvl_cli.core.fam_config import FamConfig
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.lock import writer_pid
 from tvl_cli.io.loglayout import (
     COMMITTED_EPISODES,

@@ -23,11 +23,11 @@ from matplotlib.collections import LineCollection
 from matplotlib.figure import Figure
 from matplotlib.patches import Circle
 
-from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.contacts import EVENTS
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.ring import beam_lines, mm_to_ring
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.core.training import TrainParams, episode_labels
 from tvl_cli.io.logreader import Session
 from tvl_cli.io.moviefile import FrameSink, ffmpeg_path, gif_frames, mp4_frames

@@ -22,9 +22,9 @@ from matplotlib.collections import LineCollection
 from matplotlib.figure import Figure
 from matplotlib.patches import Circle
 
-from tvl_cli.core.config import RobotConfig
-from tvl_cli.core.explain import Explanation, FiredRule
+from tvl_cli.core.fired_rules import Explanation, FiredRule
 from tvl_cli.core.ring import beam_lines
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.render.animate import (
     FAST_COLOUR,
     NO_ECHO_COLOUR,

@@ -21,8 +21,8 @@ import numpy as np
 import pymunk
 import pymunk.batch
 
-from tvl_cli.core.command import STOP, Command
-from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.drive_command import STOP, Command
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.bodies import ContactRecorder, place_body
 from tvl_cli.sim.motion import Pose, odometry_after, substep_motion, wheel_velocity
 from tvl_cli.sim.sonar import SonarRing

@@ -15,8 +15,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from tvl_cli.core.command import Command
-from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.drive_command import Command
+from tvl_cli.core.robot_config import RobotConfig
 
 Pose = tuple[float, float, float]  # x, y metres; heading radians, CCW from +x, not wrapped
 Contacts = list[tuple[float, float]]  # unit normals, body -> touched obstacle, pymunk's order

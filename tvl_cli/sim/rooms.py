@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.canvas import CELL_M, Canvas
 from tvl_cli.sim.world import clearances_m, static_geometry
 from tvl_cli.sim.worldheader import WorldMapError

@@ -25,7 +25,7 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from tvl_cli.core.config import SonarConfig
+from tvl_cli.core.robot_config import SonarConfig
 from tvl_cli.sim.world import StaticGeometry
 
 # A ray finds a corner when it hits one of the corner's walls within this many "footprints" of

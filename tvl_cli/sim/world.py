@@ -15,7 +15,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import pymunk
 
-from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.worldmap import WorldMap
 
 # A quarter of the body radius: walls become solid strips (10 cm wide for the default robot)

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.worldheader import (
     HEADER_LINE,
     Circle,

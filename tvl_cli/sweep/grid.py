@@ -48,10 +48,7 @@ from pathlib import Path
 from typing import Any
 
 from tvl_cli.agent.explore import LearnParams
-from tvl_cli.commands.learn import resolve_fam_config
 from tvl_cli.commands.run import parse_goal
-from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD, is_threshold
-from tvl_cli.core.config import BUILTIN_FAM_CONFIGS, SINGLE, FamConfig, RobotConfig
 from tvl_cli.core.errors import (
     DEFAULT_RUN_MINUTES,
     MAX_SEED,
@@ -60,6 +57,7 @@ from tvl_cli.core.errors import (
     check_run_minutes,
     did_you_mean,
 )
+from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS, SINGLE, FamConfig
 from tvl_cli.core.method import (
     DEFAULT,
     DEFAULT_NAME,
@@ -72,6 +70,9 @@ from tvl_cli.core.method import (
     parse_reflexes,
     reflexes_text,
 )
+from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.core.trajectory_choice import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD, is_threshold
+from tvl_cli.io.fam_config_file import resolve_fam_config
 from tvl_cli.io.methodfile import read_method
 from tvl_cli.io.tomlfile import read_toml
 from tvl_cli.sim.worldgen import KINDS, bundled_world_path, generate_world

@@ -25,8 +25,8 @@ from tvl_cli.commands.learn import LearnRequest, learn_to_log
 from tvl_cli.commands.replay import LogReplay, replay
 from tvl_cli.commands.run import OnlineLearning, RunRequest, run_behaviour
 from tvl_cli.commands.train import train_from_logs, write_trained
-from tvl_cli.core.config import SINGLE, FamConfig
 from tvl_cli.core.errors import BadInput
+from tvl_cli.core.fam_config import SINGLE, FamConfig
 from tvl_cli.core.method import (
     DEFAULT,
     DEFAULT_NAME,

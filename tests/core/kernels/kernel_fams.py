@@ -10,9 +10,10 @@ from pathlib import Path
 import numpy as np
 
 from tvl_cli.commands.train import train_on
-from tvl_cli.core.config import DESIGNED, MULTI, SINGLE, FamConfig, RobotConfig
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.fam_config import DESIGNED, MULTI, SINGLE, FamConfig
 from tvl_cli.core.ring import mm_to_ring
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.core.training import TrainParams
 from tvl_cli.io.logreader import read_log
 

@@ -7,10 +7,10 @@ import math
 import numpy as np
 import pytest
 
-from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.kernels.memory import remembered_ranges
 from tvl_cli.core.kernels.memory_reference import remembered_ranges_reference
 from tvl_cli.core.memory import PATCHES, POINTS
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.sonar import SonarRing
 
 ROBOT = RobotConfig()

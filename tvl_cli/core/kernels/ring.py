@@ -21,7 +21,7 @@ The arguments come in tuples, each unpacked by name where it is used:
         behind_m: a crossing this far behind a transducer lies inside the body (touching);
         cos_specular: a smooth surface echoes when met within this cosine of its normal;
         a corner echoes to a ray meeting one of its walls within max(corner_min_radius_m,
-        corner_slope * range) of it; the rest as core.config.SonarConfig
+        corner_slope * range) of it; the rest as core.robot_config.SonarConfig
 """
 
 from __future__ import annotations

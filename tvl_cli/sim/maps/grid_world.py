@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from tvl_cli.core.angles import wrap_rad
-from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.worldheader import FORMAT_VERSION
 from tvl_cli.sim.worldmap import START_HEADINGS, WALL
 

@@ -11,13 +11,13 @@ from pathlib import Path
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from tvl_cli.core.config import RobotConfig
 from tvl_cli.core.errors import BadInput
-from tvl_cli.core.fam_configs import fam_config_from_json
+from tvl_cli.core.fam_config_json import fam_config_from_json
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.world import static_geometry
 from tvl_cli.sim.worldmap import parse_world
 
-WORLDS = Path(__file__).resolve().parent.parent / "worlds"
+WORLDS = Path(__file__).resolve().parents[2] / "worlds"
 MAPS = [path.read_text(encoding="utf-8") for path in sorted(WORLDS.glob("*.txt"))]
 FUZZ = settings(
     max_examples=int(os.environ.get("TVL_FUZZ_EXAMPLES", "150")),

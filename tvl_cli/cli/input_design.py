@@ -6,13 +6,13 @@ from pathlib import Path
 
 import click
 
-from tvl_cli.analysis.design import DEFAULT_BUDGET_RULES
+from tvl_cli.analysis.input_selection import DEFAULT_BUDGET_RULES
 from tvl_cli.cli import documents
 from tvl_cli.cli.options import SEED, print_json, refuse_existing, refuse_shared_paths
 from tvl_cli.cli.tables import table
 from tvl_cli.cli.views import out
 from tvl_cli.commands.design import DesignSummary, design_from_logs
-from tvl_cli.core.fam_configs import MAX_ENTRIES
+from tvl_cli.core.fam_config_json import MAX_ENTRIES
 
 
 @click.command()

@@ -12,18 +12,17 @@ import numpy as np
 import pytest
 from conftest import TVL
 
-from tvl_cli.core.config import SINGLE, RobotConfig
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.fam_config import SINGLE
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.famfile import write_fam
 from tvl_cli.io.lock import lock_path
 from tvl_cli.io.logfile import LogWriter
 from tvl_cli.io.logreader import read_log
 
-WORLDS = Path(__file__).resolve().parent.parent / "worlds"
+WORLDS = Path(__file__).resolve().parents[2] / "worlds"
 SQUARE = WORLDS / "square.txt"
-
-pytestmark = pytest.mark.slow  # every test here starts a real `tvl` process
 
 
 def _assert_refused(result: subprocess.CompletedProcess[str], *phrases: str) -> None:
@@ -83,84 +82,86 @@ def fam_file(tmp_path: Path) -> Path:
     return path
 
 
-def test_train_refuses_a_file_that_is_not_hdf5(run_tvl, tmp_path):
+def test_train_refuses_a_file_that_is_not_hdf5(invoke_tvl, tmp_path):
     text = tmp_path / "notes.h5"
     text.write_text("just text")
-    _assert_refused(run_tvl("train", text, "-o", tmp_path / "f.h5"), str(text), "not an HDF5")
+    _assert_refused(invoke_tvl("train", text, "-o", tmp_path / "f.h5"), str(text), "not an HDF5")
     assert not (tmp_path / "f.h5").exists()
 
 
-def test_train_refuses_another_format_by_name(run_tvl, fam_file, tmp_path):
-    result = run_tvl("train", fam_file, "-o", tmp_path / "f.h5")
+def test_train_refuses_another_format_by_name(invoke_tvl, fam_file, tmp_path):
+    result = invoke_tvl("train", fam_file, "-o", tmp_path / "f.h5")
     _assert_refused(result, "is a tvl-fam file, expected a tvl-log")
 
 
-def test_train_refuses_a_newer_format_version(run_tvl, tmp_path):
+def test_train_refuses_a_newer_format_version(invoke_tvl, tmp_path):
     log = _log(tmp_path / "log.h5", RobotConfig())
     with h5py.File(log, "r+") as f:
         f.attrs["format_version"] = 99
-    result = run_tvl("train", log, "-o", tmp_path / "f.h5")
+    result = invoke_tvl("train", log, "-o", tmp_path / "f.h5")
     _assert_refused(result, "format_version 99 is newer")
 
 
-def test_train_refuses_a_truncated_log(run_tvl, tmp_path):
+def test_train_refuses_a_truncated_log(invoke_tvl, tmp_path):
     log = _log(tmp_path / "log.h5", RobotConfig())
     data = log.read_bytes()
     log.write_bytes(data[: len(data) // 2])
-    _assert_refused(run_tvl("train", log, "-o", tmp_path / "f.h5"), str(log))
+    _assert_refused(invoke_tvl("train", log, "-o", tmp_path / "f.h5"), str(log))
 
 
-def test_train_refuses_a_log_without_exemplars(run_tvl, tmp_path):
+def test_train_refuses_a_log_without_exemplars(invoke_tvl, tmp_path):
     log = _log(tmp_path / "log.h5", RobotConfig(), episodes=0)
-    _assert_refused(run_tvl("train", log, "-o", tmp_path / "f.h5"), "no exemplars")
+    _assert_refused(invoke_tvl("train", log, "-o", tmp_path / "f.h5"), "no exemplars")
 
 
-def test_train_refuses_logs_of_different_robots(run_tvl, tmp_path):
+def test_train_refuses_logs_of_different_robots(invoke_tvl, tmp_path):
     ours = _log(tmp_path / "ours.h5", RobotConfig())
     theirs = _log(tmp_path / "theirs.h5", RobotConfig(radius_m=0.25))
-    result = run_tvl("train", ours, theirs, "-o", tmp_path / "f.h5")
+    result = invoke_tvl("train", ours, theirs, "-o", tmp_path / "f.h5")
     _assert_refused(result, str(theirs), "another robot configuration")
     assert not (tmp_path / "f.h5").exists()
 
 
-def test_train_refuses_a_malformed_user_configuration(run_tvl, tmp_path):
+def test_train_refuses_a_malformed_user_configuration(invoke_tvl, tmp_path):
     log = _log(tmp_path / "log.h5", RobotConfig())
     config = tmp_path / "mine.json"
     config.write_text('{"name": "mine", "tables": [}')
-    _assert_refused(run_tvl("train", log, "-o", tmp_path / "f.h5", "--config", config), "mine.json")
+    _assert_refused(
+        invoke_tvl("train", log, "-o", tmp_path / "f.h5", "--config", config), "mine.json"
+    )
 
 
 @pytest.mark.parametrize("threshold", ["0", "1.5", "-0.2"])
-def test_run_refuses_a_threshold_outside_0_1(run_tvl, fam_file, threshold):
-    result = run_tvl("run", fam_file, SQUARE, "--behaviour", "avoid", "--threshold", threshold)
+def test_run_refuses_a_threshold_outside_0_1(invoke_tvl, fam_file, threshold):
+    result = invoke_tvl("run", fam_file, SQUARE, "--behaviour", "avoid", "--threshold", threshold)
     _assert_refused(result, "outside (0, 1]")
 
 
 @pytest.mark.parametrize("minutes", ["0", "-3"])
-def test_run_refuses_minutes_that_are_not_positive(run_tvl, fam_file, minutes):
-    result = run_tvl("run", fam_file, SQUARE, "--behaviour", "avoid", "--minutes", minutes)
+def test_run_refuses_minutes_that_are_not_positive(invoke_tvl, fam_file, minutes):
+    result = invoke_tvl("run", fam_file, SQUARE, "--behaviour", "avoid", "--minutes", minutes)
     _assert_refused(result, "--minutes", "must be more than 0")
 
 
-def test_learn_refuses_negative_minutes(run_tvl, tmp_path):
+def test_learn_refuses_negative_minutes(invoke_tvl, tmp_path):
     log = tmp_path / "log.h5"
     _assert_refused(
-        run_tvl("learn", SQUARE, "--log", log, "--minutes", "-1"), "must be more than 0"
+        invoke_tvl("learn", SQUARE, "--log", log, "--minutes", "-1"), "must be more than 0"
     )
     assert not log.exists()
 
 
-def test_run_refuses_a_goal_outside_the_world(run_tvl, fam_file):
-    result = run_tvl("run", fam_file, SQUARE, "--behaviour", "goal", "--goal", "9,2")
+def test_run_refuses_a_goal_outside_the_world(invoke_tvl, fam_file):
+    result = invoke_tvl("run", fam_file, SQUARE, "--behaviour", "goal", "--goal", "9,2")
     _assert_refused(result, "outside the world")
 
 
-def test_run_refuses_a_goal_inside_a_wall(run_tvl, fam_file):
-    result = run_tvl("run", fam_file, SQUARE, "--behaviour", "goal", "--goal", "0.1,2")
+def test_run_refuses_a_goal_inside_a_wall(invoke_tvl, fam_file):
+    result = invoke_tvl("run", fam_file, SQUARE, "--behaviour", "goal", "--goal", "0.1,2")
     _assert_refused(result, "inside a wall")
 
 
-def test_run_refuses_a_fam_of_another_robot(run_tvl, tmp_path):
+def test_run_refuses_a_fam_of_another_robot(invoke_tvl, tmp_path):
     other = RobotConfig(radius_m=0.3)
     path = tmp_path / "other.h5"
     write_fam(
@@ -169,14 +170,14 @@ def test_run_refuses_a_fam_of_another_robot(run_tvl, tmp_path):
         robot_config=other,
         provenance={},
     )
-    result = run_tvl("run", path, SQUARE, "--behaviour", "avoid")
+    result = invoke_tvl("run", path, SQUARE, "--behaviour", "avoid")
     _assert_refused(result, "another robot configuration", "radius_m")
 
 
-def test_run_refuses_an_existing_png_without_force(run_tvl, fam_file, tmp_path):
+def test_run_refuses_an_existing_png_without_force(invoke_tvl, fam_file, tmp_path):
     png = tmp_path / "path.png"
     png.write_bytes(b"mine")
-    result = run_tvl("run", fam_file, SQUARE, "--behaviour", "avoid", "--png", png)
+    result = invoke_tvl("run", fam_file, SQUARE, "--behaviour", "avoid", "--png", png)
     _assert_refused(result, "already exists")
     assert png.read_bytes() == b"mine"
 
@@ -209,6 +210,7 @@ def start_learning(log: Path, *args: str) -> subprocess.Popen[str]:
     raise AssertionError("learning never started writing its log")
 
 
+@pytest.mark.slow  # starts a real `tvl` process
 def test_sigint_keeps_every_whole_episode(tmp_path):
     log = tmp_path / "log.h5"
     process = start_learning(log)
@@ -224,11 +226,12 @@ def test_sigint_keeps_every_whole_episode(tmp_path):
     assert np.array_equal(np.cumsum(table["count"])[:-1], table["first"][1:])
 
 
-def test_a_second_learner_on_a_locked_log_is_refused(run_tvl, tmp_path):
+@pytest.mark.slow  # starts a real `tvl` process
+def test_a_second_learner_on_a_locked_log_is_refused(invoke_tvl, tmp_path):
     log = tmp_path / "log.h5"
     process = start_learning(log)
     try:
-        result = run_tvl("learn", SQUARE, "--log", log, "--minutes", "1")
+        result = invoke_tvl("learn", SQUARE, "--log", log, "--minutes", "1")
         _assert_refused(result, str(log), "locked")
     finally:
         process.send_signal(signal.SIGTERM)
@@ -242,26 +245,28 @@ def test_a_second_learner_on_a_locked_log_is_refused(run_tvl, tmp_path):
     ("option", "value", "phrase"),
     [("--decel", "0", "--decel 0 must be > 0"), ("--margin", "-0.1", "--margin -0.1 must be")],
 )
-def test_learn_refuses_bad_labels_before_touching_the_log(run_tvl, tmp_path, option, value, phrase):
+def test_learn_refuses_bad_labels_before_touching_the_log(
+    invoke_tvl, tmp_path, option, value, phrase
+):
     log = tmp_path / "log.h5"
-    _assert_refused(run_tvl("learn", SQUARE, "--log", log, option, value), phrase)
+    _assert_refused(invoke_tvl("learn", SQUARE, "--log", log, option, value), phrase)
     assert not log.exists()
 
 
-def test_train_refuses_a_log_with_corrupt_data(run_tvl, tmp_path):
+def test_train_refuses_a_log_with_corrupt_data(invoke_tvl, tmp_path):
     log = tmp_path / "log.h5"
-    assert run_tvl("learn", SQUARE, "--log", log, "--minutes", "2").returncode == 0
+    assert invoke_tvl("learn", SQUARE, "--log", log, "--minutes", "2").returncode == 0
     data = bytearray(log.read_bytes())
     middle = len(data) // 3
     data[middle : middle + 4000] = np.random.default_rng(1).bytes(4000)
     log.write_bytes(bytes(data))
-    _assert_refused(run_tvl("train", log, "-o", tmp_path / "f.h5"), str(log), "corrupt")
+    _assert_refused(invoke_tvl("train", log, "-o", tmp_path / "f.h5"), str(log), "corrupt")
     assert not (tmp_path / "f.h5").exists()
 
 
-def test_run_checks_every_output_directory_before_running(run_tvl, fam_file, tmp_path):
+def test_run_checks_every_output_directory_before_running(invoke_tvl, fam_file, tmp_path):
     trace = tmp_path / "trace.h5"
-    result = run_tvl(
+    result = invoke_tvl(
         "run", fam_file, SQUARE, "--behaviour", "avoid", "--log", trace,
         "--png", tmp_path / "missing" / "path.png",
     )  # fmt: skip
@@ -269,34 +274,34 @@ def test_run_checks_every_output_directory_before_running(run_tvl, fam_file, tmp
     assert not trace.exists()
 
 
-def test_a_usage_error_is_one_line(run_tvl, fam_file):
-    _assert_refused(run_tvl("run", fam_file, SQUARE, "--behaviour", "fly"), "'fly'")
+def test_a_usage_error_is_one_line(invoke_tvl, fam_file):
+    _assert_refused(invoke_tvl("run", fam_file, SQUARE, "--behaviour", "fly"), "'fly'")
 
 
-def test_run_refuses_a_goal_for_another_behaviour(run_tvl, fam_file):
-    result = run_tvl("run", fam_file, SQUARE, "--behaviour", "avoid", "--goal", "2,2")
+def test_run_refuses_a_goal_for_another_behaviour(invoke_tvl, fam_file):
+    result = invoke_tvl("run", fam_file, SQUARE, "--behaviour", "avoid", "--goal", "2,2")
     _assert_refused(result, "--goal is for --behaviour goal only")
 
 
-def test_demo_refuses_a_file_for_its_directory(run_tvl, tmp_path):
+def test_demo_refuses_a_file_for_its_directory(invoke_tvl, tmp_path):
     target = tmp_path / "notes.txt"
     target.write_text("keep")
-    _assert_refused(run_tvl("demo", target), "is a file")
+    _assert_refused(invoke_tvl("demo", target), "is a file")
     assert target.read_text() == "keep"
 
 
-def test_train_refuses_the_same_log_twice(run_tvl, tmp_path):
+def test_train_refuses_the_same_log_twice(invoke_tvl, tmp_path):
     log = _log(tmp_path / "log.h5", RobotConfig())
-    _assert_refused(run_tvl("train", log, log, "-o", tmp_path / "f.h5"), "given twice")
+    _assert_refused(invoke_tvl("train", log, log, "-o", tmp_path / "f.h5"), "given twice")
 
 
-def test_train_refuses_a_negative_minute(run_tvl, tmp_path):
+def test_train_refuses_a_negative_minute(invoke_tvl, tmp_path):
     log = _log(tmp_path / "log.h5", RobotConfig())
-    result = run_tvl("train", log, "-o", tmp_path / "f.h5", "--until-minute", "-1")
+    result = invoke_tvl("train", log, "-o", tmp_path / "f.h5", "--until-minute", "-1")
     _assert_refused(result, "--until-minute -1")
 
 
-def test_an_initial_velocity_may_not_be_fast(run_tvl, tmp_path):
+def test_an_initial_velocity_may_not_be_fast(invoke_tvl, tmp_path):
     log = _log(tmp_path / "log.h5", RobotConfig())
-    result = run_tvl("train", log, "-o", tmp_path / "f.h5", "--init-velocity", "5")
+    result = invoke_tvl("train", log, "-o", tmp_path / "f.h5", "--init-velocity", "5")
     _assert_refused(result, "--init-velocity", "5.0 is not in the range 0.0<=x<0.35")

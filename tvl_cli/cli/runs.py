@@ -1,4 +1,5 @@
-"""`tvl run`, `tvl replay` and `tvl demo`: behaviours, traces and the whole pipeline.
+"""`tvl run`, `tvl replay`, `tvl explain` and `tvl demo`: behaviours, traces and the whole
+pipeline.
 
 Each command imports the modules that do its work when it runs, so that `--help` reads only
 the options (and loads neither HDF5 nor the physics).
@@ -32,11 +33,11 @@ from tvl_cli.cli.options import (
     refuse_existing,
     refuse_shared_paths,
 )
-from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD
-from tvl_cli.core.config import SONAR_MODELS
 from tvl_cli.core.contacts import EVENT_CHOICES
 from tvl_cli.core.errors import DEFAULT_RUN_MINUTES, BadInput
 from tvl_cli.core.method import ALL, MethodChoice
+from tvl_cli.core.robot_config import SONAR_MODELS
+from tvl_cli.core.trajectory_choice import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD
 
 if TYPE_CHECKING:
     from tvl_cli.agent.drive import StepSink
@@ -359,7 +360,7 @@ def _watching(request: RunRequest, view: str | None, pace: float | None) -> Iter
         return
     from tvl_cli.cli.live import LiveView, WindowView, live_view, window_view
     from tvl_cli.commands.run import resolve_goal
-    from tvl_cli.core.config import RobotConfig
+    from tvl_cli.core.robot_config import RobotConfig
     from tvl_cli.sim.worldmap import load_world
 
     world = load_world(request.world)

@@ -10,8 +10,9 @@ from typing import Any
 import numpy as np
 
 from tvl_cli.core import jsontext
-from tvl_cli.core.config import SONAR_COUNT, FamConfig, Partition, SonarConfig
 from tvl_cli.core.errors import BadInput, did_you_mean
+from tvl_cli.core.fam_config import FamConfig, Partition
+from tvl_cli.core.robot_config import SONAR_COUNT, SonarConfig
 
 MAX_INPUTS_PER_TABLE = 10  # 2^10 rules fire per reading; more makes inference crawl
 MAX_ENTRIES = 20_000_000  # rules x trajectories in all: 3 float64 arrays that size, 480 MB

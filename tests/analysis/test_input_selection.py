@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from doc_pages import page, section
 
-from tvl_cli.analysis.design import (
+from tvl_cli.analysis.input_selection import (
     DEFAULT_BUDGET_RULES,
     GROUP_SIZES,
     HELDOUT_FRACTION,
@@ -16,10 +16,11 @@ from tvl_cli.analysis.design import (
     design_inputs,
     least_budget_rules,
 )
-from tvl_cli.core.config import MULTI, RobotConfig, mirror_sonar, mirror_trajectory
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
+from tvl_cli.core.fam_config import MULTI
 from tvl_cli.core.ring import ring_to_mm
+from tvl_cli.core.robot_config import RobotConfig, mirror_sonar, mirror_trajectory
 from tvl_cli.core.training import TrainParams
 
 ROBOT = RobotConfig()

@@ -8,7 +8,7 @@ from typing import Any
 
 import numpy as np
 
-from tvl_cli.core.config import FamInput, FamTable
+from tvl_cli.core.fam_config import FamInput, FamTable
 from tvl_cli.core.fuzzy import memberships
 
 

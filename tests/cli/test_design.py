@@ -1,23 +1,16 @@
-"""`tvl design` through the real `tvl` process: a configuration `train` and `learn` take."""
+"""`tvl design` on the command line, run in process: a configuration `train` and `learn` take."""
 
 from __future__ import annotations
 
 import json
-import subprocess
 from pathlib import Path
 
 import pytest
-from conftest import TVL
+from conftest import invoke as tvl
 from json_schemas import valid
 
 EXAMPLE_LOG = Path(__file__).resolve().parents[2] / "logs" / "square-s1.h5"
 SQUARE = Path(__file__).resolve().parents[2] / "worlds" / "square.txt"
-
-pytestmark = pytest.mark.slow  # every test here starts a real `tvl` process
-
-
-def tvl(*args: str | Path) -> subprocess.CompletedProcess[str]:
-    return subprocess.run([TVL, *map(str, args)], capture_output=True, text=True, timeout=180)
 
 
 @pytest.fixture(scope="module")
@@ -55,6 +48,7 @@ def test_train_and_learn_take_the_file_as_config(
     assert done.returncode == 0, done.stderr
 
 
+@pytest.mark.slow  # over a second: learns, runs or draws at length
 def test_the_same_seed_writes_the_same_file(designed: tuple[Path, dict], tmp_path: Path) -> None:
     output, _ = designed
     again = tmp_path / "inputs.json"
@@ -72,16 +66,11 @@ def test_the_same_seed_writes_the_same_file(designed: tuple[Path, dict], tmp_pat
     ],
 )
 def test_bad_input_is_one_line_and_exit_2(
-    args: tuple[str | Path, ...], message: str, tmp_path: Path
+    args: tuple[str | Path, ...], message: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     (tmp_path / "unreadable.h5").write_text("not HDF5")
-    done = subprocess.run(
-        [TVL, "design", *map(str, args), "-o", "out.json"],
-        capture_output=True,
-        text=True,
-        timeout=120,
-        cwd=tmp_path,
-    )
+    monkeypatch.chdir(tmp_path)
+    done = tvl("design", *args, "-o", "out.json")
     assert done.returncode == 2
     assert len(done.stderr.splitlines()) == 1 and message in done.stderr
     assert done.stderr.startswith("tvl: error:")

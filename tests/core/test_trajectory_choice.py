@@ -7,8 +7,8 @@ from typing import Any
 import numpy as np
 
 from tvl_cli.agent.reflexes import keep_out_ways
-from tvl_cli.core.behaviours import Choice, Context, choose, fast_set, trajectory_headings
-from tvl_cli.core.config import RobotConfig
+from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.core.trajectory_choice import Choice, Context, choose, fast_set, trajectory_headings
 
 ROBOT = RobotConfig()
 V_MAX = np.array(ROBOT.v_max_mps)  # (7,) T3L .. T3R

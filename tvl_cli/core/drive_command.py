@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from tvl_cli.core.config import Trajectory
+from tvl_cli.core.robot_config import Trajectory
 
 
 @dataclass(frozen=True, slots=True)

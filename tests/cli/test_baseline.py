@@ -1,4 +1,4 @@
-"""`tvl baseline dwa` and `tvl baseline qlearn` through the real `tvl` process."""
+"""`tvl baseline dwa` and `tvl baseline qlearn` on the command line, run in process."""
 
 from __future__ import annotations
 
@@ -7,6 +7,7 @@ from collections.abc import Callable
 from dataclasses import fields
 from pathlib import Path
 
+import pytest
 from json_schemas import ENVELOPE, valid
 
 from tvl_cli.core.metrics import RunMetrics
@@ -17,8 +18,8 @@ RUN_KEYS = {f.name for f in fields(RunMetrics)}
 Tvl = Callable[..., subprocess.CompletedProcess[str]]
 
 
-def test_dwa_json_prints_the_run_metrics_keys(run_tvl: Tvl) -> None:
-    done = run_tvl("baseline", "dwa", SQUARE, "--minutes", "0.5", "--json")
+def test_dwa_json_prints_the_run_metrics_keys(invoke_tvl: Tvl) -> None:
+    done = invoke_tvl("baseline", "dwa", SQUARE, "--minutes", "0.5", "--json")
     assert done.returncode == 0, done.stderr
     metrics = valid("baseline dwa", done.stdout)
     assert set(metrics) - ENVELOPE == RUN_KEYS
@@ -29,9 +30,9 @@ def test_dwa_json_prints_the_run_metrics_keys(run_tvl: Tvl) -> None:
     assert metrics["collisions"] == 0
 
 
-def test_dwa_goal_seeking_draws_its_path(run_tvl: Tvl, tmp_path: Path) -> None:
+def test_dwa_goal_seeking_draws_its_path(invoke_tvl: Tvl, tmp_path: Path) -> None:
     png = tmp_path / "path.png"
-    done = run_tvl(
+    done = invoke_tvl(
         "baseline", "dwa", WORLDS / "narrow.txt", "--behaviour", "goal", "--png", png, "--json"
     )
     assert done.returncode == 0, done.stderr
@@ -40,8 +41,9 @@ def test_dwa_goal_seeking_draws_its_path(run_tvl: Tvl, tmp_path: Path) -> None:
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
-def test_qlearn_json_adds_what_learning_cost(run_tvl: Tvl) -> None:
-    done = run_tvl(
+@pytest.mark.slow  # over a second: learns, runs or draws at length
+def test_qlearn_json_adds_what_learning_cost(invoke_tvl: Tvl) -> None:
+    done = invoke_tvl(
         "baseline", "qlearn", SQUARE, "--learn-minutes", "0.2", "--minutes", "0.1",
         "--competence-every", "0.1", "--json",
     )  # fmt: skip
@@ -55,8 +57,8 @@ def test_qlearn_json_adds_what_learning_cost(run_tvl: Tvl) -> None:
     assert [c["learn_minutes"] for c in report["competence_checks"]] == [0.1, 0.2]
 
 
-def test_qlearn_without_competence_checks_prints_only_the_learning_keys(run_tvl: Tvl) -> None:
-    done = run_tvl(
+def test_qlearn_without_competence_checks_prints_only_the_learning_keys(invoke_tvl: Tvl) -> None:
+    done = invoke_tvl(
         "baseline", "qlearn", SQUARE, "--learn-minutes", "0.1", "--minutes", "0.1", "--json"
     )
     assert done.returncode == 0, done.stderr
@@ -64,8 +66,8 @@ def test_qlearn_without_competence_checks_prints_only_the_learning_keys(run_tvl:
     assert set(report) - ENVELOPE == RUN_KEYS | {"learn_minutes", "learn_collisions"}
 
 
-def test_qlearn_without_learning_runs_the_untrained_table(run_tvl: Tvl) -> None:
-    done = run_tvl(
+def test_qlearn_without_learning_runs_the_untrained_table(invoke_tvl: Tvl) -> None:
+    done = invoke_tvl(
         "baseline", "qlearn", SQUARE, "--learn-minutes", "0", "--minutes", "0.1", "--json"
     )
     assert done.returncode == 0, done.stderr
@@ -73,7 +75,7 @@ def test_qlearn_without_learning_runs_the_untrained_table(run_tvl: Tvl) -> None:
     assert (report["learn_minutes"], report["learn_collisions"], report["sim_s"]) == (0, 0, 6.0)
 
 
-def test_bad_options_are_one_line_errors(run_tvl: Tvl) -> None:
+def test_bad_options_are_one_line_errors(invoke_tvl: Tvl) -> None:
     for args, message in (
         (("dwa", SQUARE, "--minutes", "-1"), "--minutes -1"),
         (("dwa", SQUARE, "--behaviour", "goal"), "world has no goal"),
@@ -82,7 +84,7 @@ def test_bad_options_are_one_line_errors(run_tvl: Tvl) -> None:
         (("qlearn", SQUARE, "--competence-every", "0"), "--competence-every 0"),
         (("dwa", WORLDS / "missing.txt"), "missing.txt: cannot read"),
     ):
-        done = run_tvl("baseline", *args)
+        done = invoke_tvl("baseline", *args)
         assert done.returncode == 2, args
         assert done.stderr.count("\n") == 1 and done.stderr.startswith("tvl: error: "), done.stderr
         assert message in done.stderr

@@ -22,27 +22,24 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from tvl_cli.core.config import (
+from tvl_cli.core.episode import Episode
+from tvl_cli.core.errors import BadInput
+from tvl_cli.core.fam import Fam
+from tvl_cli.core.fam_config import (
     BUILTIN_FAM_CONFIGS,
     MULTI,
     PARTITIONS,
-    SONAR_COUNT,
     FamConfig,
     FamDesign,
     FamInput,
     FamTable,
     InputChoice,
-    RobotConfig,
-    mirror_sonar,
     mirror_table,
-    mirror_trajectory,
     sonar_input,
 )
-from tvl_cli.core.episode import Episode
-from tvl_cli.core.errors import BadInput
-from tvl_cli.core.fam import Fam
-from tvl_cli.core.fam_configs import MAX_INPUTS_PER_TABLE, validate_fam_config
+from tvl_cli.core.fam_config_json import MAX_INPUTS_PER_TABLE, validate_fam_config
 from tvl_cli.core.ring import mm_to_ring
+from tvl_cli.core.robot_config import SONAR_COUNT, RobotConfig, mirror_sonar, mirror_trajectory
 from tvl_cli.core.training import TrainParams, episode_labels, train_episode
 
 # The paper's multi FAM is the reference: as many rules, unless the user gives a budget.

@@ -12,9 +12,9 @@ from json_schemas import valid
 from tvl_cli.sim.worldgen import generate_world
 from tvl_cli.sim.worldmap import MAX_FILE_BYTES
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 ROOM = "#######\n#.....#\n#..>..#\n#.....#\n#######\n"
-RunTvl = Callable[..., subprocess.CompletedProcess[str]]  # the run_tvl fixture
+RunTvl = Callable[..., subprocess.CompletedProcess[str]]  # the run_tvl and invoke_tvl fixtures
 BODY = "(the robot is a disc of radius 0.2 m)"
 WALL_USAGE = (
     "(expected x1 y1 x2 y2 [thickness] in metres, ends at least 0.01 m apart, thickness >= 0)"
@@ -149,12 +149,12 @@ BAD_WORLDS = {  # name -> (file bytes, the error after the file name)
 
 @pytest.mark.parametrize("case", BAD_WORLDS)
 def test_bad_world_file_is_one_error_line_and_exit_2(
-    case: str, run_tvl: RunTvl, tmp_path: Path
+    case: str, invoke_tvl: RunTvl, tmp_path: Path
 ) -> None:
     data, error = BAD_WORLDS[case]
     path = tmp_path / "bad.txt"
     path.write_bytes(data)
-    done = run_tvl("world", "check", path)
+    done = invoke_tvl("world", "check", path)
     assert (done.returncode, done.stdout) == (2, "")
     assert done.stderr == f"tvl: error: {path}{error}\n"
 
@@ -168,19 +168,19 @@ def test_missing_world_file_is_one_error_line_and_exit_2(run_tvl: RunTvl, tmp_pa
     )
 
 
-def test_new_writes_the_generated_text_and_nothing_else(run_tvl: RunTvl, tmp_path: Path) -> None:
-    done = run_tvl("world", "new", "corridor", "-o", tmp_path / "c.txt", "--size", "4", "4")
+def test_new_writes_the_generated_text_and_nothing_else(invoke_tvl: RunTvl, tmp_path: Path) -> None:
+    done = invoke_tvl("world", "new", "corridor", "-o", tmp_path / "c.txt", "--size", "4", "4")
     assert done.returncode == 0, done.stderr
     assert (tmp_path / "c.txt").read_text(encoding="utf-8") == generate_world("corridor", 4, 4, 1)
     assert [p.name for p in tmp_path.iterdir()] == ["c.txt"]
 
 
-def test_new_refuses_an_existing_file_unless_forced(run_tvl: RunTvl, tmp_path: Path) -> None:
+def test_new_refuses_an_existing_file_unless_forced(invoke_tvl: RunTvl, tmp_path: Path) -> None:
     path = tmp_path / "lab.txt"
     path.write_text("keep me")
-    refused = run_tvl("world", "new", "lab", "-o", path, "--seed", "3")
+    refused = invoke_tvl("world", "new", "lab", "-o", path, "--seed", "3")
     assert (refused.returncode, path.read_text()) == (2, "keep me")
-    assert run_tvl("world", "new", "lab", "-o", path, "--seed", "3", "--force").returncode == 0
+    assert invoke_tvl("world", "new", "lab", "-o", path, "--seed", "3", "--force").returncode == 0
     assert path.read_text(encoding="utf-8") == generate_world("lab", None, None, 3)
 
 
@@ -193,8 +193,8 @@ def test_check_reports_ok_with_the_counts(run_tvl: RunTvl) -> None:
     )
 
 
-def test_show_json_has_the_geometry_keys(run_tvl: RunTvl) -> None:
-    done = run_tvl("world", "show", ROOT / "worlds" / "circle.txt", "--json")
+def test_show_json_has_the_geometry_keys(invoke_tvl: RunTvl) -> None:
+    done = invoke_tvl("world", "show", ROOT / "worlds" / "circle.txt", "--json")
     assert done.stdout.count("\n") == 1  # one line, for scripts that grep it
     geometry = valid("world show", done.stdout)["world"]
     assert list(geometry) == ["name", "cell_m", "segments", "discs", "start", "goals", "rings"]
@@ -207,17 +207,17 @@ def test_show_json_has_the_geometry_keys(run_tvl: RunTvl) -> None:
     assert geometry["rings"] == [[2.5, 2.5, 2.0]]
 
 
-def test_show_prints_a_readable_summary(run_tvl: RunTvl) -> None:
-    done = run_tvl("world", "show", ROOT / "worlds" / "narrow.txt")
+def test_show_prints_a_readable_summary(invoke_tvl: RunTvl) -> None:
+    done = invoke_tvl("world", "show", ROOT / "worlds" / "narrow.txt")
     assert "size      6 x 4 m (cell 0.25 m)" in done.stdout.splitlines()
 
 
-def test_render_writes_a_png(run_tvl: RunTvl, tmp_path: Path) -> None:
+def test_render_writes_a_png(invoke_tvl: RunTvl, tmp_path: Path) -> None:
     png = tmp_path / "lab.png"
-    done = run_tvl("world", "render", ROOT / "worlds" / "lab.txt", "-o", png)
+    done = invoke_tvl("world", "render", ROOT / "worlds" / "lab.txt", "-o", png)
     assert done.returncode == 0, done.stderr
     assert png.read_bytes().startswith(b"\x89PNG\r\n\x1a\n")
-    assert run_tvl("world", "render", ROOT / "worlds" / "lab.txt", "-o", png).returncode == 2
+    assert invoke_tvl("world", "render", ROOT / "worlds" / "lab.txt", "-o", png).returncode == 2
 
 
 @pytest.mark.parametrize(
@@ -230,10 +230,10 @@ def test_render_writes_a_png(run_tvl: RunTvl, tmp_path: Path) -> None:
     ],
 )
 def test_render_writes_the_format_the_extension_names(
-    run_tvl: RunTvl, tmp_path: Path, name: str, starts: tuple[bytes, ...]
+    invoke_tvl: RunTvl, tmp_path: Path, name: str, starts: tuple[bytes, ...]
 ) -> None:
     picture = tmp_path / name
-    done = run_tvl("world", "render", ROOT / "worlds" / "lab.txt", "-o", picture)
+    done = invoke_tvl("world", "render", ROOT / "worlds" / "lab.txt", "-o", picture)
     assert done.returncode == 0, done.stderr
     assert picture.read_bytes().startswith(starts)
 
@@ -246,33 +246,35 @@ def test_render_writes_the_format_the_extension_names(
     ],
 )
 def test_render_refuses_a_name_that_names_no_picture_format(
-    run_tvl: RunTvl, tmp_path: Path, name: str, problem: str
+    invoke_tvl: RunTvl, tmp_path: Path, name: str, problem: str
 ) -> None:
     picture = tmp_path / name
-    done = run_tvl("world", "render", ROOT / "worlds" / "lab.txt", "-o", picture)
+    done = invoke_tvl("world", "render", ROOT / "worlds" / "lab.txt", "-o", picture)
     assert done.returncode == 2 and done.stderr.count("\n") == 1, done.stderr
     assert f"{picture}: {problem} (give .png, .svg, .pdf, .jpg, .jpeg)" in done.stderr
     assert not picture.exists()
 
 
-def test_show_json_lists_header_walls_among_the_segments(run_tvl: RunTvl, tmp_path: Path) -> None:
+def test_show_json_lists_header_walls_among_the_segments(
+    invoke_tvl: RunTvl, tmp_path: Path
+) -> None:
     path = tmp_path / "walls.txt"
     path.write_text("wall: 0.3 0.3 0.6 0.9\nwall: 1.2 0.3 1.2 0.9 0.1\n" + ROOM, encoding="utf-8")
-    geometry = valid("world show", run_tvl("world", "show", path, "--json").stdout)["world"]
+    geometry = valid("world show", invoke_tvl("world", "show", path, "--json").stdout)["world"]
     assert len(geometry["segments"]) == 4 + 1 + 4  # the room, the thin wall, the thick one
     assert geometry["segments"][4] == [0.3, 0.3, 0.6, 0.9]
     thick_xs = {round(x, 9) for segment in geometry["segments"][5:] for x in segment[::2]}
     assert thick_xs == {1.15, 1.25}
-    summary = run_tvl("world", "show", path).stdout.splitlines()
+    summary = invoke_tvl("world", "show", path).stdout.splitlines()
     assert "walls     9 segments, 0 rings" in summary
 
 
 def test_new_rooms_writes_the_seeded_world_that_check_accepts(
-    run_tvl: RunTvl, tmp_path: Path
+    invoke_tvl: RunTvl, tmp_path: Path
 ) -> None:
     path = tmp_path / "rooms.txt"
-    done = run_tvl("world", "new", "rooms", "--seed", "1003", "-o", path)
+    done = invoke_tvl("world", "new", "rooms", "--seed", "1003", "-o", path)
     assert done.returncode == 0, done.stderr
     assert path.read_text(encoding="utf-8") == generate_world("rooms", None, None, 1003)
-    checked = run_tvl("world", "check", path)
+    checked = invoke_tvl("world", "check", path)
     assert (checked.returncode, checked.stdout.startswith(f"{path}: ok (")) == (0, True)

@@ -1,0 +1,74 @@
+"""`tvl inspect`: a FAM file's rules, one ring explained in them, or its learnt velocity drawn."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from tvl_cli.analysis.rules import Rule, parse_ring, select_rules
+from tvl_cli.analysis.surface import shared_inputs, velocity_surfaces
+from tvl_cli.core.fired_rules import Explanation
+from tvl_cli.io.famfile import FamFile, read_fam
+
+
+@dataclass(frozen=True, slots=True)
+class InspectRequest:
+    fam: Path
+    trajectory: str | None = None  # only this trajectory's rules
+    top: int = 20  # how many rules (0: all)
+    sort: str = "experience"  # one of analysis.rules.SORT_KEYS
+    untrained: bool = False  # the rules no exemplar has reached
+    explain: str | None = None  # "R0,...,R15": one ring of ranges (m) to explain instead
+    png: Path | None = None  # where to draw the learnt velocity over two inputs
+    over: tuple[str, str] | None = None  # those two inputs (None: the pair most tables read)
+    fix: tuple[tuple[str, float], ...] = ()  # other inputs held at a range (m) for the picture
+
+
+@dataclass(frozen=True, slots=True)
+class Inspected:
+    """The FAM file read, and either its rules or one ring's explanation (the other None)."""
+
+    loaded: FamFile
+    ring: np.ndarray | None
+    explanation: Explanation | None
+    rules: list[Rule] | None
+
+
+def inspect_fam(request: InspectRequest) -> Inspected:
+    """Read the FAM file; draw its surfaces if a picture is asked for; select its rules, or
+    explain the ring given in them."""
+    loaded = read_fam(request.fam)
+    if request.png is not None:
+        draw_surfaces(loaded, request.png, request.over, request.fix)
+    if request.explain is not None:
+        ring = parse_ring(request.explain, loaded.robot_config.sonar.count)
+        return Inspected(loaded, ring, loaded.fam.explain(ring), None)
+    rules = select_rules(
+        loaded.fam, request.trajectory, request.top, request.sort, request.untrained
+    )
+    return Inspected(loaded, None, None, rules)
+
+
+def draw_surfaces(
+    loaded: FamFile,
+    png: Path,
+    over: tuple[str, str] | None,
+    fix: tuple[tuple[str, float], ...],
+) -> None:
+    """`inspect --png`: the learnt velocity over two inputs, the others held."""
+    from tvl_cli.render.plot import render_surfaces  # matplotlib only when a picture is wanted
+
+    sonar = loaded.robot_config.sonar
+    fixed = dict(fix)
+    surfaces = velocity_surfaces(
+        loaded.fam,
+        over or shared_inputs(loaded.fam.config),
+        fixed,
+        sonar.min_range_m,
+        sonar.max_range_m,
+        sonar.count,
+    )
+    held = ", ".join(f"{n} {v:g} m" for n, v in fixed.items()) or "the rest open"
+    render_surfaces(surfaces, png, f"{loaded.fam.config.name} FAM, {held}")

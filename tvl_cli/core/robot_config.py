@@ -1,0 +1,179 @@
+"""The simulated robot's configuration: its body, trajectories and sonar ring, with JSON
+round trips, and the ring's mirror image.
+
+The configuration is stored as JSON inside each log and FAM file, so a file describes the
+robot that made it. Units are in the field names.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, field
+from typing import TYPE_CHECKING, Any, TypeVar
+
+if TYPE_CHECKING:
+    import numpy as np
+
+SONAR_COUNT = 16
+
+IndexT = TypeVar("IndexT", int, "np.ndarray")
+
+
+@dataclass(frozen=True, slots=True)
+class Trajectory:
+    """One predefined path: a straight line or an arc, with its maximum speed."""
+
+    name: str
+    curvature_per_m: float  # 1 / radius; positive turns left (CCW), 0 is straight
+    v_max_mps: float
+
+    @property
+    def radius_m(self) -> float:
+        return float("inf") if self.curvature_per_m == 0 else 1.0 / abs(self.curvature_per_m)
+
+
+def _arc(name: str, radius_m: float, left: bool, v_max_mps: float) -> Trajectory:
+    return Trajectory(name, (1.0 if left else -1.0) / radius_m, v_max_mps)
+
+
+# Left to right, as in the paper's Figure 8(b); index 3 is straight ahead and index j
+# mirrors index 6 - j.
+DEFAULT_TRAJECTORIES: tuple[Trajectory, ...] = (
+    _arc("T3L", 0.5, True, 0.35),
+    _arc("T2L", 1.0, True, 0.45),
+    _arc("T1L", 2.0, True, 0.55),
+    Trajectory("T0", 0.0, 0.60),
+    _arc("T1R", 2.0, False, 0.55),
+    _arc("T2R", 1.0, False, 0.45),
+    _arc("T3R", 0.5, False, 0.35),
+)
+# The speeds a user may give lie within these: the robot drives no faster than its fastest
+# trajectory (learning's speed), and a FAM's initial velocity is below its slowest's top.
+FASTEST_MPS = max(t.v_max_mps for t in DEFAULT_TRAJECTORIES)
+SLOWEST_TOP_MPS = min(t.v_max_mps for t in DEFAULT_TRAJECTORIES)
+
+
+@dataclass(frozen=True, slots=True)
+class SonarConfig:
+    """The ring of transducers on the body edge, S0 forward, numbered counter-clockwise."""
+
+    count: int = SONAR_COUNT
+    min_range_m: float = 0.15
+    max_range_m: float = 4.0
+    cone_deg: float = 25.0
+    rays_per_beam: int = 5
+    specular_max_deg: float = 20.0  # beyond this incidence a smooth flat surface returns no echo
+    # A convex edge (a block's corner, the end of a thin wall) diffracts a weak echo back to a
+    # beam that meets its wall near it, heard only this close; 0 hears none.
+    edge_echo_range_m: float = 0.0
+    noise_sigma_m: float = 0.01
+    noise_fraction: float = 0.01  # sigma grows by this fraction of the range
+    ideal: bool = False  # nearest hit at any angle, no noise (ablations)
+
+
+# Diffraction from an edge returns far less sound than a wall square on, heard out to about a
+# quarter of the ring's maximum range (the `edges` sonar model).
+EDGE_ECHO_RANGE_M = 1.0
+# The sonar models a robot can learn and run with, by the name `--sonar` takes.
+SONAR_MODELS: dict[str, SonarConfig] = {
+    "real": SonarConfig(),
+    "edges": SonarConfig(edge_echo_range_m=EDGE_ECHO_RANGE_M),
+    "ideal": SonarConfig(ideal=True),
+}
+
+
+def sonar_model_name(sonar: SonarConfig) -> str | None:
+    """The name of one of SONAR_MODELS, or None for a ring this simulator has no name for."""
+    return next((name for name, model in SONAR_MODELS.items() if model == sonar), None)
+
+
+@dataclass(frozen=True, slots=True)
+class RobotConfig:
+    """The simulated robot: body, control timing, commands and sensors."""
+
+    radius_m: float = 0.20
+    control_period_s: float = 0.1
+    physics_substeps: int = 4
+    spin_rate_radps: float = 1.0
+    odometry_noise_fraction: float = 0.01  # sigma of wheel travel, as a fraction of it
+    trajectories: tuple[Trajectory, ...] = DEFAULT_TRAJECTORIES
+    sonar: SonarConfig = field(default_factory=SonarConfig)
+
+    def trajectory_index(self, name: str) -> int:
+        """Index of a trajectory by name; ValueError naming the choices if unknown."""
+        names = [t.name for t in self.trajectories]
+        if name not in names:
+            raise ValueError(f"unknown trajectory {name!r} (choose from {', '.join(names)})")
+        return names.index(name)
+
+    @property
+    def v_max_mps(self) -> tuple[float, ...]:
+        return tuple(t.v_max_mps for t in self.trajectories)
+
+    def to_dict(self) -> dict[str, Any]:
+        return asdict(self)
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> RobotConfig:
+        """Build from a file's JSON; ValueError (or KeyError, TypeError) if it does not
+        describe a robot that could move and sense."""
+        fields = dict(data)
+        fields["trajectories"] = tuple(Trajectory(**t) for t in data["trajectories"])
+        fields["sonar"] = SonarConfig(**data["sonar"])
+        robot = cls(**fields)
+        _check_physical(robot)
+        return robot
+
+
+def _check_physical(robot: RobotConfig) -> None:
+    """Sizes, times and speeds a robot can have: finite, positive where nothing else works."""
+    sonar = robot.sonar
+    positive = {
+        "radius_m": robot.radius_m,
+        "control_period_s": robot.control_period_s,
+        "physics_substeps": robot.physics_substeps,
+        "spin_rate_radps": robot.spin_rate_radps,
+        "sonar.count": sonar.count,
+        "sonar.min_range_m": sonar.min_range_m,
+        "sonar.cone_deg": sonar.cone_deg,
+        "sonar.rays_per_beam": sonar.rays_per_beam,
+        **{f"{t.name}.v_max_mps": t.v_max_mps for t in robot.trajectories},
+    }
+    for name, value in positive.items():
+        if not (isinstance(value, int | float) and math.isfinite(value) and value > 0):
+            raise ValueError(f"robot {name} is {value!r}, not a positive number")
+    others = {
+        "odometry_noise_fraction": robot.odometry_noise_fraction,
+        "sonar.noise_sigma_m": sonar.noise_sigma_m,
+        "sonar.noise_fraction": sonar.noise_fraction,
+        "sonar.specular_max_deg": sonar.specular_max_deg,
+        **{f"{t.name}.curvature_per_m": t.curvature_per_m for t in robot.trajectories},
+    }
+    for name, value in others.items():
+        if not (isinstance(value, int | float) and math.isfinite(value)):
+            raise ValueError(f"robot {name} is {value!r}, not a number")
+    if not sonar.max_range_m > sonar.min_range_m or not math.isfinite(sonar.max_range_m):
+        raise ValueError(f"robot sonar ranges {sonar.min_range_m!r} to {sonar.max_range_m!r}")
+    edge = sonar.edge_echo_range_m
+    if not (isinstance(edge, int | float) and math.isfinite(edge) and edge >= 0):
+        raise ValueError(f"robot sonar.edge_echo_range_m is {edge!r}, not a range >= 0")
+
+
+ALL_TRAJECTORY_NAMES = tuple(t.name for t in DEFAULT_TRAJECTORIES)
+
+
+def mirror_sonar(index: int, count: int = SONAR_COUNT) -> int:
+    """The sonar in the mirror image of the ring across the forward axis: Si <-> S(16-i)."""
+    return (-index) % count
+
+
+def mirror_trajectory(index: IndexT, count: int) -> IndexT:
+    """The trajectory turning as far the other way, of `count` listed left to right:
+    j <-> count - 1 - j (the straight one mirrors itself). Indices may be an array."""
+    return count - 1 - index
+
+
+def sonars_within(angle_rad: float, count: int = SONAR_COUNT) -> tuple[int, ...]:
+    """The sonars facing at most angle_rad to either side of straight ahead (S0 ahead, CCW)."""
+    lowest = math.cos(angle_rad) - 1e-9  # the sideways sonars count at exactly 90 degrees
+    return tuple(i for i in range(count) if math.cos(2 * math.pi * i / count) >= lowest)
