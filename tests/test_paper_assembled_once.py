@@ -23,7 +23,7 @@ NOT_THE_METHOD = {
     "_check_paper_reflexes": "a grid's check that reflexes do not contradict the preset",
 }
 # Package modules where the word itself stands as a value: the ablation figure labels the runs
-# of the paper's method with it (experiments/ablation.sh writes them). (Benchmarks label their
+# of the paper's method with it (experiments/grids/ablation.toml). (Benchmarks label their
 # columns and settings with it freely.)
 PAPER_AS_A_LABEL = {"tvl_cli/analysis/results.py"}
 

@@ -31,7 +31,7 @@ def avoid(rule: str, world: str, seed: int, learnt: float, competent: bool) -> d
         world=world,
         explore=rule,
         seed=seed,
-        learnt_minutes=learnt,
+        minute=learnt,
         mean_speed_mps=0.4 if competent else 0.1,
     )
 

@@ -21,6 +21,7 @@ def run_row(**overrides: object) -> dict[str, object]:
         "seed": 1,
         "config": "single",
         "behaviour": "avoid",
+        "method": "default",
         "reflexes": "all",
         "sim_s": 300.0,
         "distance_m": 120.0,
@@ -85,7 +86,8 @@ def test_an_ablation_row_splits_contacts_into_collisions_and_near_misses():
     world, config, _, contacts, split, *_, backoffs, competent = table["none"]
     assert backoffs == "0.0"
     assert (world, config) == ("square", "single")
-    assert contacts == "0.70"
+    # The mean over the seeds, ± its 95 % interval: t(0.975, 1) · 0.42 / √2.
+    assert contacts == "0.70 ± 3.81"
     assert split == "0.10 + 0.60"  # the mean of each run's rate: (0.2 + 0) / 2, (0.8 + 0.4) / 2
     assert competent == "0/2"
     assert table["all"][-2] == "2.0"  # 10 back-offs in 5 minutes
@@ -99,9 +101,15 @@ def test_learning_time_rows_give_speed_and_contacts_per_minute_and_the_dwa_last(
         run_row(minute=10.0, seed=1, behaviour="wall", mean_speed_mps=0.3),
     ]
     dwa = [run_row(kind="dwa", mean_speed_mps=0.5, contacts_per_min=0.2)]
-    header, body = learning_time_rows(snapshots, [("single", "avoid"), ("single", "wall")], dwa)
-    assert header == ["minute", "single avoid: m/s, contacts/min", "single wall: m/s, contacts/min"]
-    assert body[0] == ["5", "0.30, 2.00", "–, –"]
+    series = [("single", "avoid", "default"), ("single", "wall", "default")]
+    header, body = learning_time_rows(snapshots, series, dwa)
+    assert header == [
+        "minute",
+        "single avoid, ours: m/s, contacts/min",
+        "single wall, ours: m/s, contacts/min",
+    ]
+    # Two seeds: each mean ± t(0.975, 1) · s / √2; one seed: the mean alone.
+    assert body[0] == ["5", "0.30 ± 1.27, 2.00 ± 12.71", "–, –"]
     assert body[1] == ["10", "–, –", "0.30, 0.00"]
     assert body[2] == ["DWA (avoid)", "0.50, 0.20", "–"]
 

@@ -18,7 +18,7 @@ from tvl_cli.core.training import TrainParams
 from tvl_cli.sim.worldgen import generate_world
 from tvl_cli.sim.worldmap import parse_world
 
-# As experiments/design_inputs.sh makes them: 15 simulated minutes in each of rooms seeds 1 to
+# As the shipped design was made: 15 simulated minutes in each of rooms seeds 1 to
 # 10, learning seed 1, every default; the design with seed 1 and the default budget.
 TUNING_WORLD_SEEDS = range(1, 11)
 TUNING_MINUTES = 15.0

@@ -113,7 +113,7 @@ RELEASED = {
     "demo": (1, "7c6968909bb8a825"),
     "baseline dwa": (1, "e0f3277360075c6f"),
     "baseline qlearn": (1, "601c3039f73e2ea8"),
-    "sweep": (1, "729af72d64289fc3"),
+    "sweep": (2, "c3e88014d4c169ff"),
     "export": (1, "c9830ef68911e780"),
     "figure": (1, "3a46ed221f6ee28c"),
     "schema": (1, "f8b7f5d57f1e5775"),

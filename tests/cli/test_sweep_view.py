@@ -11,7 +11,7 @@ from rich.console import Console
 from tvl_cli.analysis.intervals import Group, Interval
 from tvl_cli.analysis.measures import MEASURES
 from tvl_cli.cli.sweep_view import sweep_tables
-from tvl_cli.commands.sweep_report import SweepSummary, summarise
+from tvl_cli.sweep.summary import SweepSummary, summarise
 
 
 def rendered(summary: SweepSummary, width: int) -> list[str]:

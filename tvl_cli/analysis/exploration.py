@@ -1,9 +1,9 @@
-"""The exploration experiment's numbers (experiments/exploration.sh): coverage while learning
-and time to competence, by the rule that chose where to learn (`tvl learn --explore`).
+"""The exploration experiment's numbers (experiments/grids/exploration.toml): coverage while
+learning and time to competence, by the rule that chose where to learn (`tvl learn --explore`).
 
-Its learn runs carry `explore`, `collision_points` (`sonar`, the learner's default, or
+Its learn cells carry `explore`, `collision_points` (`sonar`, the learner's default, or
 `bumps`) and the per-minute rows `tvl replay --json` prints, with their `coverage`; its avoid
-runs carry `explore` and `learnt_minutes`, the length of learning their FAM had.
+runs carry `explore` and `minute`, the length of learning their FAM had.
 """
 
 from __future__ import annotations
@@ -83,12 +83,12 @@ def competence_rows(rows: list[Row]) -> tuple[list[str], list[list[str]]]:
     (the mean over the trials that became competent, and how many did)."""
     snapshots = select(rows, kind="tvl", behaviour="avoid")
     worlds = distinct(snapshots, "world", ("lab",))
-    horizon = max((r["learnt_minutes"] for r in snapshots), default=None)
+    horizon = max((r["minute"] for r in snapshots), default=None)
     header = ["rule", *worlds, "all worlds"]
     body = []
     for rule in distinct(snapshots, "explore"):
         # A snapshot's learning length is the minute time to competence reads.
-        runs = [{**r, "minute": r["learnt_minutes"]} for r in select(snapshots, explore=rule)]
+        runs = select(snapshots, explore=rule)
         cells = [
             describe_competence(competence_times(select(runs, world=world)), horizon)
             for world in worlds

@@ -1,10 +1,10 @@
 """The experiments' numbers: result rows (one JSON line per run) into competence times,
 means and summary tables. No drawing: render.figures draws from these.
 
-Each line of a results file is one run: its parameters (`kind`: learn, tvl, dwa or qlearn;
-`world`, `seed`, `config`, `minute`, `behaviour`, `threshold`, `reflexes`, ...) and what
-`tvl ... --json` printed. Trials are the seeds; figures show their mean, tables their mean
-and counts.
+Each line of a results file (a sweep's results.jsonl) is one cell: its grid values (`kind`:
+learn, tvl, dwa or qlearn; `world`, `seed`, `config`, `minute`, `behaviour`, `threshold`,
+`method`, `reflexes`, ...) and what its work found, as `tvl ... --json` prints it. Trials are
+the seeds; figures show their mean and 95 % interval, tables their mean ± that interval.
 """
 
 from __future__ import annotations
@@ -18,8 +18,10 @@ from typing import Any
 
 import numpy as np
 
+from tvl_cli.analysis.intervals import Interval, interval
 from tvl_cli.core import competence, jsontext
 from tvl_cli.core.errors import BadInput
+from tvl_cli.core.method import DEFAULT_NAME, PAPER_NAME
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.core.trajectory_choice import BEHAVIOUR_NAMES, is_threshold
 
@@ -34,8 +36,9 @@ WORLD_ORDER = ("square", "circle", "corridor", "obstacles", "narrow", "lab")
 ABLATION_SETTINGS = (
     "none", "blocked-ways", "near-miss", "bump", "tie", "wall-start", "all", "paper",
 )  # fmt: skip
-# The online experiment's runs: the FAM fixed, or learning while behaving (`tvl run --learn`).
-ONLINE_SETTINGS = ("fixed", "learns")
+# The online experiment's runs (their `online`): the FAM fixed, or learning while behaving
+# (`tvl run --learn`), by their labels.
+ONLINE_SETTINGS = {False: "fixed", True: "learns"}
 # The paper's reported ends (SPEC §10): threshold -> (wall clearance m, mean speed m/s) in
 # wall following (§5.1, Fig. 21), and learning minute -> mean speed m/s in the lab, multi FAM
 # (§5.2, Fig. 27).
@@ -85,37 +88,49 @@ def read_results(path: Path) -> dict[int, Row]:
 
 # The keys the figures read, by what they must hold. Parameters and measures are numbers
 # (finite: json reads NaN and Infinity, which would show as "–"); only the measures a run may
-# not have taken can be null. `minutes` (a learn run's) and `competence_checks` (Q-learning's)
-# are lists of objects whose keys are checked as a run's are.
+# not have taken, and the grid values a kind of cell does not read, can be null. `minutes` (a
+# learn cell's or a run's) and `competence_checks` (Q-learning's) are lists of objects whose
+# keys are checked as a run's are.
 _WORDS = (
     "world",
     "config",
+    "learn_config",
     "behaviour",
+    "method",
     "reflexes",
-    "learning",
     "goal",
-    "online",
     "explore",
     "collision_points",
+    "trace_file",
 )
 _NUMBERS = (
     "seed",
     "minute",
-    "start_minutes",
-    "learnt_minutes",
     "coverage",
     "threshold",
     "learn_minutes",
     "run_minutes",
-    "goal_index",
+    "competence_every",
     "delta_v",
     "learn_collisions",
     *(f.name for f in fields(RunMetrics) if f.name != "goal_reached"),
 )
-_MAYBE_TAKEN = ("mean_wall_clearance_m", "time_to_goal_s", "time_to_competence_min")
-# A `tvl sweep` row records a goal for every run, null for those that seek none.
-_MAYBE_NAMED = ("goal",)
-_FLAGS = ("goal_reached",)
+_MAYBE_TAKEN = (
+    "mean_wall_clearance_m",
+    "time_to_goal_s",
+    "time_to_competence_min",
+    # grid values some kinds of cell do not read
+    "minute",
+    "threshold",
+    "learn_minutes",
+    "run_minutes",
+    "competence_every",
+)
+_MAYBE_NAMED = (
+    "goal", "config", "learn_config", "behaviour", "method", "reflexes", "explore",
+    "collision_points",
+)  # fmt: skip
+_FLAGS = ("goal_reached", "online", "trace")
 _LISTS = ("minutes", "competence_checks")
 
 
@@ -126,7 +141,7 @@ def _check_types(row: Row, where: str) -> None:
             if row[key] is None and key in _MAYBE_NAMED:
                 continue
             raise BadInput(f"{where}: {key!r} is {row[key]!r}, expected text")
-    for key in (*_NUMBERS, *_MAYBE_TAKEN):
+    for key in dict.fromkeys((*_NUMBERS, *_MAYBE_TAKEN)):
         value = row.get(key)
         if key not in row or (value is None and key in _MAYBE_TAKEN):
             continue
@@ -139,7 +154,7 @@ def _check_types(row: Row, where: str) -> None:
     for key in _FLAGS:
         if key in row and not isinstance(row[key], bool):
             raise BadInput(f"{where}: {key!r} is {row[key]!r}, expected true or false")
-    if "threshold" in row and not is_threshold(row["threshold"]):
+    if row.get("threshold") is not None and not is_threshold(row["threshold"]):
         raise BadInput(f"{where}: 'threshold' is {row['threshold']!r}, outside (0, 1]")
     for key in _LISTS:
         items = row.get(key, [])
@@ -199,15 +214,15 @@ FIGURE_NEEDS: dict[str, tuple[Needs, ...]] = {
         Needs(
             "runs",
             {"kind": "tvl", "reflexes": ABLATION_SETTINGS},
-            (*_RUN_KEYS, "config"),
+            (*_RUN_KEYS, "config", "method"),
             ("contacts_per_min",),
         ),
     ),
     "online": (
         Needs(
             "behaving runs",
-            {"kind": "tvl", "online": ONLINE_SETTINGS},
-            (*_RUN_KEYS, "start_minutes", "threshold", "minutes"),
+            {"kind": "tvl"},
+            (*_RUN_KEYS, "online", "minute", "threshold", "minutes"),
             ("minutes",),
         ),
     ),
@@ -221,33 +236,16 @@ FIGURE_NEEDS: dict[str, tuple[Needs, ...]] = {
         Needs(
             "avoid snapshots",
             {"kind": "tvl", "behaviour": "avoid"},
-            (*_RUN_KEYS, "explore", "learnt_minutes"),
+            (*_RUN_KEYS, "explore", "minute"),
             _PLOTTED,
         ),
     ),
 }
-# Each experiment script marks its TVL runs with a key no other one records: the learning
-# `minute` of a snapshot FAM, the ablation's `learning`, fig22's `goal_index`, the online
-# experiment's `start_minutes` (of exploration before behaving), the exploration
-# experiment's `explore` (the rule that chose where to learn); fig21's
-# threshold runs have none. A figure refuses the TVL runs of another experiment, which it
-# would otherwise average in silently (the ablation would average over fig21's thresholds).
-FIGURE_MARKS: dict[str, str | None] = {
-    "fig19": "minute",
-    "fig21": None,
-    "fig22": "goal_index",
-    "fig24": "minute",
-    "fig27": "minute",
-    "ablation": "learning",
-    "online": "start_minutes",
-    "exploration": "explore",
-}
-_MARKS = tuple(dict.fromkeys(mark for mark in FIGURE_MARKS.values() if mark))
 
 
 def check_needs(name: str, rows: dict[int, Row], source: str) -> None:
     """BadInput unless the rows (by line number) hold the runs figure NAME draws, with the keys
-    it reads and something to plot, and no TVL run of another experiment."""
+    it reads and something to plot."""
     for needs in FIGURE_NEEDS[name]:
         runs = select(rows.values(), **needs.where)
         kinds = ", ".join(f"{k} {_alternatives(v)}" for k, v in needs.where.items())
@@ -262,14 +260,6 @@ def check_needs(name: str, rows: dict[int, Row], source: str) -> None:
         for key in needs.plotted:
             if not any(run[key] not in (None, []) for run in runs):
                 raise BadInput(f"{source}: no {needs.what} ({kinds}) with a {key!r} for {name}")
-    own = FIGURE_MARKS[name]
-    for number, row in rows.items():
-        marks = [mark for mark in _MARKS if mark in row]
-        if row["kind"] == "tvl" and marks != ([own] if own else []):
-            mark = next((m for m in marks if m != own), None)
-            owners = ", ".join(figure for figure, m in FIGURE_MARKS.items() if m == mark)
-            has = f"with {mark!r}" if mark else f"without {own!r}"
-            raise BadInput(f"{source}:{number}: a TVL run {has} is from {owners}, not {name}")
 
 
 def _alternatives(value: Any) -> str:
@@ -297,13 +287,35 @@ def mean(values: Iterable[float | None]) -> float | None:
     return sum(known) / len(known) if known else None
 
 
-def curve(rows: Iterable[Row], x: str, y: str) -> tuple[np.ndarray, np.ndarray]:
-    """Mean of `y` over the rows at each value of `x` (trials averaged): (K,), (K,) arrays."""
-    by_x: dict[float, list[float | None]] = {}
+def seed_interval(rows: Iterable[Row], key: str) -> Interval | None:
+    """The mean of `key` over the seeds (each seed's rows averaged first: the wall sides of a
+    threshold, say) and its 95 % interval; None if no row has it."""
+    by_seed: dict[Any, list[float | None]] = {}
     for row in rows:
-        by_x.setdefault(row[x], []).append(row.get(y))
-    xs = sorted(v for v in by_x if mean(by_x[v]) is not None)
-    return np.array(xs, dtype=float), np.array([mean(by_x[v]) for v in xs], dtype=float)
+        by_seed.setdefault(row.get("seed"), []).append(row.get(key))
+    means = [mean(values) for values in by_seed.values()]
+    return interval([m for m in means if m is not None])
+
+
+def curve(rows: Iterable[Row], x: str, y: str) -> tuple[np.ndarray, np.ndarray]:
+    """Mean of `y` over the trials at each value of `x`: (K,), (K,) arrays."""
+    xs, means, _ = curve_band(rows, x, y)
+    return xs, means
+
+
+def curve_band(rows: Iterable[Row], x: str, y: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Mean of `y` over the trials (seeds) at each value of `x`, and the half width of its
+    95 % interval (NaN from one trial): (K,), (K,), (K,) arrays."""
+    by_x: dict[float, list[Row]] = {}
+    for row in rows:
+        by_x.setdefault(row[x], []).append(row)
+    points = [(v, seed_interval(by_x[v], y)) for v in sorted(by_x)]
+    known = [(v, shown) for v, shown in points if shown is not None]
+    return (
+        np.array([v for v, _ in known], dtype=float),
+        np.array([shown.mean for _, shown in known], dtype=float),
+        np.array([np.nan if s.half_width is None else s.half_width for _, s in known], dtype=float),
+    )
 
 
 def by_trial(rows: Iterable[Row]) -> dict[int, list[Row]]:
@@ -338,6 +350,34 @@ def number(value: float | None, digits: int = 2) -> str:
     return "–" if value is None or not math.isfinite(value) else f"{value:.{digits}f}"
 
 
+def spread(values: Iterable[float | None], digits: int = 2) -> str:
+    """'0.31 ± 0.04': the mean of the values and the half width of its 95 % interval (the
+    mean alone from one value; a dash from none)."""
+    return interval_text(interval([v for v in values if v is not None]), digits)
+
+
+def interval_text(shown: Interval | None, digits: int = 2) -> str:
+    if shown is None:
+        return "–"
+    if shown.half_width is None:
+        return number(shown.mean, digits)
+    return f"{number(shown.mean, digits)} ± {number(shown.half_width, digits)}"
+
+
+# How figures and tables name a sweep's methods: ours (the default) and the paper's.
+METHOD_LABELS = {DEFAULT_NAME: "ours", PAPER_NAME: "paper's method"}
+
+
+def method_label(method: str | None) -> str:
+    return METHOD_LABELS.get(method or DEFAULT_NAME, str(method))
+
+
+def methods_of(rows: Iterable[Row]) -> list[str]:
+    """The methods TVL learnt and ran by among the rows: ours first, then the paper's, then
+    any method file."""
+    return distinct(select(rows, kind=("tvl", "learn")), "method", tuple(METHOD_LABELS))
+
+
 def markdown(title: str, header: Sequence[str], body: Iterable[Sequence[str]]) -> str:
     lines = [f"### {title}", "", "| " + " | ".join(header) + " |"]
     lines.append("|" + "|".join(" --- " for _ in header) + "|")
@@ -357,28 +397,31 @@ def learning_minutes(rows: Iterable[Row]) -> list[Row]:
 
 
 def method_rows(rows: list[Row], world: str, configs: Sequence[str]) -> list[list[str]]:
-    """Table rows for TVL's configurations, DWA and Q-learning in one world: time to
-    competence, collision rate, speed and clearance of an avoid run, collisions in learning."""
+    """Table rows for TVL's configurations by each method, DWA and Q-learning in one world:
+    time to competence, collision rate, speed and clearance of an avoid run (each trial's
+    last; mean ± 95 % interval over trials), collisions in learning."""
     table: list[list[str]] = []
-    learnt = learning_minutes(select(rows, world=world))
-    learn_rate = mean(m["collisions"] for m in learnt)
-    horizon = max((m["minute"] for m in learnt), default=None)
-    for config in configs:
-        snapshots = select(rows, kind="tvl", world=world, config=config, behaviour="avoid")
-        if not snapshots:
-            continue
-        last = final_runs(snapshots)
-        table.append(
-            [
-                world,
-                f"TVL {config} FAM",
-                describe_competence(competence_times(snapshots), horizon),
-                number(mean(r["contacts_per_min"] for r in last)),
-                number(mean(r["mean_speed_mps"] for r in last)),
-                number(mean(r["mean_clearance_m"] for r in last)),
-                number(learn_rate),
-            ]
-        )
+    for method in methods_of(select(rows, world=world)):
+        by_method = select(rows, world=world, method=method)
+        learnt = learning_minutes(by_method)
+        horizon = max((m["minute"] for m in learnt), default=None)
+        for config in configs:
+            snapshots = select(by_method, kind="tvl", config=config, behaviour="avoid")
+            if not snapshots:
+                continue
+            last = final_runs(snapshots)
+            horizon = horizon or max(r["minute"] for r in snapshots)
+            table.append(
+                [
+                    world,
+                    f"TVL {config} FAM, {method_label(method)}",
+                    describe_competence(competence_times(snapshots), horizon),
+                    spread(r["contacts_per_min"] for r in last),
+                    spread(r["mean_speed_mps"] for r in last),
+                    spread(r["mean_clearance_m"] for r in last),
+                    spread(_learning_rates(learnt)),
+                ]
+            )
     dwa = select(rows, kind="dwa", world=world, behaviour="avoid")
     if dwa:
         table.append(
@@ -386,9 +429,9 @@ def method_rows(rows: list[Row], world: str, configs: Sequence[str]) -> list[lis
                 world,
                 "DWA (knows the map)",
                 "no learning",
-                number(mean(r["contacts_per_min"] for r in dwa)),
-                number(mean(r["mean_speed_mps"] for r in dwa)),
-                number(mean(r["mean_clearance_m"] for r in dwa)),
+                spread(r["contacts_per_min"] for r in dwa),
+                spread(r["mean_speed_mps"] for r in dwa),
+                spread(r["mean_clearance_m"] for r in dwa),
                 "–",
             ]
         )
@@ -400,13 +443,18 @@ def method_rows(rows: list[Row], world: str, configs: Sequence[str]) -> list[lis
                 world,
                 "Q-learning",
                 describe_competence(times, max(r["learn_minutes"] for r in qlearn)),
-                number(mean(r["contacts_per_min"] for r in qlearn)),
-                number(mean(r["mean_speed_mps"] for r in qlearn)),
-                number(mean(r["mean_clearance_m"] for r in qlearn)),
-                number(mean(r["learn_collisions"] / r["learn_minutes"] for r in qlearn)),
+                spread(r["contacts_per_min"] for r in qlearn),
+                spread(r["mean_speed_mps"] for r in qlearn),
+                spread(r["mean_clearance_m"] for r in qlearn),
+                spread(r["learn_collisions"] / r["learn_minutes"] for r in qlearn),
             ]
         )
     return table
+
+
+def _learning_rates(learnt: list[Row]) -> list[float | None]:
+    """Each trial's collisions a minute while learning."""
+    return [mean(m["collisions"] for m in minutes) for minutes in by_trial(learnt).values()]
 
 
 METHOD_HEADER = (
@@ -427,7 +475,8 @@ COMPETENCE_NOTE = (
 )
 METHOD_NOTE = (
     "Avoid columns: the FAM at the end of learning (Q-learning: its greedy policy); "
-    "means over trials.\n"
+    "mean ± 95 % interval over trials (Student's t; the mean alone from one trial). "
+    "Ours is the default method; the paper's is `--method paper`.\n"
 )
 
 
@@ -451,38 +500,43 @@ def qlearn_checks(qlearn: Iterable[Row]) -> list[Row]:
     ]
 
 
-def threshold_points(rows: list[Row], world: str) -> list[tuple[float, Row]]:
-    """Per threshold, the means over trials and wall sides of one world's wall runs."""
+def threshold_points(rows: list[Row], world: str) -> list[tuple[float, dict[str, Interval | None]]]:
+    """Per threshold, the means over trials (each trial's wall sides averaged) of one world's
+    wall runs, with their 95 % intervals."""
     walls = select(rows, kind="tvl", world=world, behaviour=WALL_BEHAVIOURS)
-    points = []
-    for threshold in distinct(walls, "threshold"):
-        runs = select(walls, threshold=threshold)
-        points.append(
-            (
-                threshold,
-                {
-                    key: mean(r[key] for r in runs)
-                    for key in ("mean_wall_clearance_m", "mean_speed_mps", "contacts_per_min")
-                },
-            )
+    return [
+        (
+            threshold,
+            {
+                key: seed_interval(select(walls, threshold=threshold), key)
+                for key in ("mean_wall_clearance_m", "mean_speed_mps", "contacts_per_min")
+            },
         )
-    return points
+        for threshold in distinct(walls, "threshold")
+    ]
 
 
-def prone(point: Row) -> bool:
+def prone(point: dict[str, Interval | None]) -> bool:
     rate = point["contacts_per_min"]
-    return rate is not None and rate > COLLISION_PRONE_PER_MIN
+    return rate is not None and rate.mean > COLLISION_PRONE_PER_MIN
 
 
 def goal_methods(rows: list[Row]) -> list[tuple[str, list[Row]]]:
-    """(label, goal runs) for each TVL configuration and DWA."""
+    """(label, goal runs) for each TVL configuration by each method, and DWA."""
     goal_runs = select(rows, behaviour="goal")
+    tvl = select(goal_runs, kind="tvl")
     methods = [
-        (f"TVL {config}", select(goal_runs, kind="tvl", config=config))
-        for config in distinct(select(goal_runs, kind="tvl"), "config", ("single", "multi"))
+        (f"TVL {config}, {method_label(method)}", select(tvl, config=config, method=method))
+        for method in methods_of(tvl)
+        for config in distinct(select(tvl, method=method), "config", ("single", "multi"))
     ]
     dwa = select(goal_runs, kind="dwa")
     return methods + ([("DWA", dwa)] if dwa else [])
+
+
+def ablation_setting(run: Row) -> str:
+    """A TVL run's place in the ablation: its reflexes, or "paper" for the paper's method."""
+    return PAPER_NAME if run["method"] == PAPER_NAME else str(run["reflexes"])
 
 
 def per_min(runs: list[Row], key: str) -> float | None:
@@ -499,7 +553,11 @@ def ablation_rows(rows: list[Row], behaviour: str) -> list[list[str]]:
     for world in distinct(runs_of, "world", WORLD_ORDER):
         for config in distinct(select(runs_of, world=world), "config", ("single", "multi")):
             for setting in ABLATION_SETTINGS:
-                runs = select(runs_of, world=world, config=config, reflexes=setting)
+                runs = [
+                    r
+                    for r in select(runs_of, world=world, config=config)
+                    if ablation_setting(r) == setting
+                ]
                 if not runs:
                     continue
                 competent = sum(is_competent(r) for r in runs)
@@ -508,10 +566,10 @@ def ablation_rows(rows: list[Row], behaviour: str) -> list[list[str]]:
                         world,
                         config,
                         setting,
-                        number(mean(r["contacts_per_min"] for r in runs)),
+                        interval_text(seed_interval(runs, "contacts_per_min")),
                         f"{number(per_min(runs, 'collisions'))} + "
                         f"{number(per_min(runs, 'near_misses'))}",
-                        number(mean(r["mean_speed_mps"] for r in runs)),
+                        interval_text(seed_interval(runs, "mean_speed_mps")),
                         number(mean(r["mean_drive_speed_mps"] for r in runs)),
                         number(per_min(runs, "spins"), 1),
                         number(per_min(runs, "backoffs"), 1),
@@ -536,28 +594,29 @@ ABLATION_HEADER = (
 
 
 def learning_time_rows(
-    snapshots: list[Row], series: Sequence[tuple[str, str]], dwa: list[Row]
+    snapshots: list[Row], series: Sequence[tuple[str, str, str]], dwa: list[Row]
 ) -> tuple[list[str], list[list[str]]]:
-    """Figure 27's table: per learning minute, each (config, behaviour)'s mean speed and
-    contacts a minute over the trials, then the DWA's avoid run as the last row."""
+    """Figure 27's table: per learning minute, each (config, behaviour, method)'s mean speed
+    and contacts a minute ± their 95 % intervals over the trials, then the DWA's avoid run
+    as the last row."""
 
     def cell(runs: list[Row]) -> str:
         return (
-            f"{number(mean(r['mean_speed_mps'] for r in runs))}, "
-            f"{number(mean(r['contacts_per_min'] for r in runs))}"
+            f"{interval_text(seed_interval(runs, 'mean_speed_mps'))}, "
+            f"{interval_text(seed_interval(runs, 'contacts_per_min'))}"
         )
 
-    header = ["minute"] + [f"{c} {b}: m/s, contacts/min" for c, b in series]
+    header = ["minute"] + [f"{c} {b}, {method_label(m)}: m/s, contacts/min" for c, b, m in series]
     body = [
         [f"{minute:g}"]
         + [
-            cell(select(snapshots, config=config, behaviour=behaviour, minute=minute))
-            for config, behaviour in series
+            cell(select(snapshots, config=c, behaviour=b, method=m, minute=minute))
+            for c, b, m in series
         ]
         for minute in distinct(snapshots, "minute")
     ]
     if dwa:
-        body.append(["DWA (avoid)"] + [cell(dwa) if b == "avoid" else "–" for _, b in series])
+        body.append(["DWA (avoid)"] + [cell(dwa) if b == "avoid" else "–" for _, b, _ in series])
     return header, body
 
 
@@ -569,11 +628,11 @@ def minute_rates(run: Row) -> list[float]:
 
 def online_conditions(rows: Iterable[Row]) -> list[tuple[float, float]]:
     """(exploration minutes before behaving, threshold) of the online experiment's runs."""
-    runs = select(rows, kind="tvl", online=ONLINE_SETTINGS)
+    runs = select(rows, kind="tvl", online=tuple(ONLINE_SETTINGS))
     return [
         (start, threshold)
-        for start in distinct(runs, "start_minutes")
-        for threshold in distinct(select(runs, start_minutes=start), "threshold")
+        for start in distinct(runs, "minute")
+        for threshold in distinct(select(runs, minute=start), "threshold")
     ]
 
 
@@ -582,10 +641,8 @@ def online_rows(rows: list[Row]) -> list[list[str]]:
     minutes and over the whole run, speed, and the episodes learnt while behaving."""
     table = []
     for start, threshold in online_conditions(rows):
-        for setting in ONLINE_SETTINGS:
-            runs = select(
-                rows, kind="tvl", online=setting, start_minutes=start, threshold=threshold
-            )
+        for setting, label in ONLINE_SETTINGS.items():
+            runs = select(rows, kind="tvl", online=setting, minute=start, threshold=threshold)
             if not runs:
                 continue
             rates = [minute_rates(r) for r in runs]
@@ -594,11 +651,11 @@ def online_rows(rows: list[Row]) -> list[list[str]]:
                 [
                     f"{start:g}",
                     f"{threshold:g}",
-                    setting,
+                    label,
                     number(mean(r[0] for r in rates if r)),
                     number(mean(r[-1] for r in rates if r)),
-                    number(mean(r["contacts_per_min"] for r in runs)),
-                    number(mean(r["mean_speed_mps"] for r in runs)),
+                    interval_text(seed_interval(runs, "contacts_per_min")),
+                    interval_text(seed_interval(runs, "mean_speed_mps")),
                     f"{mean(learnt):.0f}" if learnt else "–",
                     str(len(runs)),
                 ]

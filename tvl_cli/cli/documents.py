@@ -29,12 +29,12 @@ if TYPE_CHECKING:
     from tvl_cli.commands.learn import LearnResult
     from tvl_cli.commands.replay import Replay
     from tvl_cli.commands.run import RunRequest, RunResult
-    from tvl_cli.commands.sweep import SweepRequest, SweepResult
     from tvl_cli.commands.train import RepeatedSession, TrainSummary
     from tvl_cli.commands.world_export import Exported as WorldExported
     from tvl_cli.commands.world_import import Imported, ImportRequest
     from tvl_cli.core.fired_rules import Explanation
     from tvl_cli.io.famfile import FamFile
+    from tvl_cli.sweep.runner import SweepRequest, SweepResult
 
 
 def world_new_json(options: dict[str, Any], output: Path, counts: dict[str, int]) -> dict[str, Any]:
@@ -330,6 +330,7 @@ def sweep_json(result: SweepResult, request: SweepRequest) -> dict[str, Any]:
         "scheduler": request.scheduler,
         "scheduler_timeout_s": request.scheduler_timeout_s,
         "max_cells": request.max_cells,
+        "size": request.size,
         "measures": None if request.measures is None else list(request.measures),
         "plot": None if request.plot is None else asdict(request.plot),
     }

@@ -15,6 +15,7 @@ from tvl_cli.cli.options import (
     refuse_shared_paths,
 )
 from tvl_cli.cli.params import complete_figure
+from tvl_cli.commands.figure import FigureRequest, draw
 
 
 @click.command()
@@ -28,16 +29,15 @@ def figure(
     name: str, results: Path, output: Path, table: Path | None, force: bool, as_json: bool
 ) -> None:
     """Draw figure NAME (fig19, fig21, fig22, fig24, fig27, ablation, online, exploration)
-    from an experiment's RESULTS (JSON lines) and print its summary table."""
-    from tvl_cli.render.figures import (
-        draw_figure,  # matplotlib is slow to import; only this needs it
-    )
+    from an experiment's RESULTS (JSON lines) and print its summary table.
 
+    RESULTS is the results.jsonl of the experiment's sweep: `tvl sweep
+    experiments/grids/NAME.toml --out DIR` writes DIR/results.jsonl."""
     refuse_shared_paths({"-o": output, "--table": table}, {"RESULTS": results})
     for path in (output, table):
         if path is not None:
             refuse_existing(path, force)
-    summary = draw_figure(name, results, output, table)
+    summary = draw(FigureRequest(name, results, output, table))
     if as_json:
         print_json(documents.figure_json(name, results, output, table, summary))
     else:

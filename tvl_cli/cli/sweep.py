@@ -16,9 +16,10 @@ from tvl_cli.cli.options import (
     refuse_both_formats,
     refuse_existing,
 )
-from tvl_cli.commands.sweep import DEFAULT_MAX_CELLS, SweepRequest, default_out, run_sweep
-from tvl_cli.commands.sweep_report import PLOT_FORM, parse_measures, parse_plot
-from tvl_cli.commands.workers import DEFAULT_SCHEDULER_TIMEOUT_S
+from tvl_cli.sweep.executors import DEFAULT_SCHEDULER_TIMEOUT_S
+from tvl_cli.sweep.grid import FULL, SIZES
+from tvl_cli.sweep.runner import DEFAULT_MAX_CELLS, SweepRequest, default_out, run_sweep
+from tvl_cli.sweep.summary import PLOT_FORM, parse_measures, parse_plot
 
 
 @click.command()
@@ -60,6 +61,14 @@ from tvl_cli.commands.workers import DEFAULT_SCHEDULER_TIMEOUT_S
 )
 @click.option("--yes", is_flag=True, help="Run a grid of any number of cells.")
 @click.option(
+    "--size",
+    type=click.Choice(SIZES),
+    default=FULL,
+    show_default=True,
+    help="The grid file as written (full: the paper's trial counts), or its [quick] or "
+    "[tiny] table's smaller study. Give each size its own --out.",
+)
+@click.option(
     "--measures",
     default=None,
     metavar="NAME,...",
@@ -93,6 +102,7 @@ def sweep(
     scheduler_timeout_s: float,
     max_cells: int,
     yes: bool,
+    size: str,
     measures: str | None,
     plot_text: str | None,
     plot_out: Path | None,
@@ -102,10 +112,13 @@ def sweep(
 ) -> None:
     """Learn, train and run every combination of a grid's settings into one results table.
 
-    GRID is a TOML file whose keys each give one value or a list: world, seed and
-    behaviour, and config, learn_minutes, threshold, goal, run_minutes, method and reflexes
-    (docs/guide/experiments.md, "Sweeps"). Each combination is a cell: one run, after the
-    learning and training it needs, each done once for every cell that shares it. Rows go to
+    GRID is a TOML file whose keys each give one value or a list: world and seed, and kind,
+    behaviour, config, learn_config, learn_minutes, minute, explore, collision_points,
+    threshold, goal, run_minutes, online, competence_every, trace, method and reflexes, in
+    [[part]]s if need be (docs/guide/experiments.md, "Sweeps"; the paper's figures are
+    experiments/grids/). Each combination is a cell: one run (a TVL run or a baseline's) or a
+    learning log's record, after the learning and training it needs, each done once for
+    every cell that shares it. Rows go to
     results.jsonl as runs end, and the grid's table to results.csv (and results.parquet with
     pyarrow) in the directory. The terminal shows each setting's mean and 95 % interval over
     its seeds. One sweep at a time runs in a directory."""
@@ -126,6 +139,7 @@ def sweep(
         parse_measures(measures) if measures is not None else None,
         parse_plot(plot_text) if plot_text is not None else None,
         plot_out,
+        size,
     )
 
     def on_dashboard(link: str) -> None:

@@ -9,8 +9,8 @@ from rich.table import Table
 from tvl_cli.analysis.intervals import Interval
 from tvl_cli.analysis.measures import MEASURES, Measure
 from tvl_cli.cli.views import out
-from tvl_cli.commands.sweep import TABLE_CSV, SweepResult
-from tvl_cli.commands.sweep_report import KEY_LABELS, SweepSummary
+from tvl_cli.sweep.runner import TABLE_CSV, SweepResult
+from tvl_cli.sweep.summary import KEY_LABELS, SweepSummary
 
 TITLE = "mean ± 95 % interval over seeds (Student's t)"
 # A table's left edge; and each column's padding either side and its rule on the right.
@@ -26,7 +26,10 @@ def show(result: SweepResult) -> None:
         f"the table is {result.out / TABLE_CSV}"
     )
     shared = result.summary.fixed.items()
-    fixed = ", ".join(f"{KEY_LABELS[k]} {_grid_value(v)}" for k, v in shared if v is not None)
+    # Keys no run set (null) or set off (false) say nothing every run shares.
+    fixed = ", ".join(
+        f"{KEY_LABELS[k]} {_grid_value(v)}" for k, v in shared if v is not None and v is not False
+    )
     if fixed:
         out.print(f"every run: {fixed}")
     for table in sweep_tables(result.summary, out.width):
@@ -91,6 +94,8 @@ def _room(column: Column, whole_header: bool) -> int:
 def _grid_value(value: object) -> str:
     if value is None:
         return "–"
+    if isinstance(value, bool):
+        return "yes" if value else "no"
     return f"{value:g}" if isinstance(value, float) else str(value)
 
 

@@ -90,7 +90,7 @@ def world_show(file: Path, as_json: bool) -> None:
     """Print a summary of a world file (or its geometry as JSON)."""
     loaded = show_world(file)
     if as_json:
-        # On one line, for a reader with no JSON tool (experiments/lib.sh greps it).
+        # On one line, for a reader with no JSON tool (a shell script may grep it).
         click.echo(json.dumps(documents.world_show_json(file, world_to_dict(loaded))))
     else:
         click.echo(describe(loaded))

@@ -1,11 +1,10 @@
 """The experiment figures (paper §5), drawn from the numbers analysis.results computes out
-of the scripts' JSON lines; each figure also returns its summary table."""
+of a sweep's rows; each figure also returns its summary table."""
 
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Sequence
 from itertools import pairwise
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -21,6 +20,7 @@ from tvl_cli.analysis.exploration import (
     coverage_rows,
     mean_curve,
 )
+from tvl_cli.analysis.intervals import Interval
 from tvl_cli.analysis.results import (
     ABLATION_HEADER,
     ABLATION_SETTINGS,
@@ -34,39 +34,39 @@ from tvl_cli.analysis.results import (
     WORLD_ORDER,
     Row,
     ablation_rows,
-    check_needs,
+    ablation_setting,
     competence_note,
     competence_times,
     curve,
+    curve_band,
     describe_competence,
     distinct,
     goal_methods,
+    interval_text,
     learning_minutes,
     learning_time_rows,
     markdown,
     mean,
+    method_label,
     method_rows,
+    methods_of,
     minute_rates,
     number,
     online_conditions,
     online_rows,
     prone,
     qlearn_checks,
-    read_results,
+    seed_interval,
     select,
     threshold_points,
 )
 from tvl_cli.core import competence
-from tvl_cli.core.errors import BadInput
-from tvl_cli.io.atomic import atomic_output
-from tvl_cli.io.runfile import read_run
-from tvl_cli.render.formats import save_picture
+from tvl_cli.core.method import DEFAULT_NAME, PAPER_NAME
 from tvl_cli.render.plot import draw_world
 from tvl_cli.sim.worldmap import parse_world
 
 CONFIG_STYLE = {"single": "#1f77b4", "multi": "#d62728"}
 DWA_COLOUR, QLEARN_COLOUR = "#2ca02c", "#9467bd"
-DPI = 120
 PAPER_COLOUR = "grey"
 
 
@@ -81,6 +81,10 @@ def reference_line(ax: Axes, value: float | None, colour: str, label: str) -> No
         ax.axhline(value, color=colour, linestyle="--", linewidth=1.2, label=label)
 
 
+# A shared legend's entries a row: more would run off a figure of one or two panels.
+LEGEND_COLUMNS = 4
+
+
 def shared_legend(figure: Figure, axes: Iterable[Axes]) -> None:
     """One legend under the panels, each label once."""
     handles: dict[str, Any] = {}
@@ -88,7 +92,10 @@ def shared_legend(figure: Figure, axes: Iterable[Axes]) -> None:
         for handle, label in zip(*ax.get_legend_handles_labels(), strict=True):
             handles.setdefault(label, handle)
     figure.legend(
-        list(handles.values()), list(handles), loc="outside lower center", ncols=len(handles)
+        list(handles.values()),
+        list(handles),
+        loc="outside lower center",
+        ncols=min(len(handles), LEGEND_COLUMNS),
     )
 
 
@@ -118,6 +125,36 @@ def baselines_and_limits(hits: Axes, speed: Axes, rows: list[Row], world: str) -
     collision_axis(hits)
 
 
+# Each method's line style beside the others: ours solid, the paper's dashed, others dotted.
+METHOD_LINES = {DEFAULT_NAME: "-", PAPER_NAME: "--"}
+# Bars of a method other than ours: paler, beside ours in the same colour.
+OTHER_METHOD_ALPHA = 0.5
+# A band of the 95 % interval over trials: faint, so that the lines read through it.
+BAND_ALPHA = 0.18
+
+
+def method_line(method: str) -> str:
+    return METHOD_LINES.get(method, ":")
+
+
+def band_curve(
+    ax: Axes, rows: list[Row], x: str, y: str, style: str, colour: str, label: str
+) -> None:
+    """The mean over trials of `y` against `x` as a line, and its 95 % interval as a band."""
+    xs, means, halves = curve_band(rows, x, y)
+    ax.plot(xs, means, style, ms=3, color=colour, label=label)
+    known = ~np.isnan(halves)
+    if known.any():
+        ax.fill_between(
+            xs[known],
+            (means - halves)[known],
+            (means + halves)[known],
+            color=colour,
+            alpha=BAND_ALPHA,
+            linewidth=0,
+        )
+
+
 def competence_bar(times: Sequence[float | None], horizon_min: float) -> tuple[float, str]:
     """Bar height (mean of the competent trials, the horizon if none) and hatch (some not)."""
     reached = [t for t in times if t is not None]
@@ -133,20 +170,30 @@ def figure19(rows: list[Row]) -> tuple[Figure, str]:
     figure = new_figure(4.2 * len(worlds), 10)
     axes = figure.subplots(4, len(worlds), sharex="col", squeeze=False)
     for column, world in enumerate(worlds):
-        learnt = learning_minutes(select(rows, world=world))
-        snapshots = select(rows, kind="tvl", world=world, behaviour="avoid")
         dv, learn_hits, hits, speed = axes[:, column]
-        dv.plot(*curve(learnt, "minute", "delta_v"), marker="o", markersize=3)
+        for index, method in enumerate(methods_of(select(rows, world=world))):
+            by_method = select(rows, world=world, method=method)
+            learnt = learning_minutes(by_method)
+            snapshots = select(by_method, kind="tvl", behaviour="avoid")
+            line, colour = f"o{method_line(method)}", f"C{index}"
+            label = f"TVL, {method_label(method)}"
+            band_curve(dv, learnt, "minute", "delta_v", line, colour, label)
+            band_curve(learn_hits, learnt, "minute", "collisions", line, colour, label)
+            band_curve(hits, snapshots, "minute", "contacts_per_min", line, colour, label)
+            band_curve(speed, snapshots, "minute", "mean_speed_mps", line, colour, label)
+            times = [t for t in competence_times(snapshots) if t is not None]
+            if times:
+                for ax in (hits, speed):
+                    ax.axvline(
+                        mean(times),
+                        color=colour,
+                        linestyle=method_line(method),
+                        linewidth=0.8,
+                        label=f"competent, {method_label(method)}",
+                    )
         dv.set_title(world)
-        learn_hits.plot(*curve(learnt, "minute", "collisions"), marker="o", markersize=3)
         learn_hits.set_ylim(bottom=0)
-        hits.plot(*curve(snapshots, "minute", "contacts_per_min"), "o-", ms=3, label="TVL")
-        speed.plot(*curve(snapshots, "minute", "mean_speed_mps"), "o-", ms=3, label="TVL")
         baselines_and_limits(hits, speed, rows, world)
-        times = [t for t in competence_times(snapshots) if t is not None]
-        if times:
-            for ax in (hits, speed):
-                ax.axvline(mean(times), color="black", linewidth=0.8, label="TVL competent")
         speed.set_xlabel("learning time (simulated min)")
         for ax in axes[:, column]:
             ax.grid(alpha=0.3)
@@ -155,7 +202,9 @@ def figure19(rows: list[Row]) -> tuple[Figure, str]:
     axes[2, 0].set_ylabel("contacts/min, avoid run")
     axes[3, 0].set_ylabel("mean speed (m/s), avoid run")
     shared_legend(figure, axes.flat)
-    figure.suptitle("Learning curves and competence, single FAM (mean of trials)")
+    figure.suptitle(
+        "Learning curves and competence, single FAM (mean and 95 % interval over trials)"
+    )
     body = [cells for world in worlds for cells in method_rows(rows, world, ["single"])]
     table = markdown("Figure 19: learning and competence", METHOD_HEADER, body)
     return figure, table + "\n" + METHOD_NOTE + competence_note(rows)
@@ -164,38 +213,63 @@ def figure19(rows: list[Row]) -> tuple[Figure, str]:
 # --- Figure 21: velocity threshold ---------------------------------------------------
 
 
-def dashed_where_prone(ax: Axes, points: list[tuple[float, Row]], key: str, colour: str) -> None:
+Point = dict[str, Interval | None]
+# How far apart along the threshold axis the series' points stand (thresholds are 0.05 apart).
+SERIES_OFFSET = 0.004
+
+
+def dashed_where_prone(
+    ax: Axes, points: list[tuple[float, Point]], key: str, colour: str, offset: float = 0.0
+) -> None:
     """Solid between safe settings, dashed where either end is collision prone (paper Fig. 21);
-    hollow markers on the collision-prone settings themselves."""
+    hollow markers on the collision-prone settings themselves, with their 95 % intervals,
+    `offset` along the threshold axis so that the series' bars stand apart."""
+    points = [(threshold + offset, point) for threshold, point in points]
     for (t1, p1), (t2, p2) in pairwise(points):
-        if p1[key] is not None and p2[key] is not None:
+        a, b = p1[key], p2[key]
+        if a is not None and b is not None:
             style = "--" if prone(p1) or prone(p2) else "-"
-            ax.plot([t1, t2], [p1[key], p2[key]], style, color=colour)
+            ax.plot([t1, t2], [a.mean, b.mean], style, color=colour)
     for threshold, point in points:
-        if point[key] is not None:
+        shown = point[key]
+        if shown is not None:
             face = "white" if prone(point) else colour
-            ax.plot(threshold, point[key], "o", color=colour, markerfacecolor=face)
+            half = shown.half_width
+            ax.errorbar(
+                threshold,
+                shown.mean,
+                yerr=None if half is None else half,
+                fmt="o",
+                color=colour,
+                markerfacecolor=face,
+                capsize=2,
+            )
 
 
 def figure21(rows: list[Row]) -> tuple[Figure, str]:
-    worlds = distinct(select(rows, kind="tvl"), "world", WORLD_ORDER)
+    tvl = select(rows, kind="tvl")
+    worlds = distinct(tvl, "world", WORLD_ORDER)
+    methods = methods_of(tvl)
     figure = new_figure(10, 4.2)
     clearance, speed = figure.subplots(1, 2)
     body = []
-    for index, world in enumerate(worlds):
+    series = [(m, w) for m in methods for w in worlds]
+    for index, (method, world) in enumerate(series):
         colour = f"C{index}"
-        points = threshold_points(rows, world)
-        dashed_where_prone(clearance, points, "mean_wall_clearance_m", colour)
-        dashed_where_prone(speed, points, "mean_speed_mps", colour)
-        clearance.plot([], [], color=colour, label=world)
+        points = threshold_points(select(tvl, method=method), world)
+        offset = (index - (len(series) - 1) / 2) * SERIES_OFFSET
+        dashed_where_prone(clearance, points, "mean_wall_clearance_m", colour, offset)
+        dashed_where_prone(speed, points, "mean_speed_mps", colour, offset)
+        clearance.plot([], [], color=colour, label=f"{world}, {method_label(method)}")
         for threshold, p in points:
             body.append(
                 [
                     world,
+                    method_label(method),
                     f"{threshold:.2f}",
-                    number(p["mean_wall_clearance_m"]),
-                    number(p["mean_speed_mps"]),
-                    number(p["contacts_per_min"]),
+                    interval_text(p["mean_wall_clearance_m"]),
+                    interval_text(p["mean_speed_mps"]),
+                    interval_text(p["contacts_per_min"]),
                     "yes" if prone(p) else "no",
                 ]
             )
@@ -204,21 +278,24 @@ def figure21(rows: list[Row]) -> tuple[Figure, str]:
         values = [PAPER_FIG21[t][index] for t in ends]
         ax.plot(ends, values, "x:", color=PAPER_COLOUR, label="paper (ends only)")
     clearance.plot([], [], "k--", label="collision prone")
-    clearance.legend(fontsize=8)
+    clearance.legend(fontsize=7)
     clearance.set_ylabel("mean wall clearance (m)")
     speed.set_ylabel("mean speed (m/s)")
     for ax in (clearance, speed):
         ax.set_xlabel("velocity threshold (fraction of each trajectory's maximum)")
         ax.grid(alpha=0.3)
-    figure.suptitle("Wall following against the velocity threshold (mean of trials and sides)")
+    figure.suptitle(
+        "Wall following against the velocity threshold (mean and 95 % interval over trials)"
+    )
     table = markdown(
         "Figure 21: wall following against the velocity threshold",
-        ("world", "threshold", "wall clearance m", "speed m/s", "contacts/min", "prone"),
+        ("world", "method", "threshold", "wall clearance m", "speed m/s", "contacts/min", "prone"),
         body,
     )
     (low, (low_m, low_mps)), (high, (high_m, high_mps)) = sorted(PAPER_FIG21.items())
     note = (
-        f"Collision prone: more than {COLLISION_PRONE_PER_MIN:g} contacts/min. "
+        f"Mean ± 95 % interval over trials (each trial's wall sides averaged). Collision "
+        f"prone: more than {COLLISION_PRONE_PER_MIN:g} contacts/min. "
         f"Paper (§5.1): threshold {low:g} → {high:g}, wall clearance {low_m:g} → {high_m:g} m, "
         f"mean speed {low_mps:g} → {high_mps:g} m/s.\n"
     )
@@ -228,16 +305,16 @@ def figure21(rows: list[Row]) -> tuple[Figure, str]:
 # --- Figure 22: goal seeking ---------------------------------------------------------
 
 
-def draw_paths(ax: Axes, runs: list[Row], base: Path) -> None:
-    """The world and the recorded paths of one trial's goal runs (their run traces)."""
-    traced = [r for r in runs if r.get("trace")]
+def draw_paths(ax: Axes, runs: list[Row]) -> None:
+    """The world and the recorded paths of one trial's goal runs (the `pose` arrays, N x 3
+    m, m, rad, and `world_text` of their traces, which commands.figure reads in)."""
+    traced = [r for r in runs if "pose" in r]
     if not traced:
         ax.set_axis_off()
         return
-    first = read_run(base / traced[0]["trace"])
-    draw_world(ax, parse_world(first.world_text, traced[0]["trace"]))
+    draw_world(ax, parse_world(traced[0]["world_text"], traced[0]["trace_file"]))
     for run in traced:
-        pose = read_run(base / run["trace"]).arrays["pose"]  # (N, 3) m, m, rad
+        pose = run["pose"]
         colour = f"C{run['goal_index'] - 1}"
         style = "-" if run["goal_reached"] else ":"
         ax.plot(pose[:, 0], pose[:, 1], style, color=colour, linewidth=1.4, zorder=4)
@@ -252,21 +329,38 @@ def draw_paths(ax: Axes, runs: list[Row], base: Path) -> None:
         )
 
 
-def figure22(rows: list[Row], base: Path) -> tuple[Figure, str]:
-    goal_runs = select(rows, behaviour="goal")
+def numbered_goals(goal_runs: list[Row]) -> list[Row]:
+    """The goal runs with each goal's number in its world (`goal_index`, from 1), in the order
+    the runs first seek them."""
+    numbers: dict[tuple[str, str], int] = {}
+    for run in goal_runs:
+        in_world = sum(world == run["world"] for world, _ in numbers)
+        numbers.setdefault((run["world"], run["goal"]), in_world + 1)
+    return [{**run, "goal_index": numbers[run["world"], run["goal"]]} for run in goal_runs]
+
+
+def figure22(rows: list[Row]) -> tuple[Figure, str]:
+    goal_runs = numbered_goals(select(rows, behaviour="goal"))
     worlds = distinct(goal_runs, "world", WORLD_ORDER)
-    configs = distinct(select(goal_runs, kind="tvl"), "config", ("single", "multi"))
-    columns = len(configs) + 1
+    tvl = select(goal_runs, kind="tvl")
+    panels = [
+        (method, config)
+        for method in methods_of(tvl)
+        for config in distinct(select(tvl, method=method), "config", ("single", "multi"))
+    ]
+    columns = len(panels) + 1
     figure = new_figure(4.6 * columns, 3.8 * len(worlds))
     axes = figure.subplots(len(worlds), columns, squeeze=False)
     body = []
     for row_index, world in enumerate(worlds):
         in_world = select(goal_runs, world=world)
-        for column, config in enumerate(configs):
-            tvl_runs = select(in_world, kind="tvl", config=config)
+        for column, (method, config) in enumerate(panels):
+            tvl_runs = select(in_world, kind="tvl", config=config, method=method)
             trial = min((r["seed"] for r in tvl_runs), default=None)
-            draw_paths(axes[row_index, column], select(tvl_runs, seed=trial), base)
-            axes[row_index, column].set_title(f"{world}, {config} FAM, trial {trial}")
+            draw_paths(axes[row_index, column], select(tvl_runs, seed=trial))
+            axes[row_index, column].set_title(
+                f"{world}, {config} FAM, {method_label(method)}, trial {trial}", fontsize=9
+            )
         bars = axes[row_index, -1]
         goals = distinct(in_world, "goal_index")
         methods = goal_methods(in_world)
@@ -283,6 +377,11 @@ def figure22(rows: list[Row], base: Path) -> tuple[Figure, str]:
                 time_s = mean(r["time_to_goal_s"] for r in reached)
                 cells.append(f"{len(reached)}/{len(runs)} ({number(time_s, 0)} s)")
             body.append(cells)
+        # Each trial's share of the world's goals reached: mean and 95 % interval.
+        body.append(
+            [world, "all", "share reached"]
+            + [interval_text(seed_interval(runs, "goal_reached")) for _, runs in methods]
+        )
         bars.set_xticks(np.arange(len(goals)) + 0.4 - width / 2, [str(g) for g in goals])
         bars.set_xlabel("goal")
         bars.set_ylim(0, len(distinct(in_world, "seed")) + 0.2)
@@ -293,7 +392,8 @@ def figure22(rows: list[Row], base: Path) -> tuple[Figure, str]:
     figure.suptitle("Goal seeking: paths of the first trial (dotted: goal not reached)")
     header = ["world", "goal", "x,y (m)"] + [label for label, _ in goal_methods(goal_runs)]
     table = markdown("Figure 22: goal seeking, goals reached (mean time to goal)", header, body)
-    return figure, table
+    note = "Share reached: each trial's share of the world's goals, mean ± 95 % interval.\n"
+    return figure, table + "\n" + note
 
 
 # --- Figure 24: single against multi FAM ---------------------------------------------
@@ -303,31 +403,37 @@ def figure24(rows: list[Row]) -> tuple[Figure, str]:
     snapshots = select(rows, kind="tvl", behaviour="avoid")
     worlds = distinct(snapshots, "world", WORLD_ORDER)
     configs = distinct(snapshots, "config", ("single", "multi"))
-    figure = new_figure(5 * len(worlds), 9)
+    series = [(c, m) for m in methods_of(snapshots) for c in configs]
+    figure = new_figure(max(5 * len(worlds), 8), 9)
     axes = figure.subplots(3, len(worlds), squeeze=False)
     for column, world in enumerate(worlds):
         hits, speed, bars = axes[:, column]
         labels: list[str] = []
-        bars_of: list[tuple[tuple[float, str], str]] = []  # ((height, hatch), colour)
+        # ((height, hatch), colour, opacity): the paper's method's bars paler than ours
+        bars_of: list[tuple[tuple[float, str], str, float]] = []
         horizon = max(r["minute"] for r in select(snapshots, world=world))
-        for config in configs:
-            runs = select(snapshots, world=world, config=config)
+        for config, method in series:
+            runs = select(snapshots, world=world, config=config, method=method)
+            if not runs:
+                continue
             colour = CONFIG_STYLE.get(config, "black")
-            label = f"TVL {config}"
-            hits.plot(*curve(runs, "minute", "contacts_per_min"), "o-", ms=3, c=colour, label=label)
-            speed.plot(*curve(runs, "minute", "mean_speed_mps"), "o-", ms=3, c=colour, label=label)
-            labels.append(config)
-            bars_of.append((competence_bar(competence_times(runs), horizon), colour))
+            label = f"TVL {config}, {method_label(method)}"
+            line = f"o{method_line(method)}"
+            band_curve(hits, runs, "minute", "contacts_per_min", line, colour, label)
+            band_curve(speed, runs, "minute", "mean_speed_mps", line, colour, label)
+            labels.append(f"{config}\n{method_label(method)}")
+            opacity = 1.0 if method == DEFAULT_NAME else OTHER_METHOD_ALPHA
+            bars_of.append((competence_bar(competence_times(runs), horizon), colour, opacity))
         baselines_and_limits(hits, speed, rows, world)
         qlearn = select(rows, kind="qlearn", world=world)
         if qlearn:
             times = [r.get("time_to_competence_min") for r in qlearn]
             labels.append("Q-learning")
             q_horizon = max(r["learn_minutes"] for r in qlearn)
-            bars_of.append((competence_bar(times, q_horizon), QLEARN_COLOUR))
-        for x, ((height, hatch), colour) in enumerate(bars_of):
-            bars.bar(x, height, color=colour, hatch=hatch, edgecolor="black")
-        bars.set_xticks(range(len(labels)), labels)
+            bars_of.append((competence_bar(times, q_horizon), QLEARN_COLOUR, 1.0))
+        for x, ((height, hatch), colour, opacity) in enumerate(bars_of):
+            bars.bar(x, height, color=colour, alpha=opacity, hatch=hatch, edgecolor="black")
+        bars.set_xticks(range(len(labels)), labels, fontsize=7)
         bars.set_ylabel("time to competence (min)")
         bars.set_title("hatched: some trials not competent (bar: horizon)", fontsize=8)
         hits.set_title(world)
@@ -337,7 +443,9 @@ def figure24(rows: list[Row]) -> tuple[Figure, str]:
         for ax in (hits, speed):
             ax.grid(alpha=0.3)
     shared_legend(figure, axes.flat)
-    figure.suptitle("Single against multi FAM, trained from the same logs (mean of trials)")
+    figure.suptitle(
+        "Single against multi FAM, trained from the same logs (mean and 95 % interval over trials)"
+    )
     body = [cells for world in worlds for cells in method_rows(rows, world, configs)]
     table = markdown("Figure 24: single against multi FAM", METHOD_HEADER, body)
     return figure, table + "\n" + METHOD_NOTE + competence_note(rows)
@@ -345,21 +453,26 @@ def figure24(rows: list[Row]) -> tuple[Figure, str]:
 
 # --- Figure 27: the lab ----------------------------------------------------------------
 
+BEHAVIOUR_MARKERS = {"avoid": "o", "wall": "s"}
+
 
 def figure27(rows: list[Row]) -> tuple[Figure, str]:
     snapshots = select(rows, kind="tvl")
     configs = distinct(snapshots, "config", ("single", "multi"))
     behaviours = distinct(snapshots, "behaviour", ("avoid", "wall"))
-    series = [(c, b) for c in configs for b in behaviours]
-    figure = new_figure(11, 4.4)
+    methods = methods_of(snapshots)
+    series = [(c, b, m) for m in methods for c in configs for b in behaviours]
+    figure = new_figure(11, 4.8)
     speed, hits = figure.subplots(1, 2)
-    for config, behaviour in series:
-        runs = select(snapshots, config=config, behaviour=behaviour)
-        style = "o-" if behaviour == "avoid" else "s--"
+    for config, behaviour, method in series:
+        runs = select(snapshots, config=config, behaviour=behaviour, method=method)
+        if not runs:
+            continue
+        style = BEHAVIOUR_MARKERS.get(behaviour, "^") + method_line(method)
         colour = CONFIG_STYLE.get(config, "black")
-        label = f"{config} FAM, {behaviour}"
-        speed.plot(*curve(runs, "minute", "mean_speed_mps"), style, ms=3, color=colour, label=label)
-        hits.plot(*curve(runs, "minute", "contacts_per_min"), style, ms=3, color=colour)
+        label = f"{config} FAM, {behaviour}, {method_label(method)}"
+        band_curve(speed, runs, "minute", "mean_speed_mps", style, colour, label)
+        band_curve(hits, runs, "minute", "contacts_per_min", style, colour, label)
     minutes = sorted(PAPER_FIG27)
     speed.plot(
         minutes,
@@ -377,23 +490,27 @@ def figure27(rows: list[Row]) -> tuple[Figure, str]:
     for ax in (speed, hits):
         ax.set_xlabel("learning time (simulated min)")
         ax.grid(alpha=0.3)
-    speed.legend(fontsize=7)
+    shared_legend(figure, [speed])
     world = "/".join(distinct(snapshots, "world", WORLD_ORDER))
-    figure.suptitle(f"Behaviours in {world} against learning time (mean of trials)")
+    figure.suptitle(
+        f"Behaviours in {world} against learning time (mean and 95 % interval over trials)"
+    )
     header, body = learning_time_rows(snapshots, series, dwa)
     table = markdown(f"Figure 27: behaviours in {world} against learning time", header, body)
     times = [
-        f"- {config} FAM: time to competence "
+        f"- {config} FAM, {method_label(method)}: time to competence "
         + describe_competence(
-            competence_times(select(snapshots, config=config, behaviour="avoid")),
+            competence_times(select(snapshots, config=config, behaviour="avoid", method=method)),
             max(r["minute"] for r in snapshots),
         )
+        for method in methods
         for config in configs
     ]
     (start, start_mps), (end, end_mps) = sorted(PAPER_FIG27.items())
     paper = (
         f"Paper (§5.2): multi FAM mean speed {start_mps:g} → {end_mps:g} m/s "
-        f"from minute {start:g} to {end:g} of learning.\n"
+        f"from minute {start:g} to {end:g} of learning. Cells: mean ± 95 % interval over "
+        "trials.\n"
     )
     return figure, table + "\n" + "\n".join(times) + "\n\n" + paper + competence_note(rows)
 
@@ -412,7 +529,8 @@ def ablation(rows: list[Row]) -> tuple[Figure, str]:
             for offset, config in ((-width / 2, "single"), (width / 2, "multi")):
                 runs = select(rows, kind="tvl", behaviour=behaviour, world=world, config=config)
                 values = [
-                    mean(r["contacts_per_min"] for r in select(runs, reflexes=s)) for s in settings
+                    mean(r["contacts_per_min"] for r in runs if ablation_setting(r) == s)
+                    for s in settings
                 ]
                 heights = [np.nan if v is None else v for v in values]
                 ax.bar(x + offset, heights, width, color=CONFIG_STYLE[config], label=config)
@@ -441,18 +559,16 @@ def online(rows: list[Row]) -> tuple[Figure, str]:
     conditions = online_conditions(rows)
     figure = new_figure(3.6 * len(conditions), 3.4)
     axes = figure.subplots(1, len(conditions), squeeze=False)[0]
-    styles = {"fixed": ("s--", "grey"), "learns": ("o-", CONFIG_STYLE["single"])}
+    styles = {False: ("s--", "grey"), True: ("o-", CONFIG_STYLE["single"])}
     for ax, (start, threshold) in zip(axes, conditions, strict=True):
-        for setting in ONLINE_SETTINGS:
-            runs = select(
-                rows, kind="tvl", online=setting, start_minutes=start, threshold=threshold
-            )
+        for setting, label in ONLINE_SETTINGS.items():
+            runs = select(rows, kind="tvl", online=setting, minute=start, threshold=threshold)
             rates = [minute_rates(r) for r in runs]
             longest = max((len(r) for r in rates), default=0)
             minutes = np.arange(1, longest + 1)
             means = [mean(r[k] for r in rates if k < len(r)) for k in range(longest)]
             style, colour = styles[setting]
-            ax.plot(minutes, means, style, ms=3, color=colour, label=f"FAM {setting}")
+            ax.plot(minutes, means, style, ms=3, color=colour, label=f"FAM {label}")
         competence_limit(ax, COLLISION_PRONE_PER_MIN)
         collision_axis(ax)
         ax.set_title(f"after {start:g} min exploring, threshold {threshold:g}", fontsize=9)
@@ -530,35 +646,15 @@ def exploration(rows: list[Row]) -> tuple[Figure, str]:
     return figure, "\n".join(tables) + "\n" + note + competence_note(rows)
 
 
-# --- the registry and the command's entry point ---------------------------------------
+# --- the registry -----------------------------------------------------------------------
 
-FIGURES: dict[str, Callable[[list[Row], Path], tuple[Figure, str]]] = {
-    "fig19": lambda rows, _base: figure19(rows),
-    "fig21": lambda rows, _base: figure21(rows),
+FIGURES: dict[str, Callable[[list[Row]], tuple[Figure, str]]] = {
+    "fig19": figure19,
+    "fig21": figure21,
     "fig22": figure22,
-    "fig24": lambda rows, _base: figure24(rows),
-    "fig27": lambda rows, _base: figure27(rows),
-    "ablation": lambda rows, _base: ablation(rows),
-    "online": lambda rows, _base: online(rows),
-    "exploration": lambda rows, _base: exploration(rows),
+    "fig24": figure24,
+    "fig27": figure27,
+    "ablation": ablation,
+    "online": online,
+    "exploration": exploration,
 }
-
-
-def draw_figure(name: str, results: Path, png: Path, table: Path | None = None) -> str:
-    """Draw figure NAME from a results file into the picture `png` (in the format its
-    extension names); return (and write) its markdown table."""
-    if name not in FIGURES:
-        raise BadInput(f"unknown figure {name!r} (choose from {', '.join(FIGURES)})")
-    by_line = read_results(results)
-    if not by_line:
-        raise BadInput(f"{results}: no runs")
-    check_needs(name, by_line, str(results))
-    try:
-        figure, summary = FIGURES[name](list(by_line.values()), results.parent)
-    except KeyError as error:
-        raise BadInput(f"{results}: a run lacks the key {error} that {name} needs") from None
-    save_picture(figure, png, dpi=DPI)
-    if table is not None:
-        with atomic_output(table) as temporary:
-            temporary.write_text(summary, encoding="utf-8")
-    return summary

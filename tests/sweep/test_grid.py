@@ -10,11 +10,11 @@ from pathlib import Path
 import pytest
 
 from tvl_cli.agent.explore import LearnParams
-from tvl_cli.commands.grid import Cell, read_grid
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.method import DEFAULT, PAPER, MethodChoice
 from tvl_cli.sim.worldgen import generate_world
+from tvl_cli.sweep.grid import Cell, read_grid
 
 WORLDS = Path(__file__).resolve().parents[2] / "worlds"
 
@@ -41,7 +41,24 @@ def test_cells_are_every_combination_with_the_last_key_fastest(tmp_path: Path) -
     ]
     # What the grid leaves out is what `tvl learn`, `train` and `run` do by default.
     assert grid.cells[0] == Cell(
-        "square", 1, "single", 15.0, "avoid", 0.7, None, 5.0, "default", "all"
+        kind="tvl",
+        world="square",
+        seed=1,
+        learn_config="single",
+        learn_minutes=15.0,
+        explore=None,
+        collision_points=None,
+        config="single",
+        minute=None,
+        behaviour="avoid",
+        threshold=0.7,
+        goal=None,
+        run_minutes=5.0,
+        online=False,
+        competence_every=None,
+        trace=False,
+        method="default",
+        reflexes="all",
     )
     assert grid.methods == {"default": DEFAULT}
     assert grid.configs == {"single": SINGLE}
@@ -165,3 +182,142 @@ def test_goals_multiply_the_count_as_they_multiply_the_cells(tmp_path: Path) -> 
     assert cells == (1 + 3) * 2 * 2 * 2  # avoid and 3 goals
     with pytest.raises(BadInput, match=f"{cells} cells, over the cap of {cells - 1}"):
         read_grid(path, max_cells=cells - 1)
+
+
+# --- the keys that write the experiments: kinds, snapshots, parts and sizes ---------------
+
+
+def test_each_kind_of_cell_varies_only_the_keys_it_reads(tmp_path: Path) -> None:
+    text = (
+        'kind = ["learn", "tvl", "dwa", "qlearn"]\nworld = "square"\nseed = [1, 2]\n'
+        "learn_minutes = 2\nminute = { from = 0, to = 2, step = 1 }\ncompetence_every = 1\n"
+        'method = ["default", "paper"]\n'
+    )
+    cells = read_grid(grid_of(tmp_path, text)).cells
+    count = {kind: sum(c.kind == kind for c in cells) for kind in ("learn", "tvl", "dwa", "qlearn")}
+    # The learning per seed and method; a run per seed, method and minute 0, 1, 2; each
+    # baseline once a seed, whatever the minutes and methods.
+    assert count == {"learn": 4, "tvl": 12, "dwa": 2, "qlearn": 2}
+    dwa = next(c for c in cells if c.kind == "dwa")
+    assert (dwa.minute, dwa.config, dwa.method, dwa.learn_minutes, dwa.reflexes) == (
+        None, None, None, None, "none"
+    )  # fmt: skip
+    qlearn = next(c for c in cells if c.kind == "qlearn")
+    assert (qlearn.learn_minutes, qlearn.competence_every) == (2.0, 1.0)
+    assert sorted({c.minute for c in cells if c.kind == "tvl"}) == [0.0, 1.0, 2.0]
+    assert {c.behaviour for c in cells if c.kind == "learn"} == {None}
+
+
+def test_exploration_and_collision_points_change_the_method_learnt_by(tmp_path: Path) -> None:
+    text = (
+        'world = "square"\nseed = 1\nexplore = ["novelty", "random"]\n'
+        'collision_points = ["sonar", "bumps"]\nmethod = "paper"\n'
+    )
+    cells = read_grid(grid_of(tmp_path, text)).cells
+    learnt = {(c.explore, c.collision_points): c.learning_method(PAPER) for c in cells}
+    assert learnt["random", "bumps"].exploration == "random"
+    assert learnt["random", "bumps"].near_m == 0.0
+    # The paper's collision points are bumps alone: "sonar" gives them ours.
+    assert learnt["novelty", "sonar"].near_m == DEFAULT.near_m
+    assert learnt["novelty", "sonar"].decel_mps2 == PAPER.decel_mps2
+
+
+def test_parts_share_the_keys_above_them_and_make_each_cell_once(tmp_path: Path) -> None:
+    text = (
+        'world = "square"\nseed = [1, 2]\nlearn_minutes = 2\n'
+        "[[part]]\nthreshold = [0.7, 0.9]\n[[part]]\nthreshold = 0.9\nonline = [false, true]\n"
+    )
+    cells = read_grid(grid_of(tmp_path, text)).cells
+    assert [(c.seed, c.threshold, c.online) for c in cells] == [
+        (1, 0.7, False), (1, 0.9, False), (2, 0.7, False), (2, 0.9, False),
+        (1, 0.9, True), (2, 0.9, True),
+    ]  # fmt: skip
+    assert {c.learn_minutes for c in cells} == {2.0}
+
+
+SIZED = (
+    'world = "square"\nseed = [1, 2, 3, 4, 5]\nlearn_minutes = 20\n'
+    "[[part]]\nminute = { from = 0, to = 20, step = 5 }\n[part.tiny]\nminute = 1\n"
+    '[[part]]\nkind = "dwa"\n'
+    "[quick]\nseed = [1, 2, 3]\n[tiny]\nseed = 1\nlearn_minutes = 1\n"
+)
+
+
+def test_a_size_overrides_the_file_and_a_parts_own_size_the_part(tmp_path: Path) -> None:
+    path = grid_of(tmp_path, SIZED)
+    full, quick, tiny = (read_grid(path, None, size) for size in ("full", "quick", "tiny"))
+    assert len(full.cells) == 5 * 5 + 5 and full.size == "full"
+    assert len(quick.cells) == 3 * 5 + 3
+    assert [(c.kind, c.seed, c.minute, c.learn_minutes) for c in tiny.cells] == [
+        ("tvl", 1, 1.0, 1.0), ("dwa", 1, None, None)
+    ]  # fmt: skip
+
+
+def test_generated_worlds_and_all_of_a_worlds_goals(tmp_path: Path) -> None:
+    text = 'world = ["rooms:3", "obstacles"]\nseed = 1\nbehaviour = "goal"\ngoal = "all"\n'
+    grid = read_grid(grid_of(tmp_path, text))
+    assert list(grid.worlds) == ["rooms-s3", "obstacles"]
+    assert grid.worlds["rooms-s3"] == generate_world("rooms", None, None, 3)
+    goals = [c.goal for c in grid.cells if c.world == "obstacles"]
+    assert len(goals) == 4 == len(set(goals))
+
+
+def test_a_learner_exploring_with_the_trained_configuration(tmp_path: Path) -> None:
+    text = 'world = "square"\nseed = 1\nconfig = ["single", "multi"]\nlearn_config = "same"\n'
+    cells = read_grid(grid_of(tmp_path, text)).cells
+    assert [(c.config, c.learn_config) for c in cells] == [
+        ("single", "single"), ("multi", "multi")
+    ]  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    ("text", "problem"),
+    [
+        (
+            'kind = "tlv"',
+            r"kind 'tlv' is not one of tvl, learn, dwa, qlearn \(did you mean 'tvl'\?\)",
+        ),
+        ('explore = "novel"', r"explore 'novel' is not one of .* \(did you mean 'novelty'\?\)"),
+        ('collision_points = "bump"', r"collision_points 'bump' is not one of sonar, bumps"),
+        (
+            "competence_every = 1",
+            r"'competence_every' is for cells of kind qlearn, and this grid runs tvl",
+        ),
+        (
+            "learn_minutes = 5\nminute = 6",
+            r"minute 6 is beyond the longest learning, learn_minutes 5",
+        ),
+        ("online = 1", r"'online' is 1, expected true or false"),
+        (
+            "minute = { from = 0, to = 5 }",
+            r"'minute' range must be \{ from = A, to = B, step = S \}",
+        ),
+        (
+            'learn_config = "mine.json"',
+            r"learn_config 'mine.json' is not one of single, multi, designed, same",
+        ),
+        ('world = "lab:x"', r"world 'lab:x': KIND:SEED needs a whole-number seed"),
+        ('world = "labs:7"', r"no world kind 'labs' \(did you mean 'lab'\?\)"),
+        (
+            'behaviour = "goal"\ngoal = ["all", "1,1"]',
+            r'goal "all" is every goal of the world: give it alone',
+        ),
+        ("[full]\nseed = 1", r"no \[full\] table: the file as written is the full size"),
+        (
+            '[[part]]\nkind = "dwa"\nminute = 1',
+            r"'minute' is for cells of kind tvl, and this grid runs dwa",
+        ),
+    ],
+)
+def test_a_bad_key_names_the_file_the_key_and_what_is_wrong(
+    tmp_path: Path, text: str, problem: str
+) -> None:
+    base = "seed = 1\n" + ("" if text.startswith("world") else 'world = "square"\n')
+    with pytest.raises(BadInput, match=rf"grid\.toml.*: {problem}"):
+        read_grid(grid_of(tmp_path, base + text + "\n"))
+
+
+def test_a_size_the_file_has_no_table_for_is_refused(tmp_path: Path) -> None:
+    path = grid_of(tmp_path, 'world = "square"\nseed = 1\n')
+    with pytest.raises(BadInput, match=r"grid\.toml: no \[quick\] table for --size quick"):
+        read_grid(path, None, "quick")

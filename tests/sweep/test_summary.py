@@ -10,8 +10,10 @@ import pytest
 
 from tvl_cli.analysis.intervals import Interval, t_975
 from tvl_cli.analysis.measures import MEASURES
-from tvl_cli.commands.grid import COLUMNS
-from tvl_cli.commands.sweep_report import (
+from tvl_cli.core.errors import BadInput
+from tvl_cli.core.metrics import RunMetrics
+from tvl_cli.sweep.grid import COLUMNS
+from tvl_cli.sweep.summary import (
     KEY_LABELS,
     SETTING_KEYS,
     PlotAxes,
@@ -22,17 +24,22 @@ from tvl_cli.commands.sweep_report import (
     plot_data,
     summarise,
 )
-from tvl_cli.core.errors import BadInput
-from tvl_cli.core.metrics import RunMetrics
 
 CELL = {
     "world": "rooms-s3",
-    "config": "single",
+    "learn_config": "single",
     "learn_minutes": 15.0,
+    "explore": None,
+    "collision_points": None,
+    "config": "single",
+    "minute": None,
     "behaviour": "wall-left",
     "threshold": 0.8,
     "goal": None,
     "run_minutes": 5.0,
+    "online": False,
+    "competence_every": None,
+    "trace": False,
     "method": "default",
     "reflexes": "all",
 }
@@ -64,7 +71,8 @@ def test_every_run_metric_has_a_label_with_its_unit_and_every_grid_key_too() -> 
 def test_a_setting_is_a_row_of_its_seeds_means_and_intervals() -> None:
     summary = summarise(ROWS)
     assert summary.varying == ("config", "threshold")
-    assert summary.fixed == {k: v for k, v in CELL.items() if k not in ("config", "threshold")}
+    shared = {k: v for k, v in CELL.items() if k not in ("config", "threshold")}
+    assert summary.fixed == {"kind": "tvl", **shared}
     # Wall following: contacts, speed and the wall clearance.
     assert summary.measures == ("contacts_per_min", "mean_speed_mps", "mean_wall_clearance_m")
     assert [g.key for g in summary.groups] == [
@@ -147,7 +155,7 @@ def test_a_plot_is_given_as_x_y_and_hue(text: str, axes: PlotAxes) -> None:
         ("x=seed,y=sim_s", "--plot x=seed: the intervals are over the seeds"),
         ("x=config,y=sim_s,hue=config", "x and hue are both 'config'"),
         ("x=config,y=sim_s,x=world", "x is given twice"),
-        ("x=zzz,y=sim_s", "no grid key 'zzz' (known: world, config, learn_minutes,"),
+        ("x=zzz,y=sim_s", "no grid key 'zzz' (known: kind, world, learn_config,"),
     ],
 )  # fmt: skip
 def test_a_bad_plot_is_refused_naming_the_nearest_key(text: str, message: str) -> None:

@@ -9,22 +9,30 @@ from typing import Any
 
 from tvl_cli.analysis.intervals import Group, Interval, group_intervals
 from tvl_cli.analysis.measures import MEASURES, headline
-from tvl_cli.commands.grid import COLUMNS
 from tvl_cli.core.errors import BadInput, did_you_mean
 from tvl_cli.io.table import Row
+from tvl_cli.sweep.grid import COLUMNS
 
 # What the intervals are over: a setting is every grid key but this one.
 TRIALS = "seed"
 SETTING_KEYS = tuple(column for column in COLUMNS if column != TRIALS)
 # The grid keys as a table's header or a plot's axis names them, with their units.
 KEY_LABELS = {
+    "kind": "kind",
     "world": "world",
-    "config": "config",
+    "learn_config": "learnt with",
     "learn_minutes": "learn (min)",
+    "explore": "explore",
+    "collision_points": "collision points",
+    "config": "config",
+    "minute": "FAM at (min)",
     "behaviour": "behaviour",
     "threshold": "threshold",
     "goal": "goal (m)",
     "run_minutes": "run (min)",
+    "online": "learns as it runs",
+    "competence_every": "checks every (min)",
+    "trace": "traced",
     "method": "method",
     "reflexes": "reflexes",
 }
@@ -98,10 +106,11 @@ def _check_measure(where: str, measure: str) -> None:
 def summarise(rows: list[Row], measures: tuple[str, ...] | None = None) -> SweepSummary:
     """The table of the rows (a sweep's, in the grid's order), with these measures or, by
     default, the headline ones of the rows' behaviours."""
-    values = {key: list(dict.fromkeys(row[key] for row in rows)) for key in SETTING_KEYS}
+    values = {key: list(dict.fromkeys(row.get(key) for row in rows)) for key in SETTING_KEYS}
     varying = tuple(key for key in SETTING_KEYS if len(values[key]) > 1)
     fixed = {key: found[0] for key, found in values.items() if len(found) == 1}
-    shown = measures or headline(values["behaviour"])
+    # Learn cells have no behaviour: their rows add no measure of their own.
+    shown = measures or headline(b for b in values["behaviour"] if b is not None)
     return SweepSummary(varying, fixed, shown, group_intervals(rows, varying, shown))
 
 

@@ -14,7 +14,7 @@ import pytest
 from click.testing import CliRunner
 
 from tvl_cli.cli.main import main
-from tvl_cli.commands.sweep import DEFAULT_MAX_CELLS, RESULTS
+from tvl_cli.sweep.runner import DEFAULT_MAX_CELLS, RESULTS
 
 SMALL = 'world = "square"\nseed = [1, 2]\nbehaviour = "avoid"\nlearn_minutes = 0.1\n'
 

@@ -21,10 +21,10 @@ import pytest
 from conftest import TVL
 from json_schemas import ENVELOPE, valid
 
-from tvl_cli.commands.grid import COLUMNS
-from tvl_cli.commands.workers import CLUSTER_EXTRA, dask_cluster
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.metrics import RunMetrics
+from tvl_cli.sweep.executors import CLUSTER_EXTRA, dask_cluster
+from tvl_cli.sweep.grid import COLUMNS
 
 SQUARE = Path(__file__).resolve().parents[2] / "worlds" / "square.txt"
 # What `tvl run --json` prints: the metrics, then the contacts of each simulated minute.
@@ -78,7 +78,7 @@ def swept(tmp_path_factory: pytest.TempPathFactory) -> Path:
 def test_every_cell_is_a_row_of_its_grid_values_and_its_run_metrics(swept: Path) -> None:
     with open(swept / "results.csv", newline="") as table:
         rows = list(csv.DictReader(table))
-    assert list(rows[0]) == ["kind", *COLUMNS, *PRINTED]
+    assert list(rows[0]) == [*COLUMNS, *PRINTED]
     assert [(r["config"], r["threshold"]) for r in rows] == [
         ("single", "0.75"), ("single", "0.9"), ("multi", "0.75"), ("multi", "0.9")
     ]  # fmt: skip
@@ -93,7 +93,7 @@ def test_every_cell_is_a_row_of_its_grid_values_and_its_run_metrics(swept: Path)
         assert [m["sim_s"] for m in json.loads(row["minutes"])] == [30.0]
     recorded = journal(swept)
     assert len(recorded) == 4
-    assert all(list(row) == ["kind", *COLUMNS, *PRINTED] for row in recorded)
+    assert all(list(row) == [*COLUMNS, *PRINTED] for row in recorded)
 
 
 @pytest.mark.slow
@@ -166,7 +166,7 @@ BAD_GRIDS = {
         "world 'nowhere.txt': no such world file",
     ),
     "a TOML syntax error": (BASE.replace("seed = 1", "seed = 1 2"), "grid.toml:2:"),
-    "a key it must give": (BASE.replace('behaviour = "avoid"\n', ""), "no 'behaviour'"),
+    "a key it must give": (BASE.replace("seed = 1\n", ""), "no 'seed'"),
     "a reflex it does not know": (BASE + 'reflexes = "bumpy"\n', "reflexes 'bumpy' is not"),
     "a value given twice": (BASE.replace("seed = 1", "seed = [1, 1]"), "'seed' gives 1 twice"),
     "a goal and no goal run": (BASE + 'goal = "1.0,1.0"\n', "goal is for the goal behaviour"),
