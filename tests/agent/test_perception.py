@@ -240,3 +240,11 @@ def test_replaying_a_log_session_gives_each_episode_its_virtual_rings(tmp_path: 
     assert len(replayed) == len(online)
     for mine, theirs in zip(replayed, online, strict=True):
         np.testing.assert_array_equal(mine.fam_rings(), theirs.fam_rings())
+    # A snapshot replays the memory only as far as its cut, and reads what the whole
+    # replay read up to there: nothing after the cut changes what was read before it.
+    cut_s = replayed[len(replayed) // 2].end_time_s
+    snapshot = perceived_episodes(session, PATCH_MEMORY, ROBOT, until_s=cut_s)
+    assert 0 < len(snapshot) < len(replayed)
+    assert all(e.end_time_s <= cut_s for e in snapshot)
+    for mine, whole in zip(snapshot, replayed, strict=False):
+        np.testing.assert_array_equal(mine.fam_rings(), whole.fam_rings())

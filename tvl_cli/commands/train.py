@@ -7,6 +7,7 @@ import math
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
+from itertools import takewhile
 from pathlib import Path
 from typing import Any
 
@@ -215,10 +216,16 @@ def training_method(
     return method, record
 
 
-def perceived_episodes(session: Session, memory: MemoryConfig, robot: RobotConfig) -> list[Episode]:
+def perceived_episodes(
+    session: Session, memory: MemoryConfig, robot: RobotConfig, until_s: float | None = None
+) -> list[Episode]:
     """The session's episodes with what the FAM reads at each exemplar through `memory`: the
-    exemplars' readings replayed into the memory in order, as a learner perceived them."""
+    exemplars' readings replayed into the memory in order, as a learner perceived them. With
+    `until_s`, only the episodes finished by then: the memory is replayed no further, since
+    what it held later cannot change what it read before."""
     episodes = session.episodes()
+    if until_s is not None:
+        episodes = list(takewhile(lambda e: e.end_time_s <= until_s, episodes))
     if not memory.remembers or not episodes:
         return episodes
     count = sum(e.exemplar_count for e in episodes)
@@ -305,9 +312,8 @@ def train_from_logs(
     params = train_params(made_by, symmetric, init_velocity_mps)
     fam = Fam(config, [t.name for t in robot.trajectories], params.init_velocity_mps)
     sessions, repeats = distinct_sessions(logs)
-    episodes = [e for s in sessions for e in perceived_episodes(s, memory_read, robot)]
-    if until_minute is not None:
-        episodes = [e for e in episodes if e.end_time_s <= until_minute * 60.0]
+    until_s = None if until_minute is None else until_minute * 60.0
+    episodes = [e for s in sessions for e in perceived_episodes(s, memory_read, robot, until_s)]
     total = train_on(fam, episodes, robot, params, on_progress)
     tables = range(len(config.tables))
     touched = sum(int(np.count_nonzero(fam.experience_table(t).sum(axis=1))) for t in tables)
