@@ -16,7 +16,7 @@ from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.method import DEFAULT
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.famfile import write_fam
-from tvl_cli.sim.worldmap import load_world
+from tvl_cli.sim.worldmap import WorldMap, load_world
 
 ROOT = Path(__file__).resolve().parents[2]
 LAB = ROOT / "worlds" / "lab.txt"
@@ -82,3 +82,38 @@ def test_learning_shows_the_trajectory_followed_and_the_last_minute(tmp_path: Pa
         capture_output=True, text=True, timeout=120,
     )  # fmt: skip
     assert done.returncode == 0 and done.stdout.lstrip().startswith("{"), done.stderr
+
+
+@pytest.mark.parametrize("view", ["terminal", "window"])
+def test_the_view_draws_the_robot_the_run_drives(
+    fam: Path, view: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """With `--sonar`, the view's robot hears as the run's does (its rays' colours, its ring
+    scale), not as this simulator's default robot would."""
+    from click.testing import CliRunner
+
+    from tvl_cli.cli import live, views
+    from tvl_cli.cli.main import main
+    from tvl_cli.core.robot_config import SONAR_MODELS
+
+    shown: list[RobotConfig] = []
+
+    class Shown(LiveView):
+        """The terminal view, or the window's stand-in where no display is, telling its robot."""
+
+        def __init__(
+            self, world: WorldMap, robot: RobotConfig, threshold: float, *rest: object
+        ) -> None:
+            shown.append(robot)
+            super().__init__(world, robot, threshold, None, None)
+
+    monkeypatch.setattr(live, "LiveView", Shown)
+    monkeypatch.setattr(live, "WindowView", Shown)
+    monkeypatch.setattr(live, "window_view", live.live_view)
+    # A terminal to watch on (CliRunner's output is none).
+    monkeypatch.setattr(views, "out", Console(force_terminal=True, width=80, height=24))
+    args = ["run", fam, LAB, "--behaviour", "avoid", "--minutes", "0.05", "--sonar", "ideal"]
+    done = CliRunner().invoke(main, [*map(str, args), "--view", view])
+    assert done.exit_code == 0, done.output
+    assert [robot.sonar for robot in shown] == [SONAR_MODELS["ideal"]]
+    assert SONAR_MODELS["ideal"] != RobotConfig().sonar

@@ -6,10 +6,17 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
 from click.testing import CliRunner
+from matplotlib.axes import Axes
+from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
+from matplotlib.patches import Circle
+from matplotlib.text import Text
+from matplotlib.transforms import Bbox
 from PIL import Image
 from rich.console import Console
 
@@ -22,8 +29,10 @@ from tvl_cli.core.fam_config import MULTI, SINGLE
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.famfile import write_fam
 from tvl_cli.io.runfile import read_run
+from tvl_cli.render import moment
 from tvl_cli.render.animate import DPI, FIGURE_SIZE_IN, RAY_COLOUR, Window, _TraceFrame, animate_run
 from tvl_cli.render.blit import inks
+from tvl_cli.render.formats import save_picture
 from tvl_cli.sim.worldmap import load_world
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -136,6 +145,91 @@ def test_explain_draws_the_moment(ran: dict[str, Path], tmp_path: Path) -> None:
     assert b"<svg" in svg.read_bytes()[:400]
     code, _, err = tvl("explain", ran["trace"], "--step", "20", "--png", tmp_path / "m.bmp")
     assert code == 2 and ".bmp is no picture format tvl writes" in err
+
+
+def _moment(
+    ran: dict[str, Path], step: int, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> Figure:
+    """The figure `tvl explain --step STEP --png` saves, laid out as it was saved."""
+    saved: list[Figure] = []
+
+    def keep(figure: Figure, path: Path, **options: Any) -> None:
+        saved.append(figure)
+        save_picture(figure, path, **options)
+
+    monkeypatch.setattr(moment, "save_picture", keep)
+    code, _, err = tvl("explain", ran["trace"], "--step", step, "--png", tmp_path / f"{step}.png")
+    assert code == 0, err
+    (figure,) = saved
+    figure.canvas.draw()
+    return figure
+
+
+def _boxes(texts: list[Text], figure: Figure) -> list[Bbox]:
+    """Where each text is drawn, with the box drawn behind it if any."""
+    renderer = figure.canvas.get_renderer()  # type: ignore[attr-defined]
+    return [
+        Bbox.union([text.get_window_extent(renderer), *_behind(text, renderer)]) for text in texts
+    ]
+
+
+def _behind(text: Text, renderer: Any) -> list[Bbox]:
+    patch = text.get_bbox_patch()
+    return [] if patch is None else [patch.get_window_extent(renderer)]
+
+
+def _apart(boxes: list[Bbox]) -> bool:
+    return not any(a.overlaps(b) for i, a in enumerate(boxes) for b in boxes[i + 1 :])
+
+
+def _inside(boxes: list[Bbox], ax: Axes) -> bool:
+    frame = ax.bbox
+    return all(
+        frame.x0 <= b.x0 and b.x1 <= frame.x1 and frame.y0 <= b.y0 and b.y1 <= frame.y1
+        for b in boxes
+    )
+
+
+@pytest.mark.parametrize("step", [0, 20, 60, 120, 170])
+def test_the_moment_names_each_trajectory_apart_and_writes_each_rule_within_its_panel(
+    ran: dict[str, Path], step: int, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    figure = _moment(ran, step, tmp_path, monkeypatch)
+    world_ax, _, rules_ax = figure.axes[:3]
+    trajectories = {t.name for t in RobotConfig().trajectories}
+    named = _boxes([t for t in world_ax.texts if t.get_text() in trajectories], figure)
+    perceived = read_run(ran["trace"]).arrays["velocities"][step]
+    assert len(named) == np.isfinite(perceived).sum() > 0
+    assert _apart(named) and _inside(named, world_ax)
+    rules = _boxes([t for t in rules_ax.texts if t.get_text().startswith("IF ")], figure)
+    assert rules and _apart(rules) and _inside(rules, rules_ax)
+
+
+def _start_marks(ax: Axes, robot: RobotConfig) -> tuple[int, list[Line2D]]:
+    """How many robot-sized circles an axes draws, and the lines marking a start."""
+    bodies = [p for p in ax.patches if isinstance(p, Circle) and p.radius == robot.radius_m]
+    return len(bodies), [line for line in ax.lines if line.get_label() == "start"]
+
+
+def test_the_start_is_a_small_mark_and_the_robot_is_drawn_once_in_a_moment_and_a_replay(
+    ran: dict[str, Path], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    trace = read_run(ran["trace"])
+    robot = RobotConfig.from_dict(trace.robot_config)
+    start = load_world(SQUARE).start
+    explained = _moment(ran, 20, tmp_path, monkeypatch).axes[0]
+    replayed = _TraceFrame(trace, robot).frame.artists.world_ax
+    marks = []
+    for ax in (explained, replayed):
+        bodies, (mark,) = _start_marks(ax, robot)
+        assert bodies == 1  # the robot itself, and no second one standing at the start
+        assert (mark.get_xdata()[0], mark.get_ydata()[0]) == pytest.approx(start[:2])
+        # Smaller than the robot's body drawn there.
+        scale_pt = ax.transData.transform((1.0, 0.0))[0] - ax.transData.transform((0.0, 0.0))[0]
+        body_pt = 2 * robot.radius_m * scale_pt * 72.0 / ax.figure.dpi
+        assert mark.get_markersize() < body_pt / 2
+        marks.append((mark.get_marker(), mark.get_markersize(), mark.get_markeredgecolor()))
+    assert marks[0] == marks[1]  # drawn alike in both
 
 
 def test_inspect_draws_a_multi_fam_over_inputs_its_tables_have(tmp_path: Path) -> None:

@@ -104,7 +104,7 @@ RELEASED = {
     "world export": (1, "b78e8cd18900c35d"),
     "learn": (1, "a25ea9aa62923e03"),
     "train": (1, "d5db15f946e3e6d5"),
-    "inspect": (1, "046138f3197766e1"),
+    "inspect": (2, "f188db341d4e2a55"),
     "diff": (1, "13dee9c316a1cf17"),
     "design": (1, "5bc31b753894967a"),
     "run": (1, "3392598656907836"),
@@ -278,6 +278,23 @@ def test_fam_documents_follow_their_schemas(made: dict[str, Path]) -> None:
     assert explained["rules"] is None and explained["explanation"]["rules"]
     differing = tvl_json("diff", made["early"], made["fam"], "--top", "2")
     assert len(differing["rules_differing_most"]) == 2
+
+
+@pytest.mark.slow  # over a second: draws two pictures
+def test_inspect_records_the_inputs_its_picture_was_drawn_over(
+    made: dict[str, Path], tmp_path: Path
+) -> None:
+    png = tmp_path / "surface.png"
+    given = ("--over", "front,front-right", "--fix", "front-left=0.6", "--fix", "rear-left=1.5")
+    drawn = tvl_json("inspect", made["fam"], "--png", png, *given, "--top", "1")
+    assert drawn["outputs"]["png"] == str(png)
+    assert drawn["inputs"]["over"] == ["front", "front-right"]
+    assert drawn["inputs"]["fix"] == {"front-left": 0.6, "rear-left": 1.5}
+    # Not given, the pair the picture was drawn over: the one most of the tables read.
+    default = tvl_json("inspect", made["fam"], "--png", tmp_path / "d.png", "--top", "1")
+    assert (default["inputs"]["over"], default["inputs"]["fix"]) == (["front", "front-left"], {})
+    listed = tvl_json("inspect", made["fam"], "--top", "1")
+    assert (listed["inputs"]["over"], listed["inputs"]["fix"]) == (None, {})
 
 
 def test_design_document_follows_its_schema(tmp_path: Path) -> None:

@@ -119,6 +119,22 @@ def test_a_long_fam_path_folds_whole_in_the_replay_table(
     assert len(str(fam)) > WIDTH and str(fam) in column(printed, 1)
 
 
+def test_each_table_of_explain_has_its_title_on_one_line(
+    eighty_columns: None, fam: Path, tmp_path: Path
+) -> None:
+    trace = tmp_path / "run.h5"
+    tvl("run", fam, SQUARE, "--behaviour", "avoid", "--minutes", "0.1", "--log", trace)
+    printed = tvl("explain", trace, "--at", "1.0")
+    assert_fits(printed)
+    lines = printed.splitlines()
+    tops = [i for i, line in enumerate(lines) if line.startswith("┏")]
+    assert len(tops) == 3  # inputs, rules that fire, perceived
+    for top in tops:
+        # Over each table, its title on the line after the text or table before it.
+        before = max(i for i, line in enumerate(lines[:top]) if line.startswith(("└", "why")))
+        assert top - before == 2, lines[before : top + 1]
+
+
 def test_the_demo_table_folds_its_picture_paths_whole(
     eighty_columns: None, fam: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

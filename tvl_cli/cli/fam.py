@@ -143,7 +143,15 @@ def inspect(
         InspectRequest(fam, trajectory, top, sort, untrained, explain, png, over, fix)
     )
     if as_json:
-        options = {"trajectory": trajectory, "top": top, "sort": sort, "untrained": untrained}
+        drawn_over = found.over or over
+        options = {
+            "trajectory": trajectory,
+            "top": top,
+            "sort": sort,
+            "untrained": untrained,
+            "over": None if drawn_over is None else list(drawn_over),
+            "fix": dict(fix),
+        }
         print_json(
             documents.inspect_json(
                 fam, found.loaded, options, found.ring, found.rules, found.explanation, png

@@ -359,12 +359,11 @@ def _watching(request: RunRequest, view: str | None, pace: float | None) -> Iter
             yield bar
         return
     from tvl_cli.cli.live import LiveView, WindowView, live_view, window_view
-    from tvl_cli.commands.run import resolve_goal
-    from tvl_cli.core.robot_config import RobotConfig
+    from tvl_cli.commands.run import request_robot, resolve_goal
     from tvl_cli.sim.worldmap import load_world
 
     world = load_world(request.world)
-    robot = RobotConfig()
+    robot = request_robot(request)
     if view == WINDOW:
         with window_view(WindowView(world, robot, request.threshold, pace)) as shown:
             yield shown

@@ -239,9 +239,11 @@ def explanation(e: Explanation) -> None:
         )
         rules.add_row(r.table, " AND ".join(r.set_names), f"{r.strength:.3f}", then)
     out.print(rules)
-    perceived = table(*e.trajectories, title="perceived (m/s, experience)", right=e.trajectories)
-    perceived.add_row(*(f"{v:.2f}" for v in e.velocities_mps))
-    perceived.add_row(*(f"exp {x:.1f}" for x in e.experience))
+    # What each row holds is said beside it: a title that said it would wrap over the
+    # narrow table of one or two trajectories.
+    perceived = table("", *e.trajectories, title="perceived", right=e.trajectories)
+    perceived.add_row("velocity (m/s)", *(f"{v:.2f}" for v in e.velocities_mps))
+    perceived.add_row("experience", *(f"{x:.1f}" for x in e.experience))
     out.print(perceived)
 
 

@@ -28,27 +28,30 @@ class InspectRequest:
 
 @dataclass(frozen=True, slots=True)
 class Inspected:
-    """The FAM file read, and either its rules or one ring's explanation (the other None)."""
+    """The FAM file read, and either its rules or one ring's explanation (the other None);
+    with a picture, the two inputs it was drawn over."""
 
     loaded: FamFile
     ring: np.ndarray | None
     explanation: Explanation | None
     rules: list[Rule] | None
+    over: tuple[str, str] | None = None
 
 
 def inspect_fam(request: InspectRequest) -> Inspected:
     """Read the FAM file; draw its surfaces if a picture is asked for; select its rules, or
     explain the ring given in them."""
     loaded = read_fam(request.fam)
+    over = None
     if request.png is not None:
-        draw_surfaces(loaded, request.png, request.over, request.fix)
+        over = draw_surfaces(loaded, request.png, request.over, request.fix)
     if request.explain is not None:
         ring = parse_ring(request.explain, loaded.robot_config.sonar.count)
-        return Inspected(loaded, ring, loaded.fam.explain(ring), None)
+        return Inspected(loaded, ring, loaded.fam.explain(ring), None, over)
     rules = select_rules(
         loaded.fam, request.trajectory, request.top, request.sort, request.untrained
     )
-    return Inspected(loaded, None, None, rules)
+    return Inspected(loaded, None, None, rules, over)
 
 
 def draw_surfaces(
@@ -56,15 +59,17 @@ def draw_surfaces(
     png: Path,
     over: tuple[str, str] | None,
     fix: tuple[tuple[str, float], ...],
-) -> None:
-    """`inspect --png`: the learnt velocity over two inputs, the others held."""
+) -> tuple[str, str]:
+    """`inspect --png`: the learnt velocity over two inputs, the others held; the two inputs
+    (`over`, else the pair most of the FAM's tables read)."""
     from tvl_cli.render.plot import render_surfaces  # matplotlib only when a picture is wanted
 
     sonar = loaded.robot_config.sonar
     fixed = dict(fix)
+    drawn_over = over or shared_inputs(loaded.fam.config)
     surfaces = velocity_surfaces(
         loaded.fam,
-        over or shared_inputs(loaded.fam.config),
+        drawn_over,
         fixed,
         sonar.min_range_m,
         sonar.max_range_m,
@@ -72,3 +77,4 @@ def draw_surfaces(
     )
     held = ", ".join(f"{n} {v:g} m" for n, v in fixed.items()) or "the rest open"
     render_surfaces(surfaces, png, f"{loaded.fam.config.name} FAM, {held}")
+    return drawn_over

@@ -135,6 +135,15 @@ def run_robot(learnt_by: RobotConfig, sonar: str | None, fam_path: Path) -> Robo
     return robot
 
 
+def request_robot(request: RunRequest, fam_file: FamFile | None = None) -> RobotConfig:
+    """The robot the run drives: its FAM's (`fam_file`, else read from `request.fam`), with
+    the sonar model asked for (`--sonar`)."""
+    if fam_file is None:
+        fam_file = read_fam(request.fam)
+    sonar = dict(as_choice(request.method).settings).get("sonar")
+    return run_robot(fam_file.robot_config, sonar, request.fam)
+
+
 def run_method(fam_file: FamFile, fam_path: Path, choice: MethodChoice) -> Method:
     """The method a run is made by: the FAM's learning (as it records it; else ours, with its
     labels, memory and sonar), ours or the chosen reflexes, wall rule and memory, and the
@@ -193,8 +202,7 @@ def run_behaviour(request: RunRequest, watch: StepSink | None = None) -> RunResu
     choice = as_choice(request.method)
     method = run_method(fam_file, request.fam, choice)
     recorded = run_record(method, fam_file)
-    sonar_given = dict(choice.settings).get("sonar")
-    robot = run_robot(fam_file.robot_config, sonar_given, request.fam)
+    robot = request_robot(request, fam_file)
     goal = resolve_goal(request.world, world, request.behaviour, request.goal)
     path = PathRecorder()
     tally = MinuteTally(robot.control_period_s)

@@ -167,7 +167,7 @@ class _RobotArtists:
         self.world_ax, self.side_ax = figure.subplots(
             1, 2, gridspec_kw={"width_ratios": (1.6, 1.0)}
         )
-        draw_world(self.world_ax, world)
+        draw_world(self.world_ax, world, robot_at_start=False)
         (self.trail,) = self.world_ax.plot(
             [], [], color=ROBOT_COLOUR, linewidth=1.0, alpha=TRAIL_ALPHA
         )

@@ -25,13 +25,19 @@ SOLID_COLOUR = "#c8c8c8"  # wall and furniture material behind the outlines
 PILLAR_COLOUR = "#8c8c8c"
 ROBOT_COLOUR = "#1f77b4"
 GOAL_COLOUR = "#f2b701"
+START_COLOUR = "#555555"  # where a picture of the robot itself marks the start
 WALL_WIDTH_PT = 3.0
 FIGURE_WIDTH_IN = 7.0
 MARGIN_M = 0.25  # room around the world for the scale bar and the wall line width
 
 
-def draw_world(ax: Axes, world: WorldMap) -> None:
-    """Walls, pillars, ring walls, the start pose and the goals, in metres on equal axes."""
+def draw_world(ax: Axes, world: WorldMap, robot_at_start: bool = True) -> None:
+    """Walls, pillars, ring walls, the start pose and the goals, in metres on equal axes.
+
+    The start is drawn as the robot standing there; where the picture draws the robot
+    itself (a moment of a run, a replay's frames), `robot_at_start` False marks it instead
+    with a small open triangle pointing the way the robot started, so that only the robot
+    looks like one."""
     ax.add_patch(Rectangle((0, 0), world.width_m, world.height_m, color=SOLID_COLOUR, lw=0))
     ax.add_patch(PathPatch(_floor(world), facecolor="white", lw=0))
     walls = [((x1, y1), (x2, y2)) for x1, y1, x2, y2 in world.segments]
@@ -43,16 +49,10 @@ def draw_world(ax: Axes, world: WorldMap) -> None:
     for x, y, r in world.rings:
         ax.add_patch(Circle((x, y), r, fill=False, edgecolor=WALL_COLOUR, lw=WALL_WIDTH_PT))
 
-    x, y, heading = world.start
-    radius = RobotConfig().radius_m
-    ax.add_patch(Circle((x, y), radius, facecolor=ROBOT_COLOUR, alpha=0.25, lw=0))
-    ax.add_patch(Circle((x, y), radius, fill=False, edgecolor=ROBOT_COLOUR, lw=1.5))
-    ax.annotate(
-        "",
-        xy=(x + 2 * radius * math.cos(heading), y + 2 * radius * math.sin(heading)),
-        xytext=(x, y),
-        arrowprops={"arrowstyle": "-|>", "color": ROBOT_COLOUR, "lw": 2, "mutation_scale": 15},
-    )
+    if robot_at_start:
+        _draw_robot_at_start(ax, world.start)
+    else:
+        _mark_start(ax, world.start)
     if world.goals:
         gx, gy = zip(*world.goals, strict=True)
         ax.plot(
@@ -77,6 +77,36 @@ def draw_world(ax: Axes, world: WorldMap) -> None:
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
     ax.set_title(world.name)
+
+
+def _draw_robot_at_start(ax: Axes, start: tuple[float, float, float]) -> None:
+    x, y, heading = start
+    radius = RobotConfig().radius_m
+    ax.add_patch(Circle((x, y), radius, facecolor=ROBOT_COLOUR, alpha=0.25, lw=0))
+    ax.add_patch(Circle((x, y), radius, fill=False, edgecolor=ROBOT_COLOUR, lw=1.5))
+    ax.annotate(
+        "",
+        xy=(x + 2 * radius * math.cos(heading), y + 2 * radius * math.sin(heading)),
+        xytext=(x, y),
+        arrowprops={"arrowstyle": "-|>", "color": ROBOT_COLOUR, "lw": 2, "mutation_scale": 15},
+    )
+
+
+def _mark_start(ax: Axes, start: tuple[float, float, float]) -> None:
+    x, y, heading = start
+    ax.plot(
+        [x],
+        [y],
+        linestyle="none",
+        # A triangle points up unturned; turned counter-clockwise to the start heading.
+        marker=(3, 0, math.degrees(heading) - 90.0),
+        markersize=7,
+        markerfacecolor="none",
+        markeredgecolor=START_COLOUR,
+        markeredgewidth=1.2,
+        zorder=3,
+        label="start",
+    )
 
 
 def _floor(world: WorldMap) -> DrawPath:
