@@ -7,6 +7,7 @@ import sys
 
 from tvl_cli.analysis.results import (
     ablation_rows,
+    goal_methods,
     is_competent,
     learning_time_rows,
     time_to_competence,
@@ -118,3 +119,20 @@ def test_the_numbers_need_no_drawing_library():
     code = "import sys, tvl_cli.analysis.results; print('matplotlib' in sys.modules)"
     loaded = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert loaded.stdout.strip() == "False", loaded.stderr
+
+
+def test_goal_runs_read_through_another_memory_are_a_series_of_their_own():
+    goal = {"behaviour": "goal", "goal": "1,1"}
+    own = [run_row(**goal, seed=seed, goal_reached=False) for seed in (1, 2)]
+    unremembering = [
+        run_row(**goal, seed=seed, goal_reached=True, run_memory="none") for seed in (1, 2)
+    ]
+    paper = [run_row(**goal, method="paper", reflexes="none", goal_reached=True)]
+    series = dict(goal_methods([*own, *unremembering, *paper]))
+    assert list(series) == [
+        "TVL single, ours",
+        "TVL single, ours, run with memory none",
+        "TVL single, paper's method",
+    ]
+    assert series["TVL single, ours"] == own
+    assert series["TVL single, ours, run with memory none"] == unremembering

@@ -12,6 +12,7 @@ import pytest
 from tvl_cli.agent.explore import LearnParams
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam_config import SINGLE
+from tvl_cli.core.memory import NO_MEMORY
 from tvl_cli.core.method import DEFAULT, PAPER, MethodChoice
 from tvl_cli.sim.worldgen import generate_world
 from tvl_cli.sweep.grid import Cell, read_grid
@@ -59,6 +60,7 @@ def test_cells_are_every_combination_with_the_last_key_fastest(tmp_path: Path) -
         trace=False,
         method="default",
         reflexes="all",
+        run_memory=None,
     )
     assert grid.methods == {"default": DEFAULT}
     assert grid.configs == {"single": SINGLE}
@@ -222,6 +224,22 @@ def test_exploration_and_collision_points_change_the_method_learnt_by(tmp_path: 
     assert learnt["novelty", "sonar"].decel_mps2 == PAPER.decel_mps2
 
 
+def test_a_run_may_read_through_another_echo_memory_than_its_fam_learnt_with(
+    tmp_path: Path,
+) -> None:
+    text = 'world = "square"\nseed = 1\nrun_memory = ["none", "points"]\n'
+    cells = read_grid(grid_of(tmp_path, text)).cells
+    ran = {c.run_memory: c.run_method(DEFAULT).over(DEFAULT, ("reflexes",)) for c in cells}
+    assert ran["none"].memory == NO_MEMORY
+    assert ran["points"].memory.kind == "points"
+    # What the run does not change is the learning: the log and FAM are the method's.
+    assert {c.learning_method(DEFAULT) for c in cells} == {DEFAULT}
+    # Not given, the run reads through the memory its FAM was trained through.
+    (own,) = read_grid(grid_of(tmp_path, 'world = "square"\nseed = 1\n')).cells
+    assert own.run_memory is None
+    assert own.run_method(DEFAULT).over(DEFAULT, ()).memory == DEFAULT.memory
+
+
 def test_parts_share_the_keys_above_them_and_make_each_cell_once(tmp_path: Path) -> None:
     text = (
         'world = "square"\nseed = [1, 2]\nlearn_minutes = 2\n'
@@ -279,6 +297,10 @@ def test_a_learner_exploring_with_the_trained_configuration(tmp_path: Path) -> N
         ),
         ('explore = "novel"', r"explore 'novel' is not one of .* \(did you mean 'novelty'\?\)"),
         ('collision_points = "bump"', r"collision_points 'bump' is not one of sonar, bumps"),
+        (
+            'run_memory = "patch"',
+            r"run_memory 'patch' is not one of none, points, patches \(did you mean 'patches'\?\)",
+        ),
         (
             "competence_every = 1",
             r"'competence_every' is for cells of kind qlearn, and this grid runs tvl",

@@ -42,6 +42,7 @@ CELL = {
     "trace": False,
     "method": "default",
     "reflexes": "all",
+    "run_memory": None,
 }
 
 

@@ -101,6 +101,7 @@ _WORDS = (
     "goal",
     "explore",
     "collision_points",
+    "run_memory",
     "trace_file",
 )
 _NUMBERS = (
@@ -128,7 +129,7 @@ _MAYBE_TAKEN = (
 )
 _MAYBE_NAMED = (
     "goal", "config", "learn_config", "behaviour", "method", "reflexes", "explore",
-    "collision_points",
+    "collision_points", "run_memory",
 )  # fmt: skip
 _FLAGS = ("goal_reached", "online", "trace")
 _LISTS = ("minutes", "competence_checks")
@@ -526,12 +527,27 @@ def goal_methods(rows: list[Row]) -> list[tuple[str, list[Row]]]:
     goal_runs = select(rows, behaviour="goal")
     tvl = select(goal_runs, kind="tvl")
     methods = [
-        (f"TVL {config}, {method_label(method)}", select(tvl, config=config, method=method))
+        (
+            f"TVL {config}, {method_label(method)}{_reading(memory)}",
+            select(tvl, config=config, method=method, run_memory=memory),
+        )
         for method in methods_of(tvl)
         for config in distinct(select(tvl, method=method), "config", ("single", "multi"))
+        for memory in _run_memories(select(tvl, method=method, config=config))
     ]
     dwa = select(goal_runs, kind="dwa")
     return methods + ([("DWA", dwa)] if dwa else [])
+
+
+def _run_memories(runs: list[Row]) -> list[str | None]:
+    """The echo memories the runs read through: None (their FAM's own) first."""
+    own: list[str | None] = [None] if any(r.get("run_memory") is None for r in runs) else []
+    return own + distinct(runs, "run_memory")
+
+
+def _reading(run_memory: str | None) -> str:
+    """How a label says a run read through another echo memory than its FAM learnt with."""
+    return "" if run_memory is None else f", run with memory {run_memory}"
 
 
 def ablation_setting(run: Row) -> str:

@@ -24,6 +24,8 @@ it (kinds "dwa" and "qlearn").
     method = ["default", "paper"]        # as `--method`: a preset or a method file
     reflexes = ["all", "none"]           # as `--reflex`; default each method's own (TVL runs)
                                          # and none (baselines, as `tvl baseline`)
+    run_memory = ["none"]                # the run reads through this echo memory, as `tvl
+                                         # run --memory`; default the one the FAM learnt with
 
 A key takes a range of numbers as `{ from = A, to = B, step = S }` (B included). Each kind
 reads only its own keys (`minute` means nothing to DWA), so one list of kinds makes each
@@ -58,6 +60,7 @@ from tvl_cli.core.errors import (
     did_you_mean,
 )
 from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS, SINGLE, FamConfig
+from tvl_cli.core.memory import MEMORY_KINDS, MemoryChoice
 from tvl_cli.core.method import (
     DEFAULT,
     DEFAULT_NAME,
@@ -119,6 +122,8 @@ class Cell:
     method: str | None  # as `--method` takes it: a preset's name, or a method file beside
     # the grid; None for a baseline
     reflexes: str | None  # as `--reflex` takes them
+    run_memory: str | None  # the echo memory the run reads through (`tvl run --memory`);
+    # None: the one its FAM was trained through
 
     def key(self) -> tuple[Any, ...]:
         return astuple(self)
@@ -139,7 +144,8 @@ class Cell:
     def run_method(self, method: Method) -> MethodChoice:
         """The run's method: the cell's, with the cell's reflexes."""
         reflexes = parse_reflexes(self.reflexes or reflexes_text(method.reflexes))
-        return MethodChoice(method, self.method, (("reflexes", reflexes),))
+        memory = MemoryChoice(kind=self.run_memory)
+        return MethodChoice(method, self.method, (("reflexes", reflexes),), memory)
 
     def baseline_method(self) -> MethodChoice:
         """A baseline's method: alone, with the cell's reflexes, as `tvl baseline --reflex`."""
@@ -195,6 +201,7 @@ _KEYS: dict[str, _Key] = {
     # A baseline takes nothing of a method but its reflexes, which the cell gives.
     "method": _Key(str, (DEFAULT_NAME,), _LEARNT),
     "reflexes": _Key(str, (), _RUNS),
+    "run_memory": _Key(str, (None,), (TVL,)),
 }
 _TYPE_NAMES = {str: "text", int: "a whole number", float: "a number", bool: "true or false"}
 # World and configuration names become parts of file names in the sweep's directory.
@@ -365,6 +372,7 @@ def _check_values(where: str, values: dict[str, tuple[Any, ...]]) -> None:
     _check_words(where, "collision_points", values["collision_points"], COLLISION_POINTS)
     for reflexes in values["reflexes"]:
         _check_reflexes(where, reflexes)
+    _check_words(where, "run_memory", values["run_memory"], MEMORY_KINDS)
     if values["goal"] and "goal" not in values["behaviour"]:
         raise BadInput(f"{where}: goal is for the goal behaviour, which the grid does not run")
     if ALL_GOALS in values["goal"] and len(values["goal"]) > 1:

@@ -35,6 +35,7 @@ KEY_LABELS = {
     "trace": "traced",
     "method": "method",
     "reflexes": "reflexes",
+    "run_memory": "run memory",
 }
 _PLOT_PARTS = ("x", "y", "hue")
 PLOT_FORM = "x=KEY,y=MEASURE[,hue=KEY]"
