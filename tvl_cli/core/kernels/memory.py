@@ -124,21 +124,6 @@ def _patches_met(
         cos_spread[b] = cos_b
         sin_spread[b] = math.sqrt(1.0 - cos_b * cos_b) if cos_b < 1.0 else 0.0
         out[b] = within_m[b]  # the nearest met so far
-    # Every transducer lies within `ring_m` of their centroid (gx, gy): a patch whose centre
-    # is farther from it than the farthest within_m + ring_m + its half width is met by no
-    # beam near enough, and is passed over once rather than once a beam.
-    gx, gy, widest = 0.0, 0.0, 0.0
-    for b in range(beams):
-        if within_m[b] > widest:
-            widest = within_m[b]
-        gx += ox[b]
-        gy += oy[b]
-    gx, gy = gx / beams, gy / beams
-    ring_m = 0.0
-    for b in range(beams):
-        apart = math.sqrt((ox[b] - gx) ** 2 + (oy[b] - gy) ** 2)
-        if apart > ring_m:
-            ring_m = apart
     # Echo by echo, each against every beam: each beam still meets the echoes in their
     # order, and the cuts below skip only what could not come nearer than the beam's best.
     for k in range(centres.shape[0]):
@@ -147,9 +132,6 @@ def _patches_met(
         cx, cy = centres[k, 0], centres[k, 1]
         half_width = half_widths[k]
         reach = half_width + WEDGE_SLACK_M
-        farthest = widest + ring_m + reach + WEDGE_SLACK_M
-        if (cx - gx) ** 2 + (cy - gy) ** 2 > farthest * farthest:
-            continue
         ax, ay = axes[k, 0], axes[k, 1]
         for b in range(beams):
             best = out[b]
