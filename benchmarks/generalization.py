@@ -51,7 +51,7 @@ from typing import Any
 import numpy as np
 
 from tvl_cli.agent.drive import Step, StepSink
-from tvl_cli.agent.drive_tvl import behave
+from tvl_cli.agent.drive_tvl import BehaviourRun, behave_together
 from tvl_cli.agent.explore import Learner, LearnParams
 from tvl_cli.agent.online import OnlineLearner
 from tvl_cli.agent.trace import Columns, TraceRecorder
@@ -153,10 +153,14 @@ def learn_and_train(world: WorldMap, seed: int, setup: Setup) -> dict[str, Fam]:
 
 
 def trial_runs(world_seed: int, trial: int, setup: Setup) -> list[dict[str, Any]]:
-    """Every behaviour run of one trial in one world, as rows."""
+    """Every behaviour run of one trial in one world, as rows. The runs share the world and
+    the trial's seed, so they are driven together in one RobotBatch, each as it would be
+    driven alone (agent.drive_tvl.behave_together)."""
     world = world_of(world_seed, setup.walls)
     robot, method = setup.robot, setup.method
-    rows = []
+    planned: list[tuple[str, str, tuple[float, float] | None, list[Columns]]] = []
+    runs: list[BehaviourRun] = []
+    recorders: list[TraceRecorder] = []
     for config, learnt in learn_and_train(world, trial, setup).items():
         for behaviour in BEHAVIOURS:
             goal = world.goals[0] if behaviour == "goal" and world.goals else None
@@ -169,41 +173,39 @@ def trial_runs(world_seed: int, trial: int, setup: Setup) -> list[dict[str, Any]
                 learner = OnlineLearner(fam, robot, setup.train, world.start, memory=method.memory)
             chunks: list[Columns] = []
             recorder = TraceRecorder(method.reflexes, robot.sonar.count, [chunks.append])
-            metrics = behave(
-                world,
-                robot,
-                fam,
-                behaviour,
-                minutes=RUN_MINUTES,
-                seed=trial,
-                threshold=setup.threshold,
-                goal_xy=goal,
-                on_step=_both(recorder, learner),
-                method=method,
-            )
-            recorder.close()
-            autopsy = run_autopsy(
-                world,
-                robot,
-                {name: np.concatenate([c[name] for c in chunks]) for name in chunks[0]},
-                reflex_names=method.reflexes,
-                trajectory_names=tuple(t.name for t in robot.trajectories),
-                table_sonars=setup.configs[config].sonars_read(),
-                goal_xy=goal,
-                goal_reached=metrics.goal_reached,
-            )
-            rows.append(
-                {
-                    "perception": setup.name,
-                    "world_seed": world_seed,
-                    "trial": trial,
-                    "config": config,
-                    "behaviour": behaviour,
-                    "competent": is_competent(metrics, behaviour),
-                    **asdict(metrics),
-                    "autopsy": autopsy.to_dict(),
-                }
-            )
+            planned.append((config, behaviour, goal, chunks))
+            runs.append(BehaviourRun(fam, behaviour, trial, goal, _both(recorder, learner)))
+            recorders.append(recorder)
+    all_metrics = behave_together(
+        world, robot, runs, minutes=RUN_MINUTES, method=method, threshold=setup.threshold
+    )
+    rows = []
+    for (config, behaviour, goal, chunks), recorder, metrics in zip(
+        planned, recorders, all_metrics, strict=True
+    ):
+        recorder.close()
+        autopsy = run_autopsy(
+            world,
+            robot,
+            {name: np.concatenate([c[name] for c in chunks]) for name in chunks[0]},
+            reflex_names=method.reflexes,
+            trajectory_names=tuple(t.name for t in robot.trajectories),
+            table_sonars=setup.configs[config].sonars_read(),
+            goal_xy=goal,
+            goal_reached=metrics.goal_reached,
+        )
+        rows.append(
+            {
+                "perception": setup.name,
+                "world_seed": world_seed,
+                "trial": trial,
+                "config": config,
+                "behaviour": behaviour,
+                "competent": is_competent(metrics, behaviour),
+                **asdict(metrics),
+                "autopsy": autopsy.to_dict(),
+            }
+        )
     return rows
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 import re
+from dataclasses import replace
 from pathlib import Path
 
 import gymnasium
@@ -18,7 +19,9 @@ from tvl_cli.agent.engine import GOAL_RADIUS_M
 from tvl_cli.agent.motions import BACKOFF_M
 from tvl_cli.baselines.qlearning import DEFAULT_Q, step_reward
 from tvl_cli.core.drive_command import STOP, Command
-from tvl_cli.core.memory import MemoryConfig
+from tvl_cli.core.memory import NO_MEMORY, MemoryConfig
+from tvl_cli.core.method import DEFAULT, PAPER
+from tvl_cli.core.robot_config import SONAR_MODELS
 from tvl_cli.gym import ENV_ID, MAX_EPISODE_STEPS, SonarRingEnv
 from tvl_cli.gym.env import ACTION_NAMES, ROBOT, SPIN_LEFT, SPIN_RIGHT, STOP_ACTION
 from tvl_cli.render.animate import DPI, FIGURE_SIZE_IN
@@ -31,8 +34,13 @@ T0 = ROBOT.trajectory_index("T0")
 AHEAD_M, BEHIND_M = 3.75 - 2.125 - ROBOT.radius_m, 2.125 - 0.25 - ROBOT.radius_m
 
 
+# Ours with the live ring: what the robot observes is what its sonars read now, which the
+# tests check against the walls.
+LIVE_RING = replace(DEFAULT, memory=NO_MEMORY)
+
+
 def make(**kwargs: object) -> gymnasium.Env:
-    return gymnasium.make(ENV_ID, **{"world": "square", **kwargs})
+    return gymnasium.make(ENV_ID, **{"world": "square", "method": LIVE_RING, **kwargs})
 
 
 def straight_into_the_wall(env: gymnasium.Env) -> list[tuple]:
@@ -252,13 +260,16 @@ def test_the_docs_quote_the_envs_own_numbers() -> None:
     assert f"backed off {BACKOFF_M:g} m along its path after a bump" in gym
 
 
-def test_the_gymnasium_observation_can_be_the_virtual_ring() -> None:
-    plain = gymnasium.make("tvl/SonarRing-v0", world="lab")
-    remembering = gymnasium.make(
-        "tvl/SonarRing-v0", world="lab", memory=MemoryConfig("patches", window_s=20.0, range_m=3.0)
+def test_the_gymnasium_observation_is_the_methods_virtual_ring() -> None:
+    plain = make(world="lab")
+    ours = gymnasium.make("tvl/SonarRing-v0", world="lab")  # the default method, as tvl run's
+    assert ours.unwrapped.method == DEFAULT and DEFAULT.memory != NO_MEMORY
+    remembering = make(
+        world="lab", method=replace(DEFAULT, memory=MemoryConfig("patches", window_s=20.0))
     )
     a, _ = plain.reset(seed=3)
     b, _ = remembering.reset(seed=3)
+    np.testing.assert_array_equal(ours.reset(seed=3)[0], b)
     # The same seed reads the same rings; the virtual one is never farther.
     assert (b <= a).all()
     nearer = False
@@ -268,5 +279,29 @@ def test_the_gymnasium_observation_can_be_the_virtual_ring() -> None:
         assert (b <= a).all()
         nearer |= bool((b < a).any())
     assert nearer
-    with pytest.raises(ValueError, match="--memory lines"):
-        gymnasium.make("tvl/SonarRing-v0", memory="lines")
+
+
+def test_the_method_is_given_whole_by_preset_or_by_file(tmp_path: Path) -> None:
+    assert SonarRingEnv("square", method="paper").method == PAPER
+    assert SonarRingEnv("square", method="default").method == DEFAULT
+    assert SonarRingEnv("square").method == DEFAULT
+    chosen = tmp_path / "ideal.toml"
+    chosen.write_text('sonar = "ideal"\nmemory = "none"\nreflexes = "none"\n')
+    env = SonarRingEnv("square", method=chosen)
+    assert env.method == replace(DEFAULT, sonar="ideal", memory=NO_MEMORY, reflexes=())
+    assert env.robot.sonar == SONAR_MODELS["ideal"]
+    a, _ = env.reset(seed=1)
+    np.testing.assert_array_equal(a, env.reset(seed=2)[0])  # the ideal ring draws no noise
+    assert SonarRingEnv("square", method=str(chosen)).method == env.method
+    with pytest.raises(ValueError, match="method 'lines' is neither a preset"):
+        SonarRingEnv("square", method="lines")
+    with pytest.raises(TypeError, match="method 3 is not a Method"):
+        SonarRingEnv("square", method=3)  # type: ignore[arg-type]
+    bad = tmp_path / "bad.toml"
+    bad.write_text('sonar = "sharp"\n')
+    with pytest.raises(ValueError, match=rf"{re.escape(str(bad))}: sonar 'sharp'"):
+        SonarRingEnv("square", method=bad)
+    unknown = tmp_path / "unknown.toml"
+    unknown.write_text("decel = 0.2\n")
+    with pytest.raises(ValueError, match="unknown key 'decel'"):
+        gymnasium.make_vec(ENV_ID, num_envs=2, method=unknown)

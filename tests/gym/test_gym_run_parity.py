@@ -15,8 +15,8 @@ from tvl_cli.cli import main
 from tvl_cli.commands.train import train_from_logs
 from tvl_cli.core.contacts import BUMP, EVENTS, NEAR_MISS, TRAPPED
 from tvl_cli.core.fam_config import SINGLE
-from tvl_cli.core.memory import NONE, MemoryChoice
-from tvl_cli.core.method import MethodChoice
+from tvl_cli.core.memory import NO_MEMORY, NONE, MemoryChoice
+from tvl_cli.core.method import MethodChoice, method_from_dict
 from tvl_cli.gym import SonarRingEnv
 from tvl_cli.gym.env import ROBOT
 from tvl_cli.io.famfile import write_fam
@@ -52,9 +52,15 @@ def tvl_run(fam: Path, tmp_path: Path, sonar: str, seed: int, threshold: float) 
     return read_run(trace)
 
 
-def env_rollout(run: RunTrace, sonar: str, seed: int) -> dict[str, np.ndarray]:
-    """The run's commands, one a step, through the environment reset with the run's seed."""
-    env = SonarRingEnv(str(CIRCLE), action_type="continuous", sonar=sonar)
+def env_rollout(run: RunTrace, seed: int) -> dict[str, np.ndarray]:
+    """The run's commands, one a step, through the environment made with the method the run
+    recorded (its sonar model, and the live ring its FAM reads) and reset with its seed."""
+    assert run.method is not None
+    # The FAM records no learning, so the run records its own choices and says so.
+    recorded = {key: value for key, value in run.method.items() if key != "learning"}
+    method = method_from_dict(recorded, "the run's method")
+    env = SonarRingEnv(str(CIRCLE), action_type="continuous", method=method)
+    assert env.method.memory == NO_MEMORY and env.method.reflexes  # ours, reflexes and all
     obs, _ = env.reset(seed=seed)
     rings, poses, odometry, events = [obs], [], [], []
     commands = np.stack([run.arrays["speed_mps"], run.arrays["turn_radps"]], axis=1)
@@ -87,7 +93,7 @@ def test_with_the_ideal_ring_the_env_gives_the_run_step_for_step(
     # the environment draw alike whichever steps read the ring. A low threshold drives fast
     # enough to meet the wall: near misses, back-offs and spins.
     run = tvl_run(fam_path, tmp_path, "ideal", seed=3, threshold=0.3)
-    ours = env_rollout(run, "ideal", seed=3)
+    ours = env_rollout(run, seed=3)
     arrays = run.arrays
     assert len(ours["pose"]) == run.steps == 300
     np.testing.assert_array_equal(ours["pose"], arrays["pose"])
@@ -105,7 +111,7 @@ def test_with_the_noisy_ring_the_env_gives_the_run_until_the_run_leaves_a_readin
     fam_path: Path, tmp_path: Path
 ) -> None:
     run = tvl_run(fam_path, tmp_path, "real", seed=2, threshold=0.85)
-    ours = env_rollout(run, "real", seed=2)
+    ours = env_rollout(run, seed=2)
     arrays = run.arrays
     # The run reads the ring only when something looks at it; the environment returns it
     # every step. They draw the same noise until the first step the run left unread; after

@@ -5,6 +5,7 @@ reward; continuous actions; any robot and sonar model; and the vector environmen
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import gymnasium
 import numpy as np
@@ -13,6 +14,7 @@ from gymnasium.utils.env_checker import check_env
 from gymnasium.utils.passive_env_checker import env_render_passive_checker
 
 from tvl_cli.baselines.qlearning import forward_travel_m
+from tvl_cli.core.method import DEFAULT
 from tvl_cli.core.robot_config import SONAR_MODELS, RobotConfig
 from tvl_cli.gym import ENV_ID, SonarRingEnv
 from tvl_cli.gym.env import ROBOT, STOP_ACTION
@@ -232,20 +234,18 @@ def test_the_wall_distance_is_checked_and_for_the_wall_task_only() -> None:
 
 
 def test_the_env_takes_any_robot_and_sonar_model() -> None:
-    ideal = SonarRingEnv("square", sonar="ideal")
+    ideal = SonarRingEnv("square", method=replace(DEFAULT, sonar="ideal"))
     assert ideal.robot.sonar == SONAR_MODELS["ideal"]
     a, _ = ideal.reset(seed=1)
     b, _ = ideal.reset(seed=2)
     np.testing.assert_array_equal(a, b)  # no noise: the seed changes nothing of the ring
     small = RobotConfig(radius_m=0.15, spin_rate_radps=0.5)
-    env = SonarRingEnv("square", robot=small, sonar=SONAR_MODELS["edges"])
+    env = SonarRingEnv("square", robot=small, method=replace(DEFAULT, sonar="edges"))
     assert env.robot == RobotConfig(radius_m=0.15, spin_rate_radps=0.5, sonar=SONAR_MODELS["edges"])
     env.reset(seed=1)
     assert env.step(STOP_ACTION - 2)[4]["pose"][2] == pytest.approx(0.05)  # spins at 0.5 rad/s
     continuous = SonarRingEnv("square", robot=small, action_type="continuous")
     assert continuous.action_space.high[1] == 0.5
-    with pytest.raises(ValueError, match="unknown sonar 'sharp'"):
-        SonarRingEnv("square", sonar="sharp")
     with pytest.raises(TypeError, match="robot 'big' is not a RobotConfig"):
         SonarRingEnv("square", robot="big")  # type: ignore[arg-type]
     with pytest.raises(TypeError, match="world 3 is not a world's name"):
@@ -294,5 +294,8 @@ def test_the_vector_env_refuses_bad_actions_and_options() -> None:
         envs.step(np.array([[0.1, 0.0], [0.9, 0.0]]))
     with pytest.raises(TypeError, match=r"reset options \[1\] are not a dict"):
         envs.reset(options=[1])
-    with pytest.raises(ValueError, match="reset takes no continue here"):
-        envs.reset(options={"continue": True})
+    with pytest.raises(ValueError, match="a seed starts afresh"):
+        envs.reset(seed=1, options={"continue": True})
+    fresh = gymnasium.make_vec(ENV_ID, num_envs=2, world="square")
+    with pytest.raises(ValueError, match="nothing to continue"):
+        fresh.reset(options={"continue": True})

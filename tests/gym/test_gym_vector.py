@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 from gymnasium.vector import AutoresetMode
 
-from tvl_cli.gym import ENV_ID, MAX_EPISODE_STEPS, SonarRingVectorEnv
-from tvl_cli.gym.env import ROBOT, STOP_ACTION
+from tvl_cli.gym import ENV_ID, MAX_EPISODE_STEPS, SonarRingEnv, SonarRingVectorEnv
+from tvl_cli.gym.env import ROBOT, SPIN_LEFT, STOP_ACTION
 
 T0 = ROBOT.trajectory_index("T0")
 COPIES = 4
@@ -52,8 +52,8 @@ def test_make_vec_makes_it_with_the_single_envs_spaces() -> None:
 
 @pytest.mark.parametrize(
     "kwargs",
-    [{}, {"world": "obstacles", "task": "goal"}, {"world": "lab", "memory": "patches"}],
-    ids=["avoid", "goal", "memory"],
+    [{}, {"world": "obstacles", "task": "goal"}, {"world": "lab", "method": "paper"}],
+    ids=["avoid", "goal", "paper"],
 )
 def test_each_copy_steps_as_a_single_env_through_autoresets(kwargs: dict[str, str]) -> None:
     ours, theirs = make_pair(**kwargs)
@@ -66,6 +66,45 @@ def test_each_copy_steps_as_a_single_env_through_autoresets(kwargs: dict[str, st
         assert_same(mine, other)
         ended += int((other[2] | other[3]).sum())
     assert ended >= 2  # bumps ended episodes, and the copies were reset on their next step
+
+
+@pytest.mark.parametrize("world", ["square", "obstacles"])
+def test_continue_goes_on_in_each_copy_as_in_single_envs(world: str) -> None:
+    # Whenever a copy's episode ends, every copy goes on from where it is: the bumped ones
+    # backed off first (each its own number of steps, by the speed it hit at), the rest as
+    # they stand. Each copy gives what a single environment given the same calls gives.
+    ours = SonarRingVectorEnv(COPIES, world=world)
+    singles = [SonarRingEnv(world) for _ in range(COPIES)]
+    mine = ours.reset(seed=7)
+    theirs = [env.reset(seed=7 + i) for i, env in enumerate(singles)]
+    assert_copies(mine, theirs)
+    rng = np.random.default_rng(2)
+    continued = backed_off = 0
+    for _ in range(100):
+        # Mostly T0 and its neighbours, fast into walls: bumps at different speeds.
+        actions = rng.choice([T0 - 1, T0, T0, T0 + 1, SPIN_LEFT], size=COPIES)
+        mine = ours.step(actions)
+        theirs = [env.step(int(a)) for env, a in zip(singles, actions, strict=True)]
+        assert_copies(mine, theirs)
+        if mine[2].any():
+            before = mine[-1]["time_s"].copy()
+            mine = ours.reset(options={"continue": True})
+            theirs = [env.reset(options={"continue": True}) for env in singles]
+            assert_copies(mine, theirs)
+            continued += 1
+            backed_off += int((mine[-1]["time_s"] > before).sum())
+            # A copy that did not end goes on where it stood, its clock running on.
+            assert (mine[-1]["time_s"] >= before).all()
+    assert continued >= 10 and backed_off >= 10
+
+
+def assert_copies(ours: tuple, theirs: list[tuple]) -> None:
+    """What the vector environment returned, copy by copy, as each single one did."""
+    for i, single in enumerate(theirs):
+        for mine, other in zip(ours[:-1], single[:-1], strict=True):
+            np.testing.assert_array_equal(mine[i], other)
+        for key, value in single[-1].items():
+            np.testing.assert_array_equal(ours[-1][key][i], value, err_msg=key)
 
 
 def test_the_same_seed_gives_the_same_steps_and_copies_differ() -> None:

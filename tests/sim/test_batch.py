@@ -151,3 +151,28 @@ def test_a_robot_restarted_while_pushing_a_wall_starts_as_a_new_simulator() -> N
     sims[1] = Simulator(w, ROBOT, np.random.default_rng(7))
     assert_same(batch, sims)
     drive_both(batch, sims, 20, seed=6)
+
+
+def test_rings_read_ahead_are_drawn_only_for_the_robots_that_take_them() -> None:
+    w = world("lab")
+    batch = RobotBatch(w, ROBOT, generators(range(3)))
+    sims = [Simulator(w, ROBOT, rng) for rng in generators(range(3))]
+    for step in range(30):
+        batch.read_ahead(range(3))
+        # Robot 0 reads its ring every step, robot 1 every other step, robot 2 never: each
+        # as a Simulator asked as often, its generator drawn no further.
+        for i in (0, 1) if step % 2 else (0,):
+            assert batch.alone(i).read_sonar().tobytes() == sims[i].read_sonar().tobytes()
+        batch.settle()
+        commands = [Command.follow(T0, 0.3), Command.spin(1.0), Command.follow(T0, 0.2)]
+        batch.step(commands)
+        for sim, command in zip(sims, commands, strict=True):
+            sim.step(command)
+        assert_same(batch, sims)
+    assert batch.alone(2).read_sonar().tobytes() == sims[2].read_sonar().tobytes()
+    robot = batch.alone(1)
+    assert (robot.time_s, robot.pose, robot.odometry) == (
+        sims[1].time_s,
+        sims[1].pose,
+        sims[1].odometry,
+    )

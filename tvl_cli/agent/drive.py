@@ -2,20 +2,22 @@
 
 Each control step the policy decides from what the robot knows, the engine (agent.engine)
 steps the robot and judges the step, the metrics (core.metrics) take it in, and an optional
-sink sees it.
+sink sees it. `drive_together` drives the robots of a RobotBatch so, a step at a time
+together, each as `drive_engine` would drive it alone.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
-from tvl_cli.agent.engine import StepEngine
+from tvl_cli.agent.engine import StepEngine, StepOutcome
 from tvl_cli.agent.policy import Decision, Policy
 from tvl_cli.core.contacts import drives_forward
 from tvl_cli.core.metrics import MetricsRecorder, RunMetrics
+from tvl_cli.sim.batch import RobotBatch
 from tvl_cli.sim.robot import Pose, Simulator
 
 
@@ -63,29 +65,80 @@ def drive_engine(
     stop: Callable[[], bool] | None = None,
 ) -> RunMetrics:
     """Drive for `minutes` of simulated time, until the goal is reached, or until `stop()`."""
-    dt = engine.robot.control_period_s
-    obs = engine.observation
-    metrics = MetricsRecorder(engine.sim.pose[:2])
-    for _ in range(round(minutes * 60 / dt)):
+    under_way = Drive(engine, policy, minutes, on_step)
+    while not under_way.over:
         if stop is not None and stop():
             break
-        decision = policy.decide(obs)
-        step = engine.step(decision.command, trapped=decision.trapped)
+        decision = under_way.decide()
+        under_way.take(decision, engine.step(decision.command, trapped=decision.trapped))
+    return under_way.result()
+
+
+def drive_together(batch: RobotBatch, drives: Sequence[Drive]) -> list[RunMetrics]:
+    """Drive robot i of `batch` by drives[i] (over an engine on `batch.alone(i)`), every
+    robot a step together, until each drive is over. Each drive goes as drive_engine would
+    drive it over a lone Simulator with robot i's generator: the rings are read ahead
+    together, and a robot that did not read its ring gets its generator back (RobotBatch);
+    a robot whose drive is over sits the others' steps out."""
+    if len(drives) != batch.count:
+        raise ValueError(f"{len(drives)} drives for {batch.count} robots")
+    while not all(d.over for d in drives):
+        going = [i for i, d in enumerate(drives) if not d.over]
+        batch.read_ahead(going)
+        decisions: list[Decision | None] = [None] * batch.count
+        for i in going:
+            decisions[i] = drives[i].decide()
+            drives[i].engine.ready()
+        batch.settle()
+        batch.step([None if d is None else d.command for d in decisions])
+        for i in going:
+            decision = decisions[i]
+            assert decision is not None
+            outcome = drives[i].engine.stepped(decision.command, trapped=decision.trapped)
+            drives[i].take(decision, outcome)
+    return [d.result() for d in drives]
+
+
+class Drive:
+    """One drive under way, a step at a time: the policy decides, the caller steps the
+    engine, and the drive takes the outcome into the metrics and the sink."""
+
+    def __init__(
+        self, engine: StepEngine, policy: Policy, minutes: float, on_step: StepSink | None
+    ) -> None:
+        self.engine = engine
+        self.policy = policy
+        self.on_step = on_step
+        self._dt = engine.robot.control_period_s
+        self._left = round(minutes * 60 / self._dt)  # steps
+        self._obs = engine.observation
+        self._metrics = MetricsRecorder(engine.sim.pose[:2])
+
+    @property
+    def over(self) -> bool:
+        """Its time is up, or its goal reached."""
+        return self._left <= 0
+
+    def decide(self) -> Decision:
+        return self.policy.decide(self._obs)
+
+    def take(self, decision: Decision, step: StepOutcome) -> None:
+        """A step's outcome, after the physics of `decision`."""
         pose = step.truth.pose
         after = step.observation
         clearance_m = step.truth.clearance_m
-        metrics.record(
+        self._metrics.record(
             pose[:2],
-            dt,
+            self._dt,
             0.0 if clearance_m is None else clearance_m,
             decision.following_wall,
             drives_forward(decision.command),
             step.events,
         )
-        if on_step is not None:
-            on_step(
+        if self.on_step is not None:
+            self.on_step(
                 Step(
-                    obs.time_s,
+                    self._obs.time_s,
                     step.ring_m,
                     decision,
                     pose,
@@ -94,9 +147,13 @@ def drive_engine(
                     step.events,
                 )
             )
+        self._left -= 1
         if step.done:
-            metrics.goal_reached()
-            break
-        obs = after
-    metrics.count(engine.finish())
-    return metrics.result()
+            self._metrics.goal_reached()
+            self._left = 0
+        self._obs = after
+
+    def result(self) -> RunMetrics:
+        """The drive's metrics, counting events still open."""
+        self._metrics.count(self.engine.finish())
+        return self._metrics.result()

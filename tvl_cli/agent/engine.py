@@ -1,5 +1,8 @@
 """The one step body: a robot in a world, stepped one control period at a time.
 
+The robot is a lone Simulator, or one robot of a RobotBatch (sim.batch) stepped with the
+others between the engine's `ready` and `stepped`, which are the step's two halves.
+
 Every way of moving the simulated robot goes through it: the drive loop under learning, `tvl
 run` and the baselines (agent.drive), and the Gymnasium environment (gym.env). `reset(seed)`
 puts the robot at the world's start and returns what it knows; `step(command)` holds the
@@ -27,6 +30,7 @@ from tvl_cli.agent.policy import LazyRing, Observation, Pose
 from tvl_cli.core.contacts import EventDetector, near_miss_sonars
 from tvl_cli.core.drive_command import Command
 from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.sim.batch import BatchRobot
 from tvl_cli.sim.robot import Simulator
 from tvl_cli.sim.worldmap import WorldMap
 
@@ -123,14 +127,14 @@ class StepEngine:
         self.goal_xy = goal_xy
         self.goal_by_odometry = goal_by_odometry
         self.measure = measure
-        self._sim: Simulator | None = None
+        self._sim: Simulator | BatchRobot | None = None
         self._judge = StepJudge(robot, goal_xy, goal_by_odometry)
         self._observation: Observation | None = None
 
     @classmethod
     def over(
         cls,
-        sim: Simulator,
+        sim: Simulator | BatchRobot,
         *,
         goal_xy: tuple[float, float] | None = None,
         goal_by_odometry: bool = True,
@@ -163,7 +167,7 @@ class StepEngine:
         return self._observation
 
     @property
-    def sim(self) -> Simulator:
+    def sim(self) -> Simulator | BatchRobot:
         if self._sim is None:
             raise RuntimeError("reset the engine before stepping it")
         return self._sim
@@ -178,11 +182,21 @@ class StepEngine:
     def step(self, command: Command, *, trapped: bool = False) -> StepOutcome:
         """Hold `command` for one control period; `trapped` says the policy found nothing to
         drive (an event the judge counts)."""
+        self.ready()
+        self.sim.step(command)
+        return self.stepped(command, trapped=trapped)
+
+    def ready(self) -> None:
+        """Before a step's physics: the ring is read now if the judge will want it. (A
+        RobotBatch steps its robots' physics together between this and `stepped`.)"""
+        if self._judge.needs_ring():
+            self.observation.ring.get()
+
+    def stepped(self, command: Command, *, trapped: bool = False) -> StepOutcome:
+        """After a step's physics: what the step began, the truth, and what the robot knows
+        now."""
         sim = self.sim
         ring = self.observation.ring
-        if self._judge.needs_ring():
-            ring.get()
-        sim.step(command)
         pose = sim.pose
         events, done = self._judge.judge(
             ring.value, command, sim.bumped, trapped, pose, sim.odometry
@@ -195,7 +209,7 @@ class StepEngine:
         """Events still open when the drive ends."""
         return self._judge.finish()
 
-    def _observe(self, sim: Simulator) -> Observation:
+    def _observe(self, sim: Simulator | BatchRobot) -> Observation:
         return Observation(
             sim.time_s, LazyRing(sim.read_sonar), sim.odometry, sim.bumped, self.goal_xy
         )

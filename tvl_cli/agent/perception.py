@@ -81,6 +81,7 @@ class EchoMemory:
             self._half_widths,
             self._steps,
             step - self._window_steps + 1,
+            ring_m,  # a surface no nearer than the live reading changes nothing below
         )
         sonar = self._sonar
         return np.minimum(ring_m, np.clip(remembered, sonar.min_range_m, sonar.max_range_m))

@@ -19,11 +19,9 @@ import gymnasium
 import numpy as np
 
 from tvl_cli.agent.engine import StepEngine
-from tvl_cli.agent.motions import BACKOFF_M, backoff_commands
 from tvl_cli.agent.tvl import goal_bearing
-from tvl_cli.core.contacts import drives_forward
-from tvl_cli.core.memory import NO_MEMORY, MemoryConfig
-from tvl_cli.core.robot_config import RobotConfig, SonarConfig
+from tvl_cli.core.method import Method
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.gym.episode import (
     ACTION_NAMES,
     DISCRETE,
@@ -81,19 +79,19 @@ class SonarRingEnv(gymnasium.Env[np.ndarray, Any]):
         wall_distance_m: float | None = None,
         action_type: str = DISCRETE,
         speed_fraction: float | None = None,
-        memory: MemoryConfig | str = NO_MEMORY,
+        method: Method | str | Path | None = None,
         robot: RobotConfig | None = None,
-        sonar: str | SonarConfig | None = None,
         render_mode: str | None = None,
     ) -> None:
         """`goal` (x, y metres) for the `goal` task, by default the world's first;
         `wall_distance_m` for the `wall` task, body edge to wall (default 0.4);
         `action_type` `discrete` or `continuous`; `speed_fraction` (discrete only, default
-        1) of each trajectory's maximum speed is what its action drives at; `memory` (a
-        MemoryConfig, or the name of a kind with its default settings) makes the observed
-        ring the echo memory's virtual ring, as a FAM trained through it reads; `robot` (a
-        RobotConfig, by default `tvl run`'s) with `sonar` (a model's name, `real`, `edges`
-        or `ideal`, or a SonarConfig) in place of its own."""
+        1) of each trajectory's maximum speed is what its action drives at; `method` (a
+        Method, a preset's name `paper` or `default`, or a method file's path; by default
+        ours, as `tvl run`'s) gives the robot its sonar model and makes the observed ring its
+        echo memory's virtual ring, as a FAM trained by that method reads (the live ring for
+        a method without one); `robot` (a RobotConfig, by default `tvl run`'s) is the body
+        that carries that sonar."""
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(
                 f"unknown render_mode {render_mode!r} (choose from ansi, rgb_array, human)"
@@ -104,14 +102,13 @@ class SonarRingEnv(gymnasium.Env[np.ndarray, Any]):
             goal=goal,
             wall_distance_m=wall_distance_m,
             speed_fraction=speed_fraction,
-            memory=memory,
+            method=method,
             action_type=action_type,
             robot=robot,
-            sonar=sonar,
         )
         self.world = self.robot_task.world
         self.robot = self.robot_task.robot
-        self.memory = self.robot_task.memory
+        self.method = self.robot_task.method
         self.task = task
         self.goal_xy = self.robot_task.goal_xy
         self.render_mode = render_mode
@@ -137,10 +134,8 @@ class SonarRingEnv(gymnasium.Env[np.ndarray, Any]):
         super().reset(seed=seed)
         if going_on:
             engine = self._running()
-            last = self._episode.last_command
-            if engine.sim.bumped and drives_forward(last):
-                for command in backoff_commands(last, self.robot, BACKOFF_M):
-                    engine.step(command)
+            for command in self._episode.backoff(engine.sim.bumped):
+                engine.step(command)
             observation = engine.go_on()
         else:
             engine = self._engine = StepEngine(

@@ -17,13 +17,17 @@ import numpy as np
 from gymnasium import spaces
 
 from tvl_cli.agent.engine import within_goal
+from tvl_cli.agent.motions import BACKOFF_M, backoff_commands
 from tvl_cli.agent.perception import Perception
 from tvl_cli.agent.tvl import goal_bearing
 from tvl_cli.baselines.qlearning import DEFAULT_Q, forward_travel_m, step_reward
+from tvl_cli.core.contacts import drives_forward
 from tvl_cli.core.drive_command import STOP, Command
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.memory import MemoryConfig
-from tvl_cli.core.robot_config import SONAR_MODELS, RobotConfig, SonarConfig
+from tvl_cli.core.method import DEFAULT, PRESETS, Method
+from tvl_cli.core.robot_config import SONAR_MODELS, RobotConfig
+from tvl_cli.io.methodfile import read_method
 from tvl_cli.sim.motion import Pose
 from tvl_cli.sim.worldgen import bundled_world_path
 from tvl_cli.sim.worldmap import WorldMap, check_goal, load_world
@@ -69,21 +73,37 @@ def resolve_world(world: str | Path | WorldMap) -> WorldMap:
         raise ValueError(str(problem)) from None
 
 
-def resolve_robot(robot: RobotConfig | None, sonar: str | SonarConfig | None) -> RobotConfig:
-    """The robot (by default `tvl run`'s), with the sonar model named or given, if one is."""
+def resolve_method(method: object) -> Method:
+    """A method as given; a preset's name (`paper`, `default`); else the method file
+    (TOML) at that path. None: ours, as `tvl run`'s default. ValueError naming what is
+    wrong (TypeError for a value of the wrong kind)."""
+    if method is None:
+        return DEFAULT
+    if isinstance(method, Method):
+        return method
+    if not isinstance(method, str | Path):
+        raise TypeError(f"method {method!r} is not a Method, a preset's name or a method file")
+    if isinstance(method, str) and method in PRESETS:
+        return PRESETS[method]
+    path = Path(method)
+    if not path.is_file():
+        raise ValueError(
+            f"method {str(method)!r} is neither a preset ({', '.join(PRESETS)}) nor a method file"
+        )
+    try:
+        return read_method(path)
+    except BadInput as problem:
+        raise ValueError(str(problem)) from None
+
+
+def resolve_robot(robot: RobotConfig | None, method: Method) -> RobotConfig:
+    """The robot's body (by default `tvl run`'s) with the method's sonar model, as `tvl run`
+    gives a robot its method's sonar."""
     if robot is None:
         robot = ROBOT
     elif not isinstance(robot, RobotConfig):
         raise TypeError(f"robot {robot!r} is not a RobotConfig")
-    if sonar is None:
-        return robot
-    if isinstance(sonar, str):
-        if sonar not in SONAR_MODELS:
-            raise ValueError(f"unknown sonar {sonar!r} (choose from {', '.join(SONAR_MODELS)})")
-        sonar = SONAR_MODELS[sonar]
-    if not isinstance(sonar, SonarConfig):
-        raise TypeError(f"sonar {sonar!r} is neither a sonar model's name nor a SonarConfig")
-    return replace(robot, sonar=sonar)
+    return replace(robot, sonar=SONAR_MODELS[method.sonar])
 
 
 def _real(value: object) -> bool:
@@ -116,8 +136,9 @@ def _speed_fraction(value: object, action_type: str) -> float:
 
 @dataclass(frozen=True, slots=True, eq=False)
 class RobotTask:
-    """What each robot is asked: its world, the robot, the task, what its actions stand for
-    and how it perceives (the echo memory)."""
+    """What each robot is asked: its world, the robot, the task, what its actions stand for,
+    and the method it is asked under (whose sonar model the robot carries and whose echo
+    memory it perceives through)."""
 
     world: WorldMap
     robot: RobotConfig
@@ -126,7 +147,7 @@ class RobotTask:
     wall_distance_m: float | None  # body edge to the wall; the `wall` task's only
     action_type: str  # one of ACTION_TYPES
     commands: tuple[Command, ...]  # by discrete action; empty for continuous actions
-    memory: MemoryConfig
+    method: Method
     # Odometry drifts, so its distance to the goal has no bound of its own: the world's
     # diagonal is as far as two points of the world can be, and the distance is capped there.
     far_m: float
@@ -140,10 +161,9 @@ class RobotTask:
         goal: object = None,
         wall_distance_m: object = None,
         speed_fraction: object = None,
-        memory: MemoryConfig | str,
+        method: object = None,
         action_type: str = DISCRETE,
         robot: RobotConfig | None = None,
-        sonar: str | SonarConfig | None = None,
     ) -> RobotTask:
         """The task from the environments' arguments (SonarRingEnv documents them); a
         ValueError (a TypeError for a value of the wrong kind) names what is wrong."""
@@ -155,11 +175,8 @@ class RobotTask:
             )
         fraction = _speed_fraction(speed_fraction, action_type)
         resolved = resolve_world(world)
-        body = resolve_robot(robot, sonar)
-        try:
-            remembering = memory if isinstance(memory, MemoryConfig) else MemoryConfig(memory)
-        except BadInput as problem:
-            raise ValueError(str(problem)) from None
+        chosen = resolve_method(method)
+        body = resolve_robot(robot, chosen)
         commands = (
             (
                 *(Command.follow(t, fraction * t.v_max_mps) for t in body.trajectories),
@@ -179,9 +196,14 @@ class RobotTask:
             _wall_distance(body, task, wall_distance_m),
             action_type,
             commands,
-            remembering,
+            chosen,
             far_m,
         )
+
+    @property
+    def memory(self) -> MemoryConfig:
+        """The echo memory the robot perceives through: its method's."""
+        return self.method.memory
 
     @property
     def top_speed_mps(self) -> float:
@@ -335,6 +357,14 @@ class RobotEpisode:
         self.trail = [now.pose[:2]]
         reached = self.task.goal_xy is not None and within_goal(now.odometry[:2], self.task.goal_xy)
         return self._observation(perceived, now), self._info(now, (), reached)
+
+    def backoff(self, bumped: bool) -> list[Command]:
+        """The commands that take the robot clear before it goes on from where its episode
+        ended: after a bump driving forward, back BACKOFF_M along its path (as the robot
+        learns in the paper); else none."""
+        if bumped and drives_forward(self.last_command):
+            return backoff_commands(self.last_command, self.task.robot, BACKOFF_M)
+        return []
 
     def command(self, action: object) -> Command:
         """The command of an action, for the physics to hold for a step."""

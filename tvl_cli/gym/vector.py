@@ -20,8 +20,8 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
 from tvl_cli.agent.engine import StepJudge
-from tvl_cli.core.memory import NO_MEMORY, MemoryConfig
-from tvl_cli.core.robot_config import RobotConfig, SonarConfig
+from tvl_cli.core.method import Method
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.gym.episode import DISCRETE, WALL, RobotEpisode, RobotNow, RobotTask, reset_option
 from tvl_cli.sim.batch import RobotBatch
 from tvl_cli.sim.worldmap import WorldMap
@@ -51,9 +51,8 @@ class SonarRingVectorEnv(VectorEnv[np.ndarray, np.ndarray, np.ndarray]):
         wall_distance_m: float | None = None,
         action_type: str = DISCRETE,
         speed_fraction: float | None = None,
-        memory: MemoryConfig | str = NO_MEMORY,
+        method: Method | str | Path | None = None,
         robot: RobotConfig | None = None,
-        sonar: str | SonarConfig | None = None,
         max_episode_steps: int | None = None,
     ) -> None:
         """The single environment's arguments (SonarRingEnv), and `max_episode_steps`, after
@@ -67,11 +66,11 @@ class SonarRingVectorEnv(VectorEnv[np.ndarray, np.ndarray, np.ndarray]):
             goal=goal,
             wall_distance_m=wall_distance_m,
             speed_fraction=speed_fraction,
-            memory=memory,
+            method=method,
             action_type=action_type,
             robot=robot,
-            sonar=sonar,
         )
+        self.method = self.robot_task.method
         self.num_envs = num_envs
         self.max_episode_steps = max_episode_steps
         self.single_observation_space = self.robot_task.observation_space()
@@ -92,10 +91,35 @@ class SonarRingVectorEnv(VectorEnv[np.ndarray, np.ndarray, np.ndarray]):
         options: dict[str, Any] | None = None,
     ) -> tuple[np.ndarray, dict[str, Any]]:
         """Every copy from the world's start. `seed`: s seeds copy i with s + i, a list one
-        seed a copy; without one a copy goes on with its generator (a fresh one at first)."""
-        if reset_option(options):
-            raise ValueError("reset takes no continue here: every copy starts afresh")
-        seeds = self._seeds(seed)
+        seed a copy; without one a copy goes on with its generator (a fresh one at first).
+        With `options={"continue": True}`, every copy goes on from where its last episode
+        ended instead, backed off 0.15 m along its path if it ended in a bump, as the
+        single environment's reset with continue does."""
+        going_on = reset_option(options)
+        if going_on:
+            if seed is not None:
+                raise ValueError("a seed starts afresh: reset with continue takes none")
+            if self._batch is None:
+                raise ValueError("nothing to continue: reset() without it first")
+            self._back_off(self._batch)
+        else:
+            self._start_afresh(self._seeds(seed))
+        assert self._batch is not None
+        self._elapsed[:] = 0
+        self._ended[:] = False
+        rings = self._batch.read_sonar()
+        now = self._now()
+        observations = []
+        infos: dict[str, Any] = {}
+        for i, episode in enumerate(self._episodes):
+            self._judges[i] = self._judge()
+            observation, info = episode.begin(rings[i], now[i], remember=going_on)
+            observations.append(observation)
+            infos = self._add_info(infos, info, i)
+        return np.stack(observations), infos
+
+    def _start_afresh(self, seeds: list[int | None]) -> None:
+        """Every robot at the world's start, seeded as `reset` says."""
         for i, copy_seed in enumerate(seeds):
             if copy_seed is not None or self._rngs[i] is None:
                 self._rngs[i] = seeding.np_random(copy_seed)[0]
@@ -105,18 +129,19 @@ class SonarRingVectorEnv(VectorEnv[np.ndarray, np.ndarray, np.ndarray]):
         else:
             for i, rng in enumerate(rngs):
                 self._batch.restart(i, rng)
-        self._elapsed[:] = 0
-        self._ended[:] = False
-        rings = self._batch.read_sonar()
-        now = self._now()
-        observations = []
-        infos: dict[str, Any] = {}
-        for i, episode in enumerate(self._episodes):
-            self._judges[i] = self._judge()
-            observation, info = episode.begin(rings[i], now[i])
-            observations.append(observation)
-            infos = self._add_info(infos, info, i)
-        return np.stack(observations), infos
+
+    def _back_off(self, batch: RobotBatch) -> None:
+        """Each robot that ended in a bump driving forward backs off, as the single
+        environment's engine steps it; one with fewer back-off steps (or none) sits the
+        others' out, held still (RobotBatch.step). A back-off drives backward, so none of its
+        steps reads the ring (the step judge wants it only after driving on), and the events
+        it begins belong to no episode."""
+        plans = [
+            episode.backoff(bool(bumped))
+            for episode, bumped in zip(self._episodes, batch.bumped.tolist(), strict=True)
+        ]
+        for k in range(max(map(len, plans))):
+            batch.step([plan[k] if k < len(plan) else None for plan in plans])
 
     def step(
         self, actions: np.ndarray

@@ -15,7 +15,8 @@ same order whatever else the space holds.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
+from typing import Any
 
 import numpy as np
 import pymunk
@@ -68,6 +69,11 @@ class RobotBatch:
         self._wheel_buffer.set_float_buf(self._wheels.reshape(-1))
         self._rows = self._find_rows()
         self._poses = np.empty((self.count, 3))  # (N, 3) x, y metres, heading rad
+        self._clearances: np.ndarray | None = None  # (N,) metres at the poses; None: not yet
+        # Rings read ahead of asking (read_ahead): robot -> (N,16) ring, and its generator's
+        # state before the draw.
+        self._ahead: dict[int, np.ndarray] = {}
+        self._before_ahead: dict[int, Mapping[str, Any]] = {}
         self._steps = np.zeros(self.count, dtype=np.int64)  # control periods each has run
         self.bumped = np.zeros(self.count, dtype=bool)
         self.odometry: list[Pose] = [world.start] * self.count
@@ -90,6 +96,7 @@ class RobotBatch:
         self._contacts.set(i, touching)
         body = self._bodies[i]
         self._poses[i] = (body.position.x, body.position.y, body.angle)
+        self._clearances = None
         self.bumped[i] = bool(touching)
         self.odometry[i] = (x, y, theta)
 
@@ -111,9 +118,52 @@ class RobotBatch:
         """(N, 16) metres from each robot's transducers, S0 forward, counter-clockwise."""
         return self.sonar.read_many(self.geometry, self._poses, self.rngs)
 
+    def read_ahead(self, robots: Sequence[int]) -> None:
+        """Read the rings of `robots` now, in one kernel call, for each to take when it
+        reads its sonar (`alone(i).read_sonar()`) before the next step; `settle()` then gives
+        each robot that did not its generator back as it was before the draw. So a robot
+        that reads its ring on only some steps draws what a Simulator read only when asked
+        draws, while those that read read together."""
+        rows = list(robots)
+        if not rows:
+            return
+        self._before_ahead = {i: self.rngs[i].bit_generator.state for i in rows}
+        rings = self.sonar.read_many(self.geometry, self._poses[rows], [self.rngs[i] for i in rows])
+        self._ahead = dict(zip(rows, rings, strict=True))
+
+    def settle(self) -> None:
+        """Every ring read ahead and not taken is undrawn: its robot's generator goes back."""
+        for i in self._ahead:
+            self.rngs[i].bit_generator.state = self._before_ahead[i]
+        self._ahead, self._before_ahead = {}, {}
+
+    def read_one(self, i: int) -> np.ndarray:
+        """(16,) metres: robot i's ring, taken from what was read ahead if it was."""
+        ring = self._ahead.pop(i, None)
+        if ring is None:
+            ring = self.sonar.read(self.geometry, self.robot_pose(i), self.rngs[i])
+        return ring
+
+    def robot_pose(self, i: int) -> Pose:
+        """Robot i's true pose, as a Simulator gives it."""
+        x, y, heading = self._poses[i].tolist()
+        return (x, y, heading)
+
+    def alone(self, i: int) -> BatchRobot:
+        """Robot i, read as a lone Simulator is (for a StepEngine over it)."""
+        return BatchRobot(self, i)
+
     def clearances_m(self) -> np.ndarray:
         """(N,) metres from each body's edge to the nearest obstacle (0 when touching)."""
-        return clearances_m(self.geometry, self._poses[:, :2], self.robot.radius_m)
+        if self._clearances is None:
+            self._clearances = clearances_m(self.geometry, self._poses[:, :2], self.robot.radius_m)
+        return self._clearances.copy()
+
+    def clearance_m(self, i: int) -> float:
+        """Robot i's clearance, metres; all the robots' measured in one call a step."""
+        if self._clearances is None:
+            self._clearances = clearances_m(self.geometry, self._poses[:, :2], self.robot.radius_m)
+        return float(self._clearances[i])
 
     def step(self, commands: Sequence[Command | None]) -> None:
         """Hold each robot's command for one control period, then update bumps and odometry.
@@ -147,6 +197,7 @@ class RobotBatch:
         self.bumped = touched
         self._steps += [command is not None for command in commands]
         self._poses = self._read(_POSE).reshape(-1, 3)[rows]
+        self._clearances = None
         self.odometry = [
             odometry if command is None else odometry_after(odometry, start, end, robot, rng)
             for odometry, start, end, rng, command in zip(
@@ -169,3 +220,39 @@ class RobotBatch:
         pymunk.batch.get_space_bodies(self._space, fields, buffer)
         raw = buffer.int_buf() if dtype is np.uintp else buffer.float_buf()
         return np.frombuffer(raw, dtype=dtype).copy()
+
+
+class BatchRobot:
+    """One robot of a RobotBatch, read as a lone Simulator is: its clock, true pose,
+    odometry, bump sensor, sonar ring and clearance. The batch steps it, with the others."""
+
+    def __init__(self, batch: RobotBatch, i: int) -> None:
+        self.batch = batch
+        self.index = i
+        self.world = batch.world
+        self.robot = batch.robot
+
+    @property
+    def time_s(self) -> float:
+        return float(self.batch._steps[self.index]) * self.robot.control_period_s
+
+    @property
+    def pose(self) -> Pose:
+        return self.batch.robot_pose(self.index)
+
+    @property
+    def odometry(self) -> Pose:
+        return self.batch.odometry[self.index]
+
+    @property
+    def bumped(self) -> bool:
+        return bool(self.batch.bumped[self.index])
+
+    def read_sonar(self) -> np.ndarray:
+        return self.batch.read_one(self.index)
+
+    def clearance_m(self) -> float:
+        return self.batch.clearance_m(self.index)
+
+    def step(self, command: Command) -> None:
+        raise RuntimeError("a batch's robots step together: RobotBatch.step")

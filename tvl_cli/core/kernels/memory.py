@@ -8,9 +8,10 @@ Arguments, for B beams of `rays_per_beam` rays each and a memory of K echoes:
         beam's rays share one) and unit direction, beam by beam;
     centres (K, 2) metres: each echo point; axes (K, 2): the unit beam axis it was heard
         along; half_widths (K,) metres: the half width of its patch;
-    heard (K,): the control step each was heard on; `since`: the oldest step remembered.
-It returns (B,) metres from each transducer to the nearest remembered surface in the beam,
-inf where there is none.
+    heard (K,): the control step each was heard on; `since`: the oldest step remembered;
+`within_m` (B,) metres: how far to look in each beam (its live reading: nothing farther
+changes what the robot perceives). It returns (B,) metres from each transducer to the
+nearest remembered surface in the beam nearer than that, inf where there is none.
 
 A point is met by a beam when it lies inside the cone about the beam's middle ray. A patch is
 the segment centre +/- w * (-ay, ax): a ray O + tD meets its line where
@@ -29,6 +30,8 @@ from tvl_cli.core.memory import POINTS
 
 # Metres of slack in the wedge test, far above rounding and far below any patch.
 WEDGE_SLACK_M = 1e-9
+# A little above the largest product of two unit vectors that rounding can give.
+FACING_MAX = 1.000001
 
 
 def remembered_ranges(
@@ -42,31 +45,52 @@ def remembered_ranges(
     half_widths: np.ndarray,
     heard: np.ndarray,
     since: int,
+    within_m: np.ndarray | None = None,
 ) -> np.ndarray:
-    """(B,) metres: the nearest remembered point (kind `points`) or patch in each beam."""
+    """(B,) metres: the nearest remembered point (kind `points`) or patch in each beam
+    nearer than within_m (B,) (None: at any range); inf where there is none."""
     beams = len(origins) // rays_per_beam
+    if within_m is None:
+        within_m = np.full(beams, np.inf)
     out = np.empty(beams)  # (B,) metres
     if kind == POINTS:
         _points_in_cones(
-            origins, directions, rays_per_beam, math.cos(half_cone_rad), centres, heard, since, out
+            origins,
+            directions,
+            rays_per_beam,
+            math.cos(half_cone_rad),
+            centres,
+            heard,
+            since,
+            within_m,
+            out,
         )
     else:
         _patches_met(
-            origins, directions, rays_per_beam, centres, axes, half_widths, heard, since, out
+            origins,
+            directions,
+            rays_per_beam,
+            centres,
+            axes,
+            half_widths,
+            heard,
+            since,
+            within_m,
+            out,
         )
     return out
 
 
 @kernel
 def _points_in_cones(
-    origins, directions, rays_per_beam, cos_half_cone, centres, heard, since, out
+    origins, directions, rays_per_beam, cos_half_cone, centres, heard, since, within_m, out
 ):  # fmt: skip
     middle = rays_per_beam // 2
     for b in range(out.shape[0]):
         ray = b * rays_per_beam + middle
         ox, oy = origins[ray, 0], origins[ray, 1]
         ax, ay = directions[ray, 0], directions[ray, 1]
-        best = np.inf
+        best = within_m[b]
         for k in range(centres.shape[0]):
             if heard[k] < since:
                 continue
@@ -74,46 +98,58 @@ def _points_in_cones(
             distance = math.sqrt(dx * dx + dy * dy)
             if 0.0 < distance < best and dx * ax + dy * ay >= distance * cos_half_cone:
                 best = distance
-        out[b] = best
+        out[b] = best if best < within_m[b] else np.inf
 
 
 @kernel
 def _patches_met(
-    origins, directions, rays_per_beam, centres, axes, half_widths, heard, since, out
+    origins, directions, rays_per_beam, centres, axes, half_widths, heard, since, within_m, out
 ):  # fmt: skip
+    beams = out.shape[0]
     middle = rays_per_beam // 2
-    for b in range(out.shape[0]):
+    # Each beam's rays leave one transducer (ox, oy) within `spread` of the middle ray
+    # (mx, my): a patch no nearer than its half width to that wedge meets none of them.
+    ox, oy = np.empty(beams), np.empty(beams)
+    mx, my = np.empty(beams), np.empty(beams)
+    cos_spread, sin_spread = np.empty(beams), np.empty(beams)
+    for b in range(beams):
         first = b * rays_per_beam
-        # Every ray of a beam leaves one transducer within `spread` of the middle ray, so a
-        # patch no nearer than its half width to that wedge meets none of them; skipping it
-        # saves most of the work and changes no reading.
-        ox, oy = origins[first, 0], origins[first, 1]
-        mx, my = directions[first + middle, 0], directions[first + middle, 1]
-        cos_spread = 1.0
+        ox[b], oy[b] = origins[first, 0], origins[first, 1]
+        mx[b], my[b] = directions[first + middle, 0], directions[first + middle, 1]
+        cos_b = 1.0
         for r in range(first, first + rays_per_beam):
-            cos_ray = directions[r, 0] * mx + directions[r, 1] * my
-            if cos_ray < cos_spread:
-                cos_spread = cos_ray
-        sin_spread = math.sqrt(1.0 - cos_spread * cos_spread) if cos_spread < 1.0 else 0.0
-        best = np.inf
-        for k in range(centres.shape[0]):
-            if heard[k] < since:
+            cos_ray = directions[r, 0] * mx[b] + directions[r, 1] * my[b]
+            if cos_ray < cos_b:
+                cos_b = cos_ray
+        cos_spread[b] = cos_b
+        sin_spread[b] = math.sqrt(1.0 - cos_b * cos_b) if cos_b < 1.0 else 0.0
+        out[b] = within_m[b]  # the nearest met so far
+    # Echo by echo, each against every beam: each beam still meets the echoes in their
+    # order, and the cuts below skip only what could not come nearer than the beam's best.
+    for k in range(centres.shape[0]):
+        if heard[k] < since:
+            continue
+        cx, cy = centres[k, 0], centres[k, 1]
+        half_width = half_widths[k]
+        reach = half_width + WEDGE_SLACK_M
+        ax, ay = axes[k, 0], axes[k, 1]
+        for b in range(beams):
+            best = out[b]
+            vx, vy = cx - ox[b], cy - oy[b]
+            ahead = vx * ax + vy * ay  # the transducer's distance behind the patch's line
+            # On the far side it cannot hear the patch; and no ray meets the line nearer
+            # than `ahead` (facing is at most 1, give or take rounding).
+            if ahead < 0.0 or ahead >= best * FACING_MAX:
                 continue
-            cx, cy = centres[k, 0], centres[k, 1]
-            vx, vy = cx - ox, cy - oy
-            along = vx * mx + vy * my
-            lateral = abs(vx * my - vy * mx)
-            reach = half_widths[k] + WEDGE_SLACK_M
+            along = vx * mx[b] + vy * my[b]
+            lateral = abs(vx * my[b] - vy * mx[b])
             if along <= 0.0:
                 if vx * vx + vy * vy > reach * reach:
                     continue
-            elif lateral * cos_spread - along * sin_spread > reach or along - reach >= best:
+            elif lateral * cos_spread[b] - along * sin_spread[b] > reach or along - reach >= best:
                 continue  # outside the wedge, or no nearer than what the beam already met
-            ax, ay = axes[k, 0], axes[k, 1]
-            ahead = vx * ax + vy * ay  # the transducer's distance behind the patch's line
-            if ahead < 0.0:
-                continue  # the transducer is on the far side: it cannot hear the patch
             offset = vx * ay - vy * ax  # where across the patch the transducer stands
+            first = b * rays_per_beam
             for r in range(first, first + rays_per_beam):
                 dx, dy = directions[r, 0], directions[r, 1]
                 facing = dx * ax + dy * ay
@@ -122,6 +158,9 @@ def _patches_met(
                 # The ray meets the line at t = ahead / facing, (offset + t * slant) across
                 # the patch; compared times `facing`, so that only a hit costs a division.
                 slant = dy * ax - dx * ay
-                if abs(offset * facing + ahead * slant) <= half_widths[k] * facing:
+                if abs(offset * facing + ahead * slant) <= half_width * facing:
                     best = ahead / facing
-        out[b] = best
+            out[b] = best
+    for b in range(beams):
+        if out[b] >= within_m[b]:
+            out[b] = np.inf

@@ -22,6 +22,7 @@ def remembered_ranges_reference(
     half_widths: np.ndarray,
     heard: np.ndarray,
     since: int,
+    within_m: np.ndarray | None = None,
 ) -> np.ndarray:
     """remembered_ranges in numpy: every ray against every echo at once."""
     live = heard >= since
@@ -37,7 +38,7 @@ def remembered_ranges_reference(
         distance = np.hypot(offset[..., 0], offset[..., 1])  # (B, K) metres
         along = offset[..., 0] * axis[:, None, 0] + offset[..., 1] * axis[:, None, 1]
         inside = (along >= distance * math.cos(half_cone_rad)) & (distance > 0.0)
-        return np.where(inside, distance, np.inf).min(axis=1)
+        return _within(np.where(inside, distance, np.inf).min(axis=1), within_m)
     facing = directions @ axes.T  # (R, K) D . axis
     to_centre = centres[None, :, :] - origins[:, None, :]  # (R, K, 2) metres
     depth = to_centre[..., 0] * axes[:, 0] + to_centre[..., 1] * axes[:, 1]  # (R, K) metres
@@ -47,4 +48,10 @@ def remembered_ranges_reference(
     hit_y = origins[:, None, 1] + t * directions[:, None, 1] - centres[:, 1]
     across = -hit_x * axes[:, 1] + hit_y * axes[:, 0]  # (R, K) metres along each patch
     met = (facing > 0.0) & (t >= 0.0) & (np.abs(across) <= half_widths)
-    return np.where(met, t, np.inf).min(axis=1).reshape(beams, rays_per_beam).min(axis=1)
+    nearest = np.where(met, t, np.inf).min(axis=1).reshape(beams, rays_per_beam).min(axis=1)
+    return _within(nearest, within_m)
+
+
+def _within(ranges_m: np.ndarray, within_m: np.ndarray | None) -> np.ndarray:
+    """inf for each beam's range no nearer than its `within_m` (None: any is near enough)."""
+    return ranges_m if within_m is None else np.where(ranges_m < within_m, ranges_m, np.inf)
