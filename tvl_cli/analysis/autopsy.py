@@ -192,8 +192,8 @@ def tally(autopsies: Iterable[dict[str, Any]]) -> dict[str, Any]:
     time_s: Counter[str] = Counter()
     failures: Counter[str] = Counter()
     for autopsy in autopsies:
-        causes.update(autopsy["causes"])
-        time_s.update(autopsy["time_s"])
+        causes.update({row["cause"]: row["contacts"] for row in autopsy["causes"]})
+        time_s.update({row["class"]: row["time_s"] for row in autopsy["time"]})
         if autopsy["goal_failure"] is not None:
             failures[autopsy["goal_failure"]] += 1
     return {

@@ -1,0 +1,39 @@
+"""Autopsies summed over runs, from the records each run's JSON carries."""
+
+from __future__ import annotations
+
+from tvl_cli.analysis.autopsy import (
+    CAUSES,
+    DRIVE_FAST,
+    GOAL_FAILURES,
+    RATED_FAST,
+    REFLEX,
+    STALLED,
+    TIME_CLASSES,
+    Autopsy,
+    Contact,
+    ContactFacts,
+    tally,
+)
+from tvl_cli.core.contacts import BUMP, NEAR_MISS
+
+
+def _contact(cause: str, event: str = BUMP) -> Contact:
+    facts = ContactFacts(1, 0.1, event, "slant", "policy", None, "T0", True, True, True)
+    return Contact(facts, cause)
+
+
+def test_tally_sums_contacts_time_and_goal_failures_over_the_runs_records() -> None:
+    first = Autopsy(
+        (_contact(RATED_FAST), _contact(REFLEX, NEAR_MISS)),
+        {name: 1.0 for name in TIME_CLASSES},
+    )
+    second = Autopsy(
+        (_contact(RATED_FAST),),
+        {**{name: 0.0 for name in TIME_CLASSES}, DRIVE_FAST: 2.5},
+        goal_failure=STALLED,
+    )
+    summed = tally([first.to_dict(), second.to_dict()])
+    assert summed["causes"] == {c: {RATED_FAST: 2, REFLEX: 1}.get(c, 0) for c in CAUSES}
+    assert summed["time_s"] == {n: 3.5 if n == DRIVE_FAST else 1.0 for n in TIME_CLASSES}
+    assert summed["goal_failures"] == {r: int(r == STALLED) for r in GOAL_FAILURES}
