@@ -22,6 +22,7 @@ from tvl_cli.core.method import (
     additions_table,
     method_from_dict,
 )
+from tvl_cli.sweep.grid import read_grid
 
 ROOT = Path(__file__).resolve().parents[1]
 # The markers round the generated table (docs/additions_table.py rewrites what is between).
@@ -107,3 +108,11 @@ def test_the_table_has_a_row_per_addition_naming_its_flag() -> None:
     assert len(rows) == len(ADDITIONS)
     for addition, row in zip(ADDITIONS, rows, strict=True):
         assert row.startswith(f"| {addition.name} | `{addition.flag} {addition.on}` |")
+
+
+def test_the_ablation_grid_turns_each_reflex_on_alone_and_runs_the_paper_method() -> None:
+    grid = read_grid(ROOT / "experiments" / "grids" / "ablation.toml")
+    tvl_runs = [c for c in grid.cells if c.kind == "tvl"]
+    settings = {c.reflexes for c in tvl_runs if c.method == "default"}
+    assert settings >= {"none", "all", *REFLEX_NAMES}
+    assert any(c.method == "paper" for c in tvl_runs)
