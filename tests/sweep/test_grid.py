@@ -104,6 +104,11 @@ def test_each_method_runs_with_its_own_reflexes_unless_the_grid_gives_some(
     ours_only = read_grid(grid_of(tmp_path, mixed.replace('["default", "paper"]', '"default"')))
     assert [c.reflexes for c in ours_only.cells] == ["none", "bump,tie"]
     assert ours_only.cells[1].run_method(DEFAULT).settings == (("reflexes", ("bump", "tie")),)
+    remembering = text.replace('["default", "paper"]', '"paper"') + 'run_memory = "patches"\n'
+    with pytest.raises(BadInput, match="run_memory 'patches' contradicts method \"paper\""):
+        read_grid(grid_of(tmp_path, remembering))
+    unremembering = text.replace('["default", "paper"]', '"paper"') + 'run_memory = "none"\n'
+    assert [c.run_memory for c in read_grid(grid_of(tmp_path, unremembering)).cells] == ["none"]
 
 
 def test_a_method_file_beside_the_grid_is_its_method(tmp_path: Path) -> None:

@@ -258,7 +258,7 @@ def read_grid(path: Path, max_cells: int | None = None, size: str = FULL) -> Gri
     for values in values_of:
         for entry, method in methods.items():
             if entry in values["method"]:
-                _check_paper_reflexes(path, entry, method, values["reflexes"])
+                _check_paper_runs(path, entry, method, values)
         goals = {
             by_entry["world"][entry]: _goals_in(path, worlds[entry], values["goal"])
             if "goal" in values["behaviour"]
@@ -523,18 +523,22 @@ def _method(path: Path, entry: str) -> Method:
     return PRESETS[entry] if entry in PRESETS else read_method(path.parent / entry)
 
 
-def _check_paper_reflexes(
-    path: Path, entry: str, method: Method, reflexes: tuple[str, ...]
-) -> None:
-    """The paper's method has no reflex: cells that add some contradict it, as `--reflex`
-    beside `--paper` does."""
+def _check_paper_runs(path: Path, entry: str, method: Method, values: dict[str, Any]) -> None:
+    """The paper's method has no reflex and no echo memory: cells that give it some
+    contradict it, as `--reflex` or `--memory` beside `--paper` does."""
     if entry != PAPER_NAME:
         return
-    for text in reflexes:
+    for text in values["reflexes"]:
         if parse_reflexes(text) != method.reflexes:
             raise BadInput(
                 f'{path}: reflexes {text!r} contradicts method "paper", which has none '
                 "(leave reflexes out to run each method with its own)"
+            )
+    for kind in values["run_memory"]:
+        if kind is not None and kind != method.memory.kind:
+            raise BadInput(
+                f'{path}: run_memory {kind!r} contradicts method "paper", which reads the '
+                "live ring (leave run_memory out of the paper's cells)"
             )
 
 
