@@ -65,13 +65,18 @@ def _starting(incomplete: str, names: list[str] | tuple[str, ...]) -> list[Compl
     return [CompletionItem(name) for name in names if name.startswith(incomplete)]
 
 
+def _named_or_file(incomplete: str, names: list[str]) -> list[CompletionItem]:
+    """What an option naming a shipped thing or a file of the user's own completes to."""
+    return [*_starting(incomplete, names), CompletionItem(incomplete, "file")]
+
+
 def complete_config(
     ctx: click.Context, param: click.Parameter, incomplete: str
 ) -> list[CompletionItem]:
     """--config: a shipped configuration by name, or a JSON file."""
     from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS
 
-    return [*_starting(incomplete, list(BUILTIN_FAM_CONFIGS)), CompletionItem(incomplete, "file")]
+    return _named_or_file(incomplete, list(BUILTIN_FAM_CONFIGS))
 
 
 def complete_reflexes(
@@ -97,7 +102,7 @@ def complete_method(
     """--method: a preset by name, or a method file."""
     from tvl_cli.core.method import PRESETS
 
-    return [*_starting(incomplete, list(PRESETS)), CompletionItem(incomplete, "file")]
+    return _named_or_file(incomplete, list(PRESETS))
 
 
 def complete_schema_command(

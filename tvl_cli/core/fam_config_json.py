@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import json
 import math
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from typing import Any
 
 import numpy as np
@@ -133,20 +133,10 @@ def _check_schema(data: dict[str, Any], source: str) -> None:
     _text(data, "name", source)
     if "design" in data:
         _check_design(data["design"], f"{source}: design")
-    tables = data.get("tables")
-    for t, table in enumerate(tables if isinstance(tables, list) else []):
-        where = f"{source}: table {t}"
-        if not isinstance(table, dict):
-            raise BadInput(f"{where}: expected an object with {', '.join(_TABLE_KEYS)}")
-        _known_keys(table, _TABLE_KEYS, where)
+    for where, table in _objects(data.get("tables"), _TABLE_KEYS, f"{source}: table"):
         _text(table, "name", where)
         _texts(table, "trajectories", where)
-        inputs = table.get("inputs")
-        for i, fam_input in enumerate(inputs if isinstance(inputs, list) else []):
-            at = f"{where} input {i}"
-            if not isinstance(fam_input, dict):
-                raise BadInput(f"{at}: expected an object with {', '.join(_INPUT_KEYS)}")
-            _known_keys(fam_input, _INPUT_KEYS, at)
+        for at, fam_input in _objects(table.get("inputs"), _INPUT_KEYS, f"{where} input"):
             _text(fam_input, "name", at)
             if isinstance(fam_input.get("partition"), dict):
                 _check_partition(fam_input["partition"], f"{at} partition")
@@ -154,6 +144,17 @@ def _check_schema(data: dict[str, Any], source: str) -> None:
             for sonar in sonars if isinstance(sonars, list) else []:
                 if isinstance(sonar, bool) or not isinstance(sonar, int):
                     raise BadInput(f"{at}: sonar {sonar!r} is not a whole number")
+
+
+def _objects(items: Any, keys: tuple[str, ...], where: str) -> Iterator[tuple[str, dict[str, Any]]]:
+    """Each item of a list, numbered after `where`, checked to be an object of no other keys
+    than `keys` (a value that is not a list has no items: its own check names it)."""
+    for n, item in enumerate(items if isinstance(items, list) else []):
+        at = f"{where} {n}"
+        if not isinstance(item, dict):
+            raise BadInput(f"{at}: expected an object with {', '.join(keys)}")
+        _known_keys(item, keys, at)
+        yield at, item
 
 
 def _check_design(design: Any, where: str) -> None:
@@ -166,12 +167,7 @@ def _check_design(design: Any, where: str) -> None:
         if isinstance(value, bool) or not isinstance(value, int) or value < 0:
             raise BadInput(f"{where}: {key!r} is {value!r}, expected a whole number >= 0")
     _texts(design, "logs_sha256", where)
-    choices = design.get("choices")
-    for c, choice in enumerate(choices if isinstance(choices, list) else []):
-        at = f"{where} choice {c}"
-        if not isinstance(choice, dict):
-            raise BadInput(f"{at}: expected an object with {', '.join(_CHOICE_KEYS)}")
-        _known_keys(choice, _CHOICE_KEYS, at)
+    for at, choice in _objects(design.get("choices"), _CHOICE_KEYS, f"{where} choice"):
         _text(choice, "table", at)
         _texts(choice, "inputs", at)
         for key in _CHOICE_KEYS[2:]:
