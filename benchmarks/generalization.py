@@ -462,6 +462,11 @@ def _parser() -> argparse.ArgumentParser:
     parser.add_argument(
         "--no-ceiling", action="store_true", help="skip the ideal-sonar ceiling's runs"
     )
+    parser.add_argument(
+        "--map-reference-only",
+        action="store_true",
+        help="skip the ring-driven DWA references (the map's DWA still sets the speed reference)",
+    )
     parser.add_argument("--json", action="store_true", help="print the figures as JSON")
     parser.add_argument(
         "--config",
@@ -540,7 +545,9 @@ def main() -> None:
     setups = [runs] if args.no_ceiling else [runs, ceiling]
     jobs = [(w, t, setup) for setup in setups for w in world_seeds for t in trials]
     references = [(w, 1, "dwa-map", NO_MEMORY, walls) for w in world_seeds]
-    rings = {"dwa-ring": NO_MEMORY} | ({"dwa-ring-memory": memory} if memory.remembers else {})
+    rings: dict[str, MemoryConfig] = {}
+    if not args.map_reference_only:
+        rings = {"dwa-ring": NO_MEMORY} | ({"dwa-ring-memory": memory} if memory.remembers else {})
     references += [
         (w, t, name, remembered, walls)
         for name, remembered in rings.items()
