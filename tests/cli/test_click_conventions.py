@@ -97,6 +97,15 @@ def test_typed_and_ranged_options_refuse_in_one_line(
     assert not (tmp_path / "log.h5").exists() and not (tmp_path / "out.h5").exists()
 
 
+@pytest.mark.parametrize("given", [("--over", "front,front-right"), ("--fix", "front-left=0.6")])
+def test_inspect_refuses_picture_options_without_a_picture(
+    fam: Path, given: tuple[str, str]
+) -> None:
+    code, out, err = tvl("inspect", fam, *given)
+    assert code == 2 and out == ""
+    assert err.count("\n") == 1 and "give --png PATH" in err, err
+
+
 def test_a_goal_is_read_as_two_numbers(fam: Path) -> None:
     code, _, err = tvl("run", fam, OBSTACLES, "--behaviour", "goal", "--goal", "5.875, 3.875",
                          "--minutes", "0.05", "--json")  # fmt: skip

@@ -9,6 +9,7 @@ import numpy as np
 
 from tvl_cli.analysis.rules import Rule, parse_ring, select_rules
 from tvl_cli.analysis.surface import shared_inputs, velocity_surfaces
+from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fired_rules import Explanation
 from tvl_cli.io.famfile import FamFile, read_fam
 
@@ -41,6 +42,9 @@ class Inspected:
 def inspect_fam(request: InspectRequest) -> Inspected:
     """Read the FAM file; draw its surfaces if a picture is asked for; select its rules, or
     explain the ring given in them."""
+    if request.png is None and (request.over or request.fix):
+        # They choose what the picture shows; silently ignored they would look obeyed.
+        raise BadInput("--over and --fix choose what the --png picture shows; give --png PATH")
     loaded = read_fam(request.fam)
     over = None
     if request.png is not None:
