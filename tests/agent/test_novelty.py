@@ -12,13 +12,13 @@ import pytest
 from tvl_cli.agent.explore import ExplorePolicy, Learner, LearnParams
 from tvl_cli.agent.explore_rules import Novelty, random_pair
 from tvl_cli.agent.novelty import NOVELTY_BIN_M, NOVELTY_LOOKAHEAD_M, Places
-from tvl_cli.commands.train import explore_rule
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.memory import NO_MEMORY
 from tvl_cli.core.method import DEFAULT, NOVELTY, Method
 from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.io.log_sessions import explore_rule
 from tvl_cli.sim.worldmap import load_world
 
 ROBOT = RobotConfig()

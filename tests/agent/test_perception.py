@@ -13,8 +13,7 @@ import pytest
 from tvl_cli.agent.drive import Step
 from tvl_cli.agent.drive_tvl import behave
 from tvl_cli.agent.explore import Learner, LearnParams
-from tvl_cli.agent.perception import EchoMemory, Perception, replayed_rings
-from tvl_cli.commands.train import perceived_episodes
+from tvl_cli.agent.perception import EchoMemory, Perception, perceived_episodes, replayed_rings
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
@@ -220,6 +219,7 @@ def test_a_choice_replaces_only_the_settings_given() -> None:
 
 def test_replaying_a_log_session_gives_each_episode_its_virtual_rings(tmp_path: Path) -> None:
     from tvl_cli.commands.learn import LearnRequest, learn_to_log
+    from tvl_cli.io.log_sessions import finished_episodes
     from tvl_cli.io.logreader import read_log
 
     log = tmp_path / "lab.h5"
@@ -236,14 +236,14 @@ def test_replaying_a_log_session_gives_each_episode_its_virtual_rings(tmp_path: 
     (session,) = read_log(log).sessions
     assert session.parameters["memory"] == PATCH_MEMORY.to_dict()
     online, _ = _session_steps(1.0, PATCH_MEMORY)
-    replayed = perceived_episodes(session, PATCH_MEMORY, ROBOT)
+    replayed = perceived_episodes(session.episodes(), PATCH_MEMORY, ROBOT)
     assert len(replayed) == len(online)
     for mine, theirs in zip(replayed, online, strict=True):
         np.testing.assert_array_equal(mine.fam_rings(), theirs.fam_rings())
     # A snapshot replays the memory only as far as its cut, and reads what the whole
     # replay read up to there: nothing after the cut changes what was read before it.
     cut_s = replayed[len(replayed) // 2].end_time_s
-    snapshot = perceived_episodes(session, PATCH_MEMORY, ROBOT, until_s=cut_s)
+    snapshot = perceived_episodes(finished_episodes(session, cut_s), PATCH_MEMORY, ROBOT)
     assert 0 < len(snapshot) < len(replayed)
     assert all(e.end_time_s <= cut_s for e in snapshot)
     for mine, whole in zip(snapshot, replayed, strict=False):

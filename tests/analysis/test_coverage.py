@@ -14,8 +14,8 @@ from tvl_cli.analysis.coverage import (
     coverage_of,
     grid_over,
     reachable_floor,
+    world_floor,
 )
-from tvl_cli.commands.learn import world_floor
 from tvl_cli.core.kernels.clearance_reference import clearances_reference
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.world import static_geometry

@@ -19,14 +19,15 @@ from test_bad_numbers import SQUARE, assert_one_line_refusal
 from tvl_cli.agent.drive_tvl import behave
 from tvl_cli.agent.online import OnlineLearner
 from tvl_cli.cli import main
-from tvl_cli.commands.train import distinct_sessions, train_from_logs, train_on
+from tvl_cli.commands.train import train_from_logs
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.memory import NO_MEMORY
 from tvl_cli.core.method import DEFAULT
 from tvl_cli.core.robot_config import RobotConfig
-from tvl_cli.core.training import TrainParams
+from tvl_cli.core.training import TrainParams, train_episodes
 from tvl_cli.io.lock import WriterLock
+from tvl_cli.io.log_sessions import distinct_sessions
 from tvl_cli.io.logfile import LogWriter
 from tvl_cli.io.loglayout import KIND_BEHAVING, KIND_LEARNING
 from tvl_cli.io.logreader import read_log
@@ -113,7 +114,7 @@ def test_the_log_replays_into_the_fam_the_run_ended_with(learnt_live: Path, tmp_
     world = load_world(SQUARE)
     fam = Fam(SINGLE, [t.name for t in robot.trajectories])
     sessions, _ = distinct_sessions([read_log(log)])
-    train_on(fam, [e for s in sessions for e in s.episodes()], robot, TrainParams())
+    train_episodes(fam, [e for s in sessions for e in s.episodes()], robot, TrainParams())
     with LogWriter.open(
         log,
         world_name=world.name,

@@ -10,11 +10,14 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from dataclasses import replace
 
 import numpy as np
 
 from tvl_cli.agent.policy import Pose
+from tvl_cli.core.episode import Episode
 from tvl_cli.core.memory import POINTS, MemoryConfig
+from tvl_cli.core.ring import mm_to_ring
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.sonar import SonarRing
 
@@ -153,3 +156,26 @@ def replayed_rings(
     for i, (step, pose, ring) in enumerate(zip(steps, odometry, rings_m, strict=True)):
         virtual[i] = memory.sense(int(step), (pose[0], pose[1], pose[2]), ring)
     return virtual
+
+
+def perceived_episodes(
+    episodes: Sequence[Episode], memory: MemoryConfig, robot: RobotConfig
+) -> list[Episode]:
+    """A session's episodes, in order from its first, with what the FAM reads at each
+    exemplar through `memory`: the exemplars' readings replayed into the memory in order, as a
+    learner perceived them. Given only the episodes up to some time, the memory is replayed no
+    further, since what it held later cannot change what it read before."""
+    if not memory.remembers or not episodes:
+        return list(episodes)
+    virtual = replayed_rings(
+        memory,
+        robot,
+        np.concatenate([e.steps(robot.control_period_s) for e in episodes]),
+        np.concatenate([e.odometry for e in episodes]),
+        mm_to_ring(np.concatenate([e.ring_mm for e in episodes])),
+    )
+    starts = np.cumsum([0] + [e.exemplar_count for e in episodes])
+    return [
+        replace(episode, fam_ring_m=virtual[start : start + episode.exemplar_count])
+        for episode, start in zip(episodes, starts, strict=False)
+    ]

@@ -1,6 +1,6 @@
 """Coverage: the fraction of the floor the robot can reach whose cells its centre has passed,
-from true poses. The floor comes from clearances the caller measures in the world (sim), so
-this stays plain numpy.
+from true poses. The floor comes from clearances measured in the world's geometry (sim); the
+rest is plain numpy.
 
 The cells are the world map's own. A cell is reachable when a body of the robot's radius fits
 with its centre on the cell's centre and can get there from the start's cell through
@@ -19,6 +19,10 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+
+from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.sim.world import clearances_m, static_geometry
+from tvl_cli.sim.worldmap import WorldMap
 
 
 @dataclass(frozen=True, slots=True)
@@ -98,6 +102,14 @@ def reachable_floor(
                 reached[flat] = True
                 queue.append((r, c))
     return Floor(grid, reached)
+
+
+def world_floor(world: WorldMap, robot: RobotConfig) -> Floor:
+    """The cells of the world a body of the robot's radius can reach from the start."""
+    grid = grid_over(world.width_m, world.height_m, world.cell_m)
+    lattice = grid.lattice_xy()  # (2R - 1, 2C - 1, 2) metres
+    clearance = clearances_m(static_geometry(world), lattice.reshape(-1, 2), robot.radius_m)
+    return reachable_floor(grid, clearance.reshape(lattice.shape[:2]), world.start[:2])
 
 
 class CoverageTracker:

@@ -29,11 +29,12 @@ if TYPE_CHECKING:
     from tvl_cli.commands.learn import LearnResult
     from tvl_cli.commands.replay import Replay
     from tvl_cli.commands.run import RunRequest, RunResult
-    from tvl_cli.commands.train import RepeatedSession, TrainSummary
+    from tvl_cli.commands.train import TrainSummary
     from tvl_cli.commands.world_export import Exported as WorldExported
     from tvl_cli.commands.world_import import Imported, ImportRequest
     from tvl_cli.core.fired_rules import Explanation
     from tvl_cli.io.famfile import FamFile
+    from tvl_cli.io.log_sessions import RepeatedSession
     from tvl_cli.sweep.runner import SweepRequest, SweepResult
 
 

@@ -359,8 +359,8 @@ def _watching(request: RunRequest, view: str | None, pace: float | None) -> Iter
             yield bar
         return
     from tvl_cli.cli.live import LiveView, WindowView, live_view, window_view
-    from tvl_cli.commands.run import request_robot, resolve_goal
-    from tvl_cli.sim.worldmap import load_world
+    from tvl_cli.commands.run import request_robot
+    from tvl_cli.sim.worldmap import load_world, resolve_goal
 
     world = load_world(request.world)
     robot = request_robot(request)

@@ -11,7 +11,6 @@ from typing import Any
 from tvl_cli.agent.trace import PathRecorder, TraceRecorder
 from tvl_cli.baselines.dwa import BEHAVIOURS, MAP, SENSORS, run_dwa
 from tvl_cli.baselines.qlearning import QLearningResult, learn_and_evaluate
-from tvl_cli.commands.run import resolve_goal
 from tvl_cli.core.errors import BadInput, check_minutes, check_run_minutes
 from tvl_cli.core.memory import NO_MEMORY, NONE
 from tvl_cli.core.method import (
@@ -24,7 +23,7 @@ from tvl_cli.core.method import (
 )
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.core.robot_config import RobotConfig
-from tvl_cli.sim.worldmap import WorldMap, load_world
+from tvl_cli.sim.worldmap import WorldMap, load_world, resolve_goal
 
 # What a baseline takes of a method: the reflexes around it, and the DWA by the ring its echo
 # memory. Not given, a baseline runs alone on the live ring.

@@ -9,17 +9,12 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from tvl_cli.analysis.input_selection import DEFAULT_BUDGET_RULES, Design, design_inputs
-from tvl_cli.commands.train import (
-    RepeatedSession,
-    common_robot,
-    distinct_sessions,
-    refuse_repeated,
-)
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam_config_json import fam_config_from_json
 from tvl_cli.core.training import TrainParams
 from tvl_cli.io.atomic import atomic_output
-from tvl_cli.io.logreader import read_log
+from tvl_cli.io.log_sessions import RepeatedSession, common_robot, distinct_sessions
+from tvl_cli.io.logreader import read_log, refuse_repeated
 
 
 @dataclass(frozen=True, slots=True)

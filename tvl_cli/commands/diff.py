@@ -5,9 +5,8 @@ from __future__ import annotations
 from pathlib import Path
 
 from tvl_cli.analysis.famdiff import DEFAULT_TOLERANCE_MPS, FamDifference, diff_fams
-from tvl_cli.commands.train import refuse_repeated
 from tvl_cli.io.famfile import read_fam
-from tvl_cli.io.logreader import file_sha256
+from tvl_cli.io.logreader import file_sha256, refuse_repeated
 
 
 def diff_files(

@@ -15,8 +15,8 @@ from typing import Any
 
 from tvl_cli.agent.drive import StepSink
 from tvl_cli.agent.explore import Learner, LearnParams, LearnSummary, MinuteStats
-from tvl_cli.analysis.coverage import CoverageTracker, Floor, grid_over, reachable_floor
-from tvl_cli.commands.train import distinct_sessions, perceived_episodes, provenance, train_on
+from tvl_cli.agent.perception import perceived_episodes
+from tvl_cli.analysis.coverage import CoverageTracker, world_floor
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS, Fam
@@ -24,14 +24,14 @@ from tvl_cli.core.fam_config import FamConfig
 from tvl_cli.core.memory import MemoryConfig
 from tvl_cli.core.method import DEFAULT, LEARNING_FIELDS, Method, method_record
 from tvl_cli.core.robot_config import RobotConfig
-from tvl_cli.core.training import TrainParams, train_params
+from tvl_cli.core.training import TrainParams, train_episodes, train_params
 from tvl_cli.io.fam_config_file import resolve_fam_config
 from tvl_cli.io.famfile import read_fam, write_fam
+from tvl_cli.io.log_sessions import distinct_sessions, provenance
 from tvl_cli.io.logfile import LogWriter
 from tvl_cli.io.loglayout import STATUS_FINISHED
 from tvl_cli.io.logreader import file_sha256, read_log
-from tvl_cli.sim.world import clearances_m, static_geometry
-from tvl_cli.sim.worldmap import WorldMap, load_world
+from tvl_cli.sim.worldmap import load_world
 
 # Learning writes its episodes to the log a few at a time, once those held span this many
 # simulated seconds (and at every minute's row, and when it stops): one write instead of
@@ -68,14 +68,6 @@ class LearnResult:
     status: str
     minute_coverage: list[float]  # at the end of each of summary.minutes
     coverage: float  # after every episode of the session
-
-
-def world_floor(world: WorldMap, robot: RobotConfig) -> Floor:
-    """The cells of the world a body of the robot's radius can reach from the start."""
-    grid = grid_over(world.width_m, world.height_m, world.cell_m)
-    lattice = grid.lattice_xy()  # (2R - 1, 2C - 1, 2) metres
-    clearance = clearances_m(static_geometry(world), lattice.reshape(-1, 2), robot.radius_m)
-    return reachable_floor(grid, clearance.reshape(lattice.shape[:2]), world.start[:2])
 
 
 class _Interrupted:
@@ -135,8 +127,10 @@ def learn_to_log(
         if log is not None:
             # A log goes on from what its sessions learnt, trained as `tvl train` would.
             sessions, _ = distinct_sessions([log])
-            episodes = [e for s in sessions for e in perceived_episodes(s, method.memory, robot)]
-            train_on(fam, episodes, robot, request.train)
+            episodes = [
+                e for s in sessions for e in perceived_episodes(s.episodes(), method.memory, robot)
+            ]
+            train_episodes(fam, episodes, robot, request.train)
     learner = Learner(
         world,
         robot,

@@ -9,11 +9,10 @@ from typing import Any
 
 import numpy as np
 
-from tvl_cli.analysis.coverage import coverage_by_minute, coverage_of
-from tvl_cli.commands.learn import world_floor
-from tvl_cli.commands.train import explore_rule
+from tvl_cli.analysis.coverage import coverage_by_minute, coverage_of, world_floor
 from tvl_cli.core.contacts import EVENTS
 from tvl_cli.core.errors import BadInput
+from tvl_cli.io.log_sessions import explore_rule
 from tvl_cli.io.loglayout import KIND_LEARNING, MINUTE_COLUMNS
 from tvl_cli.io.logreader import LearningLog, Session, read_log
 from tvl_cli.io.runfile import RunTrace, read_run

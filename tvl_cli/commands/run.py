@@ -33,7 +33,7 @@ from tvl_cli.io.logfile import LogWriter
 from tvl_cli.io.loglayout import KIND_BEHAVING
 from tvl_cli.io.logreader import file_sha256
 from tvl_cli.io.runfile import RunTraceWriter, run_trace_output
-from tvl_cli.sim.worldmap import WorldMap, check_goal, load_world
+from tvl_cli.sim.worldmap import WorldMap, load_world, resolve_goal
 
 
 @dataclass(frozen=True, slots=True)
@@ -98,23 +98,6 @@ def parse_goal(text: str) -> tuple[float, float]:
     if not (math.isfinite(x) and math.isfinite(y)):
         raise BadInput(f"{text!r} is not X,Y in metres, e.g. 3.5,2.0")
     return x, y
-
-
-def resolve_goal(
-    world_path: Path, world: WorldMap, behaviour: str, goal: tuple[float, float] | None
-) -> tuple[float, float] | None:
-    """The goal a run seeks: --goal checked against the world, else the world's first goal;
-    None for other behaviours, which take no goal."""
-    if behaviour != "goal":
-        if goal is not None:
-            raise BadInput("--goal is for --behaviour goal only")
-        return None
-    if goal is not None:
-        check_goal(world, *goal, where=f"--goal {goal[0]:g},{goal[1]:g}")
-        return goal
-    if not world.goals:
-        raise BadInput(f"{world_path}: world has no goal; give one with --goal X,Y")
-    return world.goals[0]
 
 
 def run_robot(learnt_by: RobotConfig, sonar: str | None, fam_path: Path) -> RobotConfig:

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass
 
 import numpy as np
@@ -63,3 +64,20 @@ def train_episode(fam: Fam, episode: Episode, robot: RobotConfig, params: TrainP
     labels = episode_labels(episode, robot, params)
     trajectories = np.full(len(labels), episode.trajectory)
     return fam.train(episode.fam_rings(), trajectories, labels, symmetric=params.symmetric)
+
+
+def train_episodes(
+    fam: Fam,
+    episodes: Sequence[Episode],
+    robot: RobotConfig,
+    params: TrainParams,
+    on_progress: Callable[[int, int], None] = lambda done, total: None,
+) -> int:
+    """Train the FAM on the episodes in order, as the online learner did; the exemplars used."""
+    total = sum(e.exemplar_count for e in episodes)
+    done = 0
+    for episode in episodes:
+        train_episode(fam, episode, robot, params)
+        done += episode.exemplar_count
+        on_progress(done, total)
+    return total

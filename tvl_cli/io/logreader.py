@@ -4,6 +4,7 @@ their episodes and per-minute tables, trusting only the rows a writer committed.
 from __future__ import annotations
 
 import hashlib
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -244,3 +245,14 @@ def file_sha256(path: Path | str) -> str:
         for block in iter(lambda: f.read(1 << 20), b""):
             digest.update(block)
     return digest.hexdigest()
+
+
+def refuse_repeated(files: Sequence[tuple[Path, str]], what: str) -> None:
+    """Refuse one file given twice, by content: (path, SHA-256) pairs, `what` naming the kind
+    ("log"). The same log twice would train every exemplar twice; the same FAM twice would
+    be compared with itself."""
+    seen: dict[str, Path] = {}
+    for path, sha256 in files:
+        if sha256 in seen:
+            raise BadInput(f"{path}: the same {what} as {seen[sha256]}, given twice")
+        seen[sha256] = path

@@ -8,6 +8,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from tvl_cli.core.errors import BadInput
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.worldheader import (
     HEADER_LINE,
@@ -121,6 +122,23 @@ def check_goal(world: WorldMap, x: float, y: float, where: str) -> None:
             raise WorldMapError(
                 f"{where}: goal x {x:g} y {y:g} is on the other side of a ring wall"
             )
+
+
+def resolve_goal(
+    world_path: Path, world: WorldMap, behaviour: str, goal: tuple[float, float] | None
+) -> tuple[float, float] | None:
+    """The goal a run seeks: --goal checked against the world, else the world's first goal;
+    None for other behaviours, which take no goal."""
+    if behaviour != "goal":
+        if goal is not None:
+            raise BadInput("--goal is for --behaviour goal only")
+        return None
+    if goal is not None:
+        check_goal(world, *goal, where=f"--goal {goal[0]:g},{goal[1]:g}")
+        return goal
+    if not world.goals:
+        raise BadInput(f"{world_path}: world has no goal; give one with --goal X,Y")
+    return world.goals[0]
 
 
 def layout(world: WorldMap) -> tuple[tuple[str, ...], Header]:
