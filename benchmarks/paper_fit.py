@@ -34,12 +34,11 @@ from typing import Any
 
 from timing import TVL
 
+from tvl_cli.analysis.results import PAPER_FIG21
 from tvl_cli.sim.worldgen import bundled_world_path
 
 WORLDS = ("square", "circle")
 SIDES = ("wall-left", "wall-right")
-# Figure 21's ends, as §5.1 states them: threshold -> (mean wall clearance m, mean speed m/s).
-PAPER_FIG21 = {0.65: (0.32, 0.32), 0.95: (0.67, 0.45)}
 
 
 @dataclass(frozen=True, slots=True)
