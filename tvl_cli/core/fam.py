@@ -320,9 +320,11 @@ class Fam:
         if symmetric:
             passes.append(mirror_trajectory(trajectories, len(self._names)))
         readings = rings.ravel()
+        rows_by_pass = [self._rows_by_table(trajectories) for trajectories in passes]
         touched = []
         for t in range(len(self._config.tables)):
-            entries, change = self._train_one_table(t, readings, velocities_mps, passes)
+            rows = [rows_by_table[t] for rows_by_table in rows_by_pass]
+            entries, change = self._train_one_table(t, readings, velocities_mps, passes, rows)
             entries += self._first_entry[t]
             self._change[entries] = change
             touched.append(entries)
@@ -338,20 +340,30 @@ class Fam:
         """How many velocity entries the FAM holds: rules x trajectories, table by table."""
         return int(self._first_entry[-1])
 
+    def _rows_by_table(self, trajectories: np.ndarray) -> list[np.ndarray]:
+        """For each table, the rows (ascending) of the exemplars whose trajectories (N,) it
+        holds: one stable sort by table for all of them."""
+        tables = self._table_of[trajectories].astype(np.uint16)  # a radix sort's keys
+        order = np.argsort(tables, kind="stable")
+        ends = np.cumsum(np.bincount(tables, minlength=len(self._config.tables)))
+        return np.split(order, ends[:-1])
+
     def _train_one_table(
         self,
         t: int,
         readings: np.ndarray,
         velocities_mps: np.ndarray,
         passes: list[np.ndarray],
+        rows: list[np.ndarray],
     ) -> tuple[np.ndarray, np.ndarray]:
-        """Train table t on each pass's exemplars (by their trajectories (N,), the second pass
-        on the mirrored ring); the entries recomputed (K,) and their absolute change (K,)."""
-        rows = [np.flatnonzero(self._table_of[trajectories] == t) for trajectories in passes]
+        """Train table t on each pass's exemplars rows[p] (by their trajectories (N,), the
+        second pass on the mirrored ring); the entries recomputed (K,) and their absolute
+        change (K,)."""
         training = self._training[t]
         every_row = np.concatenate(rows)
         exemplars = min(training.chunk_rows, len(every_row))
         corners = len(training.corner_offsets)
+        halves = (len(training.strides) // 2, len(training.strides) - len(training.strides) // 2)
         change = np.empty(min(self._weighted_sum[t].size, len(every_row) * corners))  # m/s
         recomputed = self._train_table(
             readings,
@@ -372,7 +384,8 @@ class Fam:
             training.met,
             np.empty((len(training.strides), exemplars)),  # (n, M) upper degrees
             np.empty(exemplars, dtype=np.intp),  # (M,) each one's lowest corner's entry
-            np.empty((corners, exemplars)),  # (C, M) each corner's strength for each one
+            # (2^h + 2^(n - h), M): the strengths of the corners of each one's halves
+            np.empty(((1 << halves[0]) + (1 << halves[1]), exemplars)),
             np.empty(exemplars),  # (M,) m/s each one's label
             change,
         )

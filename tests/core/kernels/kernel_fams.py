@@ -1,6 +1,6 @@
 """Trained FAMs and rings for comparing the FAM kernels with their references: each shipped
-configuration and one of tables storing different numbers of trajectories, trained on the
-example log of the lab."""
+configuration, one of tables storing different numbers of trajectories and one of tables
+of one and two inputs, trained on the example log of the lab."""
 
 from __future__ import annotations
 
@@ -27,7 +27,21 @@ SPLIT = FamConfig(
         dataclasses.replace(SINGLE.tables[0], name="right", trajectories=tuple(NAMES[3:])),
     ),
 )
-CONFIGS = {c.name: c for c in (SINGLE, MULTI, DESIGNED, SPLIT)}
+# Tables of one and two inputs, the fewest a table's corners can be split between.
+FEW = FamConfig(
+    "few",
+    (
+        dataclasses.replace(
+            SINGLE.tables[0], name="one", inputs=SINGLE.tables[0].inputs[:1],
+            trajectories=tuple(NAMES[:3]),
+        ),
+        dataclasses.replace(
+            SINGLE.tables[0], name="two", inputs=SINGLE.tables[0].inputs[:2],
+            trajectories=tuple(NAMES[3:]),
+        ),
+    ),
+)  # fmt: skip
+CONFIGS = {c.name: c for c in (SINGLE, MULTI, DESIGNED, SPLIT, FEW)}
 
 
 def learnt_fam(name: str, minutes: float = 5.0) -> Fam:

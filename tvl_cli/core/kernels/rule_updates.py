@@ -10,6 +10,10 @@ from __future__ import annotations
 from tvl_cli.core.kernels import kernel
 from tvl_cli.core.kernels.firing import fuzzify
 
+# Exemplars whose inputs are loaded input by input: enough rows fetched from memory at once
+# to hide its latency, few enough to stay in the core's first cache for the next input.
+LOAD_BLOCK = 64
+
 
 @kernel
 def train_table(
@@ -32,9 +36,10 @@ def train_table(
     column, traj_t = table_columns.
     Room to work in: sums (4, E) zeros, left zero (the batch's and a chunk's sums of w and of
     w * v); met (2, E) (the entries the batch and the chunk met); for M = min(chunk_rows,
-    rows) exemplars, upper (n, M), lowest (M,), strength (2^n, M) and weighted (M,) (each
-    one's upper degree in each input, its lowest corner's entry, each corner's strength, and
-    its label); change (K,) for K at most min(E, rows * 2^n).
+    rows) exemplars, upper (n, M), lowest (M,), strength (2^h + 2^(n - h), M) for h = n // 2,
+    and weighted (M,) (each one's reading and then upper degree in each input, its lowest
+    corner's entry, the strengths of the corners of its first h inputs and then of the rest,
+    and its label); change (K,) for K at most min(E, rows * 2^n).
     """
     interior, gap_start, gap_low, gap_width = partitions
     passes, groups, inputs = pass_sonars.shape
@@ -43,6 +48,9 @@ def train_table(
     batch_w, batch_wv, chunk_w, chunk_wv = sums[0], sums[1], sums[2], sums[3]
     batch_met, chunk_met = met[0], met[1]
     entries, corners = weighted_sum.shape[0], corner_offsets.shape[0]
+    high_inputs = inputs // 2
+    low_bits = inputs - high_inputs
+    high_corners, low_mask = 1 << high_inputs, (1 << low_bits) - 1
     met_count = 0
     start = 0
     for p in range(passes):
@@ -52,31 +60,51 @@ def train_table(
                 chunk_end = pass_ends[p]
             chunk = rows[chunk_start:chunk_end]
             exemplars = chunk.shape[0]
+            # The chunk's readings first, in loops of loads alone: a table's rows lie
+            # scattered through rings too large for the cache, and only loads with no fuzzy
+            # arithmetic between them are fetched from memory together.
             for m in range(exemplars):
-                ring = chunk[m] * count
+                weighted[m] = velocities_mps[chunk[m]]
+            for block in range(0, exemplars, LOAD_BLOCK):
+                block_end = min(block + LOAD_BLOCK, exemplars)
+                for i in range(inputs):
+                    sonar = pass_sonars[p, 0, i]
+                    for m in range(block, block_end):
+                        upper[i, m] = readings[chunk[m] * count + sonar]
+                    for g in range(1, groups):  # the nearest of the input's sonars
+                        sonar = pass_sonars[p, g, i]
+                        for m in range(block, block_end):
+                            x, nearest = readings[chunk[m] * count + sonar], upper[i, m]
+                            upper[i, m] = x if x < nearest else nearest
+            for m in range(exemplars):
                 entry = columns[chunk_start + m]
                 for i in range(inputs):
-                    x = readings[ring + pass_sonars[p, 0, i]]
-                    for g in range(1, groups):
-                        other = readings[ring + pass_sonars[p, g, i]]
-                        if other < x:
-                            x = other
-                    lower, upper[i, m] = fuzzify(x, i, interior, gap_start, gap_low, gap_width)
+                    lower, upper[i, m] = fuzzify(
+                        upper[i, m], i, interior, gap_start, gap_low, gap_width
+                    )
                     entry += lower * strides[i]
                 lowest[m] = entry
-                weighted[m] = velocities_mps[chunk[m]]
-                strength[0, m] = 1.0
-            # Each corner's strength, the least of its sets' degrees, input by input for every
-            # exemplar at once: corner c takes input i's lower set as 2c and its upper as 2c + 1,
-            # from the top so that each is read before it is written.
-            size = 1
-            for i in range(inputs):
-                for c in range(size - 1, -1, -1):
-                    for m in range(exemplars):
-                        s, u = strength[c, m], upper[i, m]
-                        strength[2 * c, m] = s if s < 1.0 - u else 1.0 - u
-                        strength[2 * c + 1, m] = s if s < u else u
-                size *= 2
+            # A corner's strength is the least of its sets' degrees, and the least of two
+            # leasts is exact: so each exemplar keeps the corners of its first h inputs
+            # (rows 0 .. 2^h - 1) and of the rest (rows 2^h on), and corner c is the lesser of
+            # its high part's (c >> low_bits) and its low part's (c & low_mask). The full
+            # 2^n x M table would outgrow the core's cache for the larger tables.
+            for half in range(2):
+                row, first_input, last_input = 0, 0, high_inputs
+                if half == 1:
+                    row, first_input, last_input = high_corners, high_inputs, inputs
+                for m in range(exemplars):
+                    strength[row, m] = 1.0
+                # Input by input, corner c taking the input's lower set as 2c and its upper
+                # as 2c + 1, from the top so that each is read before it is written.
+                size = 1
+                for i in range(first_input, last_input):
+                    for c in range(size - 1, -1, -1):
+                        for m in range(exemplars):
+                            s, u = strength[row + c, m], upper[i, m]
+                            strength[row + 2 * c, m] = s if s < 1.0 - u else 1.0 - u
+                            strength[row + 2 * c + 1, m] = s if s < u else u
+                    size *= 2
             # Summed as np.bincount sums: corner by corner, exemplar by exemplar, into the
             # chunk's own sums, then added to the batch's. A chunk of fewer corners than the
             # table has entries lists the entries it meets (skipping corners of strength 0,
@@ -86,8 +114,11 @@ def train_table(
             chunk_count = 0
             for c in range(corners):
                 offset = corner_offsets[c]
+                high, low = c >> low_bits, high_corners + (c & low_mask)
                 for m in range(exemplars):
-                    at, w = lowest[m] + offset, strength[c, m]
+                    at, w = lowest[m] + offset, strength[high, m]
+                    if strength[low, m] < w:
+                        w = strength[low, m]
                     if listing:
                         if w == 0.0:
                             continue
