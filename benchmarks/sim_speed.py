@@ -1,4 +1,5 @@
-"""Control steps in the lab: a full sonar-ring scan plus one physics step, and the ring alone.
+"""Control steps in the lab: a full sonar-ring scan plus one physics step, the ring alone,
+and the echo memory's work a step.
 
     python benchmarks/sim_speed.py [--steps N] [--repeats R] [--json]
 
@@ -6,7 +7,10 @@ The robot wanders the lab (an arc while the way ahead is clear, a spin otherwise
 timing includes contacts and every kind of obstacle. Each figure is the median CPU time of
 R timed runs, beside the same work done in the same run by the baselines: the ring cast by
 its plain numpy reference (core/kernels/ring_reference.py), and by pymunk's own
-segment_query_first, one call a ray.
+segment_query_first, one call a ray; the echo memory's cast by its numpy reference
+(core/kernels/memory_reference.py). The echo memory (the default, 20 s of patches) is fed
+the wander's readings step by step, already full when timed: a step is remembering the
+reading and casting the virtual ring.
 """
 
 from __future__ import annotations
@@ -20,24 +24,54 @@ import numpy as np
 import pymunk
 from timing import cpu_seconds, figure_line
 
+from tvl_cli.agent.perception import EchoMemory
+from tvl_cli.agent.policy import Pose
 from tvl_cli.core.drive_command import Command
+from tvl_cli.core.kernels.memory_reference import remembered_ranges_reference
 from tvl_cli.core.kernels.ring_reference import ring_ranges_reference
+from tvl_cli.core.memory import DEFAULT_MEMORY
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.robot import Simulator
 from tvl_cli.sim.worldmap import WorldMap, load_world
 
 LAB = Path(__file__).resolve().parent.parent / "worlds" / "lab.txt"
 WARM_UP_STEPS = 200
+REPEATS_OF_MEMORY = 3
 TARGET_STEP_US = 30.0
 
 
-def wander(sim: Simulator, steps: int) -> None:
-    """`steps` control steps of sense, decide, act."""
+Reading = tuple[Pose, np.ndarray]  # where the robot read a ring (16,) metres
+
+
+def wander(sim: Simulator, steps: int, readings: list[Reading] | None = None) -> None:
+    """`steps` control steps of sense, decide, act, each pose and ring kept in `readings`."""
     ahead = sim.robot.trajectories[sim.robot.trajectory_index("T1L")]
     forward, turn = Command.follow(ahead, 0.4), Command.spin(1.0)
     for _ in range(steps):
-        readings = sim.read_sonar()
-        sim.step(forward if readings[0] > 0.6 else turn)
+        ring = sim.read_sonar()
+        if readings is not None:
+            readings.append((sim.pose, ring))
+        sim.step(forward if ring[0] > 0.6 else turn)
+
+
+def echo_memory_steps(robot: RobotConfig, readings: list[Reading], reference: bool) -> float:
+    """Median CPU seconds a step of the default echo memory fed `readings` in turn: full of
+    them before it is timed, cast by the kernel or by its numpy reference."""
+    memory = EchoMemory(DEFAULT_MEMORY, robot)
+    if reference:
+        memory._cast = remembered_ranges_reference
+    step = 0
+
+    def feed(count: int) -> None:
+        nonlocal step
+        for _ in range(count):
+            pose, ring = readings[step % len(readings)]
+            memory.sense(step, pose, ring)
+            step += 1
+
+    feed(round(DEFAULT_MEMORY.window_s / robot.control_period_s))
+    count = len(readings) // 5 if reference else len(readings)  # the numpy cast is slow
+    return cpu_seconds(lambda: feed(count), REPEATS_OF_MEMORY) / count
 
 
 def pymunk_ring(world: WorldMap, sim: Simulator) -> Callable[[], None]:
@@ -95,12 +129,18 @@ def main() -> None:
     reference_ring_s = cpu_seconds(ring_scans(reference), args.repeats) / scans
     pymunk_scan = pymunk_ring(world, compiled)
     pymunk_s = cpu_seconds(lambda: [pymunk_scan() for _ in range(scans)], args.repeats) / scans
+    readings: list[Reading] = []
+    wander(compiled, steps, readings)
+    memory_s = echo_memory_steps(robot, readings, reference=False)
+    reference_memory_s = echo_memory_steps(robot, readings, reference=True)
     figures = {
         "step_us": 1e6 * step_s,
         "step_with_numpy_ring_us": 1e6 * reference_step_s,
         "ring_us": 1e6 * ring_s,
         "numpy_ring_us": 1e6 * reference_ring_s,
         "pymunk_ring_us": 1e6 * pymunk_s,
+        "echo_memory_us": 1e6 * memory_s,
+        "numpy_echo_memory_us": 1e6 * reference_memory_s,
         "realtime_factor": robot.control_period_s / step_s,
     }
     if args.json:
@@ -128,6 +168,16 @@ def main() -> None:
             f"{f['numpy_ring_us'] / f['ring_us']:.1f}x as fast as numpy ({f['numpy_ring_us']:.1f}"
             f" µs), {f['pymunk_ring_us'] / f['ring_us']:.1f}x pymunk's ray queries "
             f"({f['pymunk_ring_us']:.1f} µs)",
+        )
+    )
+    print(
+        figure_line(
+            "echo memory (20 s of patches): remember + cast",
+            f"{f['echo_memory_us']:.1f} µs",
+            None,
+            None,
+            f"{f['numpy_echo_memory_us'] / f['echo_memory_us']:.1f}x as fast as with the numpy "
+            f"cast ({f['numpy_echo_memory_us']:.1f} µs)",
         )
     )
 

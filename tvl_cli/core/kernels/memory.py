@@ -126,6 +126,9 @@ def _patches_met(
         out[b] = within_m[b]  # the nearest met so far
     # Echo by echo, each against every beam: each beam still meets the echoes in their
     # order, and the cuts below skip only what could not come nearer than the beam's best.
+    # The cuts are taken for all beams at once, free of branches, and only the beams they
+    # leave are cast against the patch's rays.
+    skipped = np.empty(beams, dtype=np.bool_)
     for k in range(centres.shape[0]):
         if heard[k] < since:
             continue
@@ -137,17 +140,31 @@ def _patches_met(
             best = out[b]
             vx, vy = cx - ox[b], cy - oy[b]
             ahead = vx * ax + vy * ay  # the transducer's distance behind the patch's line
-            # On the far side it cannot hear the patch; and no ray meets the line nearer
-            # than `ahead` (facing is at most 1, give or take rounding).
-            if ahead < 0.0 or ahead >= best * FACING_MAX:
-                continue
             along = vx * mx[b] + vy * my[b]
             lateral = abs(vx * my[b] - vy * mx[b])
-            if along <= 0.0:
-                if vx * vx + vy * vy > reach * reach:
-                    continue
-            elif lateral * cos_spread[b] - along * sin_spread[b] > reach or along - reach >= best:
-                continue  # outside the wedge, or no nearer than what the beam already met
+            behind = along <= 0.0
+            # On the far side it cannot hear the patch; and no ray meets the line nearer
+            # than `ahead` (facing is at most 1, give or take rounding). Behind the
+            # transducer, only a patch reaching it; ahead, one outside the wedge, or no
+            # nearer than what the beam already met, is skipped.
+            skipped[b] = (
+                (ahead < 0.0)
+                | (ahead >= best * FACING_MAX)
+                | (behind & (vx * vx + vy * vy > reach * reach))
+                | (
+                    ~behind
+                    & (
+                        (lateral * cos_spread[b] - along * sin_spread[b] > reach)
+                        | (along - reach >= best)
+                    )
+                )
+            )
+        for b in range(beams):
+            if skipped[b]:
+                continue
+            best = out[b]
+            vx, vy = cx - ox[b], cy - oy[b]
+            ahead = vx * ax + vy * ay
             offset = vx * ay - vy * ax  # where across the patch the transducer stands
             first = b * rays_per_beam
             for r in range(first, first + rays_per_beam):
