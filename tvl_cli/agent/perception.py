@@ -28,8 +28,9 @@ class EchoMemory:
     def __init__(self, config: MemoryConfig, robot: RobotConfig) -> None:
         # The compiled cast is loaded with the first memory, so that a command's help, or a
         # run without a memory, never loads the compiler.
-        from tvl_cli.core.kernels.memory import remembered_ranges
+        from tvl_cli.core.kernels.memory import remember_echoes, remembered_ranges
 
+        self._keep = remember_echoes
         self._cast = remembered_ranges
         self.config = config
         sonar = robot.sonar
@@ -43,8 +44,8 @@ class EchoMemory:
         self._steps = np.full(capacity, -(2**62), dtype=np.int64)  # (C,) step heard; old
         self._next = 0
         self._half_cone = math.radians(sonar.cone_deg) / 2.0
+        self._tan_half_cone = math.tan(self._half_cone)
         self._rays = sonar.rays_per_beam
-        self._middle = self._rays // 2
 
     def remember(self, step: int, odometry: Pose, ring_m: np.ndarray) -> None:
         """Keep the echoes of a reading taken at `odometry` on control step `step`."""
@@ -53,17 +54,22 @@ class EchoMemory:
     def _remember(
         self, step: int, origins: np.ndarray, directions: np.ndarray, ring_m: np.ndarray
     ) -> None:
-        heard = np.flatnonzero((ring_m < self._sonar.max_range_m) & (ring_m <= self.config.range_m))
-        axis_rows = heard * self._rays + self._middle
-        axes = directions[axis_rows]  # (h, 2)
-        ranges = ring_m[heard]  # (h,) metres
-        slots = (self._next + np.arange(len(heard))) % len(self._steps)
-        self._next = (self._next + len(heard)) % len(self._steps)
-        self._centres[slots] = origins[axis_rows] + ranges[:, None] * axes
-        self._axes[slots] = axes
-        beam_half_m = ranges * math.tan(self._half_cone)
-        self._half_widths[slots] = np.maximum(self.config.patch_m / 2.0, beam_half_m)
-        self._steps[slots] = step
+        self._next = self._keep(
+            origins,
+            directions,
+            self._rays,
+            ring_m,
+            self._sonar.max_range_m,
+            self.config.range_m,
+            self._tan_half_cone,
+            self.config.patch_m / 2.0,
+            step,
+            self._centres,
+            self._axes,
+            self._half_widths,
+            self._steps,
+            self._next,
+        )
 
     def virtual(self, step: int, odometry: Pose, ring_m: np.ndarray) -> np.ndarray:
         """(16,) metres: each sonar's live range or the nearest remembered surface in its

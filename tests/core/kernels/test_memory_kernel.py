@@ -1,4 +1,5 @@
-"""The echo memory's compiled cast agrees with its numpy reference on random memories."""
+"""The echo memory's compiled kernels agree with their numpy references: keeping echoes, on
+random readings into a buffer that wraps round, and the cast, on random memories."""
 
 from __future__ import annotations
 
@@ -7,8 +8,11 @@ import math
 import numpy as np
 import pytest
 
-from tvl_cli.core.kernels.memory import remembered_ranges
-from tvl_cli.core.kernels.memory_reference import remembered_ranges_reference
+from tvl_cli.core.kernels.memory import remember_echoes, remembered_ranges
+from tvl_cli.core.kernels.memory_reference import (
+    remember_echoes_reference,
+    remembered_ranges_reference,
+)
 from tvl_cli.core.memory import PATCHES, POINTS
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.sonar import SonarRing
@@ -49,3 +53,28 @@ def test_the_kernel_casts_as_the_reference_does(kind: str, within_m: object) -> 
     assert met > 500  # most casts met something: the comparison was not of empty memories
     # Looking no farther than given left some beams with nothing, as the reference.
     assert within_m is None or unmet > 100
+
+
+def test_the_kernel_keeps_echoes_as_the_reference_does() -> None:
+    rng = np.random.default_rng(6)
+    slots = 40  # fewer than a few readings' echoes: the buffer wraps round
+    buffers = [
+        (np.zeros((slots, 2)), np.zeros((slots, 2)), np.zeros(slots), np.full(slots, -1))
+        for _ in range(2)
+    ]
+    next_slots = [0, 0]
+    kept = 0
+    for step in range(60):
+        origins, directions = RING.rays(tuple(rng.uniform((-1, -1, -4), (1, 1, 4))))
+        ring = rng.uniform(ROBOT.sonar.min_range_m, 5.0, 16)
+        ring[rng.random(16) < 0.3] = ROBOT.sonar.max_range_m  # heard nothing
+        reading = (origins, directions, ROBOT.sonar.rays_per_beam, ring, ROBOT.sonar.max_range_m)
+        settings = (3.0, math.tan(HALF_CONE), 0.15, step)
+        for i, keep in enumerate((remember_echoes, remember_echoes_reference)):
+            next_slots[i] = keep(*reading, *settings, *buffers[i], next_slots[i])
+        assert next_slots[0] == next_slots[1]
+        for compiled, reference in zip(*buffers, strict=True):
+            assert compiled.tobytes() == reference.tobytes()
+        kept += int(((ring < ROBOT.sonar.max_range_m) & (ring <= 3.0)).sum())
+    assert kept > 3 * slots  # it wrapped round several times
+    assert (buffers[0][2] > 0.15).any() and (buffers[0][2] == 0.15).any()  # both widths

@@ -1,7 +1,8 @@
-"""The echo memory's cast: the nearest remembered surface in each beam (core.memory).
+"""The echo memory's kernels (core.memory): keeping a reading's echoes, and the cast, the
+nearest remembered surface in each beam.
 
-`remembered_ranges` is compiled; `memory_reference` computes the same in numpy, for the
-tests to hold the kernel to.
+`remember_echoes` and `remembered_ranges` are compiled; `memory_reference` computes the
+same in numpy, for the tests to hold the kernels to.
 
 Arguments, for B beams of `rays_per_beam` rays each and a memory of K echoes:
     origins (B * rays, 2), directions (B * rays, 2): each ray's transducer (metres; a
@@ -32,6 +33,34 @@ from tvl_cli.core.memory import POINTS
 WEDGE_SLACK_M = 1e-9
 # A little above the largest product of two unit vectors that rounding can give.
 FACING_MAX = 1.000001
+
+
+@kernel
+def remember_echoes(
+    origins, directions, rays_per_beam, ring_m, max_range_m, range_m, tan_half_cone,
+    half_patch_m, step, centres, axes, half_widths, heard, next_slot,
+):  # fmt: skip
+    """Keep the echoes of one reading, ring_m (B,) metres along beams whose rays are origins
+    and directions (as above), in the memory's ring buffer (centres, axes, half_widths,
+    heard: K slots) from slot next_slot on, each as heard on control step `step`; the next
+    free slot. A beam that heard nothing (the maximum range), or farther than range_m, keeps
+    nothing; a patch is as wide as the beam there (range * tan_half_cone either side), at
+    least half_patch_m either side."""
+    middle = rays_per_beam // 2
+    capacity = heard.shape[0]
+    for b in range(ring_m.shape[0]):
+        range_read = ring_m[b]
+        if not (range_read < max_range_m and range_read <= range_m):
+            continue
+        row = b * rays_per_beam + middle
+        ax, ay = directions[row, 0], directions[row, 1]
+        centres[next_slot, 0] = origins[row, 0] + range_read * ax
+        centres[next_slot, 1] = origins[row, 1] + range_read * ay
+        axes[next_slot, 0], axes[next_slot, 1] = ax, ay
+        half_widths[next_slot] = max(half_patch_m, range_read * tan_half_cone)
+        heard[next_slot] = step
+        next_slot = (next_slot + 1) % capacity
+    return next_slot
 
 
 def remembered_ranges(

@@ -1,6 +1,6 @@
-"""The echo memory's cast in plain numpy, every ray against every echo at once: what
-`memory.remembered_ranges` computes, kept for the tests that compare the two. Same arguments,
-same results."""
+"""The echo memory's kernels in plain numpy: what `memory.remember_echoes` and
+`memory.remembered_ranges` compute (the cast every ray against every echo at once), kept for
+the tests that compare them. Same arguments, same results."""
 
 from __future__ import annotations
 
@@ -9,6 +9,35 @@ import math
 import numpy as np
 
 from tvl_cli.core.memory import POINTS
+
+
+def remember_echoes_reference(
+    origins: np.ndarray,
+    directions: np.ndarray,
+    rays_per_beam: int,
+    ring_m: np.ndarray,
+    max_range_m: float,
+    range_m: float,
+    tan_half_cone: float,
+    half_patch_m: float,
+    step: int,
+    centres: np.ndarray,
+    axes: np.ndarray,
+    half_widths: np.ndarray,
+    heard: np.ndarray,
+    next_slot: int,
+) -> int:
+    """remember_echoes in numpy."""
+    beams = np.flatnonzero((ring_m < max_range_m) & (ring_m <= range_m))
+    axis_rows = beams * rays_per_beam + rays_per_beam // 2
+    beam_axes = directions[axis_rows]  # (h, 2)
+    ranges = ring_m[beams]  # (h,) metres
+    slots = (next_slot + np.arange(len(beams))) % len(heard)
+    centres[slots] = origins[axis_rows] + ranges[:, None] * beam_axes
+    axes[slots] = beam_axes
+    half_widths[slots] = np.maximum(half_patch_m, ranges * tan_half_cone)
+    heard[slots] = step
+    return int((next_slot + len(beams)) % len(heard))
 
 
 def remembered_ranges_reference(
