@@ -28,6 +28,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from tvl_cli.core.kernels import kernel
 
 # A ray's line crosses a wall's line this far beyond the wall's ends (as a fraction of its
@@ -61,10 +63,20 @@ def ring_ranges(
     per_beam = rays.shape[0] // count
     first_disc = length_m.shape[0]
     first_ring = first_disc + discs.shape[0]
+    # A robot's walls side by side (normal x, normal y, start x, start y), and whether each
+    # lies across a ray's line: tested for all of them at once, free of branches, before the
+    # exact tests of the few that do.
+    near = np.empty((4, first_disc))
+    across_line = np.empty(first_disc, dtype=np.bool_)
     for robot in range(poses.shape[0]):
         x, y, heading = poses[robot, 0], poses[robot, 1], poses[robot, 2]
         cos_h, sin_h = math.cos(heading), math.sin(heading)
         mine = wall_ids[wall_ids_start[robot] : wall_ids_start[robot + 1]]
+        walls_mine = mine.shape[0]
+        for q in range(walls_mine):
+            w = mine[q]
+            near[0, q], near[1, q] = normal[0, w], normal[1, w]
+            near[2, q], near[3, q] = start[0, w], start[1, w]
         for beam in range(count):
             ux, uy = transducers[beam, 0], transducers[beam, 1]
             ox = x + body_radius_m * (ux * cos_h - uy * sin_h)  # the transducer O, metres
@@ -83,14 +95,18 @@ def ring_ranges(
                 hit = math.inf
                 wall = -1
                 hit_cross = hit_s = 0.0
-                for q in range(mine.shape[0]):
+                # Most walls lie off the ray's line: leave them before dividing, with room to
+                # spare so that the exact tests below decide every wall they could pass.
+                for q in range(walls_mine):
+                    cross = dx * near[0, q] + dy * near[1, q]
+                    s_num = (dy * near[2, q] - dx * near[3, q]) - across
+                    across_line[q] = abs(s_num) <= abs(cross) * _BEYOND_ENDS
+                for q in range(walls_mine):
+                    if not across_line[q]:
+                        continue
                     w = mine[q]
                     cross = dx * normal[0, w] + dy * normal[1, w]
                     s_num = (dy * start[0, w] - dx * start[1, w]) - across
-                    # Most walls lie off the ray's line: leave them before dividing, with room
-                    # to spare so that the exact tests below decide every wall they could pass.
-                    if not abs(s_num) <= abs(cross) * _BEYOND_ENDS:
-                        continue
                     s = s_num / cross
                     t = (moment[w] - (ox * normal[0, w] + oy * normal[1, w])) / cross
                     # (nan fails every test: the ray runs along the wall's line)
