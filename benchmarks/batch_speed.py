@@ -10,6 +10,11 @@ Each repeat times the batch and then the Simulators for K robot-steps each; the 
 the medians, and the ratio the median of the repeats' paired ratios. At N = 64 the batch's
 ring is also timed alone: the rest of a robot-step is the physics, the odometry and the
 choice of command.
+
+Last, whole behaviour runs: RUNS `avoid` runs of the lab (seeds 1..RUNS, a single FAM
+trained from logs/lab-s1.h5, our method), driven together in one batch
+(agent.drive_tvl.behave_together) against the same runs driven alone, one after another:
+what the batch saves once each robot's perception, choice and reflexes are counted too.
 """
 
 from __future__ import annotations
@@ -24,7 +29,12 @@ import numpy as np
 from sim_speed import LAB, wander
 from timing import figure_line
 
+from tvl_cli.agent.drive_tvl import BehaviourRun, behave, behave_together
+from tvl_cli.commands.train import train_from_logs
 from tvl_cli.core.drive_command import Command
+from tvl_cli.core.fam import Fam
+from tvl_cli.core.fam_config import SINGLE
+from tvl_cli.core.method import DEFAULT
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.batch import RobotBatch
 from tvl_cli.sim.motion import Pose
@@ -33,6 +43,9 @@ from tvl_cli.sim.world import clearances_m
 from tvl_cli.sim.worldmap import WorldMap, load_world
 
 SIZES = (1, 8, 64)
+EXAMPLE_LOG = LAB.parent.parent / "logs" / "lab-s1.h5"
+RUNS = 8
+RUN_MINUTES = 3.0
 TARGET_SIZE = 64
 TARGET_ROBOT_STEP_US = 10.0
 WARM_UP_STEPS = 100
@@ -95,6 +108,26 @@ def measure(world: WorldMap, robot: RobotConfig, size: int, args: argparse.Names
     return figures
 
 
+def runs_together(world: WorldMap, robot: RobotConfig, fam: Fam, repeats: int) -> dict:
+    """CPU seconds of RUNS behaviour runs driven together and alone, paired, and the median
+    of the pairs' ratios."""
+    runs = [BehaviourRun(fam, "avoid", seed, None) for seed in range(1, RUNS + 1)]
+
+    def together() -> None:
+        behave_together(world, robot, runs, minutes=RUN_MINUTES, method=DEFAULT)
+
+    def alone() -> None:
+        for run in runs:
+            behave(world, robot, fam, "avoid", minutes=RUN_MINUTES, seed=run.seed, method=DEFAULT)
+
+    pairs = [(cpu_s(together), cpu_s(alone)) for _ in range(repeats)]
+    return {
+        "together_s": statistics.median(t for t, _ in pairs),
+        "alone_s": statistics.median(a for _, a in pairs),
+        "speedup": statistics.median(a / t for t, a in pairs),
+    }
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument(
@@ -107,6 +140,8 @@ def main() -> None:
     world = load_world(LAB)
     robot = RobotConfig()
     results = {f"n{size}": measure(world, robot, size, args) for size in SIZES}
+    fam = train_from_logs([EXAMPLE_LOG], SINGLE).fam
+    results["runs"] = runs_together(world, robot, fam, min(args.repeats, 3))
     if args.json:
         print(json.dumps({n: {k: round(v, 2) for k, v in f.items()} for n, f in results.items()}))
         return
@@ -133,6 +168,16 @@ def main() -> None:
             None,
             None,
             f"the rest (physics, odometry, choice): {f['batch_us'] - f['ring_us']:.1f} µs",
+        )
+    )
+    f = results["runs"]
+    print(
+        figure_line(
+            f"{RUNS} avoid runs of {RUN_MINUTES:g} min, together",
+            f"{f['together_s']:.2f} s",
+            None,
+            None,
+            f"{f['speedup']:.2f}x as fast as alone ({f['alone_s']:.2f} s), paired",
         )
     )
 
