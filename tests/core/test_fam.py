@@ -394,3 +394,33 @@ def test_a_fam_too_large_for_memory_is_refused() -> None:
     config = FamConfig("big", (FamTable("all", inputs, NAMES),))
     with pytest.raises(BadInput, match="rule entries"):
         validate_fam_config(config, NAMES)
+
+
+def test_training_refuses_readings_that_are_not_numbers_and_labels_that_are_not_finite() -> None:
+    rng = np.random.default_rng(11)
+    rings, labels = random_rings(rng, 20), rng.uniform(0, 0.6, 20)
+    trajectories = rng.integers(0, len(NAMES), 20)
+    fam = Fam(SINGLE, NAMES)
+    for bad_rings, bad_labels in (
+        (np.where(np.arange(16) == 3, np.nan, rings), labels),
+        (rings, np.where(np.arange(20) == 5, np.inf, labels)),
+        (rings, np.where(np.arange(20) == 5, np.nan, labels)),
+    ):
+        with pytest.raises(ValueError, match="finite"):
+            fam.train(bad_rings, trajectories, bad_labels)
+    untouched = tables(Fam(SINGLE, NAMES))
+    assert all(
+        np.array_equal(a, b) for t, u in zip(tables(fam), untouched, strict=True)
+        for a, b in zip(t, u, strict=True)
+    )  # fmt: skip
+    fam.train(np.where(np.arange(16) == 3, np.inf, rings), trajectories, labels)  # nothing heard
+
+
+@pytest.mark.parametrize("config", [SINGLE, MULTI, DESIGNED], ids=lambda c: c.name)
+def test_each_table_trains_on_its_own_trajectories_rows_in_order(config: FamConfig) -> None:
+    fam = Fam(config, NAMES)
+    trajectories = np.random.default_rng(12).integers(0, len(NAMES), 500)
+    held = [{NAMES.index(n) for n in table.trajectories} for table in config.tables]
+    for rows, trajectories_held in zip(fam._rows_by_table(trajectories), held, strict=True):
+        expected = np.flatnonzero(np.isin(trajectories, list(trajectories_held)))
+        np.testing.assert_array_equal(rows, expected)

@@ -77,18 +77,24 @@ def drive_engine(
 def drive_together(batch: RobotBatch, drives: Sequence[Drive]) -> list[RunMetrics]:
     """Drive robot i of `batch` by drives[i] (over an engine on `batch.alone(i)`), every
     robot a step together, until each drive is over. Each drive goes as drive_engine would
-    drive it over a lone Simulator with robot i's generator: the rings are read ahead
-    together, and a robot that did not read its ring gets its generator back (RobotBatch);
-    a robot whose drive is over sits the others' steps out."""
+    drive it over a lone Simulator with robot i's generator: the rings of the robots likely
+    to read theirs are read ahead together, a robot that did not read its ring gets its
+    generator back, and one that reads it unforeseen reads it alone (RobotBatch); a robot
+    whose drive is over sits the others' steps out."""
     if len(drives) != batch.count:
         raise ValueError(f"{len(drives)} drives for {batch.count} robots")
+    # A policy reads its ring on some steps only (the TVL policy on about a third, in runs
+    # of steps: between them it follows the trajectory it chose), so a robot that read its
+    # ring on the last step is the one likely to read it on this one.
+    readers = set(range(batch.count))
     while not all(d.over for d in drives):
         going = [i for i, d in enumerate(drives) if not d.over]
-        batch.read_ahead(going)
+        batch.read_ahead([i for i in going if i in readers])
         decisions: list[Decision | None] = [None] * batch.count
         for i in going:
             decisions[i] = drives[i].decide()
             drives[i].engine.ready()
+        readers = {i for i in going if drives[i].read_ring}
         batch.settle()
         batch.step([None if d is None else d.command for d in decisions])
         for i in going:
@@ -121,6 +127,11 @@ class Drive:
 
     def decide(self) -> Decision:
         return self.policy.decide(self._obs)
+
+    @property
+    def read_ring(self) -> bool:
+        """Whether the policy read the ring of the step it is deciding."""
+        return self._obs.ring.value is not None
 
     def take(self, decision: Decision, step: StepOutcome) -> None:
         """A step's outcome, after the physics of `decision`."""

@@ -26,8 +26,8 @@ class EchoMemory:
     """The echoes of the last `config.window_s`, in the odometry frame."""
 
     def __init__(self, config: MemoryConfig, robot: RobotConfig) -> None:
-        # The compiled cast is loaded with the first memory, so that a command's help, or a
-        # run without a memory, never loads the compiler.
+        # The compiled kernels are loaded with the first memory, so that a command's help, or
+        # a run without a memory, never loads the compiler.
         from tvl_cli.core.kernels.memory import remember_echoes, remembered_ranges
 
         self._keep = remember_echoes
@@ -46,6 +46,11 @@ class EchoMemory:
         self._half_cone = math.radians(sonar.cone_deg) / 2.0
         self._tan_half_cone = math.tan(self._half_cone)
         self._rays = sonar.rays_per_beam
+
+    @property
+    def window_steps(self) -> int:
+        """How many control steps of echoes it keeps."""
+        return self._window_steps
 
     def remember(self, step: int, odometry: Pose, ring_m: np.ndarray) -> None:
         """Keep the echoes of a reading taken at `odometry` on control step `step`."""

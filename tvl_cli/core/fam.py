@@ -135,6 +135,9 @@ class _TableTraining:
     partitions: tuple[np.ndarray, ...]  # the n inputs' StackedPartitions arrays
     strides: np.ndarray  # (n,) entry step of each input's set
     corner_offsets: np.ndarray  # (2^n,) each corner's entry from the lowest
+    # The first h inputs, whose corners' strengths are kept apart from the other n - h's:
+    # two half tables small enough for the core's cache, where the whole 2^n would not be.
+    high_inputs: int
     chunk_rows: int  # exemplars summed apart before joining a batch's sums
     sums: np.ndarray  # (4, E) a batch's and a chunk's sums of w and w * v; zero between batches
     met: np.ndarray  # (2, E) the entries a batch and a chunk met
@@ -149,6 +152,7 @@ class _TableTraining:
             (p.interior_m, p.gap_start, p.gap_low_m, p.gap_width_m),
             firing.strides[:, 0],
             firing.corners[:, 0],
+            len(table.inputs) // 2,
             max(1, TRAIN_CHUNK_CORNERS // len(firing.corners)),
             np.zeros((4, entries)),
             np.empty((2, entries), dtype=np.intp),
@@ -315,6 +319,11 @@ class Fam:
             return 0.0
         if trajectories.min() < 0 or trajectories.max() >= len(self._names):
             raise ValueError(f"trajectory indices must be in 0..{len(self._names) - 1}")
+        # A NaN reading has no fuzzy degree, and a label that is not a number no average.
+        # (Reductions find them without an array as large as the rings: a minimum is NaN
+        # where any reading is, and a sum of speeds finite only where every one is.)
+        if np.isnan(rings.min()) or not np.isfinite(velocities_mps.sum()):
+            raise ValueError("rings must be numbers (finite or inf) and labels finite")
         trajectories = trajectories.astype(np.intp)
         passes = [trajectories]
         if symmetric:
@@ -363,7 +372,7 @@ class Fam:
         every_row = np.concatenate(rows)
         exemplars = min(training.chunk_rows, len(every_row))
         corners = len(training.corner_offsets)
-        halves = (len(training.strides) // 2, len(training.strides) - len(training.strides) // 2)
+        high, low = training.high_inputs, len(training.strides) - training.high_inputs
         change = np.empty(min(self._weighted_sum[t].size, len(every_row) * corners))  # m/s
         recomputed = self._train_table(
             readings,
@@ -375,6 +384,7 @@ class Fam:
             training.partitions,
             training.strides,
             training.corner_offsets,
+            training.high_inputs,
             training.chunk_rows,
             self._lookup,
             self._first_rows[t],
@@ -382,10 +392,10 @@ class Fam:
             self._weighted_sum[t].reshape(-1),
             training.sums,
             training.met,
-            np.empty((len(training.strides), exemplars)),  # (n, M) upper degrees
+            np.empty((len(training.strides), exemplars)),  # (n, M) readings, upper degrees
             np.empty(exemplars, dtype=np.intp),  # (M,) each one's lowest corner's entry
             # (2^h + 2^(n - h), M): the strengths of the corners of each one's halves
-            np.empty(((1 << halves[0]) + (1 << halves[1]), exemplars)),
+            np.empty(((1 << high) + (1 << low), exemplars)),
             np.empty(exemplars),  # (M,) m/s each one's label
             change,
         )

@@ -14,7 +14,10 @@ from conftest import TVL
 pytestmark = pytest.mark.slow
 
 SQUARE = Path(__file__).resolve().parents[3] / "worlds" / "square.txt"
-KERNELS = {"ring_ranges", "clearances", "infer_views", "train_table"}
+# Learning through the default echo memory keeps echoes and casts them, too.
+KERNELS = {
+    "ring_ranges", "clearances", "infer_views", "train_table", "remember_echoes", "_patches_met"
+}  # fmt: skip
 
 
 def cached(directory: Path) -> dict[str, float]:

@@ -63,11 +63,12 @@ def test_the_kernel_keeps_echoes_as_the_reference_does() -> None:
         for _ in range(2)
     ]
     next_slots = [0, 0]
-    kept = 0
+    kept = at_range = 0
     for step in range(60):
         origins, directions = RING.rays(tuple(rng.uniform((-1, -1, -4), (1, 1, 4))))
         ring = rng.uniform(ROBOT.sonar.min_range_m, 5.0, 16)
         ring[rng.random(16) < 0.3] = ROBOT.sonar.max_range_m  # heard nothing
+        ring[rng.random(16) < 0.1] = 3.0  # at the memory's range: kept
         reading = (origins, directions, ROBOT.sonar.rays_per_beam, ring, ROBOT.sonar.max_range_m)
         settings = (3.0, math.tan(HALF_CONE), 0.15, step)
         for i, keep in enumerate((remember_echoes, remember_echoes_reference)):
@@ -76,5 +77,7 @@ def test_the_kernel_keeps_echoes_as_the_reference_does() -> None:
         for compiled, reference in zip(*buffers, strict=True):
             assert compiled.tobytes() == reference.tobytes()
         kept += int(((ring < ROBOT.sonar.max_range_m) & (ring <= 3.0)).sum())
+        at_range += int((ring == 3.0).sum())
     assert kept > 3 * slots  # it wrapped round several times
+    assert at_range > 0
     assert (buffers[0][2] > 0.15).any() and (buffers[0][2] == 0.15).any()  # both widths

@@ -4,15 +4,17 @@ nearest remembered surface in each beam.
 `remember_echoes` and `remembered_ranges` are compiled; `memory_reference` computes the
 same in numpy, for the tests to hold the kernels to.
 
-Arguments, for B beams of `rays_per_beam` rays each and a memory of K echoes:
+The arguments they share, for B beams of `rays_per_beam` rays each and a memory of K
+echoes:
     origins (B * rays, 2), directions (B * rays, 2): each ray's transducer (metres; a
         beam's rays share one) and unit direction, beam by beam;
     centres (K, 2) metres: each echo point; axes (K, 2): the unit beam axis it was heard
         along; half_widths (K,) metres: the half width of its patch;
-    heard (K,): the control step each was heard on; `since`: the oldest step remembered;
-`within_m` (B,) metres: how far to look in each beam (its live reading: nothing farther
-changes what the robot perceives). It returns (B,) metres from each transducer to the
-nearest remembered surface in the beam nearer than that, inf where there is none.
+    heard (K,): the control step each was heard on.
+The cast's `since` is the oldest step remembered, and `within_m` (B,) metres how far to look
+in each beam (its live reading: nothing farther changes what the robot perceives); it
+returns (B,) metres from each transducer to the nearest remembered surface in the beam
+nearer than that, inf where there is none.
 
 A point is met by a beam when it lies inside the cone about the beam's middle ray. A patch is
 the segment centre +/- w * (-ay, ax): a ray O + tD meets its line where
@@ -57,7 +59,10 @@ def remember_echoes(
         centres[next_slot, 0] = origins[row, 0] + range_read * ax
         centres[next_slot, 1] = origins[row, 1] + range_read * ay
         axes[next_slot, 0], axes[next_slot, 1] = ax, ay
-        half_widths[next_slot] = max(half_patch_m, range_read * tan_half_cone)
+        half_width = range_read * tan_half_cone
+        if half_width < half_patch_m:
+            half_width = half_patch_m
+        half_widths[next_slot] = half_width
         heard[next_slot] = step
         next_slot = (next_slot + 1) % capacity
     return next_slot
@@ -156,8 +161,9 @@ def _patches_met(
     # Echo by echo, each against every beam: each beam still meets the echoes in their
     # order, and the cuts below skip only what could not come nearer than the beam's best.
     # The cuts are taken for all beams at once, free of branches, and only the beams they
-    # leave are cast against the patch's rays.
+    # leave are cast against the patch's rays (the patch's depth and offset kept for them).
     skipped = np.empty(beams, dtype=np.bool_)
+    depth, offsets = np.empty(beams), np.empty(beams)
     for k in range(centres.shape[0]):
         if heard[k] < since:
             continue
@@ -169,6 +175,8 @@ def _patches_met(
             best = out[b]
             vx, vy = cx - ox[b], cy - oy[b]
             ahead = vx * ax + vy * ay  # the transducer's distance behind the patch's line
+            depth[b] = ahead
+            offsets[b] = vx * ay - vy * ax  # where across the patch the transducer stands
             along = vx * mx[b] + vy * my[b]
             lateral = abs(vx * my[b] - vy * mx[b])
             behind = along <= 0.0
@@ -191,10 +199,7 @@ def _patches_met(
         for b in range(beams):
             if skipped[b]:
                 continue
-            best = out[b]
-            vx, vy = cx - ox[b], cy - oy[b]
-            ahead = vx * ax + vy * ay
-            offset = vx * ay - vy * ax  # where across the patch the transducer stands
+            best, ahead, offset = out[b], depth[b], offsets[b]
             first = b * rays_per_beam
             for r in range(first, first + rays_per_beam):
                 dx, dy = directions[r, 0], directions[r, 1]

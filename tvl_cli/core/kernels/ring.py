@@ -63,11 +63,17 @@ def ring_ranges(
     per_beam = rays.shape[0] // count
     first_disc = length_m.shape[0]
     first_ring = first_disc + discs.shape[0]
-    # A robot's walls side by side (normal x, normal y, start x, start y), and whether each
-    # lies across a ray's line: tested for all of them at once, free of branches, before the
-    # exact tests of the few that do.
-    near = np.empty((4, first_disc))
-    across_line = np.empty(first_disc, dtype=np.bool_)
+    # A robot's walls side by side (normal x, normal y, start x, start y); for a ray, each
+    # one's cross(D, E) and cross(A - O, D) numerator, and whether it lies across the ray's
+    # line: worked out for all of them at once, free of branches, before the exact tests of
+    # the few that do.
+    most = 0  # the most walls any robot tests
+    for robot in range(poses.shape[0]):
+        if wall_ids_start[robot + 1] - wall_ids_start[robot] > most:
+            most = wall_ids_start[robot + 1] - wall_ids_start[robot]
+    near = np.empty((4, most))
+    crosses, s_nums = np.empty(most), np.empty(most)
+    across_line = np.empty(most, dtype=np.bool_)
     for robot in range(poses.shape[0]):
         x, y, heading = poses[robot, 0], poses[robot, 1], poses[robot, 2]
         cos_h, sin_h = math.cos(heading), math.sin(heading)
@@ -100,14 +106,13 @@ def ring_ranges(
                 for q in range(walls_mine):
                     cross = dx * near[0, q] + dy * near[1, q]
                     s_num = (dy * near[2, q] - dx * near[3, q]) - across
+                    crosses[q], s_nums[q] = cross, s_num
                     across_line[q] = abs(s_num) <= abs(cross) * _BEYOND_ENDS
                 for q in range(walls_mine):
                     if not across_line[q]:
                         continue
-                    w = mine[q]
-                    cross = dx * normal[0, w] + dy * normal[1, w]
-                    s_num = (dy * start[0, w] - dx * start[1, w]) - across
-                    s = s_num / cross
+                    w, cross = mine[q], crosses[q]
+                    s = s_nums[q] / cross
                     t = (moment[w] - (ox * normal[0, w] + oy * normal[1, w])) / cross
                     # (nan fails every test: the ray runs along the wall's line)
                     if s >= 0.0 and s <= 1.0 and t > -behind_m and t < hit:

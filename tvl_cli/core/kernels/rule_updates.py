@@ -18,8 +18,8 @@ LOAD_BLOCK = 64
 @kernel
 def train_table(
     readings, velocities_mps, rows, columns, pass_ends, pass_sonars, partitions, strides,
-    corner_offsets, chunk_rows, lookup, first_row, table_columns, weighted_sum, sums, met,
-    upper, lowest, strength, weighted, change,
+    corner_offsets, high_inputs, chunk_rows, lookup, first_row, table_columns, weighted_sum,
+    sums, met, upper, lowest, strength, weighted, change,
 ):  # fmt: skip
     """Add exemplars to one table; how many entries it recomputed (K), listed in met[0, :K]
     in the order first met, with the absolute change of each one's velocity in change[:K] m/s.
@@ -29,17 +29,19 @@ def train_table(
     columns[...] (same slice), reading its n inputs from the sonar groups pass_sonars[p]
     (g, n) (a symmetric pass reads the mirrored ring). partitions: core.fuzzy.StackedPartitions'
     (interior_m, gap_start, gap_low_m, gap_width_m) of the n inputs; strides (n,): each input's
-    entry step; corner_offsets (2^n,): each corner's entry from the lowest. chunk_rows:
+    entry step; corner_offsets (2^n,): each corner's entry from the lowest; high_inputs (h):
+    corner strengths are kept for the first h inputs and the other n - h apart. chunk_rows:
     exemplars summed apart before joining the batch's sums. lookup (2 cols, R): velocity rows
     0 .. cols - 1, experience rows cols .. 2 cols - 1, the table's rules from first_row on.
     weighted_sum (E,) = (R_t * traj_t,): the table's sums of w * v, entry = rule * traj_t +
     column, traj_t = table_columns.
     Room to work in: sums (4, E) zeros, left zero (the batch's and a chunk's sums of w and of
     w * v); met (2, E) (the entries the batch and the chunk met); for M = min(chunk_rows,
-    rows) exemplars, upper (n, M), lowest (M,), strength (2^h + 2^(n - h), M) for h = n // 2,
-    and weighted (M,) (each one's reading and then upper degree in each input, its lowest
+    rows) exemplars, upper (n, M), lowest (M,), strength (2^h + 2^(n - h), M) and weighted
+    (M,) (each one's reading and then upper degree in each input, its lowest
     corner's entry, the strengths of the corners of its first h inputs and then of the rest,
-    and its label); change (K,) for K at most min(E, rows * 2^n).
+    and its label); change (K,) for K at most min(E, rows * 2^n). Readings are finite or
+    +inf, labels finite (core.fam.Fam.train refuses the rest).
     """
     interior, gap_start, gap_low, gap_width = partitions
     passes, groups, inputs = pass_sonars.shape
@@ -48,7 +50,6 @@ def train_table(
     batch_w, batch_wv, chunk_w, chunk_wv = sums[0], sums[1], sums[2], sums[3]
     batch_met, chunk_met = met[0], met[1]
     entries, corners = weighted_sum.shape[0], corner_offsets.shape[0]
-    high_inputs = inputs // 2
     low_bits = inputs - high_inputs
     high_corners, low_mask = 1 << high_inputs, (1 << low_bits) - 1
     met_count = 0
@@ -66,7 +67,9 @@ def train_table(
             for m in range(exemplars):
                 weighted[m] = velocities_mps[chunk[m]]
             for block in range(0, exemplars, LOAD_BLOCK):
-                block_end = min(block + LOAD_BLOCK, exemplars)
+                block_end = block + LOAD_BLOCK
+                if block_end > exemplars:
+                    block_end = exemplars
                 for i in range(inputs):
                     sonar = pass_sonars[p, 0, i]
                     for m in range(block, block_end):

@@ -19,6 +19,7 @@ def train_table_reference(
     partitions: tuple[np.ndarray, ...],
     strides: np.ndarray,
     corner_offsets: np.ndarray,
+    high_inputs: int,
     chunk_rows: int,
     lookup: np.ndarray,
     first_row: int,
@@ -34,7 +35,7 @@ def train_table_reference(
 ) -> int:
     """How many entries were recomputed, listed in met[0] in increasing order with their
     absolute change in `change`, as rule_updates.train_table (which documents the
-    arguments; this one needs no room to work in)."""
+    arguments; this one needs no room to work in, nor to split the corners' strengths)."""
     count = len(readings) // len(velocities_mps)
     entries = len(weighted_sum)
     d_experience = np.zeros(entries)  # (R_t * traj_t,) this batch's sum of w
