@@ -89,7 +89,9 @@ def test_each_schema_is_draft_2020_12_and_fixes_its_id_and_version(command: str)
 
 
 # The commands that learn, train or behave, whose inputs hold the method they followed.
-TAKE_A_METHOD = {"learn", "train", "run", "baseline dwa", "baseline qlearn"}
+TAKE_A_METHOD = {
+    "learn", "train", "run", "baseline dwa", "baseline qlearn", "bench generalization",
+}  # fmt: skip
 
 
 # Each schema as it stands at its version, by a digest of the whole (the shared definitions it
