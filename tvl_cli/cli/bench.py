@@ -175,3 +175,41 @@ def generalization(**options: Any) -> None:
         print_json(documents.bench_generalization_json(result, where))
     else:
         bench_view.show_generalization(result, where, markdown)
+
+
+@bench.command("claims")
+@click.option(
+    "--method",
+    "methods",
+    multiple=True,
+    help="A method each claim is learnt, trained and run by: a preset or a method file "
+    "(repeatable; default paper and default).",
+)
+@click.option(
+    "--claim",
+    "claims",
+    multiple=True,
+    help="Only this claim (repeatable): avoid-9min, fig21, fig22, fig24, fig27.",
+)
+@where_options("claims")
+def claims(**options: Any) -> None:
+    """Run five of the paper's claims (§5) by the paper's method and ours, and say which are
+    met, with the trials' means and intervals."""
+    from tvl_cli.bench.claims import METHODS, ClaimsRequest, check_claims, run_claims
+
+    as_json, markdown = options.pop("as_json"), options.pop("markdown")
+    where = _where(
+        options.pop("out"),
+        options.pop("workers"),
+        options.pop("scheduler"),
+        options.pop("scheduler_timeout_s"),
+    )
+    methods = options["methods"] or METHODS
+    if len(set(methods)) < len(methods):
+        raise click.UsageError("--method: a method is given twice")
+    request = ClaimsRequest(tuple(methods), check_claims(options["claims"]), options["size"])
+    result = _running(as_json, lambda bar, dash: run_claims(request, where, bar, dash))
+    if as_json:
+        print_json(documents.bench_claims_json(result, where))
+    else:
+        bench_view.show_claims(result, where, markdown)

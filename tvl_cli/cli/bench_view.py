@@ -128,3 +128,30 @@ def render(table: Table, markdown: bool) -> str:
     return "\n".join(
         "  ".join(cell.ljust(w) for cell, w in zip(r, widths, strict=True)).rstrip() for r in lines
     )
+
+
+def show_claims(result: Any, where: Any, markdown: bool) -> None:
+    run, trials = result.run, result.trials
+    click.echo(
+        f"the paper's claims, trials {trials[0]}-{trials[-1]} ({result.request.size} size); "
+        f"{run.cells} cells ({run.done} run now, {run.skipped} before) in {run.wall_s:.0f} s, "
+        f"{run.cpu_s:.0f} s of CPU in all; rows in {where.out / 'results.csv'}"
+    )
+    click.echo()
+    click.echo(render(claims_table(result.verdicts, result.request.methods), markdown))
+
+
+def claims_table(verdicts: Sequence[Any], methods: Sequence[str]) -> Table:
+    header = ("claim", "the paper reports", *(f"--method {m}" for m in methods))
+    rows = [
+        (
+            row.claim,
+            row.reported,
+            *(
+                f"{'met' if row.verdicts[m].met else 'missed'}: {row.verdicts[m].measured}"
+                for m in methods
+            ),
+        )
+        for row in verdicts
+    ]
+    return header, rows

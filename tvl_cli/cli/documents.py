@@ -22,6 +22,7 @@ if TYPE_CHECKING:
     from tvl_cli.analysis.autopsy import Autopsy
     from tvl_cli.analysis.famdiff import FamDifference
     from tvl_cli.analysis.rules import Rule
+    from tvl_cli.bench.claims import ClaimsResult
     from tvl_cli.bench.generalization import GeneralizationResult
     from tvl_cli.bench.runner import BenchRun, Where
     from tvl_cli.commands.baseline import DwaReport, QLearnReport
@@ -415,5 +416,23 @@ def bench_generalization_json(result: GeneralizationResult, where: Where) -> dic
         **_bench_run(result.run),
         entries=[asdict(entry) for entry in plan.entries],
         figures=[figures.to_dict() for figures in result.figures],
+        rows=result.run.rows,
+    )
+
+
+def bench_claims_json(result: ClaimsResult, where: Where) -> dict[str, Any]:
+    request = result.request
+    inputs = {
+        "methods": list(request.methods),
+        "claims": list(request.claims),
+        "size": request.size,
+        "trials": result.trials,
+        **_where_inputs(where),
+    }
+    return document(
+        "bench claims",
+        inputs,
+        **_bench_run(result.run),
+        verdicts=[row.to_dict() for row in result.verdicts],
         rows=result.run.rows,
     )
