@@ -21,7 +21,7 @@ from tvl_cli.bench.work import CELL, CELL_ROWS, FAMS, LOGS, WORLDS, Row, do_cell
 from tvl_cli.core.errors import BadInput
 from tvl_cli.io.lock import WriterLock
 from tvl_cli.io.table import append_rows
-from tvl_cli.sweep.executors import DEFAULT_SCHEDULER_TIMEOUT_S, OnDashboard
+from tvl_cli.sweep.executors import DEFAULT_SCHEDULER_TIMEOUT_S, OnDashboard, parse_scheduler
 from tvl_cli.sweep.runner import RESULTS, open_executor, put_worlds, write_tables
 
 # Who holds a bench's directory, as its lock refuses a second bench there.
@@ -59,6 +59,8 @@ def run_cells(
     """Run the cells not yet in the directory's journal (the worlds' texts copied there for
     them to read by name), then write the table of every cell's rows."""
     started = time.perf_counter()
+    if where.scheduler is not None:
+        parse_scheduler(where.scheduler)  # refused before anything is written
     root = where.out.absolute()
     if root.exists() and not root.is_dir():
         raise BadInput(f"{root}: is a file, not a directory for the bench")
