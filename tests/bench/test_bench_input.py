@@ -13,7 +13,7 @@ import pytest
 from tvl_cli.bench.cells import DwaCell, LearntCell, PolicyCell
 from tvl_cli.bench.claims import ClaimsRequest
 from tvl_cli.bench.claims import plan as claims_plan
-from tvl_cli.bench.controllers import FAM, METHOD, MODEL, POLICY, parse_controller
+from tvl_cli.bench.controllers import METHOD, POLICY, parse_controller
 from tvl_cli.bench.generalization import GeneralizationRequest, plan
 from tvl_cli.bench.options import parse_span
 from tvl_cli.core.errors import BadInput
@@ -105,11 +105,10 @@ def test_a_controller_is_known_by_its_form(tmp_path: Path) -> None:
     assert parse_controller("theirs=paper").method == PAPER
     with pytest.raises(BadInput, match=r"no such file .*ppo\.zip|needs Stable-Baselines3"):
         parse_controller(f"PPO:{tmp_path / 'ppo.zip'}")
-    assert {FAM, MODEL} <= {"fam", "model"}
 
 
 def test_a_fam_file_of_another_kind_is_refused(tmp_path: Path) -> None:
-    with pytest.raises(BadInput, match="log.h5"):
+    with pytest.raises(BadInput, match=r"log\.h5"):
         parse_controller(str(ROOT / "logs" / "square-s1.h5").replace("square-s1", "log"))
     with pytest.raises(BadInput, match="tvl-fam"):
         parse_controller(str(ROOT / "logs" / "square-s1.h5"))
