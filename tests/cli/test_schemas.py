@@ -117,6 +117,8 @@ RELEASED = {
     "baseline dwa": (2, "62492ebdc871d9a4"),
     "baseline qlearn": (2, "028f1bb8111ca883"),
     "sweep": (2, "b7fbe07376b9b2bb"),
+    "bench generalization": (1, "bb2f58660b15e13a"),
+    "bench claims": (1, "c574aae6e568d1f9"),
     "export": (1, "4a3407f1771e4ec1"),
     "figure": (1, "beee1067ca60bd82"),
     "schema": (1, "a22dca3802d3975b"),
