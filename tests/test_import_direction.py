@@ -28,7 +28,11 @@ ALLOWED: dict[str, set[str]] = {
     "commands": {"core", "sim", "agent", "baselines", "io", "analysis", "render"},
     # The sweep runs the verbs' work (learn, train, run, baseline) over a grid of cells.
     "sweep": {"core", "sim", "agent", "baselines", "io", "analysis", "render", "commands"},
-    "cli": {"core", "sim", "agent", "baselines", "io", "analysis", "render", "commands", "sweep"},
+    # The bench runs suites of cells on the sweep's engine, and scores Gymnasium controllers.
+    "bench": {"core", "sim", "agent", "baselines", "io", "analysis", "render", "commands"}
+    | {"sweep", "gym"},
+    "cli": {"core", "sim", "agent", "baselines", "io", "analysis", "render", "commands"}
+    | {"sweep", "bench"},
     "gym": {"core", "sim", "agent", "baselines", "io", "render"},
 }
 # Libraries a room must not load: the paper's core is numpy and the standard library, and the
@@ -41,12 +45,14 @@ BANNED: dict[str, set[str]] = {
     "io": {"pymunk", "click", "rich", "matplotlib"},
     "analysis": {"h5py", "pymunk", "click", "rich", "matplotlib"},
     "gym": {"click", "rich"},
+    "bench": {"click", "rich", "matplotlib"},
 }
 # Libraries only one room may load: Gymnasium, the optional extra's, since tvl works without
 # it installed; and the libraries of other tools' file formats (map_server's YAML and images,
 # MCAP and Foxglove's protobuf schemas), which belong with the files.
 ONLY_IN: dict[str, str] = {
     "gymnasium": "gym",
+    "stable_baselines3": "gym",
     "yaml": "io",
     "PIL": "io",
     "mcap": "io",

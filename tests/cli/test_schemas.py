@@ -89,7 +89,9 @@ def test_each_schema_is_draft_2020_12_and_fixes_its_id_and_version(command: str)
 
 
 # The commands that learn, train or behave, whose inputs hold the method they followed.
-TAKE_A_METHOD = {"learn", "train", "run", "baseline dwa", "baseline qlearn"}
+TAKE_A_METHOD = {
+    "learn", "train", "run", "baseline dwa", "baseline qlearn", "bench generalization",
+}  # fmt: skip
 
 
 # Each schema as it stands at its version, by a digest of the whole (the shared definitions it
@@ -115,6 +117,8 @@ RELEASED = {
     "baseline dwa": (2, "f7a1641f5ef6be1a"),
     "baseline qlearn": (2, "28d418c9bac4ada4"),
     "sweep": (2, "b7fbe07376b9b2bb"),
+    "bench generalization": (1, "1412a2d4dfce20b4"),
+    "bench claims": (1, "c574aae6e568d1f9"),
     "export": (1, "4a3407f1771e4ec1"),
     "figure": (1, "beee1067ca60bd82"),
     "schema": (1, "a22dca3802d3975b"),

@@ -54,6 +54,7 @@ class BehaviourRun:
     seed: int
     goal_xy: tuple[float, float] | None = None
     on_step: StepSink | None = None
+    threshold: float | None = None  # None: the threshold of the runs driven together
 
 
 def behave_together(
@@ -67,12 +68,13 @@ def behave_together(
 ) -> list[RunMetrics]:
     """Each run's metrics, as `behave` gives them run by run, from the runs' robots stepped
     together in one RobotBatch: one physics space, and their rings read in one kernel call a
-    step."""
+    step. Each run is made at its own threshold, if it has one."""
     batch = RobotBatch(world, robot, [np.random.default_rng(run.seed) for run in runs])
     drives = []
     for i, run in enumerate(runs):
         engine = StepEngine.over(batch.alone(i), goal_xy=run.goal_xy, measure=True)
-        policy = behaving_policy(robot, run.fam, run.behaviour, method, threshold)
+        own = threshold if run.threshold is None else run.threshold
+        policy = behaving_policy(robot, run.fam, run.behaviour, method, own)
         drives.append(Drive(engine, policy, minutes, run.on_step))
     return drive_together(batch, drives)
 

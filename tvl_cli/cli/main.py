@@ -69,6 +69,11 @@ COMMANDS: dict[str, tuple[str, str, str]] = {
         "sweep",
         "Learn, train and run every combination of a grid's settings into one results table.",
     ),
+    "bench": (
+        "tvl_cli.cli.bench",
+        "bench",
+        "Benchmark suites: generalization to worlds nobody tuned on, and the paper's claims.",
+    ),
     "export": (
         "tvl_cli.cli.export",
         "export",

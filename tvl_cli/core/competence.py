@@ -15,3 +15,9 @@ def is_competent(avoid_run: RunMetrics) -> bool:
         avoid_run.contacts_per_min <= MAX_CONTACTS_PER_MIN
         and avoid_run.mean_speed_mps >= MIN_MEAN_SPEED_MPS
     )
+
+
+def is_competent_run(run: RunMetrics, behaviour: str) -> bool:
+    """A run of any behaviour judged as an avoid run is, and a goal run must also reach its
+    goal: how the generalization benchmark counts its runs competent."""
+    return is_competent(run) and (behaviour != "goal" or run.goal_reached)

@@ -413,15 +413,7 @@ class RobotEpisode:
         return self._perception.sense(now.time_s, now.odometry, ring)
 
     def _observation(self, perceived: np.ndarray, now: RobotNow) -> np.ndarray:
-        """(16,) float32 metres, S0 forward, CCW (the echo memory's virtual ring with a
-        memory); seeking a goal (18,): then its bearing (radians, left positive) and distance
-        (metres), both by odometry."""
-        task = self.task
-        if task.goal_xy is None:
-            return perceived.astype(np.float32)
-        bearing = goal_bearing(now.odometry, task.goal_xy)
-        distance = min(task.goal_m(now.odometry), task.far_m)
-        return np.array([*perceived, bearing, distance], dtype=np.float32)
+        return observation_of(self.task, perceived, now.odometry)
 
     def _info(self, now: RobotNow, events: tuple[str, ...], reached: bool) -> dict[str, Any]:
         """The truth beside the observation: simulated time, true pose and odometry (x, y
@@ -443,3 +435,14 @@ class RobotEpisode:
             info["clearance_m"] = now.clearance_m
             info["wall_error_m"] = self._wall_error_m(now)
         return info
+
+
+def observation_of(task: RobotTask, perceived: np.ndarray, odometry: Pose) -> np.ndarray:
+    """What the robot observes: (16,) float32 metres, S0 forward, CCW (the echo memory's
+    virtual ring with a memory); seeking a goal (18,): then its bearing (radians, left
+    positive) and distance (metres), both by odometry."""
+    if task.goal_xy is None:
+        return perceived.astype(np.float32)
+    bearing = goal_bearing(odometry, task.goal_xy)
+    distance = min(task.goal_m(odometry), task.far_m)
+    return np.array([*perceived, bearing, distance], dtype=np.float32)

@@ -36,6 +36,8 @@ SCHEMA_COMMANDS = (
     "baseline dwa",
     "baseline qlearn",
     "sweep",
+    "bench generalization",
+    "bench claims",
     "export",
     "figure",
     "schema",

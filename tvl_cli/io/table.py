@@ -39,7 +39,13 @@ def _cell(value: Any) -> Any:
 def append_row(path: Path, row: Row) -> None:
     """Add the row to `path` as one JSON line, in a single write: a kill keeps or loses the
     whole row, and a write the disk cuts short is taken back."""
-    line = (json.dumps(row, allow_nan=False) + "\n").encode("utf-8")
+    append_rows(path, [row])
+
+
+def append_rows(path: Path, rows: Sequence[Row]) -> None:
+    """Add the rows to `path`, a JSON line each, in a single write: a kill keeps or loses
+    them all, and a write the disk cuts short is taken back."""
+    line = "".join(json.dumps(row, allow_nan=False) + "\n" for row in rows).encode("utf-8")
     fd = os.open(path, os.O_WRONLY | os.O_APPEND | os.O_CREAT, 0o666)
     try:
         start = os.fstat(fd).st_size

@@ -253,7 +253,7 @@ def _sweep(
             written += _work(pool, layout, todo, record)
         written.append(journal)
     table = [rows[cell] for cell in grid.cells if cell in rows]
-    written += _write_tables(layout.root, table)
+    written += write_tables(layout.root, table)
     drawn = None
     if request.plot is not None:
         drawn = request.plot_out or default_plot_path(request.out, request.plot)
@@ -272,20 +272,25 @@ def _sweep(
 
 def _prepare(layout: _Layout) -> list[Path]:
     """Make the sweep's folders and put a copy of each world in it, which the runs read
-    (a cluster's workers see the sweep's directory, not the grid's); the copies made.
-    A world is known by its name: a copy of another world by that name is refused, since the
-    logs beside it were learnt there."""
+    (a cluster's workers see the sweep's directory, not the grid's); the copies made."""
     for folder in ("worlds", "logs", "fams", TRACES):
         (layout.root / folder).mkdir(parents=True, exist_ok=True)
+    return put_worlds(layout.root / "worlds", layout.grid.worlds)
+
+
+def put_worlds(folder: Path, worlds: dict[str, str]) -> list[Path]:
+    """A copy of each world's text (by its name) in `folder` as NAME.txt; the copies made.
+    A world is known by its name: a copy of another world by that name is refused, since
+    the logs beside it were learnt there."""
     made = []
-    for name, text in layout.grid.worlds.items():
-        copy = layout.root / "worlds" / f"{name}.txt"
+    for name, text in worlds.items():
+        copy = folder / f"{name}.txt"
         data = text.encode("utf-8")
         if copy.exists():
             if copy.read_bytes() != data:
                 raise BadInput(
-                    f"{copy}: another world named {name!r} than the grid's; its logs were "
-                    "learnt there (give another --out)"
+                    f"{copy}: another world named {name!r} than the one asked for; its logs "
+                    "were learnt there (give another --out)"
                 )
             continue
         with atomic_output(copy) as temporary:
@@ -331,12 +336,22 @@ def _with_new_columns(row: Row) -> Row:
 
 
 def _executor(request: SweepRequest, on_dashboard: OnDashboard) -> AbstractContextManager[Executor]:
-    if request.scheduler is None:
-        return local_processes(request.workers)
-    workers = parse_scheduler(request.scheduler)
-    if workers is not None:
-        return local_cluster(workers, on_dashboard)
-    return dask_cluster(request.scheduler, request.scheduler_timeout_s, on_dashboard)
+    return open_executor(
+        request.scheduler, request.workers, request.scheduler_timeout_s, on_dashboard
+    )
+
+
+def open_executor(
+    scheduler: str | None, workers: int, timeout_s: float, on_dashboard: OnDashboard
+) -> AbstractContextManager[Executor]:
+    """Where cells run: `workers` local processes without a scheduler; else a Dask cluster
+    started here (`local[:N]`) or the scheduler at that address."""
+    if scheduler is None:
+        return local_processes(workers)
+    cluster_workers = parse_scheduler(scheduler)
+    if cluster_workers is not None:
+        return local_cluster(cluster_workers, on_dashboard)
+    return dask_cluster(scheduler, timeout_s, on_dashboard)
 
 
 def _work(
@@ -480,7 +495,7 @@ def train_fam(request: TrainRequest) -> None:
     write_trained(request.fam, trained)
 
 
-def _write_tables(root: Path, rows: list[Row]) -> list[Path]:
+def write_tables(root: Path, rows: list[Row]) -> list[Path]:
     write_csv(root / TABLE_CSV, rows)
     written = [root / TABLE_CSV]
     if write_parquet(root / TABLE_PARQUET, rows):
