@@ -15,7 +15,8 @@ from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.memory import NO_MEMORY
 from tvl_cli.core.method import DEFAULT, PAPER, MethodChoice
 from tvl_cli.sim.worldgen import generate_world
-from tvl_cli.sweep.grid import Cell, read_grid
+from tvl_cli.sweep.cell import Cell
+from tvl_cli.sweep.grid import read_grid
 
 WORLDS = Path(__file__).resolve().parents[2] / "worlds"
 

@@ -23,8 +23,8 @@ from json_schemas import ENVELOPE, valid
 
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.metrics import RunMetrics
+from tvl_cli.sweep.cell import COLUMNS
 from tvl_cli.sweep.executors import CLUSTER_EXTRA, dask_cluster
-from tvl_cli.sweep.grid import COLUMNS
 
 SQUARE = Path(__file__).resolve().parents[2] / "worlds" / "square.txt"
 # What `tvl run --json` prints: the metrics, then the contacts of each simulated minute.

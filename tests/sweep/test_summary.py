@@ -12,7 +12,7 @@ from tvl_cli.analysis.intervals import Interval, t_975
 from tvl_cli.analysis.measures import MEASURES
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.metrics import RunMetrics
-from tvl_cli.sweep.grid import COLUMNS
+from tvl_cli.sweep.cell import COLUMNS
 from tvl_cli.sweep.summary import (
     KEY_LABELS,
     SETTING_KEYS,

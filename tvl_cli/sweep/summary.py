@@ -11,7 +11,7 @@ from tvl_cli.analysis.intervals import Group, Interval, group_intervals
 from tvl_cli.analysis.measures import MEASURES, headline
 from tvl_cli.core.errors import BadInput, did_you_mean
 from tvl_cli.io.table import Row
-from tvl_cli.sweep.grid import COLUMNS
+from tvl_cli.sweep.cell import COLUMNS
 
 # What the intervals are over: a setting is every grid key but this one.
 TRIALS = "seed"
