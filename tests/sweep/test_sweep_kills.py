@@ -53,12 +53,16 @@ def workers_of(pid: int) -> list[int]:
     return workers
 
 
-def started_sweep(tmp_path: Path) -> subprocess.Popen[str]:
+# Two workers of the local pool, or of a Dask cluster started for the sweep.
+POOLS = {"pool": ("--workers", "2"), "dask": ("--scheduler", "local:2")}
+
+
+def started_sweep(tmp_path: Path, pool: tuple[str, ...] = POOLS["pool"]) -> subprocess.Popen[str]:
     """A sweep of two workers, in a process group of its own, once both are learning."""
     grid = tmp_path / "grid.toml"
     grid.write_text(GRID)
     sweep = subprocess.Popen(
-        [TVL, "sweep", str(grid), "--out", str(tmp_path / "out"), "--workers", "2"],
+        [TVL, "sweep", str(grid), "--out", str(tmp_path / "out"), *pool],
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
@@ -83,8 +87,11 @@ def assert_nothing_left(sweep: subprocess.Popen[str], group: int) -> None:
         time.sleep(0.1)
 
 
-def test_a_sweep_killed_with_kill_9_leaves_no_worker(tmp_path: Path) -> None:
-    sweep = started_sweep(tmp_path)
+@pytest.mark.parametrize("pool", sorted(POOLS))
+def test_a_sweep_killed_with_kill_9_leaves_no_worker(tmp_path: Path, pool: str) -> None:
+    if pool == "dask":
+        pytest.importorskip("distributed")
+    sweep = started_sweep(tmp_path, POOLS[pool])
     sweep.kill()
     assert_nothing_left(sweep, sweep.pid)  # a session's leader: its group is its pid
 
