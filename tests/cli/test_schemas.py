@@ -105,7 +105,7 @@ RELEASED = {
     "learn": (1, "a25ea9aa62923e03"),
     "train": (1, "d5db15f946e3e6d5"),
     "inspect": (2, "f188db341d4e2a55"),
-    "diff": (1, "13dee9c316a1cf17"),
+    "diff": (2, "698caa94baecd99e"),
     "design": (1, "5bc31b753894967a"),
     "run": (1, "3392598656907836"),
     "replay": (1, "b06ab80ccb19fd4a"),
