@@ -190,3 +190,18 @@ def test_learning_too_short_for_an_episode_is_named_by_its_grid_key(tmp_path: Pa
     refused(code, stderr, f"{path}: learn_minutes 0.05: learning in world 'square' (seed 1)",
             "finished no episode", "give more learn_minutes")  # fmt: skip
     assert not (tmp_path / "results").exists()
+
+
+def test_a_sweep_refused_in_a_directory_that_was_there_leaves_it_as_it_was(
+    grid: Path, tmp_path: Path
+) -> None:
+    # A directory of another study whose world of the same name differs: refused before any
+    # work, and the folders the sweep began to make in it are taken back.
+    out = tmp_path / "out"
+    (out / "worlds").mkdir(parents=True)
+    (out / "worlds" / "square.txt").write_text("another world\n")
+    before = sorted(str(p.relative_to(out)) for p in out.rglob("*"))
+    code, _, stderr = sweep(grid, "--out", out)
+    refused(code, stderr, "another world named 'square' than the grid's")
+    assert sorted(str(p.relative_to(out)) for p in out.rglob("*")) == before
+    assert (out / "worlds" / "square.txt").read_text() == "another world\n"

@@ -11,11 +11,10 @@ the same.
 from __future__ import annotations
 
 from collections.abc import Callable
-from concurrent.futures import FIRST_COMPLETED, Executor, Future, wait
+from concurrent.futures import Executor
 from contextlib import AbstractContextManager
 from dataclasses import asdict, dataclass
 from pathlib import Path
-from typing import Any
 
 from tvl_cli.analysis.results import read_results
 from tvl_cli.core.errors import BadInput
@@ -25,7 +24,7 @@ from tvl_cli.io.atomic import atomic_output, check_writable
 from tvl_cli.io.lock import WriterLock
 from tvl_cli.io.made import Made
 from tvl_cli.io.table import Row, append_row, write_csv, write_parquet
-from tvl_cli.sweep.cell import COLUMNS, DWA, LEARN, QLEARN, TVL, Cell
+from tvl_cli.sweep.cell import COLUMNS, TVL, Cell
 from tvl_cli.sweep.executors import (
     DEFAULT_SCHEDULER_TIMEOUT_S,
     OnDashboard,
@@ -37,8 +36,8 @@ from tvl_cli.sweep.executors import (
 )
 from tvl_cli.sweep.grid import FULL, read_grid
 from tvl_cli.sweep.layout import TRACES, Layout
+from tvl_cli.sweep.queue import work_through
 from tvl_cli.sweep.summary import PlotAxes, SweepSummary, default_plot_path, plot, summarise
-from tvl_cli.sweep.work import do_cell, learn_log, train_fam
 
 RESULTS = "results.jsonl"  # every row the directory has, in the order the runs ended
 TABLE_CSV = "results.csv"  # the grid's rows in the grid's order, as the tables below
@@ -149,7 +148,7 @@ def _sweep(
 
     if todo:
         with _executor(request, on_dashboard) as pool:
-            written += _work(pool, layout, todo, record)
+            written += work_through(pool, layout, todo, record)
         written.append(journal)
     table = [rows[cell] for cell in grid.cells if cell in rows]
     written += _write_tables(layout.root, table)
@@ -236,78 +235,6 @@ def _executor(request: SweepRequest, on_dashboard: OnDashboard) -> AbstractConte
     if workers is not None:
         return local_cluster(workers, on_dashboard)
     return dask_cluster(request.scheduler, request.scheduler_timeout_s, on_dashboard)
-
-
-def _work(
-    pool: Executor, layout: Layout, cells: list[Cell], record: Callable[[Cell, Row], None]
-) -> list[Path]:
-    """Do each cell once what it needs is on disk (a TVL run its FAM, a learn cell its log;
-    a baseline nothing), train each FAM once its log is, and learn each log that is not:
-    each at most once, all as soon as they can start. Each cell's row goes to `record` as
-    its work ends; the logs and FAMs made are returned."""
-    waiting_for_fam: dict[Path, list[Cell]] = {}
-    waiting_for_log: dict[Path, list[Cell]] = {}  # a learn cell, or a cell for each FAM
-    learning: dict[Future[None], Path] = {}
-    training: dict[Future[None], Path] = {}
-    running: dict[Future[Row], Cell] = {}
-
-    def train(cell: Cell) -> None:
-        training[pool.submit(train_fam, layout.train_request(cell))] = layout.fam(cell)
-
-    def do(cell: Cell) -> None:
-        running[pool.submit(do_cell, layout.work(cell))] = cell
-
-    def after_log(cell: Cell) -> None:
-        do(cell) if cell.kind == LEARN else train(cell)
-
-    def when_logged(cell: Cell) -> None:
-        log = layout.log(cell)
-        if log.exists():
-            after_log(cell)
-        elif log in waiting_for_log:
-            waiting_for_log[log].append(cell)
-        else:
-            waiting_for_log[log] = [cell]
-            learning[pool.submit(learn_log, layout.learn_request(cell))] = log
-
-    for cell in cells:
-        if cell.kind in (DWA, QLEARN):
-            do(cell)
-        elif cell.kind == LEARN:
-            when_logged(cell)
-        elif (fam := layout.fam(cell)).exists():
-            do(cell)
-        elif fam in waiting_for_fam:
-            waiting_for_fam[fam].append(cell)
-        else:
-            waiting_for_fam[fam] = [cell]
-            when_logged(cell)
-
-    def under_way() -> list[Future[Any]]:
-        return [*learning, *training, *running]
-
-    made: list[Path] = []
-    try:
-        while under_way():
-            ended, _ = wait(under_way(), return_when=FIRST_COMPLETED)
-            for future in ended:
-                if future in running:
-                    record(running.pop(future), future.result())
-                elif future in training:
-                    future.result()
-                    made.append(fam := training.pop(future))
-                    for cell in waiting_for_fam.pop(fam):
-                        do(cell)
-                else:
-                    future.result()
-                    made.append(log := learning.pop(future))
-                    for cell in waiting_for_log.pop(log):
-                        after_log(cell)
-    finally:
-        # After a failure or Ctrl-C: what has not started never will.
-        for future in under_way():
-            future.cancel()
-    return made
 
 
 def _write_tables(root: Path, rows: list[Row]) -> list[Path]:
