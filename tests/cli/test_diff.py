@@ -37,8 +37,8 @@ def test_a_fam_agrees_with_itself(fams: dict[str, Path], tmp_path: Path) -> None
         again,
         late.fam,
         robot_config=late.robot_config,
+        method=late.method,
         provenance={**late.provenance, "copied": True},
-        memory=late.memory,
     )
     printed = valid("diff", tvl("diff", fams["late"], again, "--json").stdout)
     assert printed["differing"] == 0 and printed["rules_differing_most"] == []
@@ -112,7 +112,7 @@ def test_fams_of_different_robots_say_so_in_the_table_and_the_json(
     late = read_fam(fams["late"])
     small = tmp_path / "small.h5"
     write_fam(small, late.fam, robot_config=replace(late.robot_config, radius_m=0.105),
-              provenance=late.provenance, memory=late.memory)  # fmt: skip
+              method=late.method, provenance=late.provenance)  # fmt: skip
     shown = tvl("diff", fams["late"], small)
     assert shown.returncode == 0, shown.stderr
     first_line = shown.stdout.splitlines()[0]

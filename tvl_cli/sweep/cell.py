@@ -12,12 +12,14 @@ from typing import Any
 
 from tvl_cli.agent.explore import LearnParams
 from tvl_cli.commands.run import parse_goal
-from tvl_cli.core.memory import MemoryChoice
-from tvl_cli.core.method import DEFAULT, Method, MethodChoice, parse_reflexes, reflexes_text
+from tvl_cli.core.memory import MemoryChoice, MemoryConfig
+from tvl_cli.core.method import Method, MethodChoice, parse_reflexes, reflexes_text
 
 # The kinds of cell, as `tvl figure` knows them among a table's rows.
 TVL, LEARN, DWA, QLEARN = "tvl", "learn", "dwa", "qlearn"
 KINDS_OF_CELL = (TVL, LEARN, DWA, QLEARN)
+# The keys that are fields of the method, each a cell's column of that name.
+METHOD_KEYS = ("exploration", "near_m", "memory")
 
 
 @dataclass(frozen=True, slots=True)
@@ -31,8 +33,11 @@ class Cell:
     seed: int  # of the learning and of the run
     learn_config: str | None  # the FAM configuration the learner explores with
     learn_minutes: float | None
-    explore: str | None  # the exploration rule; None: the method's
-    collision_points: str | None  # "sonar" or "bumps"; None: the method's
+    # The cell's own fields of the method (None: the method's): the exploration rule, where
+    # collision points fall (core.method.Method.near_m), and the echo memory's kind.
+    exploration: str | None
+    near_m: float | None
+    memory: str | None
     config: str | None  # the trained FAM configuration's name
     minute: float | None  # the FAM of the log's first minutes; None: of the whole log
     behaviour: str | None
@@ -55,14 +60,16 @@ class Cell:
         return LearnParams(minutes=self.learn_minutes or LearnParams().minutes)
 
     def learning_method(self, method: Method) -> Method:
-        """The grid's method with the cell's exploration rule and collision points."""
-        if self.explore is not None:
-            method = replace(method, exploration=self.explore)
-        if self.collision_points == "bumps":
-            method = replace(method, near_m=0.0)
-        elif self.collision_points == "sonar" and method.near_m == 0.0:
-            method = replace(method, near_m=DEFAULT.near_m)
-        return method
+        """The grid's method with the cell's own fields of it."""
+        return replace(method, **self.method_fields())
+
+    def method_fields(self) -> dict[str, Any]:
+        """The fields of the method the cell gives, as Method holds them."""
+        given = {name: getattr(self, name) for name in METHOD_KEYS}
+        fields = {name: value for name, value in given.items() if value is not None}
+        if "memory" in fields:
+            fields["memory"] = MemoryConfig(fields["memory"])
+        return fields
 
     def run_method(self, method: Method) -> MethodChoice:
         """The run's method: the cell's, with the cell's reflexes."""

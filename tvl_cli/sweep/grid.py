@@ -12,8 +12,10 @@ it (kinds "dwa" and "qlearn").
     learn_config = "single"              # the FAM the learner explores with; "same": config
     learn_minutes = 15
     minute = { from = 0, to = 15, step = 1 }   # the FAM of the log's first minutes
-    explore = ["novelty", "random"]      # the exploration rule; default the method's
-    collision_points = ["sonar", "bumps"]      # bumps: --near 0; default the method's
+    exploration = ["novelty", "random"]  # a field of the method (default: the method's),
+    near_m = [0.16, 0]                   # for the learning, the training and the run
+    memory = ["none", "patches"]         # alike: the exploration rule, the collision points
+                                         # (0: bumps alone), the echo memory's kind
     threshold = [0.65, 0.8, 0.95]
     goal = ["3.5,2.0"]                   # goal runs only: X,Y, or "all" the world's goals;
                                          # default the world's first
@@ -24,8 +26,15 @@ it (kinds "dwa" and "qlearn").
     method = ["default", "paper"]        # as `--method`: a preset or a method file
     reflexes = ["all", "none"]           # as `--reflex`; default each method's own (TVL runs)
                                          # and none (baselines, as `tvl baseline`)
-    run_memory = ["none"]                # the run reads through this echo memory, as `tvl
-                                         # run --memory`; default the one the FAM learnt with
+    run_memory = ["none"]                # the run alone reads through this echo memory, as
+                                         # `tvl run --memory` does a FAM learnt through another;
+                                         # default the method's
+
+Keys named after a field of the method (core.method.Method) set that field of the cell's
+method, whatever the `method` it starts from; `reflexes` (a run's alone) and `run_memory` are
+the run's, as `tvl run --reflex` and `--memory` set them over a FAM. Beside the paper's method
+chosen by name, a key that sets one of our additions otherwise than the paper is refused, as
+`--paper` refuses such a flag.
 
 A key takes a range of numbers as `{ from = A, to = B, step = S }` (B included). Each kind
 reads only its own keys (`minute` means nothing to DWA), so one list of kinds makes each

@@ -11,12 +11,14 @@ from typing import Any
 from tvl_cli.commands.run import parse_goal
 from tvl_cli.core.errors import MAX_SEED, BadInput, did_you_mean
 from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS, FamConfig
-from tvl_cli.core.method import PAPER_NAME, PRESETS, Method, parse_reflexes
+from tvl_cli.core.memory import MemoryChoice
+from tvl_cli.core.method import Method, MethodChoice, parse_reflexes
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.fam_config_file import resolve_fam_config
-from tvl_cli.io.methodfile import read_method
+from tvl_cli.io.methodfile import resolve_method
 from tvl_cli.sim.worldgen import KINDS, bundled_world_path, generate_world
 from tvl_cli.sim.worldmap import WorldMap, check_goal, load_world, parse_world
+from tvl_cli.sweep.cell import METHOD_KEYS
 from tvl_cli.sweep.grid_keys import ALL_GOALS
 
 # World and configuration names become parts of file names in the sweep's directory.
@@ -25,26 +27,28 @@ _FILE_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]*")
 
 def method_entry(path: Path, entry: str) -> Method:
     """A preset by name, else a method file beside the grid."""
-    return PRESETS[entry] if entry in PRESETS else read_method(path.parent / entry)
+    return resolve_method(entry, path.parent, f"{path}: method")
 
 
 def check_paper_runs(path: Path, entry: str, method: Method, values: dict[str, Any]) -> None:
-    """The paper's method has no reflex and no echo memory: cells that give it some
-    contradict it, as `--reflex` or `--memory` beside `--paper` does."""
-    if entry != PAPER_NAME:
-        return
-    for text in values["reflexes"]:
-        if parse_reflexes(text) != method.reflexes:
-            raise BadInput(
-                f'{path}: reflexes {text!r} contradicts method "paper", which has none '
-                "(leave reflexes out to run each method with its own)"
-            )
-    for kind in values["run_memory"]:
-        if kind is not None and kind != method.memory.kind:
-            raise BadInput(
-                f'{path}: run_memory {kind!r} contradicts method "paper", which reads the '
-                "live ring (leave run_memory out of the paper's cells)"
-            )
+    """The paper's method chosen by name: a key that sets one of our additions otherwise
+    than the paper (a field of the method, the run's reflexes or memory) contradicts it, as
+    such a flag beside `--paper` does."""
+    for key in (*METHOD_KEYS, "reflexes", "run_memory"):
+        for value in values[key]:
+            if value is not None and _setting(method, entry, key, value).contradictions():
+                raise BadInput(
+                    f'{path}: {key} {value!r} contradicts method "{entry}", which fixes it '
+                    f"(leave {key} out of its cells)"
+                )
+
+
+def _setting(method: Method, entry: str, key: str, value: Any) -> MethodChoice:
+    """One grid key's value chosen over the grid's method, as a command's flag chooses it."""
+    if key in ("memory", "run_memory"):
+        return MethodChoice(method, entry, memory=MemoryChoice(kind=value))
+    field = parse_reflexes(value) if key == "reflexes" else value
+    return MethodChoice(method, entry, ((key, field),))
 
 
 def _goal(path: Path, text: str) -> tuple[float, float]:

@@ -18,7 +18,13 @@ from tvl_cli.core.errors import (
 )
 from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS, SINGLE
 from tvl_cli.core.memory import MEMORY_KINDS
-from tvl_cli.core.method import DEFAULT_NAME, EXPLORATION_RULES, REFLEX_NAMES, parse_reflexes
+from tvl_cli.core.method import (
+    DEFAULT_NAME,
+    EXPLORATION_RULES,
+    REFLEX_NAMES,
+    method_from_dict,
+    parse_reflexes,
+)
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.core.trajectory_choice import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD, is_threshold
 from tvl_cli.sweep.cell import DWA, KINDS_OF_CELL, LEARN, QLEARN, TVL
@@ -27,8 +33,6 @@ from tvl_cli.sweep.cell import DWA, KINDS_OF_CELL, LEARN, QLEARN, TVL
 SAME = "same"
 # `goal = "all"`: a goal run to each of the world's goals.
 ALL_GOALS = "all"
-# `collision_points`: by the sonar ahead (the learner's default distance) or by bumps alone.
-COLLISION_POINTS = ("sonar", "bumps")
 
 
 @dataclass(frozen=True, slots=True)
@@ -51,8 +55,9 @@ KEYS: dict[str, Key] = {
     "seed": Key(int, None, _EVERY),
     "learn_config": Key(str, (SINGLE.name,), LEARNT),
     "learn_minutes": Key(float, (LearnParams().minutes,), (TVL, LEARN, QLEARN)),
-    "explore": Key(str, (None,), LEARNT),
-    "collision_points": Key(str, (None,), LEARNT),
+    "exploration": Key(str, (None,), LEARNT),
+    "near_m": Key(float, (None,), LEARNT),
+    "memory": Key(str, (None,), LEARNT),
     "config": Key(str, (SINGLE.name,), (TVL,)),
     "minute": Key(float, (None,), (TVL,)),
     "behaviour": Key(str, ("avoid",), BEHAVING),
@@ -140,8 +145,11 @@ def _check_values(where: str, values: dict[str, tuple[Any, ...]]) -> None:
                         f'{where}: learn_config "{SAME}" learns with config {trained!r}, '
                         f"but a learner explores with {', '.join(BUILTIN_FAM_CONFIGS)} only"
                     )
-    _check_words(where, "explore", values["explore"], EXPLORATION_RULES)
-    _check_words(where, "collision_points", values["collision_points"], COLLISION_POINTS)
+    _check_words(where, "exploration", values["exploration"], EXPLORATION_RULES)
+    for near_m in values["near_m"]:
+        if near_m is not None:
+            method_from_dict({"near_m": near_m}, where)  # BadInput naming the file and key
+    _check_words(where, "memory", values["memory"], MEMORY_KINDS)
     for reflexes in values["reflexes"]:
         _check_reflexes(where, reflexes)
     _check_words(where, "run_memory", values["run_memory"], MEMORY_KINDS)
