@@ -83,8 +83,16 @@ def world_entry(path: Path, entry: str) -> WorldMap:
 
 
 def config_entry(path: Path, entry: str) -> FamConfig:
-    spec = entry if entry in BUILTIN_FAM_CONFIGS else str(path.parent / entry)
-    return resolve_fam_config(spec, RobotConfig())
+    """A shipped configuration by name, else a JSON file beside the grid (whose faults name
+    that file)."""
+    file = path.parent / entry
+    if entry not in BUILTIN_FAM_CONFIGS and not file.is_file():
+        known = list(BUILTIN_FAM_CONFIGS)
+        raise BadInput(
+            f"{path}: config {entry!r}: neither a configuration ({', '.join(known)}) nor a "
+            f"JSON file {file} ({did_you_mean(entry, known)})"
+        )
+    return resolve_fam_config(entry if entry in BUILTIN_FAM_CONFIGS else str(file), RobotConfig())
 
 
 def named(path: Path, key: str, by_entry: dict[str, Any]) -> dict[str, Any]:
