@@ -51,6 +51,14 @@ BAD_METHODS = {
 }
 
 
+def method_file(folder: Path, name: str) -> tuple[Path, str]:
+    """One of BAD_METHODS as a file; and what its refusal says after the file's name."""
+    text, says = BAD_METHODS[name]
+    path = folder / "m.toml"
+    path.write_text(text)
+    return path, says
+
+
 def refused(result, *phrases: str) -> None:
     assert result.returncode == 2, result.stderr
     assert len(result.stderr.splitlines()) == 1, result.stderr
@@ -62,9 +70,7 @@ def refused(result, *phrases: str) -> None:
 def test_learn_refuses_the_method_file_naming_it_and_writes_no_log(
     invoke_tvl, tmp_path: Path, name: str
 ) -> None:
-    text, says = BAD_METHODS[name]
-    method = tmp_path / "m.toml"
-    method.write_text(text)
+    method, says = method_file(tmp_path, name)
     log = tmp_path / "log.h5"
     refused(invoke_tvl("learn", SQUARE, "--log", log, "--minutes", "0.1", "--method", method),
             f"{method}{says}")  # fmt: skip
@@ -75,9 +81,7 @@ def test_learn_refuses_the_method_file_naming_it_and_writes_no_log(
 def test_train_refuses_the_method_file_and_leaves_the_fam_there_unchanged(
     invoke_tvl, tmp_path: Path, name: str
 ) -> None:
-    text, says = BAD_METHODS[name]
-    method = tmp_path / "m.toml"
-    method.write_text(text)
+    method, says = method_file(tmp_path, name)
     fam = tmp_path / "fam.h5"
     assert invoke_tvl("train", GOLDEN_LOG, "-o", fam).returncode == 0
     before = fam.read_bytes()
@@ -99,8 +103,7 @@ def test_appending_by_a_bad_method_leaves_the_log_as_it_was(invoke_tvl, tmp_path
     log = tmp_path / "log.h5"
     assert invoke_tvl("learn", SQUARE, "--log", log, "--minutes", "0.1").returncode == 0
     before = log.read_bytes()
-    method = tmp_path / "m.toml"
-    method.write_text(BAD_METHODS["a deceleration of 1e308"][0])
+    method, _ = method_file(tmp_path, "a deceleration of 1e308")
     refused(invoke_tvl("learn", SQUARE, "--log", log, "--minutes", "0.1", "--method", method),
             str(method))  # fmt: skip
     assert log.read_bytes() == before
