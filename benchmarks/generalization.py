@@ -3,7 +3,7 @@
     python benchmarks/generalization.py [--set test|tuning] [--quick] [--trials 3]
                                         [--worlds N|A-B] [--reflex NAMES | --paper] [--workers 2]
                                         [--json] [--config NAME=FILE.json ...] [--near M]
-                                        [--sonar real|edges|ideal] [--decel A]
+                                        [--sonar real|edges|ideal] [--decel A] [--labels R]
                                         [--threshold T] [--learn]
                                         [--memory KIND] [--memory-window S]
                                         [--memory-range M] [--memory-patch M]
@@ -63,11 +63,12 @@ from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS, Fam
 from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS, SINGLE, FamConfig
+from tvl_cli.core.labels import LABEL_RULES
 from tvl_cli.core.memory import MEMORY_KINDS, NO_MEMORY, MemoryConfig
 from tvl_cli.core.method import ALL, DEFAULT, PAPER, Method, parse_reflexes
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.core.robot_config import SONAR_MODELS, RobotConfig
-from tvl_cli.core.training import TrainParams, train_episode, train_params
+from tvl_cli.core.training import SessionEpisodes, TrainParams, train_params, train_sessions
 from tvl_cli.core.trajectory_choice import DEFAULT_THRESHOLD, is_threshold
 from tvl_cli.io.fam_config_file import resolve_fam_config
 from tvl_cli.sim.worldgen import DEFAULT_ROUGHNESS, SMOOTH, Materials, generate_world
@@ -146,8 +147,7 @@ def learn_and_train(world: WorldMap, seed: int, setup: Setup) -> dict[str, Fam]:
     fams = {}
     for name, config in setup.configs.items():
         fam = Fam(config, names, DEFAULT_INIT_VELOCITY_MPS)
-        for episode in episodes:
-            train_episode(fam, episode, setup.robot, setup.train)
+        train_sessions(fam, [SessionEpisodes(episodes, ended=True)], setup.robot, setup.train)
         fams[name] = fam
     return fams
 
@@ -161,7 +161,8 @@ def trial_runs(world_seed: int, trial: int, setup: Setup) -> list[dict[str, Any]
     planned: list[tuple[str, str, tuple[float, float] | None, list[Columns]]] = []
     runs: list[BehaviourRun] = []
     recorders: list[TraceRecorder] = []
-    for config, learnt in learn_and_train(world, trial, setup).items():
+    fams_by_config = learn_and_train(world, trial, setup)
+    for config, learnt in fams_by_config.items():
         for behaviour in BEHAVIOURS:
             goal = world.goals[0] if behaviour == "goal" and world.goals else None
             if behaviour == "goal" and goal is None:
@@ -193,6 +194,8 @@ def trial_runs(world_seed: int, trial: int, setup: Setup) -> list[dict[str, Any]
             table_sonars=setup.configs[config].sonars_read(),
             goal_xy=goal,
             goal_reached=metrics.goal_reached,
+            method=method,
+            fam=fams_by_config[config],
         )
         rows.append(
             {
@@ -432,6 +435,12 @@ def _parser() -> argparse.ArgumentParser:
         help="m/s²: the deceleration of the training labels",
     )
     parser.add_argument(
+        "--labels",
+        choices=LABEL_RULES,
+        default=DEFAULT.labels,
+        help="what each recorded point labels (core.labels.LABEL_RULES)",
+    )
+    parser.add_argument(
         "--sonar", choices=list(SONAR_MODELS), default="real", help="the sonar model throughout"
     )
     parser.add_argument(
@@ -531,6 +540,7 @@ def main() -> None:
     ours = replace(
         DEFAULT,
         decel_mps2=args.decel,
+        labels=args.labels,
         near_m=args.near,
         reflexes=parse_reflexes(args.reflex),
         memory=memory,

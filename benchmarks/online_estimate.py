@@ -33,8 +33,8 @@ from tvl_cli.agent.online import (
     ECHO_BEFORE_S,
     ENDINGS,
     OnlineLearner,
-    first_contact_m,
 )
+from tvl_cli.core.arcs import first_contact_m
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import SINGLE

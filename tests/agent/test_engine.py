@@ -23,6 +23,7 @@ from tvl_cli.core.contacts import BUMP, SPIN
 from tvl_cli.core.drive_command import Command
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import SINGLE
+from tvl_cli.core.labels import BUMP_LABELS
 from tvl_cli.core.memory import NONE, PATCHES, MemoryChoice, MemoryConfig
 from tvl_cli.core.method import REFLEX_NAMES, Method, MethodChoice
 from tvl_cli.core.metrics import RunMetrics
@@ -128,8 +129,9 @@ def test_an_engine_not_reset_refuses_to_step() -> None:
 # ran over the step engine: every drive must give what it gave, bit for bit.
 @pytest.fixture(scope="module")
 def square_fam() -> Fam:
-    """The single FAM trained from the example log of learning in the square."""
-    live_ring = MethodChoice(memory=MemoryChoice(NONE))
+    """The single FAM trained from the example log of learning in the square, labelling the
+    driven trajectories alone, as it was when the digests were recorded."""
+    live_ring = MethodChoice(memory=MemoryChoice(NONE), settings=(("labels", BUMP_LABELS),))
     return train_from_logs([ROOT / "logs" / "square-s1.h5"], SINGLE, live_ring).fam
 
 

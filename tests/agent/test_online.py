@@ -23,7 +23,6 @@ from tvl_cli.agent.online import (
     FREE,
     NEAR,
     OnlineLearner,
-    first_contact_m,
 )
 from tvl_cli.agent.policy import Decision, Observation
 from tvl_cli.core.drive_command import Command
@@ -93,34 +92,6 @@ def drive_straight(
     minutes = (steps + spin_steps) * ROBOT.control_period_s / 60.0
     drive(sim, Straight(speed_mps, steps), minutes, on_step=learner)
     return episodes, learner
-
-
-def test_a_straight_path_meets_the_nearest_point_in_the_body_s_way() -> None:
-    points = np.array([[1.0, 0.1], [2.0, 0.0], [0.5, 0.5], [-1.0, 0.0]])
-    # (1.0, 0.1) is met when the centre is sqrt(0.2² - 0.1²) short of it; the others lie
-    # wide of the path or behind it.
-    assert first_contact_m((0.0, 0.0, 0.0), 0.0, points, R) == pytest.approx(
-        1.0 - math.sqrt(R**2 - 0.1**2)
-    )
-    assert first_contact_m((0.0, 0.0, 0.0), 0.0, points[2:], R) == math.inf
-
-
-def test_an_arc_meets_a_point_on_its_circle_a_body_radius_early() -> None:
-    # A left turn of radius 1 from the origin heading +x circles (0, 1); the point (1, 1) lies
-    # a quarter turn round, and the body meets it when its centre is the angle alpha short.
-    alpha = math.acos((2.0 - R**2) / 2.0)
-    on_circle = np.array([[1.0, 1.0]])
-    assert first_contact_m((0.0, 0.0, 0.0), 1.0, on_circle, R) == pytest.approx(math.pi / 2 - alpha)
-    # The same point mirrored is met by the right turn alike, and missed by the left one.
-    mirrored = np.array([[1.0, -1.0]])
-    assert first_contact_m((0.0, 0.0, 0.0), -1.0, mirrored, R) == pytest.approx(math.pi / 2 - alpha)
-    assert first_contact_m((0.0, 0.0, 0.0), 1.0, mirrored, R) == math.inf
-
-
-def test_points_the_body_overlaps_now_are_left_out() -> None:
-    inside = np.array([[0.1, 0.0], [0.0, -0.15]])
-    assert first_contact_m((0.0, 0.0, 0.0), 0.0, inside, R) == math.inf
-    assert first_contact_m((0.0, 0.0, 0.0), 2.0, inside, R) == math.inf
 
 
 def test_the_estimate_for_a_straight_run_at_a_wall_is_the_true_distance() -> None:

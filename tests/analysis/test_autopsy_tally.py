@@ -18,18 +18,22 @@ from tvl_cli.analysis.autopsy import (
 from tvl_cli.core.contacts import BUMP, NEAR_MISS
 
 
-def _contact(cause: str, event: str = BUMP) -> Contact:
-    facts = ContactFacts(1, 0.1, event, "slant", "policy", None, "T0", True, True, True)
+def _contact(
+    cause: str, event: str = BUMP, true_mps: float = 0.0, experience: float = 3.0
+) -> Contact:
+    facts = ContactFacts(
+        1, 0.1, event, "slant", "policy", None, "T0", True, True, True, 0.5, true_mps, experience
+    )
     return Contact(facts, cause)
 
 
 def test_tally_sums_contacts_time_and_goal_failures_over_the_runs_records() -> None:
     first = Autopsy(
-        (_contact(RATED_FAST), _contact(REFLEX, NEAR_MISS)),
+        (_contact(RATED_FAST, experience=0.5), _contact(REFLEX, NEAR_MISS)),
         {name: 1.0 for name in TIME_CLASSES},
     )
     second = Autopsy(
-        (_contact(RATED_FAST),),
+        (_contact(RATED_FAST, true_mps=0.2),),
         {**{name: 0.0 for name in TIME_CLASSES}, DRIVE_FAST: 2.5},
         goal_failure=STALLED,
     )
@@ -37,3 +41,10 @@ def test_tally_sums_contacts_time_and_goal_failures_over_the_runs_records() -> N
     assert summed["causes"] == {c: {RATED_FAST: 2, REFLEX: 1}.get(c, 0) for c in CAUSES}
     assert summed["time_s"] == {n: 3.5 if n == DRIVE_FAST else 1.0 for n in TIME_CLASSES}
     assert summed["goal_failures"] == {r: int(r == STALLED) for r in GOAL_FAILURES}
+    # The rated-fast contacts: the truth under their ratings, and one in two barely trained.
+    assert summed["rated_fast"] == {
+        "contacts": 2,
+        "median_true_mps": 0.1,
+        "median_rated_mps": 0.5,
+        "untrained_share": 0.5,
+    }

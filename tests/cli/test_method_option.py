@@ -33,6 +33,7 @@ RUN = ("--behaviour", "avoid", "--minutes", "0.2")
 PAPER_TOML = """
 decel_mps2 = 0.2
 margin_m = 0.05
+labels = "bump"
 near_m = 0.0
 exploration = "least-experience"
 reflexes = []
@@ -161,7 +162,8 @@ def test_files_from_before_methods_were_recorded_say_so(
     # choice: each is named unrecorded; it reads through its memory.
     code, out, _ = tvl("inspect", GOLDEN_FAM, "--top", "1")
     unknown = "decel_mps2, margin_m, near_m, exploration unrecorded"
-    assert code == 0 and out.splitlines()[0] == f"method: custom: memory patches ({unknown})"
+    assert code == 0
+    assert out.splitlines()[0] == f"method: custom: labels bump, memory patches ({unknown})"
     assert read_log(GOLDEN_LOG).sessions[0].made_by.unrecorded
     # A version 1 session without the record read its method from its parameters.
     old = tmp_path / "old.h5"

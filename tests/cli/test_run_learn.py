@@ -26,7 +26,7 @@ from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.memory import NO_MEMORY
 from tvl_cli.core.method import DEFAULT
 from tvl_cli.core.robot_config import RobotConfig
-from tvl_cli.core.training import TrainParams, train_episodes
+from tvl_cli.core.training import SessionEpisodes, TrainParams, train_sessions
 from tvl_cli.io.lock import WriterLock
 from tvl_cli.io.log_sessions import distinct_sessions
 from tvl_cli.io.logfile import LogWriter
@@ -115,7 +115,8 @@ def test_the_log_replays_into_the_fam_the_run_ended_with(learnt_live: Path, tmp_
     world = load_world(SQUARE)
     fam = Fam(SINGLE, [t.name for t in robot.trajectories])
     sessions, _ = distinct_sessions([read_log(log)])
-    train_episodes(fam, [e for s in sessions for e in s.episodes()], robot, TrainParams())
+    learnt = [SessionEpisodes(s.episodes(), ended=True) for s in sessions]
+    train_sessions(fam, learnt, robot, TrainParams())
     with LogWriter.open(
         log,
         world_name=world.name,

@@ -28,7 +28,7 @@ from tvl_cli.core.fam import Fam
 from tvl_cli.core.method import DEFAULT, Method
 from tvl_cli.core.ring import mm_to_ring, ring_to_mm
 from tvl_cli.core.robot_config import FASTEST_MPS, RobotConfig
-from tvl_cli.core.training import train_episode, train_params
+from tvl_cli.core.training import SessionTrainer, Trained, train_params
 from tvl_cli.sim.robot import Simulator
 from tvl_cli.sim.worldmap import WorldMap
 
@@ -258,11 +258,17 @@ class Learner:
         last = math.ceil(self.params.minutes)  # minutes 0 .. last - 1 are recorded
         minute = MinuteStats(0)
 
+        trainer = SessionTrainer(self.fam, self.robot, self.train_params)
+
+        def trained(changes: list[Trained]) -> None:
+            # The mean over every velocity entry; training sums the change of those it
+            # touched. An episode trained once its labels were heard counts in the minute it
+            # was trained in.
+            for _, change in changes:
+                minute.delta_v += change / self.fam.entry_count / steps_per_minute
+
         def learnt(episode: Episode) -> None:
             nonlocal minute
-            # The mean over every velocity entry; training sums the change of those it touched.
-            change = train_episode(self.fam, episode, self.robot, self.train_params)
-            change /= self.fam.entry_count
             # Minutes this episode ended after are closed before it is handed on, so a sink
             # sees each minute when it has seen exactly the episodes counted by then. The last
             # minute keeps an episode ending on its closing boundary.
@@ -270,11 +276,11 @@ class Learner:
                 on_minute(minute)
                 summary.minutes.append(minute)
                 minute = MinuteStats(minute.minute + 1)
+            trained(trainer.add(episode))
             on_episode(episode)
             minute.episodes += 1
             minute.collisions += int(episode.bumped)
             minute.exemplars += episode.exemplar_count
-            minute.delta_v += change / steps_per_minute
             summary.episodes += 1
             summary.collisions += int(episode.bumped)
             summary.exemplars += episode.exemplar_count
@@ -297,6 +303,8 @@ class Learner:
             return summary.stopped_by is not None
 
         drive(self.sim, policy, self.params.minutes, on_step=on_step, stop=stop, measure=False)
+        # The session has ended, however it was stopped: what waits for its labels is trained.
+        trained(trainer.finish())
         if summary.stopped_by is None:
             # The last minute is whole only when time ran out; a cut-short one is partial.
             while minute.minute < last:

@@ -37,6 +37,7 @@ from tvl_cli.agent.drive import Step
 from tvl_cli.agent.perception import Perception
 from tvl_cli.agent.policy import Pose
 from tvl_cli.agent.recording import EpisodeRecord
+from tvl_cli.core.arcs import first_contact_m
 from tvl_cli.core.contacts import blind_ahead, near_miss_sonars
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.fam import Fam
@@ -61,43 +62,6 @@ BUMP, NEAR, ESTIMATED, FREE = "bump", "near", "estimated", "free"
 ENDINGS = (BUMP, NEAR, ESTIMATED, FREE)
 
 EpisodeSink = Callable[[Episode], None]
-
-
-def first_contact_m(
-    pose: Pose, curvature_per_m: float, points_xy: np.ndarray, body_radius_m: float
-) -> float:
-    """Arc length (m) the body's centre can travel from `pose` along an arc of the given
-    curvature (CCW positive; 0 straight) before the body meets one of the points (K, 2);
-    inf if it meets none (within a full circle, for an arc).
-
-    Points the body overlaps already are left out: a robot that has not bumped touches
-    nothing, so such a point is a return placed off its object (the reading of a cone is put
-    on its axis, and odometry drifts).
-    """
-    x, y, theta = pose
-    dx, dy = points_xy[:, 0] - x, points_xy[:, 1] - y  # (K,) metres
-    ahead = dx * math.cos(theta) + dy * math.sin(theta)  # (K,) along the heading
-    left = dy * math.cos(theta) - dx * math.sin(theta)  # (K,) to its left
-    r = body_radius_m
-    outside = ahead**2 + left**2 > r**2
-    if curvature_per_m == 0.0:
-        met = outside & (np.abs(left) <= r) & (ahead > 0.0)
-        along = ahead - np.sqrt(np.maximum(r**2 - left**2, 0.0))
-        return float(along[met].min()) if met.any() else math.inf
-    radius = 1.0 / abs(curvature_per_m)
-    # A right turn is the left turn of the mirrored points. About the turn's centre, (0,
-    # radius) to the left, the robot stands at -90° and moves counter-clockwise.
-    across = math.copysign(1.0, curvature_per_m) * left - radius
-    rho = np.hypot(ahead, across)  # (K,) metres from the centre
-    bearing = np.mod(np.arctan2(across, ahead) + math.pi / 2, 2 * math.pi)  # (K,) rad to go
-    # The body's centre is within r of a point for a half-angle alpha either side of it.
-    reach = outside & (np.abs(rho - radius) <= r)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        cos_alpha = (radius**2 + rho**2 - r**2) / (2 * radius * rho)
-    alpha = np.arccos(np.clip(np.where(reach, cos_alpha, 1.0), -1.0, 1.0))
-    turned = bearing - alpha  # (K,) rad: > 0 for every point outside the body
-    met = reach & (turned > 0.0)
-    return float(radius * turned[met].min()) if met.any() else math.inf
 
 
 class EchoWindow:

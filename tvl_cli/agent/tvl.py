@@ -6,6 +6,7 @@ addition is a reflex (agent.reflexes)."""
 from __future__ import annotations
 
 import math
+from typing import Protocol
 
 import numpy as np
 
@@ -14,7 +15,6 @@ from tvl_cli.agent.perception import Perception
 from tvl_cli.agent.policy import Decision, Observation
 from tvl_cli.core.angles import wrap_rad
 from tvl_cli.core.drive_command import Command
-from tvl_cli.core.fam import Fam
 from tvl_cli.core.memory import NO_MEMORY
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.core.trajectory_choice import (
@@ -33,6 +33,16 @@ TRAPPED_SPIN_RADPS = 0.3
 SET_OFF_M = BACKOFF_M
 
 
+class VelocityPerception(Protocol):
+    """What the choice perceives the trajectories' velocities by: a FAM (core.fam.Fam), or
+    a reference that reads the map (agent.true_velocities)."""
+
+    def perceive(self, ring_m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(16, 7) m/s of each trajectory in each view (row k facing sonar k), and their
+        experience."""
+        ...
+
+
 def goal_bearing(odometry: tuple[float, float, float], goal_xy: tuple[float, float]) -> float:
     """Goal direction relative to the heading, [-pi, pi), from odometry alone."""
     x, y, theta = odometry
@@ -44,7 +54,7 @@ class TvlPolicy:
 
     def __init__(
         self,
-        fam: Fam,
+        fam: VelocityPerception,
         robot: RobotConfig,
         behaviour: str,
         threshold: float,

@@ -82,6 +82,12 @@ class ContactFacts:
     heard: bool  # a beam heard it beyond the blind zone in the AUDIBLE_S before
     given: bool  # what the FAM read at a choice in the RATING_S before held it
     given_beyond_blind_zone: bool  # ... farther than the blind zone
+    # The last choice of the RATING_S before, if there was one: the way it rated (m/s), how
+    # fast that way truly was (the oracle velocity, from the map), and the FAM's experience
+    # of what it read there (None where the FAM is not at hand).
+    rated_mps: float | None = None
+    true_mps: float | None = None
+    experience: float | None = None
 
 
 def cause_of(facts: ContactFacts) -> str:
@@ -185,19 +191,38 @@ def goal_failure(
     return WANDERED, closest
 
 
+# A rule whose experience is under one exemplar's full firing was barely trained.
+LITTLE_EXPERIENCE = 1.0
+
+
 def tally(autopsies: Iterable[dict[str, Any]]) -> dict[str, Any]:
     """Autopsies (as `Autopsy.to_dict` gives them) summed: contacts by cause, seconds by
-    time class, goal failures by reason."""
+    time class, goal failures by reason, and of the rated-fast contacts what the FAM had
+    learnt there: the median true velocity of the way it rated fast, and the share it had
+    under one exemplar's experience of."""
     causes: Counter[str] = Counter()
     time_s: Counter[str] = Counter()
     failures: Counter[str] = Counter()
+    rated_fast = []
     for autopsy in autopsies:
         causes.update({row["cause"]: row["contacts"] for row in autopsy["causes"]})
         time_s.update({row["class"]: row["time_s"] for row in autopsy["time"]})
         if autopsy["goal_failure"] is not None:
             failures[autopsy["goal_failure"]] += 1
+        rated_fast += [c for c in autopsy["contacts"] if c["cause"] == RATED_FAST]
+    true = [c["true_mps"] for c in rated_fast if c.get("true_mps") is not None]
+    rated = [c["rated_mps"] for c in rated_fast if c.get("rated_mps") is not None]
+    known = [c["experience"] for c in rated_fast if c.get("experience") is not None]
     return {
         "causes": {cause: causes[cause] for cause in CAUSES},
         "time_s": {name: time_s[name] for name in TIME_CLASSES},
         "goal_failures": {reason: failures[reason] for reason in GOAL_FAILURES},
+        "rated_fast": {
+            "contacts": len(rated_fast),
+            "median_true_mps": float(np.median(true)) if true else None,
+            "median_rated_mps": float(np.median(rated)) if rated else None,
+            "untrained_share": (
+                sum(e < LITTLE_EXPERIENCE for e in known) / len(known) if known else None
+            ),
+        },
     }

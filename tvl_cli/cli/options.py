@@ -23,6 +23,7 @@ from tvl_cli.cli.params import (
 from tvl_cli.core.errors import MAX_SEED, BadInput
 from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS
 from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS
+from tvl_cli.core.labels import LABEL_RULES
 from tvl_cli.core.memory import (
     DEFAULT_PATCH_M,
     DEFAULT_RANGE_M,
@@ -109,8 +110,8 @@ def refuse_shared_paths(
 
 
 def training_options(command: Callable[..., None]) -> Callable[..., None]:
-    """--config, --decel, --margin, --no-symmetric and --init-velocity: learn and train label
-    and train alike. The labels are the method's (method_options); the command is given
+    """--config, --decel, --margin, --labels, --no-symmetric and --init-velocity: learn and
+    train label and train alike. The labels are the method's (method_options); the command is given
     `symmetric` and `init_velocity_mps`."""
 
     @functools.wraps(command)
@@ -138,6 +139,14 @@ def training_options(command: Callable[..., None]) -> Callable[..., None]:
             default=None,
             help=f"Stop this far short of a collision point, m (default: the method's; ours "
             f"{DEFAULT.margin_m:g}).",
+        ),
+        click.option(
+            "--labels",
+            type=click.Choice(LABEL_RULES),
+            default=None,
+            help="What each recorded point labels: the trajectory driven, from where it "
+            "bumped (bump, the paper's), or every trajectory, each from the echoes heard "
+            f"around the point (heard) (default: the method's; ours {DEFAULT.labels}).",
         ),
         click.option("--no-symmetric", is_flag=True, help="Train each trajectory only on itself."),
         click.option(
@@ -169,6 +178,7 @@ def given_on_command_line(*options: str) -> list[str]:
 _SETTINGS: dict[str, tuple[str, Callable[[Any], Any]]] = {
     "decel": ("decel_mps2", float),
     "margin": ("margin_m", float),
+    "labels": ("labels", str),
     "near": ("near_m", float),
     "explore": ("exploration", str),
     "sonar": ("sonar", str),

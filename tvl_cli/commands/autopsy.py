@@ -17,6 +17,7 @@ import numpy as np
 
 from tvl_cli.agent.engine import GOAL_RADIUS_M
 from tvl_cli.agent.trace import Columns
+from tvl_cli.agent.true_velocities import TrueVelocities
 from tvl_cli.analysis.autopsy import (
     AUDIBLE_S,
     EDGE,
@@ -35,8 +36,12 @@ from tvl_cli.analysis.autopsy import (
 )
 from tvl_cli.core.contacts import BUMP, NEAR_MISS, near_miss_sonars, steps_beginning
 from tvl_cli.core.errors import BadInput
+from tvl_cli.core.fam import Fam
+from tvl_cli.core.method import DEFAULT, Method
 from tvl_cli.core.ring import mm_to_ring
 from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.io.famfile import read_fam
+from tvl_cli.io.logreader import file_sha256
 from tvl_cli.io.runfile import read_run
 from tvl_cli.sim.sonar import SonarRing
 from tvl_cli.sim.world import StaticGeometry, nearest_element, static_geometry
@@ -86,11 +91,14 @@ def run_autopsy(
     table_sonars: dict[str, tuple[int, ...]] | None,
     goal_xy: tuple[float, float] | None,
     goal_reached: bool,
+    method: Method = DEFAULT,
+    fam: Fam | None = None,
 ) -> Autopsy:
     """The autopsy of a run from its steps' columns (agent.trace names them).
 
     `table_sonars` names, for each trajectory, the sonars its FAM table reads (facing ahead);
-    None counts every sonar as read.
+    None counts every sonar as read. `method` gives the labels true velocities are told in
+    (the oracle's, agent.true_velocities); `fam`, the run's, the experience of its ratings.
     """
     dt = robot.control_period_s
     pose = columns["pose"]  # (N, 3) true pose after each step
@@ -112,6 +120,7 @@ def run_autopsy(
     window = max(1, round(AUDIBLE_S / dt))
     rating = max(1, round(RATING_S / dt))
     decided = read & (columns["choice"] >= 0)  # (N,) steps the policy chose, seeing the ring
+    ratings = _Ratings(world, robot, method, columns, poses_before, fam_read, fam)
 
     contacts = []
     found = [(int(s), BUMP) for s in steps_beginning(columns["events"], BUMP)]
@@ -145,6 +154,7 @@ def run_autopsy(
         first_choice = max(0, moved - rating + 1)
         choices = np.flatnonzero(decided[first_choice : moved + 1]) + first_choice
         held_m = _held_at(truth, choices, fam_read, columns, obstacle, sonars_of)
+        rated, true, experience = ratings.of(int(choices[-1])) if len(choices) else (None,) * 3
         facts = ContactFacts(
             step=began,
             time_s=(began + 1) * dt,
@@ -154,6 +164,9 @@ def run_autopsy(
             heard=heard,
             given=held_m is not None,
             given_beyond_blind_zone=held_m is not None and held_m > min_range,
+            rated_mps=rated,
+            true_mps=true,
+            experience=experience,
         )
         contacts.append(Contact(facts, cause_of(facts)))
     time_s = time_by_class(columns["speed_mps"], columns["turn_radps"], columns["events"], dt)
@@ -161,6 +174,41 @@ def run_autopsy(
     if goal_xy is not None and not goal_reached:
         failure, closest = goal_failure(pose[:, :2], goal_xy, GOAL_RADIUS_M, time_s, dt)
     return Autopsy(tuple(contacts), time_s, failure, closest)
+
+
+class _Ratings:
+    """How a choice rated the way it chose, how fast that way truly was, and the experience
+    behind the rating."""
+
+    def __init__(
+        self,
+        world: WorldMap,
+        robot: RobotConfig,
+        method: Method,
+        columns: Columns,
+        poses_before: np.ndarray,
+        fam_read: np.ndarray,
+        fam: Fam | None,
+    ) -> None:
+        self._velocities = TrueVelocities(world, robot, method, lambda: self._pose)
+        self._pose = (0.0, 0.0, 0.0)
+        self._columns = columns
+        self._poses = poses_before
+        self._fam_read = fam_read
+        self._fam = fam
+
+    def of(self, step: int) -> tuple[float, float, float | None]:
+        """At the choice of `step`: the rating (m/s), the true velocity, the experience."""
+        rotation, chosen = int(self._columns["rotation"][step]), int(self._columns["choice"][step])
+        x, y, theta = self._poses[step]
+        self._pose = (float(x), float(y), float(theta))
+        true = self._velocities.perceive(self._fam_read[step])[0][rotation % 16, chosen]
+        experience = (
+            None
+            if self._fam is None
+            else float(self._fam.perceive(self._fam_read[step])[1][rotation % 16, chosen])
+        )
+        return float(self._columns["velocities"][step, chosen]), float(true), experience
 
 
 def _blind_obstacle(
@@ -258,4 +306,18 @@ def trace_autopsy(path: Path) -> Autopsy:
         table_sonars=parameters.get("sonars_read"),
         goal_xy=(float(goal[0]), float(goal[1])) if goal else None,
         goal_reached=bool(trace.metrics.get("goal_reached")),
+        method=trace.method,
+        fam=_fam_if_found(parameters),
     )
+
+
+def _fam_if_found(parameters: dict[str, Any]) -> Fam | None:
+    """The FAM the run was driven with, if it is still where the trace says, unchanged; else
+    none (its ratings' experience goes unsaid)."""
+    named = Path(str(parameters.get("fam", "")))
+    if not named.is_file() or file_sha256(named) != parameters.get("fam_sha256"):
+        return None
+    try:
+        return read_fam(named).fam
+    except BadInput:
+        return None

@@ -24,13 +24,13 @@ from tvl_cli.core.fam_config import FamConfig
 from tvl_cli.core.memory import MemoryConfig
 from tvl_cli.core.method import DEFAULT, Method, method_record
 from tvl_cli.core.robot_config import RobotConfig
-from tvl_cli.core.training import TrainParams, train_episodes, train_params
+from tvl_cli.core.training import SessionEpisodes, TrainParams, train_params, train_sessions
 from tvl_cli.io.atomic import check_writable
 from tvl_cli.io.fam_config_file import resolve_fam_config
 from tvl_cli.io.famfile import check_storable, read_fam, write_fam
 from tvl_cli.io.log_sessions import distinct_sessions, provenance
 from tvl_cli.io.logfile import LogWriter
-from tvl_cli.io.loglayout import STATUS_FINISHED
+from tvl_cli.io.loglayout import KIND_LEARNING, STATUS_FINISHED
 from tvl_cli.io.logreader import file_sha256, read_log
 from tvl_cli.sim.worldmap import load_world
 
@@ -131,10 +131,15 @@ def learn_to_log(
         if log is not None:
             # A log goes on from what its sessions learnt, trained as `tvl train` would.
             sessions, _ = distinct_sessions([log])
-            episodes = [
-                e for s in sessions for e in perceived_episodes(s.episodes(), method.memory, robot)
+            earlier_episodes = [
+                SessionEpisodes(
+                    perceived_episodes(s.episodes(), method.memory, robot),
+                    ended=True,
+                    driven_only=s.kind != KIND_LEARNING,
+                )
+                for s in sessions
             ]
-            train_episodes(fam, episodes, robot, request.train)
+            train_sessions(fam, earlier_episodes, robot, request.train)
     learner = Learner(
         world,
         robot,

@@ -12,9 +12,11 @@ from typing import Any
 import numpy as np
 
 from tvl_cli.agent.perception import perceived_episodes
+from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS, Fam
 from tvl_cli.core.fam_config import FamConfig
+from tvl_cli.core.heard import HeardEpisode
 from tvl_cli.core.method import (
     NOT_GIVEN,
     SESSIONS_DIFFER_IN,
@@ -24,7 +26,13 @@ from tvl_cli.core.method import (
     method_record,
 )
 from tvl_cli.core.robot_config import RobotConfig
-from tvl_cli.core.training import TrainParams, train_episodes, train_params
+from tvl_cli.core.training import (
+    SessionEpisodes,
+    TrainParams,
+    train_heard,
+    train_params,
+    train_sessions,
+)
 from tvl_cli.io.fam_config_file import resolve_fam_config
 from tvl_cli.io.famfile import write_fam
 from tvl_cli.io.log_sessions import (
@@ -35,7 +43,10 @@ from tvl_cli.io.log_sessions import (
     provenance,
     training_method,
 )
-from tvl_cli.io.logreader import read_log, refuse_repeated
+from tvl_cli.io.loglayout import KIND_LEARNING
+from tvl_cli.io.logreader import Session, read_log, refuse_repeated
+from tvl_cli.sim.true_arcs import TrueArcs
+from tvl_cli.sim.worldmap import parse_world
 
 
 @dataclass(frozen=True, slots=True)
@@ -80,12 +91,17 @@ def train_from_logs(
     until_minute: float | None = None,
     symmetric: bool = True,
     init_velocity_mps: float = DEFAULT_INIT_VELOCITY_MPS,
+    true_labels: bool = False,
 ) -> TrainSummary:
     """Train a new FAM on every episode of every log, in log, session and episode order;
     with `until_minute`, only on the episodes each session finished by then (a snapshot of
     what the learner knew at that minute). The labels are the method's (ours when none is
     chosen); the FAM reads through the memory the sessions were learnt through unless the
-    method or its settings say otherwise, its virtual rings replayed from the exemplars."""
+    method or its settings say otherwise, its virtual rings replayed from the exemplars.
+
+    `true_labels` labels every point's seven trajectories from its session's world and the
+    true pose instead (sim.true_arcs): the oracle labels of the generalization benchmark, a
+    reference that reads the map, never a method; its provenance says so."""
     started = time.perf_counter()
     if until_minute is not None and not (math.isfinite(until_minute) and until_minute >= 0):
         raise BadInput(f"--until-minute {until_minute:g} must be a number of minutes >= 0")
@@ -98,12 +114,15 @@ def train_from_logs(
     fam = Fam(config, [t.name for t in robot.trajectories], params.init_velocity_mps)
     sessions, repeats = distinct_sessions(logs)
     until_s = None if until_minute is None else until_minute * 60.0
-    episodes = [
-        e
-        for s in sessions
-        for e in perceived_episodes(finished_episodes(s, until_s), memory_read, robot)
+    chosen = [
+        (perceived_episodes(finished_episodes(s, until_s), memory_read, robot), s) for s in sessions
     ]
-    total = train_episodes(fam, episodes, robot, params, on_progress)
+    if true_labels:
+        total = _train_true(fam, chosen, robot, params, on_progress)
+    else:
+        total = train_sessions(
+            fam, [_to_train(episodes, s) for episodes, s in chosen], robot, params, on_progress
+        )
     tables = range(len(config.tables))
     touched = sum(int(np.count_nonzero(fam.experience_table(t).sum(axis=1))) for t in tables)
     return TrainSummary(
@@ -115,14 +134,52 @@ def train_from_logs(
             **provenance(logs, params, config, differing),
             "until_minute": until_minute,
             "repeated_sessions": [r.text() for r in repeats],
+            **({"labels_from": ORACLE_LABELS} if true_labels else {}),
         },
         exemplars=total,
-        episodes=len(episodes),
+        episodes=sum(len(episodes) for episodes, _ in chosen),
         rules_touched=touched,
         rules_total=config.rule_count,
         wall_s=time.perf_counter() - started,
         repeated_sessions=repeats,
     )
+
+
+# What a FAM trained on the oracle labels records of them in its provenance.
+ORACLE_LABELS = "the true map and pose: oracle labels, a reference, not a method"
+
+
+def _to_train(episodes: list[Episode], session: Session) -> SessionEpisodes:
+    """A session's episodes as its learner trained them: a session cut short (by
+    `until_minute`) had not ended, its last labels unheard; one of learning while behaving
+    labelled its driven trajectories alone."""
+    return SessionEpisodes(
+        episodes,
+        ended=len(episodes) == len(session.episode_table),
+        driven_only=session.kind != KIND_LEARNING,
+    )
+
+
+def _train_true(
+    fam: Fam,
+    chosen: list[tuple[list[Episode], Session]],
+    robot: RobotConfig,
+    params: TrainParams,
+    on_progress: Callable[[int, int], None],
+) -> int:
+    """Train on every trajectory of every point, labelled from its session's world and its
+    true pose (the oracle labels); the exemplars read."""
+    total = sum(e.exemplar_count for episodes, _ in chosen for e in episodes)
+    done = 0
+    for episodes, session in chosen:
+        arcs = TrueArcs(parse_world(session.world_text, session.world_name), robot)
+        reach = arcs.reach_m(params.decel_mps2, params.margin_m)
+        for episode in episodes:
+            heard = HeardEpisode(episode, arcs.distances_m(episode.pose, reach))
+            train_heard(fam, heard, robot, params)
+            done += episode.exemplar_count
+            on_progress(done, total)
+    return total
 
 
 def write_trained(path: Path, trained: TrainSummary, overwrite: bool = True) -> None:

@@ -28,6 +28,14 @@ DEFAULT_MARGIN_M = 0.15
 MAX_DECEL_MPS2 = 10.0
 MAX_MARGIN_M = SonarConfig().max_range_m
 
+# What a recorded point labels (core.method.Method.labels): the trajectory it was driven
+# along, from where that met its collision point (a bump, a sonar's collision point, or
+# none after a full circle: the paper's, §4.1); or every trajectory, each from the echoes
+# heard around it as well (core.heard).
+BUMP_LABELS = "bump"
+HEARD_LABELS = "heard"
+LABEL_RULES = (BUMP_LABELS, HEARD_LABELS)
+
 
 def velocity_labels(
     distance_to_collision_m: np.ndarray,

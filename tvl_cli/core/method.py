@@ -22,8 +22,11 @@ from typing import Any
 
 from tvl_cli.core.errors import BadInput, check_in_range, did_you_mean
 from tvl_cli.core.labels import (
+    BUMP_LABELS,
     DEFAULT_DECEL_MPS2,
     DEFAULT_MARGIN_M,
+    HEARD_LABELS,
+    LABEL_RULES,
     MAX_DECEL_MPS2,
     MAX_MARGIN_M,
 )
@@ -104,6 +107,7 @@ class Method:
 
     decel_mps2: float = DEFAULT_DECEL_MPS2  # the labels brake at this rate
     margin_m: float = DEFAULT_MARGIN_M  # and stop this far short of the collision point
+    labels: str = HEARD_LABELS  # which trajectories a point labels: one of LABEL_RULES
     near_m: float = DEFAULT_NEAR_M  # collision points: a sonar ahead this near; 0: bumps only
     exploration: str = LEAST_EXPERIENCE  # one of EXPLORATION_RULES
     reflexes: tuple[str, ...] = REFLEX_NAMES  # in stacking order
@@ -140,6 +144,7 @@ FIELDS = tuple(f.name for f in fields(Method))
 FLAGS = {
     "decel_mps2": "--decel",
     "margin_m": "--margin",
+    "labels": "--labels",
     "near_m": "--near",
     "exploration": "--explore",
     "reflexes": "--reflex",
@@ -147,7 +152,15 @@ FLAGS = {
     "memory": "--memory",
 }
 # The choices a learner makes (and a FAM is made by); a run adds the behaving ones.
-LEARNING_FIELDS = ("decel_mps2", "margin_m", "near_m", "exploration", "sonar", "memory")
+LEARNING_FIELDS = (
+    "decel_mps2",
+    "margin_m",
+    "labels",
+    "near_m",
+    "exploration",
+    "sonar",
+    "memory",
+)
 BEHAVING_FIELDS = ("reflexes", "wall_rule", "memory")
 
 
@@ -160,6 +173,7 @@ def _check(name: str, value: Any, label: str) -> None:
         check_in_range(value, label, 0.0, MAX_MARGIN_M if name == "margin_m" else MAX_NEAR_M, "m")
         return
     choices: dict[str, Iterable[str]] = {
+        "labels": LABEL_RULES,
         "exploration": EXPLORATION_RULES,
         "wall_rule": WALL_RULES,
         "sonar": SONAR_MODELS,
@@ -175,11 +189,13 @@ def _check(name: str, value: Any, label: str) -> None:
 
 
 DEFAULT = Method()
-# The paper's method: its labels, collision points at bumps alone, its exploration rule, no
-# reflex, no memory (the live ring). Where it is silent (the wall rule, the sonar), ours.
+# The paper's method: its labels (the driven trajectory's alone), collision points at bumps
+# alone, its exploration rule, no reflex, no memory (the live ring). Where it is silent (the
+# wall rule, the sonar), ours.
 PAPER = Method(
     decel_mps2=PAPER_DECEL_MPS2,
     margin_m=PAPER_MARGIN_M,
+    labels=BUMP_LABELS,
     near_m=0.0,
     exploration=LEAST_EXPERIENCE,
     reflexes=(),
@@ -379,6 +395,17 @@ ADDITIONS: tuple[Addition, ...] = (
         f"Labels stop {DEFAULT_MARGIN_M:g} m short of the collision point, the sonar's minimum "
         "range: no speed is learnt for the stretch the ring cannot tell from touching.",
         PAPER_MARGIN_M,
+    ),
+    Addition(
+        "heard labels",
+        "labels",
+        "--labels",
+        HEARD_LABELS,
+        "Every recorded point labels all seven trajectories, each from where the body would "
+        "meet the echoes heard from 10 s before the point to 10 s after it, placed by "
+        "odometry (the paper's §2 'accumulated sensor data and odometry'); the driven one "
+        "keeps the collision point it met.",
+        BUMP_LABELS,
     ),
     Addition(
         "sonar collision points",

@@ -1,18 +1,30 @@
 """Training a FAM from recorded episodes: the one path shared by `tvl learn` (online) and
-`tvl train` (log replay), so that replaying a log rebuilds the online FAM bit for bit."""
+`tvl train` (log replay), so that replaying a log rebuilds the online FAM bit for bit.
+
+A session's episodes are trained in the order they ended, each once its labels are known:
+at once by the paper's rule (the driven trajectory, from its own collision point), or once
+the echoes around it have been heard by the heard rule (core.heard), the rest when the
+session ends."""
 
 from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS, Fam
-from tvl_cli.core.labels import DEFAULT_DECEL_MPS2, DEFAULT_MARGIN_M, velocity_labels
+from tvl_cli.core.heard import HeardEpisode, HeardLabeller
+from tvl_cli.core.labels import (
+    BUMP_LABELS,
+    DEFAULT_DECEL_MPS2,
+    DEFAULT_MARGIN_M,
+    HEARD_LABELS,
+    velocity_labels,
+)
 from tvl_cli.core.method import Method
 from tvl_cli.core.robot_config import SLOWEST_TOP_MPS, RobotConfig
 
@@ -25,6 +37,7 @@ class TrainParams:
     margin_m: float = DEFAULT_MARGIN_M
     symmetric: bool = True
     init_velocity_mps: float = DEFAULT_INIT_VELOCITY_MPS
+    labels: str = HEARD_LABELS  # which trajectories a recorded point labels (LABEL_RULES)
 
     def __post_init__(self) -> None:
         # Checked here, before any file is touched, rather than at the first label.
@@ -50,36 +63,96 @@ def train_params(
     method: Method, symmetric: bool = True, init_velocity_mps: float = DEFAULT_INIT_VELOCITY_MPS
 ) -> TrainParams:
     """How a FAM is trained by `method`'s labels, with the settings beyond the method."""
-    return TrainParams(method.decel_mps2, method.margin_m, symmetric, init_velocity_mps)
+    return TrainParams(
+        method.decel_mps2, method.margin_m, symmetric, init_velocity_mps, method.labels
+    )
 
 
 def episode_labels(episode: Episode, robot: RobotConfig, params: TrainParams) -> np.ndarray:
-    """(n,) m/s: at each point, the speed that stops just short of the collision point."""
+    """(n,) m/s: at each point, the speed on the driven trajectory that stops just short of
+    its collision point."""
     v_max = robot.trajectories[episode.trajectory].v_max_mps
     return velocity_labels(episode.distances_m(), v_max, params.decel_mps2, params.margin_m)
 
 
 def train_episode(fam: Fam, episode: Episode, robot: RobotConfig, params: TrainParams) -> float:
-    """Train on one whole episode, on exactly the ring values the log keeps (or the virtual
-    rings the echo memory made of them); the summed absolute change of the FAM's velocity
-    entries, m/s (Fam.train)."""
+    """Train on one whole episode's driven trajectory, on exactly the ring values the log keeps
+    (or the virtual rings the echo memory made of them); the summed absolute change of the
+    FAM's velocity entries, m/s (Fam.train)."""
     labels = episode_labels(episode, robot, params)
     trajectories = np.full(len(labels), episode.trajectory)
     return fam.train(episode.fam_rings(), trajectories, labels, symmetric=params.symmetric)
 
 
-def train_episodes(
+def train_heard(fam: Fam, heard: HeardEpisode, robot: RobotConfig, params: TrainParams) -> float:
+    """Train on every trajectory each of an episode's points labels (core.heard), point by
+    point in trajectory order; the summed absolute change, as train_episode."""
+    distances = heard.distances_m  # (n, T) metres; NaN: no label
+    v_max = np.array(robot.v_max_mps)  # (T,)
+    labelled = ~np.isnan(distances)
+    points, trajectories = np.nonzero(labelled)  # row-major: point by point
+    labels = velocity_labels(
+        distances[labelled], v_max[trajectories], params.decel_mps2, params.margin_m
+    )
+    rings = heard.episode.fam_rings()[points]
+    return fam.train(rings, trajectories, labels, symmetric=params.symmetric)
+
+
+Trained = tuple[Episode, float]  # an episode, and the change its training made
+
+
+class SessionTrainer:
+    """Trains a FAM with one session's episodes, handed in the order they ended, by the
+    labels' rule: each at once (the paper's), or once its labels are heard."""
+
+    def __init__(self, fam: Fam, robot: RobotConfig, params: TrainParams) -> None:
+        self._fam = fam
+        self._robot = robot
+        self._params = params
+        self._heard = HeardLabeller(robot) if params.labels == HEARD_LABELS else None
+
+    def add(self, episode: Episode) -> list[Trained]:
+        """Take an episode; those trained now, with the change each made."""
+        if self._heard is None:
+            return [(episode, train_episode(self._fam, episode, self._robot, self._params))]
+        return [self._train(h) for h in self._heard.add(episode)]
+
+    def finish(self) -> list[Trained]:
+        """The session has ended: the episodes still waiting, trained."""
+        return [] if self._heard is None else [self._train(h) for h in self._heard.finish()]
+
+    def _train(self, heard: HeardEpisode) -> Trained:
+        return heard.episode, train_heard(self._fam, heard, self._robot, self._params)
+
+
+@dataclass(frozen=True, slots=True)
+class SessionEpisodes:
+    """A session's episodes to train on, from its first, as its learner trained them."""
+
+    episodes: Sequence[Episode]
+    ended: bool  # the session ended with them (else it went on, its last labels unheard)
+    # Learning while behaving labels the trajectory each stretch drove, from that stretch's
+    # own collision point (agent.online), whatever the method's labels.
+    driven_only: bool = False
+
+
+def train_sessions(
     fam: Fam,
-    episodes: Sequence[Episode],
+    sessions: Sequence[SessionEpisodes],
     robot: RobotConfig,
     params: TrainParams,
     on_progress: Callable[[int, int], None] = lambda done, total: None,
 ) -> int:
-    """Train the FAM on the episodes in order, as the online learner did; the exemplars used."""
-    total = sum(e.exemplar_count for e in episodes)
+    """Train the FAM on the sessions in order, each as its learner did; the exemplars read."""
+    total = sum(e.exemplar_count for s in sessions for e in s.episodes)
     done = 0
-    for episode in episodes:
-        train_episode(fam, episode, robot, params)
-        done += episode.exemplar_count
-        on_progress(done, total)
+    driven = replace(params, labels=BUMP_LABELS)
+    for session in sessions:
+        trainer = SessionTrainer(fam, robot, driven if session.driven_only else params)
+        for episode in session.episodes:
+            trainer.add(episode)
+            done += episode.exemplar_count
+            on_progress(done, total)
+        if session.ended:
+            trainer.finish()
     return total

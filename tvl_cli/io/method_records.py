@@ -18,6 +18,7 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 from tvl_cli.core.errors import BadInput
+from tvl_cli.core.labels import BUMP_LABELS
 from tvl_cli.core.memory import NO_MEMORY, MemoryConfig
 from tvl_cli.core.method import (
     FIELDS,
@@ -74,6 +75,11 @@ def _fields(names: Any, where: str) -> tuple[str, ...]:
     return tuple(names)
 
 
+# What every file older than its method's record was made by, recorded or not: labels of the
+# driven trajectory alone (the heard labels came with the record).
+_OLDER = {"labels": BUMP_LABELS}
+
+
 def _memory(value: Any, where: str) -> dict[str, Any]:
     try:
         return MemoryConfig.from_dict(value or {}).to_dict()
@@ -96,6 +102,7 @@ def session_method(
     """A log session's method: its record; for a session of log version 1, the record of its
     learning fields (where it has one) over what its parameters and robot say."""
     pieces: dict[str, Any] = {
+        **_OLDER,
         **_numbers(parameters, ("decel_mps2", "margin_m", "near_m")),
         # Sessions written before there was a choice explored by the paper's rule, and
         # through no memory.
@@ -120,6 +127,7 @@ def fam_method(
     it has none: a version 1 FAM reads the live ring) and its robot's sonar."""
     training = provenance.get("training")
     pieces: dict[str, Any] = {
+        **_OLDER,
         **_numbers(training if isinstance(training, dict) else {}, ("decel_mps2", "margin_m")),
         "memory": _memory(memory, where) if memory is not None else NO_MEMORY.to_dict(),
         **_sonar(robot),
@@ -134,7 +142,7 @@ def trace_method(
 ) -> ReadMethod:
     """A run trace's method: its record; for a trace of version 3 or older, its record (where
     it has one) over the reflexes, memory and sonar its parameters and robot say."""
-    pieces: dict[str, Any] = {**_sonar(robot)}
+    pieces: dict[str, Any] = {**_OLDER, **_sonar(robot)}
     if "reflexes" in parameters:
         pieces["reflexes"] = parameters["reflexes"]
     if "memory" in parameters:

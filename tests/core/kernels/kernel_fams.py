@@ -13,7 +13,7 @@ from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import DESIGNED, MULTI, SINGLE, FamConfig
 from tvl_cli.core.ring import mm_to_ring
 from tvl_cli.core.robot_config import RobotConfig
-from tvl_cli.core.training import TrainParams, train_episodes
+from tvl_cli.core.training import SessionEpisodes, TrainParams, train_sessions
 from tvl_cli.io.logreader import read_log
 
 LOG = Path(__file__).resolve().parents[3] / "logs" / "lab-s1.h5"
@@ -49,7 +49,7 @@ def learnt_fam(name: str, minutes: float = 5.0) -> Fam:
     fam = Fam(CONFIGS[name], NAMES)
     (session,) = read_log(LOG).sessions
     episodes = [e for e in session.episodes() if e.end_time_s <= 60.0 * minutes]
-    train_episodes(fam, episodes, ROBOT, TrainParams())
+    train_sessions(fam, [SessionEpisodes(episodes, ended=True)], ROBOT, TrainParams())
     return fam
 
 

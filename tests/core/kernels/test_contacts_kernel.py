@@ -1,0 +1,46 @@
+"""The compiled heard contacts are what core.arcs computes in numpy, pose by pose, on real
+worlds' outlines and at random poses, each pose with its own window of points."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from kernel_worlds import WORLDS as WORLD_FILES
+from kernel_worlds import random_poses
+
+from tvl_cli.core.arcs import first_contacts_m
+from tvl_cli.core.kernels.contacts import first_contacts_in_windows
+from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.sim.true_arcs import outline_points
+from tvl_cli.sim.world import static_geometry
+from tvl_cli.sim.worldgen import generate_world
+from tvl_cli.sim.worldmap import load_world, parse_world
+
+ROBOT = RobotConfig()
+CURVATURES = np.array([t.curvature_per_m for t in ROBOT.trajectories])
+WORLDS = {
+    "lab": load_world(WORLD_FILES / "lab.txt"),
+    "rooms": parse_world(generate_world("rooms", None, None, 5), "rooms"),
+}
+
+
+@pytest.mark.parametrize("name", sorted(WORLDS))
+def test_the_kernel_finds_each_poses_contacts_as_numpy_does_in_its_window(name: str) -> None:
+    world = WORLDS[name]
+    points = np.ascontiguousarray(outline_points(world)[::7])  # sparse, as echoes are
+    poses = np.ascontiguousarray(random_poses(static_geometry(world), 200, seed=11))
+    rng = np.random.default_rng(5)
+    first = rng.integers(0, len(points), len(poses))
+    stop = np.minimum(first + rng.integers(0, 3000, len(poses)), len(points))
+    found = np.empty((len(poses), len(CURVATURES)))
+    first_contacts_in_windows(poses, CURVATURES, points, first, stop, ROBOT.radius_m, found)
+    expected = np.array(
+        [
+            first_contacts_m(tuple(pose), CURVATURES, points[a:b], ROBOT.radius_m)
+            for pose, a, b in zip(poses, first, stop, strict=True)
+        ]
+    )
+    np.testing.assert_array_equal(np.isinf(found), np.isinf(expected))
+    finite = np.isfinite(found)
+    np.testing.assert_allclose(found[finite], expected[finite], rtol=0, atol=1e-9)
+    assert 0.2 < finite.mean() < 1.0  # contacts and free arcs both

@@ -1,0 +1,72 @@
+"""The true collision points (sim.true_arcs), a reference that reads the map: in a box of
+known size, each trajectory meets the wall where geometry says."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from tvl_cli.core.labels import velocity_labels
+from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.sim.true_arcs import TrueArcs, outline_points
+from tvl_cli.sim.worldmap import parse_world
+
+ROBOT = RobotConfig()
+# A 6 m by 4 m room of quarter-metre cells: its inside runs from 0.25 to 5.75 m and 3.75 m.
+BOX = parse_world(
+    "version: 1\nname: box\ncell: 0.25\n\n"
+    + "#" * 24
+    + "\n"
+    + "".join("#" + "." * 22 + "#\n" for _ in range(7))
+    + "#..>" + "." * 19 + "#\n"
+    + "".join("#" + "." * 22 + "#\n" for _ in range(7))
+    + "#" * 24
+    + "\n",
+    "box",
+)  # fmt: skip
+
+
+def test_the_outline_lies_on_the_walls_a_centimetre_apart() -> None:
+    points = outline_points(BOX)
+    gaps = np.hypot(*np.diff(points[:200], axis=0).T)
+    assert gaps.max() <= 0.0101
+    assert points[:, 0].min() == pytest.approx(0.25) and points[:, 0].max() == pytest.approx(5.75)
+
+
+def test_straight_ahead_meets_the_far_wall_a_body_radius_short() -> None:
+    arcs = TrueArcs(BOX, ROBOT)
+    pose = np.array([[1.0, 1.0, 0.0]])  # facing +x, 4.75 m from the inside of the far wall
+    found = arcs.distances_m(pose, reach_m=10.0)
+    assert found[0, 3] == pytest.approx(5.75 - 1.0 - ROBOT.radius_m, abs=1e-4)
+    # Beyond the reach asked, nothing is met.
+    assert np.isinf(arcs.distances_m(pose, reach_m=2.0)[0, 3])
+
+
+def test_a_left_turn_meets_the_wall_where_its_circle_crosses_it() -> None:
+    arcs = TrueArcs(BOX, ROBOT)
+    # Facing -y from (3, 1.2): T1L (radius 2, centre (5, 1.2)) turns toward the bottom wall
+    # at y = 0.25; the body meets it when its centre reaches y = 0.45.
+    pose = np.array([[3.0, 1.2, -math.pi / 2]])
+    found = arcs.distances_m(pose, reach_m=10.0)[0, 2]
+    turned = math.asin((1.2 - 0.45) / 2.0)  # the angle round the centre to y = 0.45
+    assert found == pytest.approx(2.0 * turned, abs=2e-3)
+
+
+def test_true_velocities_are_the_labels_of_the_true_collision_points() -> None:
+    arcs = TrueArcs(BOX, ROBOT)
+    poses = np.array([[1.0, 1.0, 0.0], [5.2, 2.0, 0.0], [3.0, 2.0, math.pi / 2]])
+    decel, margin = 0.1, 0.15
+    v_max = np.array(ROBOT.v_max_mps)
+    found = arcs.distances_m(poses, arcs.reach_m(decel, margin))
+    expected = velocity_labels(found, v_max, decel, margin)
+    np.testing.assert_allclose(arcs.velocities_mps(found, decel, margin), expected)
+    assert expected[1, 3] < 0.2  # 0.35 m from the wall
+
+
+def test_a_clearance_moves_every_collision_point_nearer() -> None:
+    pose = np.array([[1.0, 1.0, 0.0]])
+    touching = TrueArcs(BOX, ROBOT).distances_m(pose, 10.0)[0, 3]
+    clear = TrueArcs(BOX, ROBOT, clearance_m=0.15).distances_m(pose, 10.0)[0, 3]
+    assert clear == pytest.approx(touching - 0.15, abs=1e-4)

@@ -1,0 +1,74 @@
+"""The oracle velocities: the paper's decision rule, inside the method's reflexes, fed the true
+velocity of every view's seven trajectories in place of a FAM's. A reference that reads the
+map and the true pose, never a method: what the method could do with perfect perception, the
+ceiling the generalization benchmark holds the FAMs to.
+
+A trajectory's true velocity is the label its true collision point gives (sim.true_arcs),
+by the method's deceleration and margin, the collision point where the body would come
+within the sonar's blind zone (0.15 m) of an obstacle: nearer, the ring cannot tell it from
+touching, and a run counts a near miss.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+
+import numpy as np
+
+from tvl_cli.agent.drive import StepSink, drive_engine
+from tvl_cli.agent.engine import StepEngine
+from tvl_cli.agent.perception import Perception
+from tvl_cli.agent.policy import Pose
+from tvl_cli.agent.reflexes import wrap
+from tvl_cli.agent.tvl import TvlPolicy
+from tvl_cli.core.method import Method
+from tvl_cli.core.metrics import RunMetrics
+from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.core.trajectory_choice import DEFAULT_THRESHOLD
+from tvl_cli.sim.true_arcs import TrueArcs
+from tvl_cli.sim.worldmap import WorldMap
+
+
+class TrueVelocities:
+    """Perceives like a FAM (`perceive`), from the true pose and the map."""
+
+    def __init__(
+        self, world: WorldMap, robot: RobotConfig, method: Method, true_pose: Callable[[], Pose]
+    ) -> None:
+        self._arcs = TrueArcs(world, robot, robot.sonar.min_range_m)
+        self._labels = (method.decel_mps2, method.margin_m)
+        self._reach_m = self._arcs.reach_m(*self._labels)
+        self._true_pose = true_pose
+        count = robot.sonar.count
+        self._views = np.arange(count) * (2 * math.pi / count)  # (16,) rad from the heading
+
+    def perceive(self, ring_m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(16, 7) m/s, view k facing sonar k, and the experience (all ones: known)."""
+        x, y, theta = self._true_pose()
+        found = self._arcs.view_distances_m(x, y, theta + self._views, self._reach_m)
+        velocities = self._arcs.velocities_mps(found, *self._labels)
+        return velocities, np.ones_like(velocities)
+
+
+def behave_with_true_velocities(
+    world: WorldMap,
+    robot: RobotConfig,
+    behaviour: str,
+    *,
+    minutes: float,
+    seed: int,
+    method: Method,
+    threshold: float = DEFAULT_THRESHOLD,
+    goal_xy: tuple[float, float] | None = None,
+    on_step: StepSink | None = None,
+) -> RunMetrics:
+    """`agent.drive_tvl.behave`, with the true velocities in place of a FAM's: the method's
+    reflexes, wall rule and perception of the ring (for the choice's other reads of it)."""
+    engine = StepEngine(world, robot, goal_xy=goal_xy, measure=True)
+    engine.reset(seed)
+    velocities = TrueVelocities(world, robot, method, lambda: engine.sim.pose)
+    perception = Perception(method.memory, robot)
+    tvl = TvlPolicy(velocities, robot, behaviour, threshold, perception, method.wall_rule)
+    policy = wrap(tvl, method.reflexes, robot, behaviour)
+    return drive_engine(engine, policy, minutes, on_step=on_step)

@@ -1,0 +1,53 @@
+"""The heard labels' kernel (core.heard): for many poses, how far the body can travel along
+each trajectory before it meets one of the echoes in the pose's own window of them.
+
+`first_contacts_in_windows` is compiled; core.arcs.first_contacts_m computes the same for
+one pose in numpy, which the tests hold it to.
+"""
+
+from __future__ import annotations
+
+import math
+
+from tvl_cli.core.kernels import kernel
+
+
+@kernel
+def first_contacts_in_windows(
+    poses, curvatures, points, first, stop, body_radius_m, found
+):  # fmt: skip
+    """Fill found (N, T) with the arc length (m) the body's centre can travel from each pose
+    of poses (N, 3) x, y, theta along each trajectory of curvatures (T,) 1/m before the body
+    meets one of points[first[i]:stop[i]] (points (M, 2) metres); inf where it meets none.
+    Points the body overlaps already are left out."""
+    r = body_radius_m
+    for i in range(poses.shape[0]):
+        x, y, theta = poses[i, 0], poses[i, 1], poses[i, 2]
+        c, s = math.cos(theta), math.sin(theta)
+        for t in range(curvatures.shape[0]):
+            found[i, t] = math.inf
+        for k in range(first[i], stop[i]):
+            dx, dy = points[k, 0] - x, points[k, 1] - y
+            ahead = dx * c + dy * s
+            left = dy * c - dx * s
+            if ahead * ahead + left * left <= r * r:
+                continue  # overlapped already: placed off its object
+            for t in range(curvatures.shape[0]):
+                k_t = curvatures[t]
+                if k_t == 0.0:
+                    if abs(left) <= r and ahead > 0.0:
+                        along = ahead - math.sqrt(max(r * r - left * left, 0.0))
+                        if along < found[i, t]:
+                            found[i, t] = along
+                    continue
+                radius = 1.0 / abs(k_t)
+                across = (1.0 if k_t > 0.0 else -1.0) * left - radius
+                rho = math.hypot(ahead, across)
+                if abs(rho - radius) > r:
+                    continue
+                bearing = (math.atan2(across, ahead) + math.pi / 2) % (2 * math.pi)
+                cos_alpha = (radius * radius + rho * rho - r * r) / (2 * radius * rho)
+                cos_alpha = -1.0 if cos_alpha < -1.0 else (1.0 if cos_alpha > 1.0 else cos_alpha)
+                turned = bearing - math.acos(cos_alpha)
+                if turned > 0.0 and radius * turned < found[i, t]:
+                    found[i, t] = radius * turned

@@ -1,0 +1,92 @@
+"""The true collision points of the trajectories, from the map and the true pose: what the
+references that read the map are given (the oracle labels and the oracle velocities of the
+generalization benchmark), never any method.
+
+A trajectory's true collision point from a pose is where the body, driven along it, first
+touches a wall, pillar or ring wall: the same contact core.heard finds against echoes, found
+against the world's outlines as points a centimetre apart (the body's edge then passes
+within a hundredth of a millimetre of the outline between two of them).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from tvl_cli.core.labels import velocity_labels
+from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.sim.worldmap import WorldMap
+
+OUTLINE_SPACING_M = 0.01
+
+
+def outline_points(world: WorldMap) -> np.ndarray:
+    """(K, 2) metres: the world's walls, pillars and ring walls as points a centimetre apart."""
+    parts = [np.zeros((0, 2))]
+    for x1, y1, x2, y2 in world.segments:
+        n = max(2, math.ceil(math.hypot(x2 - x1, y2 - y1) / OUTLINE_SPACING_M) + 1)
+        t = np.linspace(0.0, 1.0, n)[:, None]
+        parts.append(np.array([x1, y1]) * (1 - t) + np.array([x2, y2]) * t)
+    for x, y, r in (*world.discs, *world.rings):
+        count = max(8, math.ceil(2 * math.pi * r / OUTLINE_SPACING_M))
+        angle = np.linspace(0.0, 2 * math.pi, count, endpoint=False)
+        parts.append(np.stack([x + r * np.cos(angle), y + r * np.sin(angle)], axis=1))
+    return np.concatenate(parts)
+
+
+class TrueArcs:
+    """The true collision points of a robot's trajectories in one world: where the body first
+    comes within `clearance_m` of an obstacle (0: touches it)."""
+
+    def __init__(self, world: WorldMap, robot: RobotConfig, clearance_m: float = 0.0) -> None:
+        self._robot = robot
+        self._reach_m = robot.radius_m + clearance_m  # from the body's centre
+        self._points = np.ascontiguousarray(outline_points(world))
+        self._curvatures = np.array([t.curvature_per_m for t in robot.trajectories])
+
+    def distances_m(self, poses: np.ndarray, reach_m: float) -> np.ndarray:
+        """(N, T) metres along each trajectory from each true pose (N, 3) to its collision
+        point; inf where there is none within `reach_m` of the pose (set it where labels stop
+        changing: nothing farther changes one)."""
+        poses = np.asarray(poses, dtype=np.float64).reshape(-1, 3)
+        found = np.empty((len(poses), len(self._curvatures)))  # (N, T) metres
+        for i, pose in enumerate(poses):
+            found[i] = self.view_distances_m(pose[0], pose[1], pose[2:3], reach_m)[0]
+        return found
+
+    def view_distances_m(
+        self, x: float, y: float, headings: np.ndarray, reach_m: float
+    ) -> np.ndarray:
+        """(V, T) metres: distances_m from (x, y) facing each of `headings` (V,) rad, with the
+        outline near the place sought once for them all."""
+        from tvl_cli.core.kernels.contacts import first_contacts_in_windows  # compiled
+
+        gap = self._points - (x, y)  # (K, 2) metres
+        within = reach_m + self._reach_m
+        near = np.ascontiguousarray(self._points[np.einsum("ij,ij->i", gap, gap) <= within**2])
+        poses = np.stack([np.full(len(headings), x), np.full(len(headings), y), headings], 1)
+        found = np.empty((len(headings), len(self._curvatures)))
+        views = len(headings)
+        first_contacts_in_windows(
+            np.ascontiguousarray(poses),
+            self._curvatures,
+            near,
+            np.zeros(views, np.int64),
+            np.full(views, len(near), np.int64),
+            self._reach_m,
+            found,
+        )
+        found[found > reach_m] = math.inf
+        return found
+
+    def velocities_mps(
+        self, distances_m: np.ndarray, decel_mps2: float, margin_m: float
+    ) -> np.ndarray:
+        """(N, T) m/s: the labels of collision points (N, T) metres, as core.labels makes them."""
+        v_max = np.array(self._robot.v_max_mps)
+        return velocity_labels(distances_m, v_max, decel_mps2, margin_m)
+
+    def reach_m(self, decel_mps2: float, margin_m: float) -> float:
+        """How far along any trajectory a collision point changes a label."""
+        return margin_m + max(self._robot.v_max_mps) ** 2 / (2 * decel_mps2)
