@@ -78,6 +78,20 @@ def invoke(*args: str | Path) -> subprocess.CompletedProcess[str]:
 
 
 @pytest.fixture
+def unwritable_folder() -> Path:
+    """A folder no file can be made in, not even by root: /sys on Linux (skipped where it
+    takes files, or is not there)."""
+    folder = Path("/sys")
+    probe = folder / ".tvl-probe"
+    try:
+        probe.touch()
+    except OSError:
+        return folder
+    probe.unlink()
+    pytest.skip(f"{folder} takes new files here")
+
+
+@pytest.fixture
 def invoke_tvl() -> Callable[..., subprocess.CompletedProcess[str]]:
     """`invoke`: `tvl ARGS...` in this process (the fast tier's command line)."""
     return invoke

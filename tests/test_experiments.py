@@ -19,7 +19,8 @@ from tvl_cli.analysis.results import is_competent, time_to_competence
 from tvl_cli.cli.main import main
 from tvl_cli.core.competence import COMPETENCE_RUN_MINUTES
 from tvl_cli.core.metrics import RunMetrics
-from tvl_cli.sweep.grid import COLUMNS, FULL, QUICK, SIZES, TINY, read_grid
+from tvl_cli.sweep.cell import COLUMNS
+from tvl_cli.sweep.grid import FULL, QUICK, SIZES, TINY, read_grid
 
 GRIDS = Path(__file__).resolve().parent.parent / "experiments" / "grids"
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"

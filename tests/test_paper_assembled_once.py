@@ -20,7 +20,7 @@ NOT_THE_METHOD = {
     "PAPER_FIG21": "the paper's reported results, which figures are drawn against",
     "PAPER_FIG27": "the paper's reported results, which figures are drawn against",
     "PAPER_COLOUR": "how figures draw the paper's results",
-    "_check_paper_runs": "a grid's check that reflexes and memory do not contradict the preset",
+    "check_paper_runs": "a grid's check that reflexes and memory do not contradict the preset",
 }
 # Package modules where the word itself stands as a value: the ablation figure labels the runs
 # of the paper's method with it (experiments/grids/ablation.toml). (Benchmarks label their

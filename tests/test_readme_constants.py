@@ -84,3 +84,22 @@ def test_the_file_format_versions_are_quoted_as_they_are() -> None:
         in files
     )
     assert f"Run trace (`tvl run --log`, format version {run})" in files
+
+
+def test_the_method_files_ranges_and_limits_are_quoted_as_they_are() -> None:
+    from tvl_cli.core.labels import MAX_DECEL_MPS2, MAX_MARGIN_M
+    from tvl_cli.core.memory import MAX_PATCH_M, MAX_RANGE_M, MAX_WINDOW_S
+    from tvl_cli.core.method import MAX_NEAR_M
+    from tvl_cli.core.nesting import MAX_NESTING
+    from tvl_cli.io.textfile import MAX_SETTINGS_BYTES
+
+    files = section(METHOD, "Method files")
+    rows = {line.split("`")[1]: line for line in files.splitlines() if line.startswith("| `")}
+    assert f"more than 0, at most {MAX_DECEL_MPS2:g} m/s²" in rows["decel_mps2"]
+    assert f"0 to {MAX_MARGIN_M:g} m" in rows["margin_m"]
+    assert f"0 to {MAX_NEAR_M:g} m" in rows["near_m"]
+    assert f"at most {MAX_WINDOW_S:g} s" in rows["memory.window_s"]
+    assert f"at most {MAX_RANGE_M:g} m" in rows["memory.range_m"]
+    assert f"0 to {MAX_PATCH_M:g} m" in rows["memory.patch_m"]
+    assert f"at most {MAX_SETTINGS_BYTES >> 20} MiB" in files
+    assert f"nest at most {MAX_NESTING} deep" in files

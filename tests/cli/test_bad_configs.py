@@ -50,9 +50,18 @@ def test_a_bad_configuration_is_refused_before_any_file_is_written(
     assert not out.exists()
 
 
-def test_json_nested_beyond_reason_is_one_line(invoke_tvl, tmp_path: Path) -> None:
+@pytest.mark.parametrize(
+    "text",
+    [
+        "[" * 100_000 + "]" * 100_000,
+        '{"name": "deep", "tables": ' + "[" * 40 + "]" * 40 + "}",
+        '{"name": "deep", "tables": [' + '{"a": ' * 3_000 + "1" + "}" * 3_000 + "]}",
+    ],
+    ids=["lists 100,000 deep", "lists 40 deep", "objects 3,000 deep"],
+)
+def test_json_nested_beyond_reason_is_one_line(invoke_tvl, tmp_path: Path, text: str) -> None:
     path = tmp_path / "deep.json"
-    path.write_text("[" * 100_000 + "]" * 100_000)
+    path.write_text(text)
     result = invoke_tvl("learn", SQUARE, "--log", tmp_path / "log.h5", "--config", path)
     assert_one_line_refusal(result, str(path), "nested too deeply")
     assert not (tmp_path / "log.h5").exists()

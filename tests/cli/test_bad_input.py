@@ -247,7 +247,10 @@ def test_a_second_learner_on_a_locked_log_is_refused(invoke_tvl, tmp_path):
 
 @pytest.mark.parametrize(
     ("option", "value", "phrase"),
-    [("--decel", "0", "--decel 0 must be > 0"), ("--margin", "-0.1", "--margin -0.1 must be")],
+    [
+        ("--decel", "0", "--decel 0 must be more than 0"),
+        ("--margin", "-0.1", "--margin -0.1 must be"),
+    ],
 )
 def test_learn_refuses_bad_labels_before_touching_the_log(
     invoke_tvl, tmp_path, option, value, phrase

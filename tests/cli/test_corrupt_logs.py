@@ -78,6 +78,14 @@ def robot_without_size(f: h5py.File) -> None:
     group.attrs["robot_config"] = text.replace('"radius_m": 0.2', '"radius_m": NaN')
 
 
+def deeply_nested_parameters(f: h5py.File) -> None:
+    f["sessions/0000"].attrs["parameters"] = "[" * 100_000 + "]" * 100_000
+
+
+def parameters_nested_40_deep(f: h5py.File) -> None:
+    f["sessions/0000"].attrs["parameters"] = '{"a": ' * 40 + "1" + "}" * 40
+
+
 DAMAGE: dict[str, tuple[Callable[[h5py.File], None], str]] = {
     "a NaN in the poses": (nan_pose, "pose holds a value that is not a finite number"),
     "poses as one flat row": (flat_pose, "pose rows hold"),
@@ -88,6 +96,8 @@ DAMAGE: dict[str, tuple[Callable[[h5py.File], None], str]] = {
     "sessions that are not a group": (sessions_as_a_dataset, "/sessions is not a group"),
     "a negative episode count": (negative_episode_count, "negative counts"),
     "sonar readings as floats": (float_ring, "ring_mm holds float64"),
+    "parameters nested 100,000 deep": (deeply_nested_parameters, "@parameters: nested too"),
+    "parameters nested 40 deep": (parameters_nested_40_deep, "@parameters: nested too"),
 }
 
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
@@ -101,3 +102,41 @@ def test_inspect_draws_the_learnt_velocity_over_two_inputs(
     bad = tvl("inspect", fams["late"], "--png", tmp_path / "x.png", "--fix", "front-left=near")
     assert bad.returncode == 2 and "'front-left=near' is not INPUT=METRES" in bad.stderr
     assert not (tmp_path / "x.png").exists()
+
+
+def test_fams_of_different_robots_say_so_in_the_table_and_the_json(
+    fams: dict[str, Path], tmp_path: Path
+) -> None:
+    # The same rules, carried by a robot the size of a TurtleBot3: nothing differs but the
+    # robot, and that is what a reader must be told.
+    late = read_fam(fams["late"])
+    small = tmp_path / "small.h5"
+    write_fam(small, late.fam, robot_config=replace(late.robot_config, radius_m=0.105),
+              method=late.method, provenance=late.provenance)  # fmt: skip
+    shown = tvl("diff", fams["late"], small)
+    assert shown.returncode == 0, shown.stderr
+    first_line = shown.stdout.splitlines()[0]
+    assert first_line.startswith("learnt on different robots (radius_m 0.2 → 0.105)")
+    printed = valid("diff", tvl("diff", fams["late"], small, "--json").stdout)
+    assert printed["robots_differ_in"] == [{"setting": "radius_m", "first": 0.2, "second": 0.105}]
+    assert printed["differing"] == 0
+
+
+def test_fams_learnt_through_different_sonar_models_say_so(
+    fams: dict[str, Path], tmp_path: Path
+) -> None:
+    log, ideal = tmp_path / "ideal.h5", tmp_path / "ideal-fam.h5"
+    learnt = tvl("learn", EXAMPLE_LOG.parents[1] / "worlds" / "square.txt", "--log", log,
+                 "--minutes", "0.5", "--sonar", "ideal")  # fmt: skip
+    assert learnt.returncode == 0, learnt.stderr
+    assert tvl("train", log, "-o", ideal).returncode == 0
+    printed = valid("diff", tvl("diff", fams["late"], ideal, "--json").stdout)
+    assert printed["robots_differ_in"] == [{"setting": "sonar", "first": "real", "second": "ideal"}]
+    shown = tvl("diff", fams["late"], ideal).stdout
+    assert "learnt on different robots (sonar real → ideal)" in shown
+
+
+def test_fams_of_one_robot_say_nothing_of_robots(fams: dict[str, Path]) -> None:
+    printed = valid("diff", tvl("diff", fams["early"], fams["late"], "--json").stdout)
+    assert printed["robots_differ_in"] == []
+    assert "different robots" not in tvl("diff", fams["early"], fams["late"]).stdout

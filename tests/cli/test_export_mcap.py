@@ -253,3 +253,26 @@ def test_a_trace_without_a_clock_or_a_robot_is_one_line(
     (line,) = stderr.splitlines()
     assert code == 2 and line.startswith(f"tvl: error: {broken}: {message}")
     assert not (tmp_path / "out.mcap").exists()
+
+
+def test_a_trace_of_no_steps_is_refused_and_nothing_is_written(run: Path, tmp_path: Path) -> None:
+    import shutil
+
+    import h5py
+
+    empty = tmp_path / "empty.h5"
+    shutil.copy(run, empty)
+    with h5py.File(empty, "r+") as f:  # every step's dataset cut to none
+        for dataset in f.values():
+            if isinstance(dataset, h5py.Dataset):
+                dataset.resize(0, axis=0)
+    assert read_run(empty).steps == 0
+    out = tmp_path / "out.mcap"
+    code, _, stderr = tvl("export", empty, "--mcap", out)
+    assert code == 2 and stderr.splitlines() == [
+        f"tvl: error: {empty}: the run trace has no steps: nothing to export"
+    ]
+    assert not out.exists()
+    out.write_text("keep me")
+    assert tvl("export", empty, "--mcap", out, "--force")[0] == 2
+    assert out.read_text() == "keep me"

@@ -84,3 +84,31 @@ def test_a_stopped_learner_keeps_every_episode_it_finished(tmp_path: Path, stop)
     (session,) = read_log(log).sessions
     assert len(session.episode_table) == summary["episodes"] > 0
     assert session.exemplar_count == summary["exemplars"]
+
+
+def test_a_log_killed_in_its_first_session_through_a_memory_appends_and_trains(
+    run_tvl, tmp_path: Path
+) -> None:
+    # What is kept of the killed session is read as it was learnt, through its memory: the
+    # same learner appends to it, and the log trains, with no option but the memory's.
+    memory = ("--memory", "points", "--memory-window", "60")
+    for attempt, delay in enumerate((1.5, 3.0)):
+        log, fam = tmp_path / f"log{attempt}.h5", tmp_path / f"fam{attempt}.h5"
+        process = subprocess.Popen(
+            [TVL, "learn", str(SQUARE), "--log", str(log), "--minutes", "15", *memory],
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+        )
+        deadline = time.monotonic() + 60
+        while not log.exists() and time.monotonic() < deadline:
+            time.sleep(0.01)
+        time.sleep(delay)
+        process.send_signal(signal.SIGKILL)
+        process.wait()
+        appended = run_tvl(
+            "learn", SQUARE, "--log", log, "--minutes", "0.5", "--seed", "2", *memory
+        )
+        assert appended.returncode == 0, appended.stderr
+        trained = run_tvl("train", log, "-o", fam)
+        assert trained.returncode == 0, trained.stderr
+        assert read_log(log).sessions[0].status == "interrupted: not closed"

@@ -128,3 +128,30 @@ def test_bad_memory_settings_are_one_line(tmp_path: Path) -> None:
     )
     assert "--memory-window 0 must be more than 0" in output
     assert not (tmp_path / "l.h5").exists()
+
+
+@pytest.mark.parametrize(
+    "appended",
+    [[], ["--memory", "points"], ["--memory-window", "60"]],
+    ids=["ours (patches)", "points of another window", "patches of a minute"],
+)
+def test_a_log_whose_sessions_mix_memories_says_so_and_how_to_train_it(
+    invoke_tvl, tmp_path: Path, appended: list[str]
+) -> None:
+    # The first session as `tvl learn --memory points --memory-window 60` made it, another
+    # appended through another memory: the log is whole, and mixes two memories.
+    log, fam = tmp_path / "log.h5", tmp_path / "fam.h5"
+    first = ["--memory", "points", "--memory-window", "60"]
+    tvl("learn", SQUARE, "--log", log, "--minutes", "0.3", *first)
+    tvl("learn", SQUARE, "--log", log, "--minutes", "0.3", "--seed", "2", *appended)
+    trained = invoke_tvl("train", log, "-o", fam)
+    assert trained.returncode == 2 and len(trained.stderr.splitlines()) == 1, trained.stderr
+    assert trained.stderr.startswith(
+        f"tvl: error: {log}: sessions learnt through different echo memories (session 0000: "
+        "points, window 60 s, range 4 m; session 0001: "
+    )
+    assert "give --memory and its settings (--memory-window" in trained.stderr
+    assert not fam.exists()
+    # As it says: every session through the first's memory.
+    tvl("train", log, "-o", fam, *first)
+    assert read_fam(fam).method.memory == MemoryConfig("points", window_s=60.0)

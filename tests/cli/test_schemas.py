@@ -108,7 +108,7 @@ RELEASED = {
     "learn": (2, "6f9670d243c0900b"),
     "train": (2, "841b73cfe295d28d"),
     "inspect": (3, "0257f1f6b09068e0"),
-    "diff": (1, "cb4e90078eda79ef"),
+    "diff": (2, "73af06e71a481611"),
     "design": (1, "8644a5ca5cf08dee"),
     "run": (2, "5b4f31df168ec682"),
     "replay": (2, "0dc0951258646610"),

@@ -51,7 +51,11 @@ def test_every_measure_fits_the_terminal_whole(width: int) -> None:
         for measure, shown in group.intervals.items():
             assert shown is not None and shown.half_width is not None
             scale, places = MEASURES[measure].scale, MEASURES[measure].decimals
-            whole = f"{shown.mean * scale:.{places}f} ± {shown.half_width * scale:.{places}f}"
+            if measure == "goal_reached":  # two of three: 67 % ± 143 would reach past 0 and 100
+                assert shown.clipped and (shown.low, shown.high) == (0.0, 1.0)
+                whole = f"{shown.mean * scale:.{places}f} (0–100)"
+            else:
+                whole = f"{shown.mean * scale:.{places}f} ± {shown.half_width * scale:.{places}f}"
             assert whole in text, whole
     assert "…" not in text  # nothing cut short
     tables = sum(line.startswith("┏") for line in lines)
@@ -76,8 +80,9 @@ def test_headers_carry_units_and_the_setting_and_its_seeds_lead() -> None:
     speed = summary.groups[0].intervals["mean_speed_mps"]
     assert speed is not None and speed.half_width is not None
     assert f"{speed.mean:.3f} ± {speed.half_width:.3f}" in first
-    # Two goals of three as a percentage, beside the first setting in the second table.
-    assert "67 ± 143" in [line for line in lines if "rooms-12x9.5-s1001-rough0.5" in line][2]
+    # Two goals of three as a percentage, beside the first setting in the second table: its
+    # interval, 67 ± 143, cut at what a share can be.
+    assert "67 (0–100)" in [line for line in lines if "rooms-12x9.5-s1001-rough0.5" in line][2]
     assert first.split("│")[3].strip() == "3"
 
 

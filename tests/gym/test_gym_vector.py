@@ -134,7 +134,7 @@ def test_episodes_are_truncated_at_the_registered_length() -> None:
 def test_bad_use_is_refused() -> None:
     with pytest.raises(ValueError, match="unknown task 'wander'"):
         SonarRingVectorEnv(2, task="wander")
-    with pytest.raises(ValueError, match="num_envs 0"):
+    with pytest.raises(ValueError, match="num_envs must be 1 or more, actual value: 0"):
         SonarRingVectorEnv(0)
     envs = SonarRingVectorEnv(2)
     with pytest.raises(gymnasium.error.ResetNeeded):

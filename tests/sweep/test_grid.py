@@ -15,7 +15,8 @@ from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.memory import NO_MEMORY
 from tvl_cli.core.method import DEFAULT, PAPER, MethodChoice
 from tvl_cli.sim.worldgen import generate_world
-from tvl_cli.sweep.grid import Cell, read_grid
+from tvl_cli.sweep.cell import Cell
+from tvl_cli.sweep.grid import read_grid
 
 WORLDS = Path(__file__).resolve().parents[2] / "worlds"
 
@@ -324,7 +325,7 @@ def test_a_learner_exploring_with_the_trained_configuration(tmp_path: Path) -> N
             'exploration = "novel"',
             r"exploration 'novel' is not one of .* \(did you mean 'novelty'\?\)",
         ),
-        ("near_m = -1", r"near_m -1 must be >= 0 m"),
+        ("near_m = -1", r"near_m -1 must be 0 or more and at most 4 m"),
         ('memory = "patch"', r"memory 'patch' is not one of none, points, patches"),
         (
             'run_memory = "patch"',

@@ -23,8 +23,8 @@ from json_schemas import ENVELOPE, valid
 
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.metrics import RunMetrics
+from tvl_cli.sweep.cell import COLUMNS
 from tvl_cli.sweep.executors import CLUSTER_EXTRA, dask_cluster
-from tvl_cli.sweep.grid import COLUMNS
 
 SQUARE = Path(__file__).resolve().parents[2] / "worlds" / "square.txt"
 # What `tvl run --json` prints: the metrics, then the contacts of each simulated minute.
@@ -253,8 +253,12 @@ def test_the_terminal_shows_each_settings_mean_and_interval_over_seeds(
         speed = row["mean_speed_mps"] + 0.01  # the mean of seeds 2 and 3
         # Two seeds 0.02 apart: a standard error of 0.01, and t of one degree of freedom.
         speed_text = f"{speed:.3f} ± {12.706205 * 0.01:.3f}"
-        contacts_text = f"{row['contacts_per_min'] + 0.5:.2f} ± {12.706205 * 0.5:.2f}"
-        (line,) = [line for line in lines if f"│ multi  │ {row['threshold']:<9g} │" in line]
+        # Contacts a minute half a contact about their mean: ± 6.35, which would reach below
+        # 0, so the interval stops there (a contact rate is never negative).
+        contacts, half = row["contacts_per_min"] + 0.5, 12.706205 * 0.5
+        assert contacts < half
+        contacts_text = f"{contacts:.2f} (0.00–{contacts + half:.2f})"
+        line = next(line for line in lines if f"│ multi  │ {row['threshold']:<9g} │" in line)
         assert [cell.strip() for cell in line.split("│")[3:6]] == ["2", contacts_text, speed_text]
 
 

@@ -12,7 +12,7 @@ from tvl_cli.analysis.intervals import Interval, t_975
 from tvl_cli.analysis.measures import MEASURES
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.metrics import RunMetrics
-from tvl_cli.sweep.grid import COLUMNS
+from tvl_cli.sweep.cell import COLUMNS
 from tvl_cli.sweep.summary import (
     KEY_LABELS,
     SETTING_KEYS,
@@ -195,6 +195,21 @@ def test_the_plot_is_drawn_in_the_format_its_name_gives(
 
 def test_one_seed_draws_a_point_without_an_interval(tmp_path: Path) -> None:
     ((_, alone),) = plot_data(ROWS[:1], PlotAxes("config", "mean_speed_mps")).series[None]
-    assert alone == Interval(0.30, None, 1)
+    assert alone == Interval(0.30, None, 1, (0.0, None))
     plot(ROWS[:1], PlotAxes("config", "mean_speed_mps"), tmp_path / "one.png")
     assert (tmp_path / "one.png").read_bytes().startswith(b"\x89PNG")
+
+
+def test_two_seeds_draw_no_interval_below_what_a_measure_can_be() -> None:
+    # Contacts of 0 and 3 a minute: Student's t of two seeds gives 1.5 ± 19.06, which would
+    # reach down to -17.6 contacts a minute.
+    rows = [
+        {**ROWS[0], "seed": seed, "contacts_per_min": rate} for seed, rate in ((1, 0.0), (2, 3.0))
+    ]
+    ((_, shown),) = plot_data(rows, PlotAxes("config", "contacts_per_min")).series[None]
+    assert shown.mean == 1.5 and shown.half_width == pytest.approx(19.06, abs=0.01)
+    assert (shown.low, shown.high) == (0.0, pytest.approx(20.56, abs=0.01))
+    # A share, as a percentage, stays within 0 and 100 %.
+    rows = [{**ROWS[0], "seed": seed, "goal_reached": seed == 1} for seed in (1, 2)]
+    ((_, shown),) = plot_data(rows, PlotAxes("config", "goal_reached")).series[None]
+    assert (shown.mean, shown.low, shown.high) == (50.0, 0.0, 100.0)

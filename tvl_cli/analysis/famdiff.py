@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
+from tvl_cli.analysis.robotdiff import RobotDifference
 from tvl_cli.analysis.rules import conditions_list, rule_conditions
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
@@ -65,6 +66,16 @@ class FamDifference:
     tolerance_mps: float
     trajectories: list[TrajectoryDifference]
     largest: list[RuleDifference]  # the rules that differ most, largest first
+    # How the robots the two were learnt on differ (none: one robot), which alone makes
+    # their velocities differ.
+    robots: list[RobotDifference] = field(default_factory=list)
+
+    def robots_sentence(self) -> str | None:
+        """What a reader must know first, when the FAMs were learnt on different robots."""
+        if not self.robots:
+            return None
+        changed = "; ".join(r.text() for r in self.robots)
+        return f"learnt on different robots ({changed}): their velocities differ for that too"
 
     @property
     def differing(self) -> int:
@@ -78,6 +89,7 @@ class FamDifference:
             "differing": self.differing,
             "trajectories": [t.to_dict() for t in self.trajectories],
             "rules_differing_most": [r.to_dict() for r in self.largest],
+            "robots_differ_in": [r.to_dict() for r in self.robots],
         }
 
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 import statistics
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -44,24 +44,60 @@ def t_975(freedoms: int) -> float:
     )
 
 
+Bounds = tuple[float | None, float | None]  # what a measure can be: (least, most); None: any
+NO_BOUNDS: Bounds = (None, None)
+
+
 @dataclass(frozen=True, slots=True)
 class Interval:
-    """The mean of `n` values and its 95 % interval, mean ± half_width."""
+    """The mean of `n` values and its 95 % interval, mean ± half_width, within the bounds of
+    what the values can be: from few seeds, Student's t can reach below 0 for a measure that
+    never is (a rate of contacts), and the interval then stops at 0."""
 
     mean: float
     half_width: float | None  # None from one value: its spread is unknown
     n: int
+    bounds: Bounds = NO_BOUNDS
+
+    @property
+    def low(self) -> float | None:
+        if self.half_width is None:
+            return None
+        least = self.bounds[0]
+        low = self.mean - self.half_width
+        return low if least is None else max(low, least)
+
+    @property
+    def high(self) -> float | None:
+        if self.half_width is None:
+            return None
+        most = self.bounds[1]
+        high = self.mean + self.half_width
+        return high if most is None else min(high, most)
+
+    @property
+    def clipped(self) -> bool:
+        """Whether a bound cuts the interval, so that it is no longer mean ± half_width."""
+        if self.half_width is None:
+            return False
+        return (self.low, self.high) != (self.mean - self.half_width, self.mean + self.half_width)
+
+    def scaled(self, scale: float) -> Interval:
+        """The interval of the values times `scale` (> 0): a share as a percentage."""
+        half = None if self.half_width is None else self.half_width * scale
+        bounds = tuple(None if b is None else b * scale for b in self.bounds)
+        return Interval(self.mean * scale, half, self.n, bounds)  # type: ignore[arg-type]
 
 
-def interval(values: Sequence[float]) -> Interval | None:
-    """The mean and 95 % interval of the values; None if there are none."""
+def interval(values: Sequence[float], bounds: Bounds = NO_BOUNDS) -> Interval | None:
+    """The mean and 95 % interval of the values, within `bounds`; None if there are none."""
     if not values:
         return None
     mean = statistics.fmean(values)
     if len(values) < 2:
-        return Interval(mean, None, 1)
+        return Interval(mean, None, 1, bounds)
     spread = statistics.stdev(values) / math.sqrt(len(values))
-    return Interval(mean, t_975(len(values) - 1) * spread, len(values))
+    return Interval(mean, t_975(len(values) - 1) * spread, len(values), bounds)
 
 
 @dataclass(frozen=True, slots=True)
@@ -73,10 +109,17 @@ class Group:
     intervals: dict[str, Interval | None]  # by measure; None where no row took it
 
 
-def group_intervals(rows: Iterable[Row], by: Sequence[str], measures: Sequence[str]) -> list[Group]:
+def group_intervals(
+    rows: Iterable[Row],
+    by: Sequence[str],
+    measures: Sequence[str],
+    bounds: Mapping[str, Bounds] | None = None,
+) -> list[Group]:
     """The rows grouped by their values of `by`, in the order the groups first appear, with
-    each measure's interval over the group. A measure a run did not take (null) is left out
-    of its mean, and true or false count as 1 or 0: the mean is then a share."""
+    each measure's interval over the group, within its `bounds` if given. A measure a run did
+    not take (null) is left out of its mean, and true or false count as 1 or 0: the mean is
+    then a share."""
+    bounds = bounds or {}
     groups: dict[tuple[Any, ...], list[Row]] = {}
     for row in rows:
         groups.setdefault(tuple(row.get(key) for key in by), []).append(row)
@@ -86,7 +129,8 @@ def group_intervals(rows: Iterable[Row], by: Sequence[str], measures: Sequence[s
             len(members),
             {
                 measure: interval(
-                    [float(row[measure]) for row in members if row.get(measure) is not None]
+                    [float(row[measure]) for row in members if row.get(measure) is not None],
+                    bounds.get(measure, NO_BOUNDS),
                 )
                 for measure in measures
             },

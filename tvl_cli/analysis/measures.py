@@ -6,6 +6,7 @@ from __future__ import annotations
 from collections.abc import Iterable
 from dataclasses import dataclass
 
+from tvl_cli.analysis.intervals import Bounds
 from tvl_cli.analysis.results import WALL_BEHAVIOURS
 
 
@@ -14,6 +15,12 @@ class Measure:
     label: str  # with its unit: a table's header, a plot's axis
     decimals: int  # shown rounded to these, after scaling
     scale: float = 1.0  # shown times this: a share of runs as a percentage
+    # What it can be, which bounds its intervals: every measure of a run counts or measures
+    # something, so is never below 0, and a share is at most 1.
+    bounds: Bounds = (0.0, None)
+
+
+SHARE: Bounds = (0.0, 1.0)
 
 
 # Every RunMetrics field, in its order.
@@ -32,7 +39,7 @@ MEASURES: dict[str, Measure] = {
     "trapped": Measure("trapped", 1),
     "mean_clearance_m": Measure("clearance (m)", 3),
     "mean_wall_clearance_m": Measure("wall clearance (m)", 3),
-    "goal_reached": Measure("goal reached (%)", 0, scale=100.0),
+    "goal_reached": Measure("goal reached (%)", 0, scale=100.0, bounds=SHARE),
     "time_to_goal_s": Measure("time to goal (s)", 1),
 }
 
@@ -47,3 +54,8 @@ def headline(behaviours: Iterable[str]) -> tuple[str, ...]:
     if "goal" in kinds:
         shown.append("goal_reached")
     return tuple(shown)
+
+
+def measure_bounds(measures: Iterable[str]) -> dict[str, Bounds]:
+    """The bounds of the measures' intervals, by name."""
+    return {name: MEASURES[name].bounds for name in measures}

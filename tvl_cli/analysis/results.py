@@ -76,7 +76,7 @@ def read_results(path: Path) -> dict[int, Row]:
             continue
         where = f"{path}:{number}"
         try:
-            row = jsontext.loads(line, where, "a run")
+            row = jsontext.loads(line, where)
         except json.JSONDecodeError as error:
             raise BadInput(f"{where}:{error.colno}: not JSON ({error.msg})") from None
         if not isinstance(row, dict) or not isinstance(row.get("kind"), str):

@@ -43,7 +43,8 @@ from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.core.trajectory_choice import DEFAULT_THRESHOLD
 from tvl_cli.io.famfile import FamFile, read_fam
 from tvl_cli.sim.worldmap import WorldMap, load_world
-from tvl_cli.sweep.runner import TrainRequest, learn_log, learning_tag, train_fam
+from tvl_cli.sweep.layout import LogRequest, TrainRequest, learning_tag
+from tvl_cli.sweep.work import learn_log, train_fam
 
 Row = dict[str, Any]
 LOGS, FAMS, WORLDS = "logs", "fams", "worlds"
@@ -123,16 +124,15 @@ def _learnt(cell: LearntCell, root: Path, world: WorldMap) -> list[Row]:
         )
     )
     if not log.exists():
-        learn_log(
-            LearnRequest(
-                world_path(root, cell.world),
-                log,
-                cell.seed,
-                cell.learn_config,
-                LearnParams(minutes=cell.learn_minutes),
-                cell.method,
-            )
+        learning = LearnRequest(
+            world_path(root, cell.world),
+            log,
+            cell.seed,
+            cell.learn_config,
+            LearnParams(minutes=cell.learn_minutes),
+            cell.method,
         )
+        learn_log(LogRequest(learning, "--size"))
     fams: dict[FamPlan, tuple[Path, FamFile]] = {}
     for plan in dict.fromkeys(run.fam for run in cell.runs if run.fam is not None):
         snapshot = "" if plan.until_minute is None else f"-at{plan.until_minute!r}"

@@ -100,11 +100,15 @@ def _grid_value(value: object) -> str:
 
 
 def _interval_text(shown: Interval | None, measure: Measure) -> str:
-    """mean ± half width; the mean alone from one seed; a dash where no run took it."""
+    """mean ± half width, or the mean (low to high) where a bound cuts the interval; the
+    mean alone from one seed; a dash where no run took it."""
     if shown is None:
         return "–"
     places = measure.decimals
-    mean = f"{shown.mean * measure.scale:.{places}f}"
+    shown = shown.scaled(measure.scale)
+    mean = f"{shown.mean:.{places}f}"
     if shown.half_width is None:
         return mean
-    return f"{mean} ± {shown.half_width * measure.scale:.{places}f}"
+    if shown.clipped:
+        return f"{mean} ({shown.low:.{places}f}–{shown.high:.{places}f})"
+    return f"{mean} ± {shown.half_width:.{places}f}"

@@ -158,6 +158,8 @@ def fam_difference(d: FamDifference, first: Path, second: Path) -> None:
         differences.add_row(
             t.trajectory, f"{t.differing} of {t.rules}", number(t.mean_abs_change_mps, 3)
         )
+    if d.robots:
+        out.print(d.robots_sentence(), highlight=False, markup=False)
     out.print(differences)
     for rule in d.largest:
         out.print(rule.sentence(), highlight=False, markup=False, soft_wrap=True)

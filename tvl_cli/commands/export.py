@@ -37,6 +37,8 @@ def export_mcap(run: Path, output: Path) -> Exported:
             f"{run}: is a learning log; tvl export writes run traces (tvl run --log RUN.h5)"
         )
     trace = read_run(run)
+    if trace.steps == 0:  # a recording of nothing would open in Foxglove as an empty scene
+        raise BadInput(f"{run}: the run trace has no steps: nothing to export")
     try:
         robot = RobotConfig.from_dict(trace.robot_config)
     except (KeyError, TypeError, ValueError) as error:

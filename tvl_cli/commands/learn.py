@@ -25,8 +25,9 @@ from tvl_cli.core.memory import MemoryConfig
 from tvl_cli.core.method import DEFAULT, Method, method_record
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.core.training import SessionEpisodes, TrainParams, train_params, train_sessions
+from tvl_cli.io.atomic import check_writable
 from tvl_cli.io.fam_config_file import resolve_fam_config
-from tvl_cli.io.famfile import read_fam, write_fam
+from tvl_cli.io.famfile import check_storable, read_fam, write_fam
 from tvl_cli.io.log_sessions import distinct_sessions, provenance
 from tvl_cli.io.logfile import LogWriter
 from tvl_cli.io.loglayout import KIND_LEARNING, STATUS_FINISHED
@@ -111,6 +112,9 @@ def learn_to_log(
     method = request.method
     robot = method.robot()
     config = resolve_fam_config(request.config, robot)
+    if request.fam_out is not None:  # refused now, not once the log has been learnt
+        check_storable(config, request.config)
+        check_writable(request.fam_out)
     log = read_log(request.log, empty_allowed=True) if request.log.exists() else None
     earlier = log.sessions if log is not None else []
     started_from: dict[str, Any] = {}

@@ -45,6 +45,20 @@ def check_minutes(minutes: float, option: str = "--minutes", zero_allowed: bool 
         )
 
 
+def check_in_range(
+    value: object, label: str, low: float, high: float, unit: str, low_allowed: bool = True
+) -> None:
+    """A number a user gives (a flag's, a file's key's) must be one: not a bool or text,
+    finite, and from `low` (or above it, without `low_allowed`) to `high`; BadInput naming it
+    by `label` otherwise."""
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise BadInput(f"{label} {value!r} must be a number")
+    above = value >= low if low_allowed else value > low
+    if not (math.isfinite(value) and above and value <= high):
+        least = f"{low:g} or more" if low_allowed else f"more than {low:g}"
+        raise BadInput(f"{label} {value:g} must be {least} and at most {high:g} {unit}")
+
+
 # A run's simulated minutes when none are given (`tvl run`, a sweep's runs).
 DEFAULT_RUN_MINUTES = 5.0
 

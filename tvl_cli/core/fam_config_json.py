@@ -94,7 +94,6 @@ def fam_config_from_json(
         data = jsontext.loads(
             text,
             source,
-            "a FAM configuration",
             object_pairs_hook=lambda pairs: _unique_keys(pairs, source),
         )
     except json.JSONDecodeError as error:

@@ -8,11 +8,10 @@ never more than the trajectory's maximum; after a full circle every point gets v
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
-from tvl_cli.core.errors import BadInput
+from tvl_cli.core.errors import check_in_range
+from tvl_cli.core.robot_config import SonarConfig
 
 # A trajectory is "fast" at threshold t while the collision point is at least
 # margin + (t * v_max)^2 / (2 a) away along it. A gentle deceleration makes that horizon long
@@ -23,6 +22,11 @@ DEFAULT_DECEL_MPS2 = 0.1
 # Stop this far short of the collision point, the sonar's minimum range: no speed is learnt
 # for the last stretch that the ring cannot tell from touching.
 DEFAULT_MARGIN_M = 0.15
+# What labels can be given: a deceleration of at most about 1 g, as hard as tyres grip (and
+# beyond it every label past the margin is the trajectory's top speed); a margin of at most
+# the ring's reach, beyond which every label of an episode that bumped is 0.
+MAX_DECEL_MPS2 = 10.0
+MAX_MARGIN_M = SonarConfig().max_range_m
 
 # What a recorded point labels (core.method.Method.labels): the trajectory it was driven
 # along, from where that met its collision point (a bump, a sonar's collision point, or
@@ -40,10 +44,8 @@ def velocity_labels(
     margin_m: float = DEFAULT_MARGIN_M,
 ) -> np.ndarray:
     """Labels (N,) m/s for distances (N,) metres along the arc (inf: no collision ahead)."""
-    if not (math.isfinite(decel_mps2) and decel_mps2 > 0):
-        raise BadInput(f"deceleration must be > 0 m/s² (got {decel_mps2})")
-    if not (math.isfinite(margin_m) and margin_m >= 0):
-        raise BadInput(f"margin must be >= 0 m (got {margin_m})")
+    check_in_range(decel_mps2, "deceleration", 0.0, MAX_DECEL_MPS2, "m/s²", low_allowed=False)
+    check_in_range(margin_m, "margin", 0.0, MAX_MARGIN_M, "m")
     distance = np.asarray(distance_to_collision_m, dtype=np.float64)
     braking_m = np.maximum(distance - margin_m, 0.0)
     return np.minimum(

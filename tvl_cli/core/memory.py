@@ -19,11 +19,10 @@ What an echo is remembered as (`kind`):
 
 from __future__ import annotations
 
-import math
 from dataclasses import asdict, dataclass
 from typing import Any
 
-from tvl_cli.core.errors import BadInput
+from tvl_cli.core.errors import BadInput, check_in_range
 
 NONE, POINTS, PATCHES = "none", "points", "patches"
 MEMORY_KINDS = (NONE, POINTS, PATCHES)
@@ -38,6 +37,9 @@ DEFAULT_WINDOW_S = 20.0
 DEFAULT_RANGE_M = 4.0
 DEFAULT_PATCH_M = 0.3
 MAX_WINDOW_S = 600.0
+# Bounds that keep the memory's geometry finite, far beyond the reach of any sonar ring.
+MAX_RANGE_M = 100.0
+MAX_PATCH_M = 10.0
 
 
 @dataclass(frozen=True, slots=True)
@@ -52,15 +54,8 @@ class MemoryConfig:
     def __post_init__(self) -> None:
         if self.kind not in MEMORY_KINDS:
             raise BadInput(f"--memory {self.kind}: choose {', '.join(MEMORY_KINDS)}")
-        if not (math.isfinite(self.window_s) and 0 < self.window_s <= MAX_WINDOW_S):
-            raise BadInput(
-                f"--memory-window {self.window_s:g} must be more than 0 and at most "
-                f"{MAX_WINDOW_S:g} s"
-            )
-        if not (math.isfinite(self.range_m) and self.range_m > 0):
-            raise BadInput(f"--memory-range {self.range_m:g} must be more than 0 m")
-        if not (math.isfinite(self.patch_m) and self.patch_m >= 0):
-            raise BadInput(f"--memory-patch {self.patch_m:g} must be 0 m or more")
+        for key, (flag, *_) in _LIMITS.items():
+            _check_setting(key, getattr(self, key), flag)
         if self.kind == NONE:
             # Remembering nothing has no settings: every such memory is the same one.
             object.__setattr__(self, "window_s", DEFAULT_WINDOW_S)
@@ -83,15 +78,26 @@ class MemoryConfig:
         unknown = sorted(set(data) - known)
         if unknown:
             raise BadInput(f"unknown echo memory setting {unknown[0]!r}")
-        try:
-            return cls(
-                kind=str(data.get("kind", NONE)),
-                window_s=float(data.get("window_s", DEFAULT_WINDOW_S)),
-                range_m=float(data.get("range_m", DEFAULT_RANGE_M)),
-                patch_m=float(data.get("patch_m", DEFAULT_PATCH_M)),
-            )
-        except (TypeError, ValueError) as error:
-            raise BadInput(f"unreadable echo memory settings ({error})") from None
+        kind = data.get("kind", NONE)
+        if not isinstance(kind, str):
+            raise BadInput(f"kind {kind!r} is not text: choose {', '.join(MEMORY_KINDS)}")
+        numbers = {key: data.get(key, getattr(NO_MEMORY, key)) for key in _LIMITS}
+        for key, value in numbers.items():
+            _check_setting(key, value, key)  # named as the file names it
+        return cls(kind, **{key: float(value) for key, value in numbers.items()})
+
+
+# Each setting given as a number: its flag, its range (from more than or from, to) and unit.
+_LIMITS: dict[str, tuple[str, float, float, str, bool]] = {
+    "window_s": ("--memory-window", 0.0, MAX_WINDOW_S, "s", False),
+    "range_m": ("--memory-range", 0.0, MAX_RANGE_M, "m", False),
+    "patch_m": ("--memory-patch", 0.0, MAX_PATCH_M, "m", True),
+}
+
+
+def _check_setting(key: str, value: object, label: str) -> None:
+    _, low, high, unit, low_allowed = _LIMITS[key]
+    check_in_range(value, label, low, high, unit, low_allowed)
 
 
 NO_MEMORY = MemoryConfig()

@@ -16,18 +16,19 @@ with).
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, fields, replace
 from typing import Any
 
-from tvl_cli.core.errors import BadInput, did_you_mean
+from tvl_cli.core.errors import BadInput, check_in_range, did_you_mean
 from tvl_cli.core.labels import (
     BUMP_LABELS,
     DEFAULT_DECEL_MPS2,
     DEFAULT_MARGIN_M,
     HEARD_LABELS,
     LABEL_RULES,
+    MAX_DECEL_MPS2,
+    MAX_MARGIN_M,
 )
 from tvl_cli.core.memory import (
     DEFAULT_MEMORY,
@@ -37,7 +38,7 @@ from tvl_cli.core.memory import (
     MemoryChoice,
     MemoryConfig,
 )
-from tvl_cli.core.robot_config import SONAR_MODELS, RobotConfig
+from tvl_cli.core.robot_config import SONAR_MODELS, RobotConfig, SonarConfig
 from tvl_cli.core.wall_rules import FIRST_SEEN, WALL_RULES
 
 # How exploration chooses the next (rotation, trajectory) pair to learn (agent.explore_rules).
@@ -63,6 +64,8 @@ NONE = "none"
 # so a wall the arc runs into alongside, unseen ahead by the specular ring, counts too (the
 # paper's §5.1: a collision placed further from objects when learning helps).
 DEFAULT_NEAR_M = 0.16
+# The farthest a sonar reading can be near: the ring's reach (every reading is within it).
+MAX_NEAR_M = SonarConfig().max_range_m
 
 # The paper's labels. It says only "a predefined deceleration rate", so the rate is read off
 # the one figure the labels show: 0.2 m/s² brings the paper's learner's wall following (single
@@ -163,13 +166,11 @@ BEHAVING_FIELDS = ("reflexes", "wall_rule", "memory")
 
 def _check(name: str, value: Any, label: str) -> None:
     """BadInput, naming the value by `label` (a flag or a file's key), if it cannot be."""
-    if name in ("decel_mps2", "margin_m", "near_m"):
-        if isinstance(value, bool) or not isinstance(value, int | float):
-            raise BadInput(f"{label} {value!r} must be a number")
-        positive = name == "decel_mps2"
-        if not (math.isfinite(value) and (value > 0 if positive else value >= 0)):
-            unit = "m/s²" if positive else "m"
-            raise BadInput(f"{label} {value:g} must be {'> 0' if positive else '>= 0'} {unit}")
+    if name == "decel_mps2":
+        check_in_range(value, label, 0.0, MAX_DECEL_MPS2, "m/s²", low_allowed=False)
+        return
+    if name in ("margin_m", "near_m"):
+        check_in_range(value, label, 0.0, MAX_MARGIN_M if name == "margin_m" else MAX_NEAR_M, "m")
         return
     choices: dict[str, Iterable[str]] = {
         "labels": LABEL_RULES,

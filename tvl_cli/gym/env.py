@@ -22,13 +22,15 @@ from tvl_cli.agent.engine import StepEngine
 from tvl_cli.agent.tvl import goal_bearing
 from tvl_cli.core.method import Method
 from tvl_cli.core.robot_config import RobotConfig
-from tvl_cli.gym.episode import (
+from tvl_cli.gym.actions import (
     ACTION_NAMES,
     DISCRETE,
     ROBOT,
     SPIN_LEFT,
     SPIN_RIGHT,
     STOP_ACTION,
+)
+from tvl_cli.gym.episode import (
     TASKS,
     WALL,
     RobotEpisode,
@@ -36,7 +38,9 @@ from tvl_cli.gym.episode import (
     RobotTask,
     reset_option,
     resolve_world,
+    step_limit,
 )
+from tvl_cli.render.window import display_available
 from tvl_cli.sim.worldmap import WorldMap
 
 if TYPE_CHECKING:
@@ -55,6 +59,9 @@ __all__ = [
 ]
 
 
+HUMAN = "human"  # the render mode that opens a window
+
+
 class SonarRingEnv(gymnasium.Env[np.ndarray, Any]):
     """The robot in a world, avoiding obstacles (`avoid`), seeking a goal (`goal`) or
     following a wall at a set distance (`wall`).
@@ -66,7 +73,7 @@ class SonarRingEnv(gymnasium.Env[np.ndarray, Any]):
 
     # Gymnasium declares metadata on its Env as a mutable instance default; typed as it is.
     metadata: dict[str, Any] = {  # noqa: RUF012
-        "render_modes": ["ansi", "rgb_array", "human"],
+        "render_modes": ["ansi", "rgb_array", HUMAN],
         "render_fps": 1 / ROBOT.control_period_s,
     }
 
@@ -82,20 +89,20 @@ class SonarRingEnv(gymnasium.Env[np.ndarray, Any]):
         method: Method | str | Path | None = None,
         robot: RobotConfig | None = None,
         render_mode: str | None = None,
+        max_episode_steps: int | None = None,
     ) -> None:
         """`goal` (x, y metres) for the `goal` task, by default the world's first;
         `wall_distance_m` for the `wall` task, body edge to wall (default 0.4);
-        `action_type` `discrete` or `continuous`; `speed_fraction` (discrete only, default
-        1) of each trajectory's maximum speed is what its action drives at; `method` (a
-        Method, a preset's name `paper` or `default`, or a method file's path; by default
-        ours, as `tvl run`'s) gives the robot its sonar model and makes the observed ring its
-        echo memory's virtual ring, as a FAM trained by that method reads (the live ring for
-        a method without one); `robot` (a RobotConfig, by default `tvl run`'s) is the body
-        that carries that sonar."""
-        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
-            raise ValueError(
-                f"unknown render_mode {render_mode!r} (choose from ansi, rgb_array, human)"
-            )
+        `action_type` `discrete`, `continuous` or `normalised`; `speed_fraction` (discrete
+        only, default 1) of each trajectory's maximum speed is what its action drives at;
+        `method` (a Method, a preset's name `paper` or `default`, or a method file's path; by
+        default ours, as `tvl run`'s) gives the robot its sonar model and makes the observed
+        ring its echo memory's virtual ring, as a FAM trained by that method reads (the live
+        ring for a method without one); `robot` (a RobotConfig, by default `tvl run`'s) is
+        the body that carries that sonar; `max_episode_steps`, after which the environment
+        truncates an episode itself (none by default: `gymnasium.make` adds its TimeLimit)."""
+        self.metadata = {**self.metadata, "render_modes": _render_modes(render_mode)}
+        self.max_episode_steps = step_limit(max_episode_steps)
         self.robot_task = RobotTask.of(
             world,
             task,
@@ -112,11 +119,13 @@ class SonarRingEnv(gymnasium.Env[np.ndarray, Any]):
         self.task = task
         self.goal_xy = self.robot_task.goal_xy
         self.render_mode = render_mode
-        self.commands = self.robot_task.commands
-        self.action_space = self.robot_task.action_space()
+        self.commands = self.robot_task.actions.commands
+        self.action_space = self.robot_task.actions.space()
         self.observation_space = self.robot_task.observation_space()
         self._engine: StepEngine | None = None
         self._episode = RobotEpisode(self.robot_task)
+        self._steps = 0  # of the episode under way
+        self._ended: str | None = None  # "terminated" or "truncated" once it has ended
         self._frame: RobotFrame | None = None
         self._window: FrameWindow | None = None  # render_mode human's, opened when first drawn
 
@@ -149,12 +158,19 @@ class SonarRingEnv(gymnasium.Env[np.ndarray, Any]):
         clearance_m = sim.clearance_m() if self.task == WALL else None
         now = RobotNow(sim.time_s, sim.pose, sim.odometry, sim.bumped, clearance_m)
         began = self._episode.begin(observation.ring_m, now, remember=going_on)
-        if self.render_mode == "human":
+        self._steps, self._ended = 0, None
+        if self.render_mode == HUMAN:
             self.render()
         return began
 
     def step(self, action: Any) -> tuple[np.ndarray, SupportsFloat, bool, bool, dict[str, Any]]:
+        """One control period; ResetNeeded once the episode has ended (terminated, or
+        truncated at the environment's own step limit) until `reset()`."""
         engine = self._running()
+        if self._ended is not None:
+            raise gymnasium.error.ResetNeeded(
+                f"the episode has ended ({self._ended}): call reset() before step()"
+            )
         outcome = engine.step(self._episode.command(action))
         seen = outcome.observation
         now = RobotNow(
@@ -163,16 +179,21 @@ class SonarRingEnv(gymnasium.Env[np.ndarray, Any]):
         obs, reward, terminated, info = self._episode.after(
             action, seen.ring_m, now, outcome.events, outcome.done
         )
-        if self.render_mode == "human":
+        self._steps += 1
+        limit = self.max_episode_steps
+        truncated = limit is not None and self._steps >= limit
+        if terminated or truncated:
+            self._ended = "terminated" if terminated else "truncated"
+        if self.render_mode == HUMAN:
             self.render()
-        return obs, reward, terminated, False, info
+        return obs, reward, terminated, truncated, info
 
     def render(self) -> str | np.ndarray | None:
         if self.render_mode == "ansi":
             return self._text(self._running())
         if self.render_mode == "rgb_array":
             return self._picture(self._running())
-        if self.render_mode == "human":
+        if self.render_mode == HUMAN:
             self._show(self._picture(self._running()))
         return None
 
@@ -224,7 +245,7 @@ class SonarRingEnv(gymnasium.Env[np.ndarray, Any]):
             world = (
                 self.world if self.goal_xy is None else replace(self.world, goals=(self.goal_xy,))
             )
-            dpi = WINDOW_DPI if self.render_mode == "human" else DPI
+            dpi = WINDOW_DPI if self.render_mode == HUMAN else DPI
             self._frame = RobotFrame(world, self.robot, dpi)
         last = self._episode.last
         events = " ".join(last[2]) if last else ""
@@ -235,3 +256,20 @@ class SonarRingEnv(gymnasium.Env[np.ndarray, Any]):
             f"{sim.time_s:.1f} s  {events}",
             self._episode.caption(),
         )
+
+
+def _render_modes(render_mode: str | None) -> list[str]:
+    """The render modes this machine can give: a machine with no display shows no window
+    (and Gymnasium's check_env renders each mode an environment lists). ValueError for a mode
+    that is none of them."""
+    modes = list(SonarRingEnv.metadata["render_modes"])
+    if render_mode is not None and render_mode not in modes:
+        raise ValueError(f"unknown render_mode {render_mode!r} (choose from {', '.join(modes)})")
+    if display_available():
+        return modes
+    if render_mode == HUMAN:
+        raise ValueError(
+            "render_mode 'human' opens a window, and there is no display here ($DISPLAY is not "
+            "set): use 'rgb_array' for the frames, or 'ansi'"
+        )
+    return [mode for mode in modes if mode != HUMAN]

@@ -8,7 +8,6 @@ so both follow the same rules.
 from __future__ import annotations
 
 import math
-import numbers
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -27,6 +26,7 @@ from tvl_cli.core.errors import BadInput
 from tvl_cli.core.memory import MemoryConfig
 from tvl_cli.core.method import DEFAULT, Method
 from tvl_cli.core.robot_config import SONAR_MODELS, RobotConfig
+from tvl_cli.gym.actions import DISCRETE, ROBOT, Actions, is_real
 from tvl_cli.io.methodfile import resolve_method as resolve_named_method
 from tvl_cli.sim.motion import Pose
 from tvl_cli.sim.worldgen import bundled_world_path
@@ -34,23 +34,7 @@ from tvl_cli.sim.worldmap import WorldMap, check_goal, load_world
 
 AVOID, GOAL, WALL = "avoid", "goal", "wall"
 TASKS = (AVOID, GOAL, WALL)
-DISCRETE, CONTINUOUS = "discrete", "continuous"
-ACTION_TYPES = (DISCRETE, CONTINUOUS)
-ROBOT = RobotConfig()  # the robot of `tvl run`, with the real (noisy, specular) sonar ring
 SONARS = ROBOT.sonar.count
-# Discrete actions 0-6 are the trajectories T3L..T3R; then a spin on the spot each way, and a
-# stop. (Numbered for the default robot; another robot's trajectories come first the same way.)
-SPIN_LEFT = len(ROBOT.trajectories)
-SPIN_RIGHT = SPIN_LEFT + 1
-STOP_ACTION = SPIN_LEFT + 2
-
-
-def action_names(robot: RobotConfig) -> tuple[str, ...]:
-    """The discrete actions' names: the robot's trajectories, the spins and the stop."""
-    return (*(t.name for t in robot.trajectories), "spin-left", "spin-right", "stop")
-
-
-ACTION_NAMES = action_names(ROBOT)
 # The wall task's distance, body edge to the nearest obstacle: about what the paper's wall
 # following keeps at threshold 0.85 (docs/results.md, *Figure 21*: 0.40 m in the square).
 WALL_DISTANCE_M = 0.4
@@ -97,32 +81,13 @@ def resolve_robot(robot: RobotConfig | None, method: Method) -> RobotConfig:
     return replace(robot, sonar=SONAR_MODELS[method.sonar])
 
 
-def _real(value: object) -> bool:
-    """A finite real number, not a truth value."""
-    return (
-        isinstance(value, numbers.Real)
-        and not isinstance(value, bool | np.bool_)
-        and math.isfinite(float(value))
-    )
-
-
 def _pair(goal: object) -> tuple[float, float]:
     """(x, y) metres from a goal as given; ValueError or TypeError naming it."""
     if isinstance(goal, str | bytes) or not isinstance(goal, tuple | list | np.ndarray):
         raise TypeError(f"goal {goal!r} is not a pair (x, y) of metres")
-    if len(goal) != 2 or not all(_real(v) for v in goal):
+    if len(goal) != 2 or not all(is_real(v) for v in goal):
         raise ValueError(f"goal {goal!r} is not a pair (x, y) of finite metres")
     return float(goal[0]), float(goal[1])
-
-
-def _speed_fraction(value: object, action_type: str) -> float:
-    if value is None:
-        return 1.0
-    if action_type != DISCRETE:
-        raise ValueError("speed_fraction is for discrete actions only")
-    if not _real(value) or not 0 < float(value) <= 1:  # type: ignore[arg-type]
-        raise ValueError(f"speed_fraction {value!r} is outside (0, 1]")
-    return float(value)  # type: ignore[arg-type]
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -136,8 +101,7 @@ class RobotTask:
     task: str  # one of TASKS
     goal_xy: tuple[float, float] | None  # metres; the `goal` task's only
     wall_distance_m: float | None  # body edge to the wall; the `wall` task's only
-    action_type: str  # one of ACTION_TYPES
-    commands: tuple[Command, ...]  # by discrete action; empty for continuous actions
+    actions: Actions
     method: Method
     # Odometry drifts, so its distance to the goal has no bound of its own: the world's
     # diagonal is as far as two points of the world can be, and the distance is capped there.
@@ -153,31 +117,16 @@ class RobotTask:
         wall_distance_m: object = None,
         speed_fraction: object = None,
         method: object = None,
-        action_type: str = DISCRETE,
+        action_type: object = DISCRETE,
         robot: RobotConfig | None = None,
     ) -> RobotTask:
         """The task from the environments' arguments (SonarRingEnv documents them); a
         ValueError (a TypeError for a value of the wrong kind) names what is wrong."""
         if task not in TASKS:
             raise ValueError(f"unknown task {task!r} (choose from {', '.join(TASKS)})")
-        if action_type not in ACTION_TYPES:
-            raise ValueError(
-                f"unknown action_type {action_type!r} (choose from {', '.join(ACTION_TYPES)})"
-            )
-        fraction = _speed_fraction(speed_fraction, action_type)
         resolved = resolve_world(world)
         chosen = resolve_method(method)
         body = resolve_robot(robot, chosen)
-        commands = (
-            (
-                *(Command.follow(t, fraction * t.v_max_mps) for t in body.trajectories),
-                Command.spin(body.spin_rate_radps),
-                Command.spin(-body.spin_rate_radps),
-                STOP,
-            )
-            if action_type == DISCRETE
-            else ()
-        )
         far_m = math.hypot(resolved.width_m, resolved.height_m)
         return cls(
             resolved,
@@ -185,8 +134,7 @@ class RobotTask:
             task,
             _goal(resolved, task, goal),
             _wall_distance(body, task, wall_distance_m),
-            action_type,
-            commands,
+            Actions.of(action_type, body, speed_fraction),
             chosen,
             far_m,
         )
@@ -196,11 +144,6 @@ class RobotTask:
         """The echo memory the robot perceives through: its method's."""
         return self.method.memory
 
-    @property
-    def top_speed_mps(self) -> float:
-        """The fastest the robot drives, forward or back: its fastest trajectory's speed."""
-        return max(self.robot.v_max_mps)
-
     def observation_space(self) -> spaces.Box:
         sonar = self.robot.sonar
         low, high = [sonar.min_range_m] * sonar.count, [sonar.max_range_m] * sonar.count
@@ -209,51 +152,6 @@ class RobotTask:
         return spaces.Box(
             np.array(low, dtype=np.float32), np.array(high, dtype=np.float32), dtype=np.float32
         )
-
-    def action_space(self) -> spaces.Discrete | spaces.Box:
-        """The discrete commands; or (speed m/s, turn rate rad/s) within the robot's limits,
-        in float64 so that any command a run gave can be given again exactly."""
-        if self.action_type == DISCRETE:
-            return spaces.Discrete(len(self.commands))
-        v, w = self.top_speed_mps, self.robot.spin_rate_radps
-        return spaces.Box(np.array([-v, -w]), np.array([v, w]), dtype=np.float64)
-
-    def command(self, action: object) -> Command:
-        """The command an action stands for; ValueError (TypeError for one of the wrong
-        kind) naming the action if the action space holds no such action."""
-        if self.action_type == DISCRETE:
-            return self.commands[self.action_index(action)]
-        return self._continuous(action)
-
-    def action_index(self, action: object) -> int:
-        """A discrete action as an index of `commands`; ValueError or TypeError naming it."""
-        n = len(self.commands)
-        if isinstance(action, np.ndarray) and action.shape == ():
-            action = action[()]
-        if not isinstance(action, int | np.integer) or isinstance(action, bool | np.bool_):
-            raise TypeError(f"action {action!r} is not an int of Discrete({n}) (0 to {n - 1})")
-        if not 0 <= action < n:
-            raise ValueError(f"action {action!r} is not in Discrete({n}) (0 to {n - 1})")
-        return int(action)
-
-    def _continuous(self, action: object) -> Command:
-        values = np.asarray(action)
-        if values.dtype.kind not in "fiu":
-            raise TypeError(f"action {action!r} is not (speed m/s, turn rad/s) in numbers")
-        if values.shape != (2,) or not np.isfinite(values).all():
-            raise ValueError(f"action {action!r} is not a finite (speed m/s, turn rad/s)")
-        space = self.action_space()
-        assert isinstance(space, spaces.Box)
-        # Judged in the action's own precision: a float32 agent's 0.6 m/s is 0.6000000238.
-        precision = values.dtype if values.dtype.kind == "f" else np.float64
-        if ((values < space.low.astype(precision)) | (values > space.high.astype(precision))).any():
-            v, w = space.high
-            raise ValueError(
-                f"action {action!r} is outside the robot's limits: speed -{v:g} to {v:g} m/s, "
-                f"turn -{w:g} to {w:g} rad/s"
-            )
-        speed, turn = np.clip(values.astype(np.float64), space.low, space.high).tolist()
-        return Command(speed, turn)
 
     def goal_m(self, odometry: Pose) -> float:
         """Metres from the odometry's position to the goal."""
@@ -287,9 +185,24 @@ def _wall_distance(robot: RobotConfig, task: str, distance_m: object) -> float |
         return WALL_DISTANCE_M
     # Farther than the ring ranges, the robot could not see the wall it is to keep.
     reach_m = robot.sonar.max_range_m
-    if not _real(distance_m) or not 0 < float(distance_m) < reach_m:  # type: ignore[arg-type]
+    if not is_real(distance_m) or not 0 < float(distance_m) < reach_m:  # type: ignore[arg-type]
         raise ValueError(f"wall_distance_m {distance_m!r} is outside (0, {reach_m:g}) m")
     return float(distance_m)  # type: ignore[arg-type]
+
+
+def step_limit(steps: object) -> int | None:
+    """An episode's step limit as given (None: none); TypeError or ValueError naming it."""
+    return None if steps is None else positive_int(steps, "max_episode_steps")
+
+
+def positive_int(value: object, name: str) -> int:
+    """A count an argument gives, checked as Gymnasium users read it: TypeError for what is
+    not an int, ValueError for one under 1, each naming the argument."""
+    if not isinstance(value, int) or isinstance(value, bool):
+        raise TypeError(f"{name} must be an int, actual type: {type(value)}")
+    if value < 1:
+        raise ValueError(f"{name} must be 1 or more, actual value: {value}")
+    return value
 
 
 def reset_option(options: object) -> bool:
@@ -359,7 +272,7 @@ class RobotEpisode:
 
     def command(self, action: object) -> Command:
         """The command of an action, for the physics to hold for a step."""
-        self.last_command = self.task.command(action)
+        self.last_command = self.task.actions.command(action)
         return self.last_command
 
     def after(
@@ -395,12 +308,7 @@ class RobotEpisode:
         if self.last is None:
             return "episode start"
         action, reward, _ = self.last
-        if self.task.action_type == DISCRETE:
-            name = action_names(self.task.robot)[self.task.action_index(action)]
-        else:
-            command = self.last_command
-            name = f"{command.linear_mps:+.2f} m/s {command.angular_radps:+.2f} rad/s"
-        return f"action {name}, reward {reward:+.3f}"
+        return f"action {self.task.actions.name(action, self.last_command)}, reward {reward:+.3f}"
 
     def _wall_error_m(self, now: RobotNow) -> float:
         assert now.clearance_m is not None and self.task.wall_distance_m is not None

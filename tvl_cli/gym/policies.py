@@ -21,7 +21,8 @@ from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.trajectory_choice import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD, is_threshold
-from tvl_cli.gym.episode import AVOID, DISCRETE, ROBOT, SONARS, SPIN_LEFT, SPIN_RIGHT
+from tvl_cli.gym.actions import DISCRETE, ROBOT, SPIN_LEFT, SPIN_RIGHT
+from tvl_cli.gym.episode import AVOID, SONARS
 from tvl_cli.io.famfile import read_fam
 
 TRAJECTORIES = len(ROBOT.trajectories)
@@ -107,7 +108,7 @@ class QTableAgent:
         `seed` seeds the environment and, apart from it, the exploration.
         """
         task = getattr(env.unwrapped, "robot_task", None)
-        if task is None or task.task != AVOID or task.action_type != DISCRETE:
+        if task is None or task.task != AVOID or task.actions.action_type != DISCRETE:
             raise ValueError("Q-learning learns the avoid task of tvl/SonarRing-v0, discrete")
         env_seed, explore_seed = np.random.SeedSequence(seed).generate_state(2)
         explore = np.random.default_rng(explore_seed)

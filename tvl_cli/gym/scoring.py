@@ -30,7 +30,8 @@ from tvl_cli.agent.policy import Decision, Observation
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.method import Method
 from tvl_cli.core.metrics import RunMetrics
-from tvl_cli.gym.episode import AVOID, CONTINUOUS, DISCRETE, GOAL, RobotTask, observation_of
+from tvl_cli.gym.actions import CONTINUOUS, DISCRETE
+from tvl_cli.gym.episode import AVOID, GOAL, RobotTask, observation_of
 from tvl_cli.sim.worldmap import WorldMap
 
 Act = Callable[[np.ndarray], Any]
@@ -146,11 +147,11 @@ class ControllerPolicy:
         discrete = np.ndim(action) == 0
         task = self._tasks[DISCRETE if discrete else CONTINUOUS]
         try:
-            command = task.command(action)
+            command = task.actions.command(action)
         except (TypeError, ValueError) as problem:
             raise BadInput(f"controller: {problem}") from None
         trajectories = len(task.robot.trajectories)
-        index = task.action_index(action) if discrete else -1
+        index = task.actions.index(action) if discrete else -1
         return Decision(command, trajectory=index if 0 <= index < trajectories else -1)
 
     def interrupt(self) -> None:

@@ -13,6 +13,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+import gymnasium
 import numpy as np
 from gymnasium.error import ResetNeeded
 from gymnasium.utils import seeding
@@ -22,7 +23,16 @@ from gymnasium.vector.utils import batch_space
 from tvl_cli.agent.engine import StepJudge
 from tvl_cli.core.method import Method
 from tvl_cli.core.robot_config import RobotConfig
-from tvl_cli.gym.episode import DISCRETE, WALL, RobotEpisode, RobotNow, RobotTask, reset_option
+from tvl_cli.gym.actions import DISCRETE
+from tvl_cli.gym.episode import (
+    WALL,
+    RobotEpisode,
+    RobotNow,
+    RobotTask,
+    positive_int,
+    reset_option,
+    step_limit,
+)
 from tvl_cli.sim.batch import RobotBatch
 from tvl_cli.sim.worldmap import WorldMap
 
@@ -58,8 +68,7 @@ class SonarRingVectorEnv(VectorEnv[np.ndarray, np.ndarray, np.ndarray]):
         """The single environment's arguments (SonarRingEnv), and `max_episode_steps`, after
         which an episode is truncated (none by default; `gymnasium.make_vec` passes the
         registered one, as `gymnasium.make` wraps the single environment in its TimeLimit)."""
-        if num_envs < 1:
-            raise ValueError(f"num_envs {num_envs!r} is not a positive number of copies")
+        positive_int(num_envs, "num_envs")
         self.robot_task = RobotTask.of(
             world,
             task,
@@ -72,9 +81,9 @@ class SonarRingVectorEnv(VectorEnv[np.ndarray, np.ndarray, np.ndarray]):
         )
         self.method = self.robot_task.method
         self.num_envs = num_envs
-        self.max_episode_steps = max_episode_steps
+        self.max_episode_steps = step_limit(max_episode_steps)
         self.single_observation_space = self.robot_task.observation_space()
-        self.single_action_space = self.robot_task.action_space()
+        self.single_action_space = self.robot_task.actions.space()
         self.observation_space = batch_space(self.single_observation_space, num_envs)
         self.action_space = batch_space(self.single_action_space, num_envs)
         self._rngs: list[np.random.Generator | None] = [None] * num_envs
@@ -192,14 +201,24 @@ class SonarRingVectorEnv(VectorEnv[np.ndarray, np.ndarray, np.ndarray]):
         self._ended = terminations | truncations
         return np.stack(observations), rewards, terminations, truncations, infos
 
-    def _seeds(self, seed: int | list[int | None] | None) -> list[int | None]:
+    def _seeds(self, seed: object) -> list[int | None]:
+        """A seed for each copy, checked as Gymnasium checks one: gymnasium.error.Error
+        for what is not a whole number 0 or more, or a list of them (or None) one a copy."""
         if seed is None:
             return [None] * self.num_envs
         if isinstance(seed, int):
-            return [seed + i for i in range(self.num_envs)]
-        if len(seed) != self.num_envs:
-            raise ValueError(f"{len(seed)} seeds for {self.num_envs} copies")
-        return list(seed)
+            seeds: list[object] = [seed + i for i in range(self.num_envs)]
+        elif isinstance(seed, list | tuple):
+            if len(seed) != self.num_envs:
+                raise ValueError(f"{len(seed)} seeds for {self.num_envs} copies")
+            seeds = list(seed)
+        else:
+            raise gymnasium.error.Error(
+                f"Seed must be a python integer or a list of them, actual type: {type(seed)}"
+            )
+        for each in seeds:
+            seeding.np_random(each)  # type: ignore[arg-type]  # Gymnasium's own refusals
+        return seeds  # type: ignore[return-value]
 
     def _running(self) -> RobotBatch:
         if self._batch is None:

@@ -30,18 +30,8 @@ def atomic_output(path: Path | str, overwrite: bool = True) -> Iterator[Path]:
     The temporary file sits in the same directory so the rename never crosses file systems.
     """
     path = Path(path)
-    if not path.parent.is_dir():
-        raise BadInput(f"{path}: cannot write, directory {path.parent} does not exist")
-    refuse_non_file(path)
     _remove_abandoned_temporaries(path)
-    temporary = path.with_name(f".{path.name}.{_HOST}.{os.getpid()}.{secrets.token_hex(4)}.tmp")
-    try:
-        # Created here, not by the writer, so that a read-only directory is a clear error;
-        # an ordinary open() gives the file the user's usual permissions (umask).
-        with open(temporary, "xb"):
-            pass
-    except OSError as error:
-        raise BadInput(f"{path}: cannot write ({error.strerror})") from None
+    temporary = _temporary_beside(path)
     if path.exists():
         # A replaced file keeps the permissions its owner gave it.
         os.chmod(temporary, stat.S_IMODE(path.stat().st_mode))
@@ -54,6 +44,29 @@ def atomic_output(path: Path | str, overwrite: bool = True) -> Iterator[Path]:
     except BaseException:
         temporary.unlink(missing_ok=True)
         raise
+
+
+def check_writable(path: Path | str) -> None:
+    """BadInput, as atomic_output would refuse it, unless a file can be written at `path`
+    (tried, and taken back at once): for an output written only after long work."""
+    _temporary_beside(Path(path)).unlink()
+
+
+def _temporary_beside(path: Path) -> Path:
+    """A new empty temporary file in `path`'s folder, named for `path` and this process;
+    BadInput naming `path` if there is no such folder or it takes no new file."""
+    if not path.parent.is_dir():
+        raise BadInput(f"{path}: cannot write, directory {path.parent} does not exist")
+    refuse_non_file(path)
+    temporary = path.with_name(f".{path.name}.{_HOST}.{os.getpid()}.{secrets.token_hex(4)}.tmp")
+    try:
+        # Created here, not by the writer, so that a read-only directory is a clear error;
+        # an ordinary open() gives the file the user's usual permissions (umask).
+        with open(temporary, "xb"):
+            pass
+    except OSError as error:
+        raise BadInput(f"{path}: cannot write ({error.strerror})") from None
+    return temporary
 
 
 def refuse_non_file(path: Path) -> None:

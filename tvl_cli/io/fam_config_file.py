@@ -9,6 +9,7 @@ from tvl_cli.core.errors import BadInput, did_you_mean
 from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS, FamConfig
 from tvl_cli.core.fam_config_json import fam_config_from_json
 from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.io.textfile import read_settings_text
 
 
 def resolve_fam_config(spec: str, robot: RobotConfig) -> FamConfig:
@@ -21,8 +22,5 @@ def resolve_fam_config(spec: str, robot: RobotConfig) -> FamConfig:
             f"{spec}: no such FAM configuration, nor a JSON file "
             f"({did_you_mean(spec, list(BUILTIN_FAM_CONFIGS))})"
         )
-    try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as error:
-        raise BadInput(f"{spec}: cannot read the FAM configuration ({error})") from None
+    text = read_settings_text(path, "FAM configuration")
     return fam_config_from_json(text, [t.name for t in robot.trajectories], spec)

@@ -86,10 +86,7 @@ def write_fam(
     names = tuple(t.name for t in robot_config.trajectories)
     if fam.trajectory_names != names:
         raise ValueError(f"FAM trajectories {fam.trajectory_names} are not the robot's {names}")
-    for table in fam.config.tables:
-        _check_hdf5_name(table.name, "table")
-        for fam_input in table.inputs:
-            _check_hdf5_name(fam_input.name, "input")
+    check_storable(fam.config)
     with hdf5_output(path, overwrite) as f:
         write_header(
             f,
@@ -106,10 +103,19 @@ def write_fam(
             _write_table(fams.create_group(table.name), table, fam, t)
 
 
-def _check_hdf5_name(name: str, what: str) -> None:
+def check_storable(config: FamConfig, source: str = "FAM configuration") -> None:
+    """BadInput naming `source` (the configuration's file) unless a FAM of `config` can be
+    written: its names become HDF5 names."""
+    for table in config.tables:
+        _check_hdf5_name(table.name, "table", source)
+        for fam_input in table.inputs:
+            _check_hdf5_name(fam_input.name, "input", source)
+
+
+def _check_hdf5_name(name: str, what: str, source: str) -> None:
     """Table and input names become HDF5 names, which cannot hold '/' or be '.'."""
     if "/" in name or name in ("", ".") or (what == "input" and name == TRAJECTORY_AXIS):
-        raise BadInput(f"FAM configuration: {what} name {name!r} cannot be stored in a FAM file")
+        raise BadInput(f"{source}: {what} name {name!r} cannot be stored in a FAM file")
 
 
 def _write_table(group: h5py.Group, table: FamTable, fam: Fam, t: int) -> None:

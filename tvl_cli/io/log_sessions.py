@@ -12,7 +12,7 @@ from itertools import takewhile
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam_config import FamConfig
-from tvl_cli.core.memory import NO_MEMORY, MemoryConfig
+from tvl_cli.core.memory import NO_MEMORY, PATCHES, MemoryConfig
 from tvl_cli.core.method import DEFAULT, FIELDS, SESSIONS_DIFFER_IN, Method, MethodChoice
 from tvl_cli.core.robot_config import RobotConfig, sonar_model_name
 from tvl_cli.core.training import TrainParams
@@ -85,13 +85,27 @@ def finished_episodes(session: Session, until_s: float | None = None) -> list[Ep
 def common_memory(logs: Sequence[LearningLog]) -> MemoryConfig:
     """The one echo memory all the logs' sessions were learnt through; BadInput if they differ,
     since one FAM reads through one memory."""
-    memories = {s.method.memory for log in logs for s in log.sessions}
-    if len(memories) > 1:
+    first_with: dict[MemoryConfig, str] = {}  # each memory, and the first session of it
+    for log in logs:
+        for s in log.sessions:
+            where = f"session {s.name}" if len(logs) == 1 else f"{log.path} session {s.name}"
+            first_with.setdefault(s.method.memory, where)
+    if len(first_with) > 1:
+        mixed = "; ".join(f"{where}: {memory_text(m)}" for m, where in first_with.items())
         raise BadInput(
-            "the sessions were learnt through different echo memories "
-            f"({', '.join(sorted(m.kind for m in memories))}); give --memory to choose one"
+            f"{logs[0].path}: sessions learnt through different echo memories ({mixed}), and "
+            "a FAM reads through one: give --memory and its settings (--memory-window, "
+            "--memory-range, --memory-patch) to train every session through it"
         )
-    return memories.pop() if memories else NO_MEMORY
+    return next(iter(first_with), NO_MEMORY)
+
+
+def memory_text(memory: MemoryConfig) -> str:
+    """An echo memory in words, every setting that tells it from another."""
+    if not memory.remembers:
+        return "none (the live ring)"
+    patch = f", patch {memory.patch_m:g} m" if memory.kind == PATCHES else ""
+    return f"{memory.kind}, window {memory.window_s:g} s, range {memory.range_m:g} m{patch}"
 
 
 # The learning choices of a session that a FAM trained on it keeps as they were: where the

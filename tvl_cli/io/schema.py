@@ -18,6 +18,7 @@ from typing import Any
 import h5py
 
 from tvl_cli import __version__
+from tvl_cli.core import jsontext
 from tvl_cli.core.errors import BadInput
 from tvl_cli.io.atomic import atomic_output
 from tvl_cli.io.lock import writer_pid
@@ -91,9 +92,11 @@ def read_json_attr(obj: h5py.HLObject, name: str, path: Path | str) -> Any:
     """Parse a JSON attribute; a missing or malformed one is a FormatError naming the file."""
     text = read_str_attr(obj, name, path)
     try:
-        return json.loads(text)
+        return jsontext.loads(text, f"{path}: {obj.name}@{name}")
     except json.JSONDecodeError as error:
         raise FormatError(f"{path}: {obj.name}@{name} is not valid JSON ({error})") from None
+    except BadInput as error:  # nested beyond reason, or a number of a million digits
+        raise FormatError(str(error)) from None
 
 
 def read_str_attr(obj: h5py.HLObject, name: str, path: Path | str) -> str:

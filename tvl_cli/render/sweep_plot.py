@@ -45,12 +45,14 @@ def draw_intervals(
         else:
             where = np.array([categories.index(x) + shift for x, _ in points])
         means = [shown.mean for _, shown in points]
+        # Below and above each mean, to the interval's ends (cut at what the measure can be).
         # A point of one seed has no interval: no bar, rather than a bar of nought.
-        halves = [np.nan if s.half_width is None else s.half_width for _, s in points]
+        below = [np.nan if s.low is None else s.mean - s.low for _, s in points]
+        above = [np.nan if s.high is None else s.high - s.mean for _, s in points]
         ax.errorbar(
             where,
             means,
-            yerr=halves,
+            yerr=[below, above],
             fmt="o-" if numeric else "o",
             capsize=3,
             markersize=4,

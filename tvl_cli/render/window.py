@@ -70,12 +70,18 @@ class FrameWindow:
         self._pyplot.close(self.figure)
 
 
+def display_available() -> bool:
+    """Whether there is a display to open a window on: on Linux, one named by $DISPLAY or
+    $WAYLAND_DISPLAY (elsewhere the desktop's own)."""
+    if not sys.platform.startswith("linux"):
+        return True
+    return bool(os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"))
+
+
 def _window_pyplot() -> Any:
     """pyplot, with a backend that opens windows; EnvironmentFailure in one line if there
     is no display to open one on, or no window system matplotlib can use."""
-    if sys.platform.startswith("linux") and not (
-        os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")
-    ):
+    if not display_available():
         raise EnvironmentFailure(
             "no display to open a window on ($DISPLAY is not set); "
             "use --live to watch in the terminal"

@@ -7,14 +7,16 @@ from __future__ import annotations
 import asyncio
 import importlib.util
 import multiprocessing
+import multiprocessing.connection
 import os
+import threading
 import warnings
 from collections.abc import Callable, Iterator
 from concurrent.futures import Executor, ProcessPoolExecutor
 from contextlib import contextmanager
 from typing import Any
 
-from tvl_cli.core.errors import BadInput, EnvironmentFailure
+from tvl_cli.core.errors import BadInput, EnvironmentFailure, check_in_range
 
 # How the sweep's cluster extra is installed, for the error when it is not.
 CLUSTER_EXTRA = "pip install 'tvl[sweep]'"
@@ -24,11 +26,20 @@ LOCAL = "local"
 # network answers in well under a second, and a silent one would otherwise be waited for
 # without end.
 DEFAULT_SCHEDULER_TIMEOUT_S = 10.0
+# The longest a user may give one: a cluster still queueing its machines may take minutes to
+# answer; beyond an hour it is not coming.
+MAX_SCHEDULER_TIMEOUT_S = 3600.0
 # A cell that fails on a cluster is submitted again this many times, for the sake of a lost
 # worker (killed, out of memory, its machine gone) whose cells would otherwise stop the
 # sweep. Every call writes whole files or none, so running one again is safe; a cell that
 # fails for itself fails each time and then stops the sweep, as it does locally.
 RETRIES = 2
+
+# A worker's exit status when it ends because its sweep has ended: as a process killed by
+# SIGTERM reports it.
+PARENT_GONE_STATUS = 128 + 15
+# The highest TCP port: a port number is 16 bits.
+MAX_PORT = 65535
 
 OnDashboard = Callable[[str], None]
 
@@ -37,8 +48,34 @@ OnDashboard = Callable[[str], None]
 def local_processes(workers: int) -> Iterator[Executor]:
     # Fresh interpreters rather than forks: a fork copies the locks of the parent's other
     # threads (a progress bar's, a cluster client's) as they stand, held or not.
-    with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn")) as pool:
+    spawn = multiprocessing.get_context("spawn")
+    with ProcessPoolExecutor(workers, mp_context=spawn, initializer=watch_parent) as pool:
         yield pool
+
+
+def watch_parent() -> None:
+    """In a worker process: end it as soon as the sweep that started it ends, however that
+    ends. A pool's worker waits for work on a queue its parent's death does not close, so a
+    sweep killed (kill -9, or SIGTERM to its group, as `timeout` sends it) would leave its
+    workers waiting for good, holding the sweep's output open: whoever reads that output to
+    its end would wait with them. What a worker was writing is written whole or not at all,
+    and a sweep run again takes up where the killed one stopped."""
+    parent = multiprocessing.parent_process()
+    if parent is None:  # not started by multiprocessing: nothing to watch
+        return
+
+    def watch() -> None:
+        multiprocessing.connection.wait([parent.sentinel])  # ready once the parent is gone
+        os._exit(PARENT_GONE_STATUS)
+
+    threading.Thread(target=watch, name="watch-parent", daemon=True).start()
+
+
+def check_timeout(timeout_s: float) -> None:
+    """`--scheduler-timeout` must be a number of seconds more than 0 and at most an hour."""
+    check_in_range(
+        timeout_s, "--scheduler-timeout", 0.0, MAX_SCHEDULER_TIMEOUT_S, "s", low_allowed=False
+    )
 
 
 def parse_scheduler(scheduler: str) -> int | None:
@@ -129,11 +166,16 @@ def _check_address(address: str) -> None:
 
     try:
         get_backend(parse_address(address)[0])
-        get_address_host_port(address)
+        _, port = get_address_host_port(address)
     except ValueError as error:
         raise BadInput(
             f"--scheduler {address}: not a scheduler's address, e.g. tcp://HOST:8786 ({error})"
         ) from None
+    if not 0 < port <= MAX_PORT:
+        raise BadInput(
+            f"--scheduler {address}: not a scheduler's address: port {port} is outside 1 to "
+            f"{MAX_PORT}"
+        )
 
 
 def _check_scheduler(address: str, timeout_s: float) -> None:

@@ -8,10 +8,10 @@ from pathlib import Path
 from typing import Any
 
 from tvl_cli.analysis.intervals import Group, Interval, group_intervals
-from tvl_cli.analysis.measures import MEASURES, headline
+from tvl_cli.analysis.measures import MEASURES, headline, measure_bounds
 from tvl_cli.core.errors import BadInput, did_you_mean
 from tvl_cli.io.table import Row
-from tvl_cli.sweep.grid import COLUMNS
+from tvl_cli.sweep.cell import COLUMNS
 
 # What the intervals are over: a setting is every grid key but this one.
 TRIALS = "seed"
@@ -113,7 +113,9 @@ def summarise(rows: list[Row], measures: tuple[str, ...] | None = None) -> Sweep
     fixed = {key: found[0] for key, found in values.items() if len(found) == 1}
     # Learn cells have no behaviour: their rows add no measure of their own.
     shown = measures or headline(b for b in values["behaviour"] if b is not None)
-    return SweepSummary(varying, fixed, shown, group_intervals(rows, varying, shown))
+    return SweepSummary(
+        varying, fixed, shown, group_intervals(rows, varying, shown, measure_bounds(shown))
+    )
 
 
 def default_plot_path(out: Path, axes: PlotAxes) -> Path:
@@ -135,12 +137,12 @@ def plot_data(rows: list[Row], axes: PlotAxes) -> PlotData:
     measure = MEASURES[axes.y]
     by = (axes.x, axes.hue) if axes.hue else (axes.x,)
     series: dict[Any, list[tuple[Any, Interval]]] = {}
-    for group in group_intervals(rows, by, (axes.y,)):
+    for group in group_intervals(rows, by, (axes.y,), measure_bounds((axes.y,))):
         shown = group.intervals[axes.y]
         if shown is None:  # no run of this setting took the measure
             continue
         hue = group.key[1] if axes.hue else None
-        series.setdefault(hue, []).append((group.key[0], _scaled(shown, measure.scale)))
+        series.setdefault(hue, []).append((group.key[0], shown.scaled(measure.scale)))
     if not series:
         raise BadInput(f"--plot y={axes.y}: no run of this sweep took it")
     pooled = tuple(key for key in summarise(rows, (axes.y,)).varying if key not in by)
@@ -163,8 +165,3 @@ def plot(rows: list[Row], axes: PlotAxes, path: Path) -> None:
         title=f"{label}: mean and 95 % interval over {over}",
         path=path,
     )
-
-
-def _scaled(shown: Interval, scale: float) -> Interval:
-    half = None if shown.half_width is None else shown.half_width * scale
-    return Interval(shown.mean * scale, half, shown.n)
