@@ -16,6 +16,7 @@ import numpy as np
 import pymunk
 
 from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.sim.wall_grid import WallGrid, wall_grid
 from tvl_cli.sim.worldmap import WorldMap
 
 # A quarter of the body radius: walls become solid strips (10 cm wide for the default robot)
@@ -36,11 +37,6 @@ _ROBOT_MASS_KG = 10.0
 # Every robot's disc is in this shape group (pymunk never collides shapes of one group);
 # obstacles are in none (group 0).
 ROBOT_GROUP = 1
-# Walls near the robot are chosen for the squares of this side it stands in, once a square.
-NEAR_TILE_M = 1.0
-# Below this many wall segments, testing every one costs less than choosing the near ones
-# (and every shipped and generated world stays below it, so their readings never change).
-NEAR_MIN_SEGMENTS = 256
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -64,16 +60,11 @@ class StaticGeometry:
     max_disc_radius_m: float  # 0 without discs
     roughness: float  # the world's, 0 to 1: how much sound its walls scatter diffusely
     seg_roughness: np.ndarray  # (n,) each wall's own (a `rough:` rectangle's, or the world's)
+    grid: WallGrid  # the segments by cell, for the rays and points that ask only the near ones
     ring_roughness: np.ndarray = field(init=False)  # (k,) each ring wall's: the world's
-    _every_wall: np.ndarray = field(init=False, repr=False)  # (n,) indices 0 .. n - 1
-    # walls_near's last answer, by tile and reach: a robot stays in a tile for many steps.
-    _near: dict[tuple[int, int, float], np.ndarray] = field(
-        default_factory=dict, init=False, repr=False, compare=False
-    )
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "ring_roughness", np.full(len(self.rings), self.roughness))
-        object.__setattr__(self, "_every_wall", np.arange(len(self.seg_len)))
 
     def with_roughness(self, roughness: float) -> StaticGeometry:
         """The same obstacles with every wall, ring walls too, this rough."""
@@ -94,29 +85,6 @@ class StaticGeometry:
         if element < len(self.seg_len):
             return "segment"
         return "disc" if element < len(self.seg_len) + len(self.discs) else "ring"
-
-    def walls_near(self, x: float, y: float, reach_m: float) -> np.ndarray:
-        """Indices (in increasing order, so that ties are broken as among all of them) of the
-        wall segments that may pass within `reach_m` of (x, y); every one in a small world."""
-        if len(self.seg_len) < NEAR_MIN_SEGMENTS:
-            return self._every_wall
-        tile = (math.floor(x / NEAR_TILE_M), math.floor(y / NEAR_TILE_M), reach_m)
-        found = self._near.get(tile)
-        if found is None:
-            found = self._walls_in_tile(*tile)
-            self._near.clear()  # one tile kept: memory stays bounded in a world of any size
-            self._near[tile] = found
-        return found
-
-    def _walls_in_tile(self, column: int, row: int, reach_m: float) -> np.ndarray:
-        """Segments whose bounding box meets the tile grown by reach_m: a few more than
-        strictly within reach, never fewer."""
-        low = np.array([column, row]) * NEAR_TILE_M - reach_m  # (2,) metres
-        high = low + NEAR_TILE_M + 2.0 * reach_m
-        ends = self.seg_ends  # (n, 2, 2) metres
-        return np.flatnonzero(
-            np.all(ends.max(axis=1) >= low, axis=1) & np.all(ends.min(axis=1) <= high, axis=1)
-        )
 
 
 def static_geometry(world: WorldMap) -> StaticGeometry:
@@ -141,6 +109,7 @@ def geometry_of(
     start = np.ascontiguousarray(segments[:, :2].T)  # (2, n) metres
     delta = np.ascontiguousarray((segments[:, 2:] - segments[:, :2]).T)  # (2, n) metres
     own = np.asarray(segment_roughness, dtype=np.float64)
+    normal = np.stack([delta[1], -delta[0]])
     return StaticGeometry(
         segments=segments,
         discs=discs,
@@ -148,13 +117,14 @@ def geometry_of(
         seg_start=start,
         seg_delta=delta,
         seg_len=np.hypot(delta[0], delta[1]),
-        seg_normal=np.stack([delta[1], -delta[0]]),
+        seg_normal=normal,
         seg_moment=start[0] * delta[1] - start[1] * delta[0],
         seg_ends=segments.reshape(-1, 2, 2),
         corner_sides=_corner_sides(segments),
         max_disc_radius_m=float(discs[:, 2].max(initial=0.0)),
         roughness=roughness,
         seg_roughness=own if len(own) else np.full(len(segments), roughness),
+        grid=wall_grid(segments, normal, start),
     )
 
 
@@ -198,21 +168,24 @@ def _corner_sides(segments: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(sides.reshape(2, n).T)  # (n, 2) [start, end]
 
 
-def clearances_m(geometry: StaticGeometry, points: np.ndarray, body_radius_m: float) -> np.ndarray:
+def clearances_m(
+    geometry: StaticGeometry, points: np.ndarray, body_radius_m: float, limit_m: float = math.inf
+) -> np.ndarray:
     """(p,) metres from the edge of a body centred at each of points (p, 2) to the nearest
-    obstacle; 0 where the body touches or overlaps one, inf in a world with no obstacles."""
-    return _clearances(geometry, points, body_radius_m)[0]
+    obstacle; 0 where the body touches or overlaps one, inf where none lies within limit_m
+    of the centre (a world with no obstacles)."""
+    return _clearances(geometry, points, body_radius_m, limit_m)[0]
 
 
 def nearest_element(geometry: StaticGeometry, x: float, y: float) -> tuple[int, float]:
     """The obstacle nearest (x, y), as StaticGeometry.element_of numbers it, and its distance
     in metres; (-1, inf) in a world with none."""
-    gap, element = _clearances(geometry, np.array([[x, y]]), 0.0)
+    gap, element = _clearances(geometry, np.array([[x, y]]), 0.0, math.inf)
     return int(element[0]), float(gap[0])
 
 
 def _clearances(
-    geometry: StaticGeometry, points: np.ndarray, body_radius_m: float
+    geometry: StaticGeometry, points: np.ndarray, body_radius_m: float, limit_m: float
 ) -> tuple[np.ndarray, np.ndarray]:
     """clearances_m, and the nearest obstacle to each point (p,) as element_of numbers it."""
     from tvl_cli.core.kernels.clearance import clearances  # compiled: loaded on first use
@@ -222,8 +195,8 @@ def _clearances(
     found = np.empty(len(points))  # (p,) metres
     nearest = np.empty(len(points), dtype=np.int64)  # (p,) obstacles
     clearances(
-        points, g.seg_start, g.seg_delta, g.seg_len, g.discs, g.rings, body_radius_m, found,
-        nearest,
+        points, g.seg_start, g.seg_delta, g.seg_len, g.grid.kernel_input, g.discs, g.rings,
+        body_radius_m, limit_m, found, nearest,
     )  # fmt: skip
     return found, nearest
 

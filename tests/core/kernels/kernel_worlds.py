@@ -1,5 +1,6 @@
 """Real worlds for comparing kernels with their references: the shipped maps, generated
-rooms worlds and a hall large enough that each robot tests only the walls near it."""
+rooms worlds and a hall large enough that its walls are bucketed by cell, so that each ray
+tests only the walls of the cells it crosses."""
 
 from __future__ import annotations
 
@@ -9,7 +10,7 @@ from pathlib import Path
 import numpy as np
 from cluttered_hall import cluttered_hall
 
-from tvl_cli.sim.world import NEAR_MIN_SEGMENTS, StaticGeometry, static_geometry
+from tvl_cli.sim.world import StaticGeometry, static_geometry
 from tvl_cli.sim.worldgen import generate_world
 from tvl_cli.sim.worldmap import load_world, parse_world
 
@@ -28,7 +29,7 @@ def rooms(seed: int) -> StaticGeometry:
 
 def hall() -> StaticGeometry:
     geometry = static_geometry(parse_world(cluttered_hall(600, seed=3), "hall"))
-    assert len(geometry.seg_len) >= NEAR_MIN_SEGMENTS
+    assert geometry.grid.columns * geometry.grid.rows > 1
     return geometry
 
 
