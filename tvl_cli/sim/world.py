@@ -9,11 +9,11 @@ wall segment of radius `skin` stops the body when its true edge reaches the wall
 from __future__ import annotations
 
 import math
-from collections import defaultdict
 from dataclasses import dataclass, field, replace
 
 import numpy as np
 import pymunk
+from scipy.spatial import cKDTree
 
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.wall_grid import WallGrid, wall_grid
@@ -132,7 +132,9 @@ def _corner_sides(segments: np.ndarray) -> np.ndarray:
     """For each segment's start and end, the side of its line where another wall leaves it.
 
     A map's outline only meets itself at endpoints; where more than two walls meet (two wall
-    cells touching diagonally) the first non-collinear one is taken.
+    cells touching diagonally) the first non-collinear one (lowest numbered endpoint) is
+    taken. The endpoints that meet are found by scipy's k-d tree, in time that grows with the
+    walls, not their square.
     """
     n = len(segments)
     ends = np.concatenate([segments[:, :2], segments[:, 2:]])  # (2n, 2) starts, then ends
@@ -140,31 +142,20 @@ def _corner_sides(segments: np.ndarray) -> np.ndarray:
     owner = np.tile(np.arange(n), 2)  # (2n,) segment of each endpoint
     delta = segments[:, 2:] - segments[:, :2]  # (n, 2) start -> end
     sides = np.zeros(2 * n)  # (2n,) -1, 0 or +1 for each endpoint
-    # Endpoints bucketed on a grid of the tolerance, so that each is compared only with those
-    # in its own and the neighbouring buckets: memory and time grow with the walls, not their
-    # square.
-    buckets: dict[tuple[int, int], list[int]] = defaultdict(list)
-    keys = np.floor(ends / CORNER_TOLERANCE_M).astype(np.int64)  # (2n, 2)
-    for index, (kx, ky) in enumerate(keys.tolist()):
-        buckets[kx, ky].append(index)
-    for here, (kx, ky) in enumerate(keys.tolist()):
-        near = sorted(
-            there
-            for dx in (-1, 0, 1)
-            for dy in (-1, 0, 1)
-            for there in buckets.get((kx + dx, ky + dy), ())
-        )
-        for there in near:
-            if owner[there] == owner[here]:
-                continue
-            if np.any(np.abs(ends[there] - ends[here]) > CORNER_TOLERANCE_M):
-                continue
-            arm = far[there] - ends[there]  # the other wall, leaving the corner
-            own = delta[owner[here]]
-            cross = own[0] * arm[1] - own[1] * arm[0]
-            if abs(cross) > _COLLINEAR_SINE * np.hypot(own[0], own[1]) * np.hypot(*arm):
-                sides[here] = np.sign(cross)
-                break
+    pairs = cKDTree(ends).query_pairs(CORNER_TOLERANCE_M, p=np.inf, output_type="ndarray")
+    here, there = np.concatenate([pairs, pairs[:, ::-1]]).T  # (k,) each way round
+    arm = far[there] - ends[there]  # the other wall, leaving the corner
+    own = delta[owner[here]]
+    cross = own[:, 0] * arm[:, 1] - own[:, 1] * arm[:, 0]
+    turning = np.abs(cross) > _COLLINEAR_SINE * np.hypot(own[:, 0], own[:, 1]) * np.hypot(
+        arm[:, 0], arm[:, 1]
+    )
+    keep = turning & (owner[here] != owner[there])
+    here, there, cross = here[keep], there[keep], cross[keep]
+    order = np.lexsort((there, here))  # by endpoint, then by the other's number
+    here, cross = here[order], cross[order]
+    first = np.unique(here, return_index=True)[1]  # each endpoint's lowest numbered other
+    sides[here[first]] = np.sign(cross[first])
     return np.ascontiguousarray(sides.reshape(2, n).T)  # (n, 2) [start, end]
 
 

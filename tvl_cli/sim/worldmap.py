@@ -39,6 +39,9 @@ class WorldMap:
     roughness: float = 0.0
     # Each segment's own share, as `rough:` rectangles give it (empty: the world's for all).
     segment_roughness: tuple[float, ...] = ()
+    # Where the grid's bottom-left corner lies (`origin:` header, metres): the frame of the
+    # map the world was made from, which every coordinate of the world is given in.
+    origin_m: tuple[float, float] = (0.0, 0.0)
 
 
 MAX_FILE_BYTES = 1 << 20  # 1 MB: far beyond any hand-made map, small enough to read at once

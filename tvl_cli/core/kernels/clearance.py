@@ -11,6 +11,10 @@ import math
 
 from tvl_cli.core.kernels import inlined, kernel
 
+# Farther than any rounding of a distance in metres: a cell is passed over only when it lies
+# beyond the nearest wall found by more than this.
+_ROUNDING_M = 1e-6
+
 
 @kernel
 def clearances(
@@ -62,6 +66,11 @@ def _nearest_segment(x, y, seg_start, seg_delta, seg_len, grid, limit_m):
             for c in range(column - ring, column + ring + 1, step):
                 if c < 0 or c >= columns:
                     continue
+                # A cell wholly farther than the nearest wall found, or than the limit, can
+                # hold no nearer one.
+                beyond = _box_gap(x - x0, c, cell_m) ** 2 + _box_gap(y - y0, r, cell_m) ** 2
+                if beyond > (nearest + _ROUNDING_M) ** 2 or beyond > (limit_m + _ROUNDING_M) ** 2:
+                    continue
                 cell = r * columns + c
                 for e in range(first[cell], first[cell + 1]):
                     j = cell_walls[e]
@@ -84,3 +93,14 @@ def _nearest_segment(x, y, seg_start, seg_delta, seg_len, grid, limit_m):
         if nearest < edge_m or edge_m > limit_m:
             break
     return nearest, obstacle
+
+
+@inlined
+def _box_gap(offset_m, index, cell_m):
+    """Metres along one axis from a point this far from the grid's edge to cell `index`'s
+    span on that axis (0 within it)."""
+    low = index * cell_m
+    if offset_m < low:
+        return low - offset_m
+    high = low + cell_m
+    return offset_m - high if offset_m > high else 0.0
