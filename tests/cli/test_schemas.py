@@ -97,10 +97,10 @@ TAKE_A_METHOD = {"learn", "train", "run", "baseline dwa", "baseline qlearn"}
 # change a schema, raise its schema_version and record the new pair here.
 RELEASED = {
     "world new": (1, "c7782b405ff7c0bb"),
-    "world show": (1, "614569d080e4fd35"),
+    "world show": (2, "b164c4d5b32c4b64"),
     "world check": (1, "aae7edbd1f664115"),
     "world render": (1, "81a77b0fcd19e658"),
-    "world import": (1, "5a65ba73e41744b4"),
+    "world import": (2, "2932740269a5d625"),
     "world export": (1, "b78e8cd18900c35d"),
     "learn": (1, "a25ea9aa62923e03"),
     "train": (1, "d5db15f946e3e6d5"),

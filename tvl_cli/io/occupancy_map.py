@@ -20,8 +20,10 @@ Images are stored top row first, so the image's bottom row lies at the origin's 
 
 from __future__ import annotations
 
+import hashlib
 import io
 import math
+import re
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
@@ -32,22 +34,22 @@ import yaml
 
 from tvl_cli.core.errors import BadInput
 from tvl_cli.io.atomic import atomic_output
-from tvl_cli.io.pgm import decode_pgm, encode_pgm
+from tvl_cli.io.pgm import decode_pgm, encode_pgm, over_pixels
 
 TRINARY, SCALE, RAW = "trinary", "scale", "raw"
 MODES = (TRINARY, SCALE, RAW)
 REQUIRED_KEYS = ("image", "resolution", "origin", "negate", "occupied_thresh", "free_thresh")
 MAX_YAML_BYTES = 1 << 16  # a map's YAML is a few lines
-# A building mapped at 5 cm a pixel (200 x 200 m); the image file at two bytes a pixel, or
-# about four in a plain P2 one.
-MAX_IMAGE_PIXELS = 4096 * 4096
-MAX_IMAGE_BYTES = 4 * MAX_IMAGE_PIXELS
+# An image file's bytes a pixel at most: two in a 16-bit P5, about four in a plain P2 one.
+IMAGE_BYTES_PER_PIXEL = 4
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 
 # What map_saver writes in trinary mode, and the thresholds it writes beside them. ROS 1's
 # free_thresh 0.196 keeps grey 205 (p = 0.196) unknown when the map is read again; Nav2's
 # default of 0.25 would read it as free.
 FREE_PIXEL, OCCUPIED_PIXEL, UNKNOWN_PIXEL = 254, 0, 205
+# The name of an exported image of its own: its map's name, then 16 hex digits of its hash.
+_OWN_IMAGE = re.compile(r".+\.[0-9a-f]{16}\.pgm")
 SAVED_OCCUPIED_THRESH, SAVED_FREE_THRESH = 0.65, 0.196
 
 
@@ -84,10 +86,11 @@ class OccupancyMap:
         return ~(self.free | self.occupied)
 
 
-def read_occupancy_map(path: Path) -> OccupancyMap:
-    """Read a map's YAML file and its image; BadInput naming the file and what is wrong."""
+def read_occupancy_map(path: Path, max_pixels: int) -> OccupancyMap:
+    """Read a map's YAML file and its image, of at most `max_pixels` (what the machine can
+    hold); BadInput naming the file and what is wrong."""
     meta = read_map_yaml(path)
-    sums, channels, maxval, opaque = _read_image(meta)
+    sums, channels, maxval, opaque = _read_image(meta, max_pixels)
     free, occupied = _classify(sums, channels, maxval, opaque, meta)
     grey = maxval == 255 and opaque is None and meta.mode == TRINARY
     unknown_grey_free = int((free & (sums == channels * UNKNOWN_PIXEL)).sum()) if grey else 0
@@ -179,21 +182,24 @@ def _read_bytes(path: Path, limit: int, why: str) -> bytes:
     return data
 
 
-def _read_image(meta: MapYaml) -> tuple[np.ndarray, int, int, np.ndarray | None]:
+def _read_image(meta: MapYaml, max_pixels: int) -> tuple[np.ndarray, int, int, np.ndarray | None]:
     """Each pixel's sum over the channels map_server averages, how many channels that is,
     the largest sample, and where the pixel is opaque (None for an image without alpha)."""
     where = meta.image
-    data = _read_bytes(where, MAX_IMAGE_BYTES, f"the image of {meta.path}")
+    limit = IMAGE_BYTES_PER_PIXEL * max_pixels
+    data = _read_bytes(where, limit, f"the image of {meta.path}, {max_pixels:,} pixels at most")
     if data.startswith(PNG_SIGNATURE):
-        return _png(data, meta)
+        return _png(data, meta, max_pixels)
     try:
-        samples, maxval = decode_pgm(data, MAX_IMAGE_PIXELS)
+        samples, maxval = decode_pgm(data, max_pixels)
     except ValueError as error:
         raise BadInput(f"{where}: {error}") from None
     return samples, 1, maxval, None  # grey: its red, green and blue are the sample
 
 
-def _png(data: bytes, meta: MapYaml) -> tuple[np.ndarray, int, int, np.ndarray | None]:
+def _png(
+    data: bytes, meta: MapYaml, max_pixels: int
+) -> tuple[np.ndarray, int, int, np.ndarray | None]:
     from PIL import Image  # only for a PNG map
 
     where = meta.image
@@ -208,11 +214,8 @@ def _png(data: bytes, meta: MapYaml) -> tuple[np.ndarray, int, int, np.ndarray |
     except broken as error:
         raise BadInput(f"{where}: not a readable PNG image ({error})") from None
     columns, rows = image.size
-    if columns * rows > MAX_IMAGE_PIXELS:
-        raise BadInput(
-            f"{where}: image is {columns} x {rows} pixels, "
-            f"over the {MAX_IMAGE_PIXELS:,} this tvl reads"
-        )
+    if columns * rows > max_pixels:
+        raise BadInput(f"{where}: {over_pixels(columns, rows, max_pixels)}")
     try:
         image.load()
     except broken as error:
@@ -253,25 +256,70 @@ def _classify(
 
 
 def write_occupancy_map(
-    path: Path, image: Path, free: np.ndarray, occupied: np.ndarray, resolution_m: float
+    path: Path,
+    image: Path,
+    free: np.ndarray,
+    occupied: np.ndarray,
+    resolution_m: float,
+    origin_m: tuple[float, float],
 ) -> None:
     """Write a map as map_saver does in trinary mode: the PGM `image` beside the YAML file
-    `path`, origin at (0, 0) with no yaw. Each file is written whole or not at all."""
+    `path`, its bottom-left corner at origin_m with no yaw.
+
+    The two are written as one: at no moment does the YAML file name an image other than
+    its own, so a reader (or a kill) finds the old map whole or the new one whole. The new
+    image is first written under a name of its own, its content's hash (`NAME.<hash>.pgm`),
+    and the YAML renamed into place naming it; then the image takes its usual name and the
+    YAML is renamed again naming that; then the image of its own goes. A kill in between
+    leaves a whole new map that names the image of its own."""
     pixels = np.full(free.shape, UNKNOWN_PIXEL, dtype=np.uint8)  # (rows, columns), top first
     pixels[free] = FREE_PIXEL
     pixels[occupied] = OCCUPIED_PIXEL
+    data = encode_pgm(pixels)
+    own = image.with_name(f"{image.stem}.{hashlib.sha256(data).hexdigest()[:16]}.pgm")
+    named_before = _image_named_by(path)
+    try:
+        _write_bytes(own, data)
+        _write_yaml(path, own, resolution_m, origin_m)
+    except BaseException:
+        if named_before != own:
+            own.unlink(missing_ok=True)
+        raise
+    _write_bytes(image, data)
+    _write_yaml(path, image, resolution_m, origin_m)
+    own.unlink(missing_ok=True)
+    if named_before is not None and _OWN_IMAGE.fullmatch(named_before.name):
+        # The image of its own that an export killed midway left the map naming.
+        named_before.unlink(missing_ok=True)
+
+
+def _write_bytes(path: Path, data: bytes) -> None:
+    with atomic_output(path) as temporary:
+        temporary.write_bytes(data)
+
+
+def _write_yaml(
+    path: Path, image: Path, resolution_m: float, origin_m: tuple[float, float]
+) -> None:
     document = {
         "image": image.name,
         "mode": TRINARY,
         "resolution": resolution_m,
-        "origin": [0.0, 0.0, 0.0],
+        "origin": [origin_m[0], origin_m[1], 0.0],
         "negate": 0,
         "occupied_thresh": SAVED_OCCUPIED_THRESH,
         "free_thresh": SAVED_FREE_THRESH,
     }
-    with atomic_output(image) as temporary:
-        temporary.write_bytes(encode_pgm(pixels))
     with atomic_output(path) as temporary:
         # Flow style for the origin only, as map_saver writes it: `origin: [0.0, 0.0, 0.0]`.
         text = yaml.safe_dump(document, sort_keys=False, default_flow_style=None)
         temporary.write_text(text, encoding="utf-8")
+
+
+def _image_named_by(path: Path) -> Path | None:
+    """The image an existing map's YAML file names, or None (no map there, or no image
+    named in it that can be made out)."""
+    try:
+        return read_map_yaml(path).image
+    except BadInput:
+        return None
