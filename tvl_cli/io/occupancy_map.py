@@ -40,6 +40,13 @@ TRINARY, SCALE, RAW = "trinary", "scale", "raw"
 MODES = (TRINARY, SCALE, RAW)
 REQUIRED_KEYS = ("image", "resolution", "origin", "negate", "occupied_thresh", "free_thresh")
 MAX_YAML_BYTES = 1 << 16  # a map's YAML is a few lines
+# The longest image name a YAML file may give: a path of several folders (Linux allows 4,096
+# bytes in all, 255 a name).
+MAX_IMAGE_NAME = 1024
+# Nesting a map's YAML never needs: its origin is a list in a mapping, three levels.
+MAX_YAML_DEPTH = 20
+# A value quoted in an error message is cut to this many characters.
+_QUOTED_CHARS = 60
 # An image file's bytes a pixel at most: two in a 16-bit P5, about four in a plain P2 one.
 IMAGE_BYTES_PER_PIXEL = 4
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
@@ -101,7 +108,7 @@ def read_map_yaml(path: Path) -> MapYaml:
     """The YAML file's keys, checked as map_server checks them."""
     text = _read_bytes(path, MAX_YAML_BYTES, "a map's YAML is a few lines")
     try:
-        doc = yaml.safe_load(text.decode("utf-8-sig"))
+        doc = yaml.load(text.decode("utf-8-sig"), Loader=_MapYamlLoader)
     except UnicodeDecodeError:
         raise BadInput(f"{path}: not UTF-8 text") from None
     except yaml.YAMLError as error:
@@ -118,14 +125,14 @@ def read_map_yaml(path: Path) -> MapYaml:
             f"(a map_server map gives {', '.join(REQUIRED_KEYS)})"
         )
     image = doc["image"]
-    if not isinstance(image, str) or not image:
-        raise BadInput(f"{path}: 'image' is {image!r}, not the name of an image file")
+    if not (isinstance(image, str) and 0 < len(image) <= MAX_IMAGE_NAME and image.isprintable()):
+        raise BadInput(f"{path}: 'image' is {_shown(image)}, not the name of an image file")
     resolution = _number(doc["resolution"], "resolution", path)
     if resolution <= 0:
         raise BadInput(f"{path}: 'resolution' is {resolution:g}, not a size in metres above 0")
     origin = doc["origin"]
     if not (isinstance(origin, list) and len(origin) == 3):
-        raise BadInput(f"{path}: 'origin' is {origin!r}, not [x, y, yaw]")
+        raise BadInput(f"{path}: 'origin' is {_shown(origin)}, not [x, y, yaw]")
     x, y, yaw = (_number(value, "origin", path) for value in origin)
     occupied = _number(doc["occupied_thresh"], "occupied_thresh", path)
     free = _number(doc["free_thresh"], "free_thresh", path)
@@ -136,10 +143,10 @@ def read_map_yaml(path: Path) -> MapYaml:
         )
     negate = doc["negate"]
     if negate not in (0, 1) or isinstance(negate, float):  # YAML's 0, 1, true and false
-        raise BadInput(f"{path}: 'negate' is {negate!r}, not 0 or 1")
+        raise BadInput(f"{path}: 'negate' is {_shown(negate)}, not 0 or 1")
     mode = doc.get("mode", TRINARY)
     if mode not in MODES:
-        raise BadInput(f"{path}: 'mode' is {mode!r}, not one of {', '.join(MODES)}")
+        raise BadInput(f"{path}: 'mode' is {_shown(mode)}, not one of {', '.join(MODES)}")
     return MapYaml(
         path=path,
         image=path.parent / image,
@@ -154,23 +161,57 @@ def read_map_yaml(path: Path) -> MapYaml:
     )
 
 
+class _MapYamlLoader(yaml.SafeLoader):
+    """PyYAML's safe loader, refusing what no map's YAML holds and what could make reading
+    one run away: an alias (`*name`, which a "billion laughs" file nests to build more data
+    than a machine holds from a few lines), and nesting deeper than MAX_YAML_DEPTH (which
+    would exhaust Python's recursion in the composer)."""
+
+    def __init__(self, stream: str) -> None:
+        super().__init__(stream)
+        self._depth = 0
+
+    def compose_node(self, parent: Any, index: Any) -> Any:
+        if self.check_event(yaml.AliasEvent):
+            mark = self.peek_event().start_mark
+            raise yaml.composer.ComposerError(
+                None, None, "an alias (*name): a map's YAML repeats nothing", mark
+            )
+        if self._depth >= MAX_YAML_DEPTH:
+            mark = self.peek_event().start_mark
+            raise yaml.composer.ComposerError(
+                None, None, f"nested deeper than {MAX_YAML_DEPTH} levels", mark
+            )
+        self._depth += 1
+        try:
+            return super().compose_node(parent, index)
+        finally:
+            self._depth -= 1
+
+
+def _shown(value: Any) -> str:
+    """A value as a message quotes it: its repr, cut short."""
+    text = repr(value)
+    return text if len(text) <= _QUOTED_CHARS else f"{text[: _QUOTED_CHARS - 3]}..."
+
+
 def _number(value: Any, key: str, path: Path) -> float:
     # YAML reads `true` as a bool, which Python would count as 1.
     if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise BadInput(f"{path}: {key!r} holds {value!r}, not a number")
+        raise BadInput(f"{path}: {key!r} holds {_shown(value)}, not a number")
     try:
         number = float(value)
     except OverflowError:  # an integer of hundreds of digits
         number = math.inf
     if not math.isfinite(number):
-        raise BadInput(f"{path}: {key!r} holds {value!r}, not a finite number")
+        raise BadInput(f"{path}: {key!r} holds {_shown(value)}, not a finite number")
     return number
 
 
 def _read_bytes(path: Path, limit: int, why: str) -> bytes:
-    if path.is_dir():
-        raise BadInput(f"{path}: is a directory, not a file")
     try:
+        if path.is_dir():
+            raise BadInput(f"{path}: is a directory, not a file")
         with path.open("rb") as file:
             data = file.read(limit + 1)
     except FileNotFoundError:
