@@ -18,7 +18,6 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import ndimage
 
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.world import clearances_m, static_geometry
@@ -91,6 +90,8 @@ def reachable_floor(grid: CoverageGrid, fits: np.ndarray, start_xy: tuple[float,
     between them: on the lattice with each midpoint kept only where its step is open (and
     the points between four cells dropped), the cells reachable are the centres in the
     start's piece, as scipy's labelling of connected pieces finds them."""
+    from scipy import ndimage  # imported when a floor is measured: tenths of a second
+
     start = int(grid.cell_index(np.array([start_xy]))[0])
     if start < 0:
         raise ValueError(f"start {start_xy} lies outside the grid")

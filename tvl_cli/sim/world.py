@@ -13,7 +13,6 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 import pymunk
-from scipy.spatial import cKDTree
 
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.wall_grid import WallGrid, wall_grid
@@ -133,8 +132,7 @@ def _corner_sides(segments: np.ndarray) -> np.ndarray:
 
     A map's outline only meets itself at endpoints; where more than two walls meet (two wall
     cells touching diagonally) the first non-collinear one (lowest numbered endpoint) is
-    taken. The endpoints that meet are found by scipy's k-d tree, in time that grows with the
-    walls, not their square.
+    taken.
     """
     n = len(segments)
     ends = np.concatenate([segments[:, :2], segments[:, 2:]])  # (2n, 2) starts, then ends
@@ -142,8 +140,7 @@ def _corner_sides(segments: np.ndarray) -> np.ndarray:
     owner = np.tile(np.arange(n), 2)  # (2n,) segment of each endpoint
     delta = segments[:, 2:] - segments[:, :2]  # (n, 2) start -> end
     sides = np.zeros(2 * n)  # (2n,) -1, 0 or +1 for each endpoint
-    pairs = cKDTree(ends).query_pairs(CORNER_TOLERANCE_M, p=np.inf, output_type="ndarray")
-    here, there = np.concatenate([pairs, pairs[:, ::-1]]).T  # (k,) each way round
+    here, there = _meeting_ends(ends)
     arm = far[there] - ends[there]  # the other wall, leaving the corner
     own = delta[owner[here]]
     cross = own[:, 0] * arm[:, 1] - own[:, 1] * arm[:, 0]
@@ -157,6 +154,35 @@ def _corner_sides(segments: np.ndarray) -> np.ndarray:
     first = np.unique(here, return_index=True)[1]  # each endpoint's lowest numbered other
     sides[here[first]] = np.sign(cross[first])
     return np.ascontiguousarray(sides.reshape(2, n).T)  # (n, 2) [start, end]
+
+
+def _meeting_ends(ends: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Every ordered pair (here, there) of distinct points (k, 2) within CORNER_TOLERANCE_M
+    of each other on both axes, in time that grows with the points, not their square.
+
+    Each point falls in a square bucket of the tolerance's side, numbered as a complex
+    number (column + row i, exact below 2**53), so that sorting them sorts buckets by
+    column, then row; a point's partners lie in its own bucket or the eight round it, each
+    found by a binary search among the sorted buckets."""
+    bucket = np.floor(ends / CORNER_TOLERANCE_M)  # (k, 2)
+    keys = bucket[:, 0] + 1j * bucket[:, 1]  # (k,)
+    order = np.argsort(keys, kind="stable")
+    sorted_keys = keys[order]
+    here_parts, there_parts = [], []
+    for dx in (-1, 0, 1):
+        for dy in (-1, 0, 1):
+            target = keys + (dx + 1j * dy)
+            low = np.searchsorted(sorted_keys, target, side="left")
+            high = np.searchsorted(sorted_keys, target, side="right")
+            counts = high - low
+            here = np.repeat(np.arange(len(ends)), counts)
+            offsets = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
+            here_parts.append(here)
+            there_parts.append(order[np.repeat(low, counts) + offsets])
+    here, there = np.concatenate(here_parts), np.concatenate(there_parts)
+    near = np.all(np.abs(ends[here] - ends[there]) <= CORNER_TOLERANCE_M, axis=1)
+    near &= here != there
+    return here[near], there[near]
 
 
 def clearances_m(

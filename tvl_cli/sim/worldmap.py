@@ -35,6 +35,10 @@ from tvl_cli.sim.worldheader import (
     read_header,
 )
 
+# A map of up to this many cells is flooded cell by cell (in a few milliseconds), sparing the
+# shipped and hand-made worlds scipy's import; a larger one is flooded by scipy first.
+FLOOD_IN_PYTHON_CELLS = 20_000
+
 
 @dataclass(frozen=True, slots=True)
 class WorldMap:
@@ -176,9 +180,8 @@ def _build(grid: MapGrid, header: Header, text: str, source: str) -> WorldMap:
     (sr, sc), (sx, sy, heading), start_at = start
     check_start_clear(grid, sx, sy, discs, header, start_at)
     rings = tuple((x, y, r) for x, y, r, _ in header.rings)
-    if reaches_outside(~(wall | outside), outside, (sr, sc), ring_sides(grid, codes, rings)):
-        escape = first_escape(grid, sr, sc, rings)
-        assert escape is not None  # the floor reaches off the map: the flood finds where
+    escape = _escape(grid, codes, (sr, sc), rings)
+    if escape is not None:
         raise WorldMapError(
             f"{source}:{grid.where(*escape)}: open boundary: the robot can leave the world here "
             "(walls must enclose the start)"
@@ -204,6 +207,21 @@ def _build(grid: MapGrid, header: Header, text: str, source: str) -> WorldMap:
         ),
         origin_m=grid.origin_m,
     )
+
+
+def _escape(
+    grid: MapGrid, codes: np.ndarray, start: tuple[int, int], rings: tuple[Circle, ...]
+) -> tuple[int, int] | None:
+    """The first open cell, flooding from the start, that leads off the map, or None. A
+    small map is flooded cell by cell at once; a large one is first asked of scipy, which
+    answers in compiled code (the flood then only names the cell of a map that has one)."""
+    if codes.size <= FLOOD_IN_PYTHON_CELLS:
+        return first_escape(grid, *start, rings)
+    outside = codes == OUTSIDE
+    open_cells = ~(outside | (codes == ord(WALL)))
+    if not reaches_outside(open_cells, outside, start, ring_sides(grid, codes, rings)):
+        return None
+    return first_escape(grid, *start, rings)
 
 
 def _cells(codes: np.ndarray, chars: str) -> list[tuple[int, int]]:

@@ -10,7 +10,6 @@ short line, which belong to no one.
 from __future__ import annotations
 
 import numpy as np
-from scipy import ndimage
 
 OUTSIDE = 0xFFFF_FFFF  # no character has this code point
 
@@ -77,6 +76,8 @@ def reaches_outside(
 
     sides (rows + 2, columns + 2): a number for each cell and the ring of cells round the
     map, equal for cells on the same side of every ring wall."""
+    from scipy import ndimage  # only for a large map: its import costs a few tenths of a second
+
     padded_open = np.pad(open_cells, 1, constant_values=False)
     padded_outside = np.pad(outside, 1, constant_values=True)  # off the map: outside
     row, column = start[0] + 1, start[1] + 1

@@ -12,11 +12,9 @@ clearance exceeds the radius; a passage is as wide as twice the clearance at its
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
-from scipy import ndimage
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import breadth_first_order, minimum_spanning_tree
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -43,6 +41,8 @@ class Passage:
 
 def free_space(free: np.ndarray, cell_m: float) -> FreeSpace:
     """The clearance of every free cell of a (rows, columns) grid; past its edges, walls."""
+    from scipy import ndimage  # imported when a map is: its import costs tenths of a second
+
     padded = np.pad(free, 1, constant_values=False)
     centres = ndimage.distance_transform_edt(padded, sampling=cell_m)[1:-1, 1:-1]
     clearance = np.where(free, np.maximum(centres - cell_m / 2.0, 0.0), 0.0)
@@ -53,6 +53,8 @@ def widest_place(space: FreeSpace, radius_m: float) -> tuple[int, int] | None:
     """The cell of most clearance in the largest piece of floor a body of this radius can
     roam (cells joined up, down, left and right), the first in reading order of equals;
     None if the body fits nowhere."""
+    from scipy import ndimage
+
     pieces, count = ndimage.label(space.fits(radius_m))
     if count == 0:
         return None
@@ -71,6 +73,8 @@ def narrow_passages(space: FreeSpace, start: tuple[int, int], radius_m: float) -
     neighbours as wide as the narrower of the two; scipy finds the tree, and one pass down
     it from the start carries each way's narrowest cell. A cell the body fits on whose
     widest way narrows below the body is cut off, by the passage at that narrowest cell."""
+    from scipy.sparse.csgraph import breadth_first_order
+
     rows, columns = space.free.shape
     clearance = space.clearance_m.reshape(-1)
     tree = _widest_tree(space.free, clearance)
@@ -93,9 +97,12 @@ def narrow_passages(space: FreeSpace, start: tuple[int, int], radius_m: float) -
     return sorted(passages, key=lambda p: (p.width_m, p.cell))
 
 
-def _widest_tree(free: np.ndarray, clearance: np.ndarray) -> object:
+def _widest_tree(free: np.ndarray, clearance: np.ndarray) -> Any:
     """The maximum spanning tree of the free cells, each joined to its right and lower
     neighbours by a step as wide as the narrower cell (a sparse matrix, flat indices)."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import minimum_spanning_tree
+
     rows, columns = free.shape
     index = np.arange(rows * columns).reshape(rows, columns)
     pairs = [
