@@ -99,8 +99,8 @@ _WORDS = (
     "method",
     "reflexes",
     "goal",
-    "explore",
-    "collision_points",
+    "exploration",
+    "memory",
     "run_memory",
     "trace_file",
 )
@@ -112,6 +112,7 @@ _NUMBERS = (
     "learn_minutes",
     "run_minutes",
     "competence_every",
+    "near_m",
     "delta_v",
     "learn_collisions",
     *(f.name for f in fields(RunMetrics) if f.name != "goal_reached"),
@@ -126,10 +127,11 @@ _MAYBE_TAKEN = (
     "learn_minutes",
     "run_minutes",
     "competence_every",
+    "near_m",
 )
 _MAYBE_NAMED = (
-    "goal", "config", "learn_config", "behaviour", "method", "reflexes", "explore",
-    "collision_points", "run_memory",
+    "goal", "config", "learn_config", "behaviour", "method", "reflexes", "exploration",
+    "memory", "run_memory",
 )  # fmt: skip
 _FLAGS = ("goal_reached", "online", "trace")
 _LISTS = ("minutes", "competence_checks")
@@ -231,13 +233,13 @@ FIGURE_NEEDS: dict[str, tuple[Needs, ...]] = {
         Needs(
             "learning runs",
             {"kind": "learn"},
-            ("world", "seed", "explore", "collision_points", "minutes"),
+            ("world", "seed", "exploration", "near_m", "minutes"),
             ("minutes",),
         ),
         Needs(
             "avoid snapshots",
             {"kind": "tvl", "behaviour": "avoid"},
-            (*_RUN_KEYS, "explore", "minute"),
+            (*_RUN_KEYS, "exploration", "minute"),
             _PLOTTED,
         ),
     ),

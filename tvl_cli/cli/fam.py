@@ -162,7 +162,7 @@ def inspect(
     elif as_csv:
         print_csv([rule.to_row() for rule in found.rules or []])
     else:
-        click.echo(f"method: {describe_record(found.loaded.method)}")
+        click.echo(f"method: {describe_record(found.loaded.made_by.record())}")
         for rule in found.rules or []:
             click.echo(rule.sentence())
 

@@ -136,7 +136,7 @@ def learn_summary(result: LearnResult, log: Path) -> None:
 def train_summary(summary: TrainSummary, output: Path) -> None:
     rows = [
         ("configuration", summary.fam.config.name),
-        ("method", describe_record(summary.method)),
+        ("method", describe_record(summary.method_record())),
         ("episodes", summary.episodes),
         ("exemplars used", summary.exemplars),
         ("rules touched", f"{summary.rules_touched} of {summary.rules_total}"),
