@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import tracemalloc
+from pathlib import Path
 
 import numpy as np
 import pytest
 from cluttered_hall import cluttered_hall
 
+from tvl_cli.analysis import coverage
 from tvl_cli.analysis.coverage import (
     CoverageGrid,
     CoverageTracker,
@@ -118,3 +120,15 @@ def test_the_floor_is_the_one_all_points_against_all_obstacles_at_once_give(wall
     fits = clearance.reshape(lattice.shape[:2]) > 0.0
     expected = reachable_floor(floor.grid, fits, world.start[:2])
     np.testing.assert_array_equal(floor.reachable, expected.reachable)
+
+
+def test_a_world_of_more_cells_than_the_floor_takes_is_measured_in_squares_of_them(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """With room for 100 cells, the 8 x 6 m lab at 0.25 m (768 cells) is measured in squares
+    of 3 x 3 of its cells: 11 x 8 of them."""
+    monkeypatch.setattr(coverage, "MAX_FLOOR_CELLS", 100)
+    world = parse_world(Path("worlds/lab.txt").read_text(), "lab")
+    floor = world_floor(world, ROBOT)
+    assert (floor.grid.cell_m, floor.grid.rows, floor.grid.columns) == (0.75, 8, 11)
+    assert 0 < floor.cells < 88

@@ -326,3 +326,30 @@ def test_new_rooms_writes_the_seeded_world_that_check_accepts(
     assert path.read_text(encoding="utf-8") == generate_world("rooms", None, None, 1003)
     checked = invoke_tvl("world", "check", path)
     assert (checked.returncode, checked.stdout.startswith(f"{path}: ok (")) == (0, True)
+
+
+@pytest.mark.parametrize("given", ["abc", "0", "-5", "1.5"])
+def test_a_memory_given_that_is_no_whole_number_of_mib_is_one_line(
+    invoke_tvl: RunTvl, monkeypatch: pytest.MonkeyPatch, given: str
+) -> None:
+    monkeypatch.setenv("TVL_MEMORY_MIB", given)
+    done = invoke_tvl("world", "check", ROOT / "worlds" / "lab.txt")
+    assert (done.returncode, done.stdout) == (2, "")
+    assert done.stderr == f"tvl: error: TVL_MEMORY_MIB={given!r}: expected a whole number of MiB\n"
+
+
+def test_a_world_of_more_walls_than_its_physics_starts_from_in_seconds_is_refused(
+    invoke_tvl: RunTvl, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr(world_budget, "MAX_SEGMENTS", 100)
+    board = ["#" * 52, *("#" + ("#." * 25)[i % 2 : i % 2 + 50] + "#" for i in range(50)), "#" * 52]
+    board[1] = "#>" + board[1][2:]
+    path = tmp_path / "board.txt"
+    path.write_text("\n".join(board))
+    done = invoke_tvl("world", "check", path)
+    assert (done.returncode, done.stdout) == (2, "")
+    assert done.stderr.startswith(f"tvl: error: {path}: a world of ")
+    assert done.stderr.endswith(
+        " wall segments, over the 100 whose physics starts in seconds; use a coarser or "
+        "smaller map\n"
+    )

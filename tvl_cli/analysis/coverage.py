@@ -2,13 +2,14 @@
 from true poses. The floor comes from clearances measured in the world's geometry (sim); the
 rest is plain numpy.
 
-The cells are the world map's own. A cell is reachable when a body of the robot's radius fits
-with its centre on the cell's centre and can get there from the start's cell through
-neighbouring cells (up, down, left, right), fitting at the midpoint of each step too, so that
-no gap narrower than the body joins two rooms. A reachable cell is visited once a logged pose
-lies in it: its centre passed, rather than its floor swept by the body, because a learner
-that stops short of walls (`tvl learn --near`) never sweeps the strip beside them, and a
-swept-floor fraction would stay below 1 however well it explored.
+The cells are the world map's own (in a world of more than a million of them, squares of
+several, so that its floor is measured in a second or so). A cell is reachable when a body
+of the robot's radius fits with its centre on the cell's centre and can get there from the
+start's cell through neighbouring cells (up, down, left, right), fitting at the midpoint of
+each step too, so that no gap narrower than the body joins two rooms. A reachable cell is
+visited once a logged pose lies in it: its centre passed, rather than its floor swept by the
+body, because a learner that stops short of walls (`tvl learn --near`) never sweeps the
+strip beside them, and a swept-floor fraction would stay below 1 however well it explored.
 """
 
 from __future__ import annotations
@@ -23,6 +24,9 @@ from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.world import clearances_m, static_geometry
 from tvl_cli.sim.worldmap import WorldMap
 
+# A floor of more cells than this is measured on squares of several of the world's cells: its
+# lattice of 4 points a cell then takes about a second to measure, whatever the world's size.
+MAX_FLOOR_CELLS = 1 << 20
 # Lattice rows measured at once: the points' coordinates and clearances of a block stay a few
 # megabytes whatever the world's size.
 _LATTICE_ROWS_AT_ONCE = 256
@@ -63,8 +67,11 @@ class CoverageGrid:
 
 
 def grid_over(world: WorldMap) -> CoverageGrid:
-    """The world's own cells over its extent (a partial cell at the far edges counts)."""
-    cell_m = world.cell_m
+    """The world's own cells over its extent (a partial cell at the far edges counts); in a
+    world of more than MAX_FLOOR_CELLS cells, squares of as few of them as bring the count
+    under it."""
+    cells = math.ceil(world.height_m / world.cell_m) * math.ceil(world.width_m / world.cell_m)
+    cell_m = world.cell_m * max(1, math.ceil(math.sqrt(cells / MAX_FLOOR_CELLS)))
     rows = max(1, math.ceil(world.height_m / cell_m))
     return CoverageGrid(cell_m, rows, max(1, math.ceil(world.width_m / cell_m)), *world.origin_m)
 

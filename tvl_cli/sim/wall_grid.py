@@ -23,8 +23,12 @@ import numpy as np
 # Below this many wall segments one cell holds them all (every shipped and generated world).
 MIN_WALLS_TO_BUCKET = 256
 # A cell's side: about a tenth of the sonar's range, so that a ray crosses some 10 to 20
-# cells and each holds a few of a scanned map's short walls (benchmarks/large_worlds.py).
+# cells and each holds a few of a scanned map's short walls (benchmarks/large_worlds.py)...
 CELL_M = 0.5
+# ... or less where walls crowd closer (a checkerboard of walls): a side of this many times
+# the mean spacing of the walls, about nine walls a cell, but never under MIN_CELL_M.
+WALL_SPACINGS_A_CELL = 3.0
+MIN_CELL_M = 0.05
 # A grid of no more cells than this (8 bytes each): a larger world gets larger cells.
 MAX_CELLS = 1 << 22
 # How near a wall may come to a cell to be listed in it: far above the rounding of any
@@ -64,7 +68,8 @@ def wall_grid(
     segments: np.ndarray, normal: np.ndarray, start: np.ndarray, cell_m: float = CELL_M
 ) -> WallGrid:
     """The grid over segments (n, 4) x1, y1, x2, y2 metres, with their normals (2, n) and
-    starts (2, n) as sim.world.StaticGeometry keeps them."""
+    starts (2, n) as sim.world.StaticGeometry keeps them: cells of cell_m, or smaller where
+    the walls crowd (WALL_SPACINGS_A_CELL), or larger in a world too wide for MAX_CELLS."""
     n = len(segments)
     ends = segments.reshape(-1, 2)
     low = ends.min(axis=0) - SLACK_M if n else np.zeros(2)
@@ -73,7 +78,10 @@ def wall_grid(
         extent = float(max(high[0] - low[0], high[1] - low[1]))
         return _grid(low, extent, 1, 1, np.zeros(n, np.int64), np.arange(n), normal, start)
     size = high - low  # (2,) metres
-    cell_m = max(cell_m, math.sqrt(float(size[0] * size[1]) / MAX_CELLS))
+    area_m2 = float(size[0] * size[1])
+    spacing_m = math.sqrt(area_m2 / n)  # as if the walls stood evenly over the world
+    cell_m = min(cell_m, max(MIN_CELL_M, WALL_SPACINGS_A_CELL * spacing_m))
+    cell_m = max(cell_m, math.sqrt(area_m2 / MAX_CELLS))
     columns, rows = (max(1, math.ceil(float(s) / cell_m)) for s in size)
     cells, walls = _cells_of(segments, low, cell_m, columns, rows)
     return _grid(low, cell_m, columns, rows, cells, walls, normal, start)

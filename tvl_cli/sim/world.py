@@ -255,8 +255,7 @@ def static_space(world: WorldMap, robot: RobotConfig) -> pymunk.Space:
             pymunk.Segment(space.static_body, a, b, skin)
             for a, b in zip(points, points[1:] + points[:1], strict=True)
         ]
-    for shape in static:
-        shape.friction = 0.0
+    # pymunk's shapes have no friction unless given one, which these never are.
     space.add(*static)
     return space
 

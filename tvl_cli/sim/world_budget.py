@@ -1,6 +1,7 @@
 """How large a world this machine can simulate: a world is refused, when it is read, if
 learning in it would take more than half the memory the machine (or the container it runs
-in) has, rather than at a fixed file size.
+in, or TVL_MEMORY_MIB) has, rather than at a fixed file size; and if it has more wall
+segments than its physics can be built from in seconds.
 
 What a world costs grows with its grid's cells (the coverage floor's lattice, the map's
 arrays) and with its wall segments (pymunk's shapes, the sonar's arrays and grid of walls);
@@ -13,15 +14,23 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
+from tvl_cli.core.errors import BadInput
+
 # Peak bytes a learning process takes for each cell of its world's grid, and for each wall
 # segment (benchmarks/large_worlds.py measures both).
 BYTES_PER_CELL = 120
 BYTES_PER_SEGMENT = 2_500
+# The most wall segments a world may have: the physics is built wall by wall, some 15 µs each
+# in pymunk's Python, so that more would take minutes to start (a map of scattered pixels,
+# each its own four walls, reaches it long before the memory does).
+MAX_SEGMENTS = 250_000
 # Peak bytes an import takes for each pixel of a map's image: read, classified and coarsened.
 BYTES_PER_IMAGE_PIXEL = 64
 # The share of the machine's memory a world may take: room for the rest of the process, and
 # for the rest of the machine.
 MEMORY_SHARE = 0.5
+# The environment variable that sets the memory tvl may count on, in MiB.
+MEMORY_VARIABLE = "TVL_MEMORY_MIB"
 # Where a container's memory limit is kept (cgroup v2, then v1).
 _CGROUP_LIMITS = (
     Path("/sys/fs/cgroup/memory.max"),
@@ -30,7 +39,13 @@ _CGROUP_LIMITS = (
 
 
 def machine_bytes() -> int:
-    """The memory this process may use: the machine's, or its container's limit if less."""
+    """The memory this process may use: the machine's, or its container's limit if less, or
+    what the environment's TVL_MEMORY_MIB gives (to share a machine with other work)."""
+    given = os.environ.get(MEMORY_VARIABLE)
+    if given is not None:
+        if not given.isdigit() or int(given) == 0:
+            raise BadInput(f"{MEMORY_VARIABLE}={given!r}: expected a whole number of MiB")
+        return int(given) << 20
     total = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
     for limit in _CGROUP_LIMITS:
         try:
@@ -64,13 +79,18 @@ def world_bytes(cells: int, segments: int) -> int:
 
 def over_budget(cells: int, segments: int) -> str | None:
     """Why a world of this many cells and segments is too large for this machine, or None."""
+    if segments > MAX_SEGMENTS:
+        return (
+            f"a world of {segments:,} wall segments, over the {MAX_SEGMENTS:,} whose physics "
+            "starts in seconds"
+        )
     needed, budget = world_bytes(cells, segments), world_budget_bytes()
     if needed <= budget:
         return None
     return (
         f"a world of {cells:,} cells and {segments:,} wall segments needs about "
         f"{_size(needed)} to simulate, over the {_size(budget)} this machine gives a world "
-        f"(half its memory); use a coarser or smaller map"
+        "(half its memory)"
     )
 
 

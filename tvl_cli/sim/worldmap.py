@@ -170,7 +170,7 @@ def _build(grid: MapGrid, header: Header, text: str, source: str) -> WorldMap:
     runs = outline_runs(wall, ~(wall | outside))
     too_large = over_budget(codes.size, len(runs) + 4 * len(header.walls))
     if too_large:
-        raise WorldMapError(f"{source}: {too_large}")
+        raise WorldMapError(f"{source}: {too_large}; use a coarser or smaller map")
     start = _start(grid, codes, header, source)
     pillars = tuple((*grid.centre(r, c), grid.cell_m / 2) for r, c in _cells(codes, PILLAR))
     goals = [*header.goals, *((*grid.centre(r, c), f"{source}:{grid.where(r, c)}")
@@ -202,10 +202,17 @@ def _build(grid: MapGrid, header: Header, text: str, source: str) -> WorldMap:
         goals=tuple((x, y) for x, y, _ in goals),
         text=text,
         roughness=header.roughness,
-        segment_roughness=tuple(
-            header.roughness_at((x1 + x2) / 2.0, (y1 + y2) / 2.0) for x1, y1, x2, y2 in segments
-        ),
+        segment_roughness=_roughness_of(header, segments),
         origin_m=grid.origin_m,
+    )
+
+
+def _roughness_of(header: Header, segments: tuple[Segment, ...]) -> tuple[float, ...]:
+    """Each segment's roughness: its `rough:` rectangle's, else the world's."""
+    if not header.rough:
+        return (header.roughness,) * len(segments)
+    return tuple(
+        header.roughness_at((x1 + x2) / 2.0, (y1 + y2) / 2.0) for x1, y1, x2, y2 in segments
     )
 
 

@@ -33,16 +33,33 @@ def hall() -> StaticGeometry:
     return geometry
 
 
+def checkerboard() -> StaticGeometry:
+    """A 3 x 3 m room at 5 cm whose middle is a checkerboard of one-cell walls: walls so
+    crowded that the grid's cells shrink to hold a few each."""
+    rows = ["#" * 60, *("#" + "." * 58 + "#" for _ in range(58)), "#" * 60]
+    rows = [
+        row
+        if not 10 < r < 50
+        else row[:10] + "".join(".#"[(r + c) % 2] for c in range(10, 50)) + row[50:]
+        for r, row in enumerate(rows)
+    ]
+    rows[5] = "#....>" + rows[5][6:]
+    geometry = static_geometry(parse_world("cell: 0.05\n" + "\n".join(rows), "checkerboard"))
+    assert geometry.grid.cell_m < 0.5
+    return geometry
+
+
 def rough(geometry: StaticGeometry, roughness: float) -> StaticGeometry:
     return geometry.with_roughness(roughness)
 
 
 def every_world() -> dict[str, StaticGeometry]:
-    """Each world by name: the shipped ones, rooms worlds, the hall, and a rough lab and
-    circle (rough walls and a rough ring wall)."""
+    """Each world by name: the shipped ones, rooms worlds, the hall, a checkerboard, and a
+    rough lab and circle (rough walls and a rough ring wall)."""
     worlds = {name: shipped(name) for name in SHIPPED}
     worlds |= {f"rooms-{seed}": rooms(seed) for seed in ROOMS_SEEDS}
     worlds["hall"] = hall()
+    worlds["checkerboard"] = checkerboard()
     worlds["rough-lab"] = rough(worlds["lab"], 0.3)
     worlds["rough-circle"] = rough(worlds["circle"], 0.5)
     return worlds

@@ -1,0 +1,231 @@
+"""Large worlds: an imported Nav2 map (the depot, 4,082 wall segments) against the bundled
+lab, measured in the same run, each figure beside its target.
+
+    python benchmarks/large_worlds.py [--map MAP.yaml] [--minutes M] [--repeats R]
+                                      [--memory] [--json]
+
+- the map imported: a whole `tvl world import MAP.yaml` process (no target);
+- its coverage floor, in this process, the kernels loaded first: CPU seconds (<= 2 s);
+- `tvl replay LOG` of M simulated minutes of learning in the map (not timed): a whole
+  process, start-up included (<= 2 s of CPU);
+- a control step, learning (the paper's explorer) and behaving (avoiding with a FAM trained
+  from logs/lab-s1.h5), M simulated minutes each in the map and in the lab, in this process:
+  CPU microseconds a step, and the map's over the lab's (<= 1.5);
+- with --memory, the peak memory of `tvl learn --minutes 0.1` in a hall of open floor and in
+  a checkerboard of walls, each at two sizes: the bytes a grid cell and a wall segment add,
+  beside what sim/world_budget.py assumes of them.
+
+Each time is the median of R runs. The map is Nav2's (ros-navigation/navigation2), which the
+project keeps outside its checkout: --map names it (default ../shared/maps/nav2/depot.yaml
+from the checkout).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import tempfile
+from pathlib import Path
+
+import numpy as np
+from timing import TVL, cpu_seconds, figure_line, median_seconds, run_process
+
+from tvl_cli.agent.drive_tvl import behave
+from tvl_cli.agent.explore import Learner, LearnParams
+from tvl_cli.analysis.coverage import world_floor
+from tvl_cli.core.fam import Fam
+from tvl_cli.core.method import DEFAULT
+from tvl_cli.io.fam_config_file import resolve_fam_config
+from tvl_cli.io.famfile import read_fam
+from tvl_cli.sim import world_budget
+from tvl_cli.sim.worldmap import WorldMap, load_world, parse_world
+
+ROOT = Path(__file__).resolve().parent.parent
+LAB = ROOT / "worlds" / "lab.txt"
+EXAMPLE_LOG = ROOT / "logs" / "lab-s1.h5"
+DEPOT = ROOT.parent / "shared" / "maps" / "nav2" / "depot.yaml"
+CONTROL_PERIOD_S = 0.1
+TARGET_FLOOR_S = 2.0
+TARGET_REPLAY_S = 2.0
+TARGET_STEP_RATIO = 1.5
+
+
+def learning_step_us(world: WorldMap, minutes: float) -> float:
+    """CPU microseconds a control step of the paper's explorer, `minutes` simulated."""
+    robot = DEFAULT.robot()
+    config = resolve_fam_config("single", robot)
+
+    def learn() -> None:
+        fam = Fam(config, [t.name for t in robot.trajectories], 0.1)
+        Learner(world, robot, fam, LearnParams(minutes=minutes), DEFAULT, 1).run(
+            lambda episode: None, lambda minute: None, lambda: None, None
+        )
+
+    return 1e6 * cpu_seconds(learn, 1) / (minutes * 60.0 / CONTROL_PERIOD_S)
+
+
+def behaving_step_us(world: WorldMap, fam_path: Path, minutes: float) -> float:
+    """CPU microseconds a control step of avoiding with the FAM, `minutes` simulated."""
+    found = read_fam(fam_path)
+    robot = DEFAULT.robot()
+    method = DEFAULT
+
+    def run() -> None:
+        behave(world, robot, found.fam, "avoid", minutes=minutes, seed=1, method=method)
+
+    return 1e6 * cpu_seconds(run, 1) / (minutes * 60.0 / CONTROL_PERIOD_S)
+
+
+def peak_memory_bytes(world_text: str, directory: Path) -> int:
+    """The peak resident memory of `tvl learn --minutes 0.1` in a world, bytes."""
+    world, log = directory / "w.txt", directory / "w.h5"
+    world.write_text(world_text)
+    log.unlink(missing_ok=True)
+    process = subprocess.Popen(
+        [TVL, "learn", str(world), "--log", str(log), "--minutes", "0.1"],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
+    _, status, usage = os.wait4(process.pid, 0)  # this child's own resource usage
+    process.returncode = os.waitstatus_to_exitcode(status)
+    if process.returncode != 0:
+        raise SystemExit(f"tvl learn in a hall exited {process.returncode}")
+    return usage.ru_maxrss * 1024  # Linux reports kilobytes
+
+
+def hall(side: int, checkered: bool) -> tuple[str, int, int]:
+    """A square world of side x side cells of 5 cm: open floor, or a checkerboard of one-cell
+    walls (every wall cell's four sides a segment); its text, cells and segments."""
+    rows = []
+    for r in range(side):
+        if r in (0, side - 1):
+            rows.append("#" * side)
+            continue
+        inner = "".join(
+            "#" if checkered and (r + c) % 2 and 10 < c < side - 11 and r > 10 else "."
+            for c in range(1, side - 1)
+        )
+        rows.append(f"#{inner}#")
+    rows[5] = "#....>" + rows[5][6:]  # 0.25 m from the wall, 0.3 m from the checkerboard
+    text = "cell: 0.05\n" + "\n".join(rows) + "\n"
+    world = parse_world(text, "hall")
+    return text, side * side, len(world.segments)
+
+
+def memory_figures(directory: Path) -> dict[str, float]:
+    """Bytes a cell and a segment add to a learning process's peak, from two sizes each."""
+    figures = {}
+    for checkered, sides in ((False, (400, 1600)), (True, (150, 300))):
+        small_text, small_cells, small_segments = hall(sides[0], checkered)
+        large_text, large_cells, large_segments = hall(sides[1], checkered)
+        small = peak_memory_bytes(small_text, directory)
+        large = peak_memory_bytes(large_text, directory)
+        if checkered:  # what the cells themselves add, at the measured rate, taken out
+            large -= figures["cell"] * (large_cells - small_cells)
+            figures["segment"] = (large - small) / (large_segments - small_segments)
+        else:
+            figures["cell"] = (large - small) / (large_cells - small_cells)
+    return figures
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--map", type=Path, default=DEPOT, help="a Nav2 map's YAML file")
+    parser.add_argument("--minutes", type=float, default=5.0, help="simulated minutes a run")
+    parser.add_argument("--repeats", type=int, default=3, help="timed runs; medians count")
+    parser.add_argument("--memory", action="store_true", help="measure memory a cell, a wall")
+    parser.add_argument("--json", action="store_true", help="print the figures as JSON")
+    args = parser.parse_args()
+    if not args.map.is_file():
+        raise SystemExit(f"{args.map}: no such map (give --map MAP.yaml)")
+    figures: dict[str, float] = {}
+    with tempfile.TemporaryDirectory() as name:
+        directory = Path(name)
+        world_path, log, fam = directory / "map.txt", directory / "map.h5", directory / "fam.h5"
+        imported = median_seconds(
+            [
+                run_process([TVL, "world", "import", args.map, "-o", world_path, "--force"])
+                for _ in range(args.repeats)
+            ]
+        )
+        figures["import_s"] = imported.wall_s
+        world, lab = load_world(world_path), load_world(LAB)
+        world_floor(lab, DEFAULT.robot())  # the kernels loaded
+        figures["floor_s"] = cpu_seconds(lambda: world_floor(world, DEFAULT.robot()), 3)
+        run_process([TVL, "learn", world_path, "--log", log, "--minutes", str(args.minutes)])
+        replay = median_seconds([run_process([TVL, "replay", log]) for _ in range(args.repeats)])
+        figures["replay_cpu_s"], figures["replay_wall_s"] = replay.cpu_s, replay.wall_s
+        run_process([TVL, "train", EXAMPLE_LOG, "-o", fam])
+        for kind, measure in (
+            ("learning", lambda w: learning_step_us(w, args.minutes)),
+            ("behaving", lambda w: behaving_step_us(w, fam, args.minutes)),
+        ):
+            in_map = float(np.median([measure(world) for _ in range(args.repeats)]))
+            in_lab = float(np.median([measure(lab) for _ in range(args.repeats)]))
+            figures[f"{kind}_step_us"], figures[f"{kind}_lab_step_us"] = in_map, in_lab
+            figures[f"{kind}_ratio"] = in_map / in_lab
+        if args.memory:
+            for what, bytes_each in memory_figures(directory).items():
+                figures[f"bytes_per_{what}"] = bytes_each
+        figures["segments"], figures["cells"] = len(world.segments), _cells(world)
+    if args.json:
+        print(json.dumps(figures, indent=1))
+        return
+    _print(args, figures)
+
+
+def _cells(world: WorldMap) -> int:
+    return round(world.width_m / world.cell_m) * round(world.height_m / world.cell_m)
+
+
+def _print(args: argparse.Namespace, f: dict[str, float]) -> None:
+    print(
+        f"{args.map.name}: {f['segments']:,.0f} wall segments, {f['cells']:,.0f} cells; "
+        f"medians of {args.repeats}, steps over {args.minutes:g} simulated minutes"
+    )
+    print(figure_line("import (whole process, wall)", f"{f['import_s']:.2f} s", None, None))
+    print(
+        figure_line(
+            "coverage floor (CPU)",
+            f"{f['floor_s']:.2f} s",
+            f"<= {TARGET_FLOOR_S:g} s",
+            f["floor_s"] <= TARGET_FLOOR_S,
+        )
+    )
+    print(
+        figure_line(
+            "tvl replay LOG (whole process, CPU)",
+            f"{f['replay_cpu_s']:.2f} s ({f['replay_wall_s']:.2f} wall)",
+            f"<= {TARGET_REPLAY_S:g} s",
+            f["replay_cpu_s"] <= TARGET_REPLAY_S,
+        )
+    )
+    for kind in ("learning", "behaving"):
+        ratio = f[f"{kind}_ratio"]
+        print(
+            figure_line(
+                f"a {kind} step: map / lab (CPU)",
+                f"{f[f'{kind}_step_us']:.0f} / {f[f'{kind}_lab_step_us']:.0f} us = {ratio:.2f}x",
+                f"<= {TARGET_STEP_RATIO:g}x",
+                ratio <= TARGET_STEP_RATIO,
+            )
+        )
+    if "bytes_per_cell" in f:
+        for what, assumed in (
+            ("cell", world_budget.BYTES_PER_CELL),
+            ("segment", world_budget.BYTES_PER_SEGMENT),
+        ):
+            print(
+                figure_line(
+                    f"peak memory a {what} adds (learning)",
+                    f"{f[f'bytes_per_{what}']:,.0f} bytes",
+                    f"<= {assumed:,} assumed",
+                    f[f"bytes_per_{what}"] <= assumed,
+                )
+            )
+
+
+if __name__ == "__main__":
+    main()
