@@ -60,19 +60,12 @@ def ring_ranges(
     normal draws, used unless the model is ideal.
     """
     transducers, rays = layout
-    _, normal, moment, length_m, ends, corner_sides, roughness = walls
-    (body_radius_m, behind_m, _, _, _, _, max_range_m, min_range_m, noise_sigma_m,
-     noise_fraction, ideal) = model  # fmt: skip
+    body_radius_m = model[0]
     count = transducers.shape[0]
     per_beam = rays.shape[0] // count
-    first_disc = length_m.shape[0]
-    first_ring = first_disc + discs.shape[0]
-    # A cell's walls' cross(D, E) and cross(A - O, D) numerator for a ray, and whether each
-    # lies across the ray's line: worked out for all of them at once, free of branches,
-    # before the exact tests of the few that do.
+    # Room for a cell's walls' screening by a ray (_nearest_wall), allocated once.
     most = grid[8]
-    crosses, s_nums = np.empty(most), np.empty(most)
-    across_line = np.empty(most, dtype=np.bool_)
+    scratch = (np.empty(most), np.empty(most), np.empty(most, dtype=np.bool_))
     for robot in range(poses.shape[0]):
         x, y, heading = poses[robot, 0], poses[robot, 1], poses[robot, 2]
         cos_h, sin_h = math.cos(heading), math.sin(heading)
@@ -89,44 +82,69 @@ def ring_ranges(
                 # D.O and cross(O, D), the ray leaving the body's edge at its offset
                 along = dx * x + dy * y + rays[ray, 2]
                 across = dy * x - dx * y + rays[ray, 3]
-                hit, wall, hit_cross, hit_s = _nearest_wall(
-                    ox, oy, dx, dy, across, normal, moment, grid, -behind_m, reach_m, crosses,
-                    s_nums, across_line,
+                echo, source = _ray_echo(
+                    ox, oy, dx, dy, along, across, walls, grid, reach_m, discs, rings,
+                    rings_rough, model, scratch,
                 )  # fmt: skip
-                echo = hit
-                source = wall
-                if wall >= 0 and not ideal:
-                    echo = _wall_echo(
-                        hit, hit_s, hit_cross, length_m[wall], ends[wall, 0, 0] - ox,
-                        ends[wall, 0, 1] - oy, ends[wall, 1, 0] - ox, ends[wall, 1, 1] - oy,
-                        corner_sides[wall, 0], corner_sides[wall, 1], roughness[wall], model,
-                    )  # fmt: skip
-                for j in range(discs.shape[0]):
-                    disc_hit, disc_echo = _circle(
-                        dx, dy, along, across, discs[j, 0], discs[j, 1], discs[j, 2], 0.0, _DISC,
-                        model,
-                    )  # fmt: skip
-                    if disc_hit < hit:
-                        hit, echo, source = disc_hit, disc_echo, first_disc + j
-                for j in range(rings.shape[0]):
-                    ring_hit, ring_echo = _circle(
-                        dx, dy, along, across, rings[j, 0], rings[j, 1], rings[j, 2],
-                        rings_rough[j], _RING_WALL, model,
-                    )  # fmt: skip
-                    if ring_hit < hit:
-                        hit, echo, source = ring_hit, ring_echo, first_ring + j
                 if echo < nearest:
                     nearest, nearest_source = echo, source
-            reading = max_range_m
-            sources[robot, beam] = nearest_source if nearest <= max_range_m else -1
-            if nearest <= max_range_m:
-                if not ideal:
-                    sigma = noise_sigma_m + noise_fraction * nearest
-                    nearest = nearest + sigma * noise[robot, beam]
-                reading = nearest if nearest > min_range_m else min_range_m
-                if reading > max_range_m:
-                    reading = max_range_m
-            readings[robot, beam] = reading
+            readings[robot, beam], sources[robot, beam] = _reading(
+                nearest, nearest_source, noise[robot, beam], model
+            )
+
+
+@kernel
+def _ray_echo(
+    ox, oy, dx, dy, along, across, walls, grid, reach_m, discs, rings, rings_rough, model,
+    scratch,
+):  # fmt: skip
+    """(echo, source) of one ray from the transducer O in direction D: the echo of the first
+    surface it meets (metres, inf for none) and that surface, numbered as ring_ranges
+    numbers them."""
+    _, normal, moment, length_m, ends, corner_sides, roughness = walls
+    behind_m, ideal = model[1], model[10]
+    first_disc = length_m.shape[0]
+    first_ring = first_disc + discs.shape[0]
+    hit, wall, hit_cross, hit_s = _nearest_wall(
+        ox, oy, dx, dy, across, normal, moment, grid, -behind_m, reach_m, *scratch
+    )
+    echo = hit
+    source = wall
+    if wall >= 0 and not ideal:
+        echo = _wall_echo(
+            hit, hit_s, hit_cross, length_m[wall], ends[wall, 0, 0] - ox, ends[wall, 0, 1] - oy,
+            ends[wall, 1, 0] - ox, ends[wall, 1, 1] - oy, corner_sides[wall, 0],
+            corner_sides[wall, 1], roughness[wall], model,
+        )  # fmt: skip
+    for j in range(discs.shape[0]):
+        disc_hit, disc_echo = _circle(
+            dx, dy, along, across, discs[j, 0], discs[j, 1], discs[j, 2], 0.0, _DISC, model
+        )
+        if disc_hit < hit:
+            hit, echo, source = disc_hit, disc_echo, first_disc + j
+    for j in range(rings.shape[0]):
+        ring_hit, ring_echo = _circle(
+            dx, dy, along, across, rings[j, 0], rings[j, 1], rings[j, 2], rings_rough[j],
+            _RING_WALL, model,
+        )  # fmt: skip
+        if ring_hit < hit:
+            hit, echo, source = ring_hit, ring_echo, first_ring + j
+    return echo, source
+
+
+@kernel
+def _reading(nearest, source, noise, model):
+    """(reading, source) of a transducer whose nearest echo is `nearest` metres (inf: none)
+    from `source`: plus its noise (a standard normal draw) unless the model is ideal,
+    clamped to the range; the maximum range and -1 where nothing echoed within it."""
+    max_range_m, min_range_m, noise_sigma_m, noise_fraction, ideal = model[6:]
+    if not nearest <= max_range_m:
+        return max_range_m, -1
+    if not ideal:
+        sigma = noise_sigma_m + noise_fraction * nearest
+        nearest = nearest + sigma * noise
+    reading = nearest if nearest > min_range_m else min_range_m
+    return (reading if reading < max_range_m else max_range_m), source
 
 
 @kernel
