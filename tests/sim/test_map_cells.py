@@ -1,5 +1,6 @@
-"""A text map's grid as arrays: the flood scipy does for a large map finds an open boundary
-exactly where the flood cell by cell does, with and without ring walls."""
+"""A text map's grid as arrays: the compiled flood that asks a large map whether it is open
+finds a way off the map exactly where the flood cell by cell does, with and without ring
+walls."""
 
 from __future__ import annotations
 
@@ -27,7 +28,7 @@ def random_map(seed: int) -> tuple[MapGrid, tuple[int, int]]:
 
 @pytest.mark.parametrize("rings", [(), ((5.0, 3.75, 2.5),), ((2.0, 2.0, 1.0), (8, 6, 4.0))])
 @pytest.mark.parametrize("seed", range(40))
-def test_scipys_flood_finds_a_way_off_the_map_as_the_flood_cell_by_cell(seed, rings) -> None:
+def test_the_compiled_flood_finds_a_way_off_the_map_as_the_flood_cell_by_cell(seed, rings) -> None:
     grid, start = random_map(seed)
     codes = char_codes(grid.rows)
     outside = codes == OUTSIDE

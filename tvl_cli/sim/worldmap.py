@@ -35,8 +35,9 @@ from tvl_cli.sim.worldheader import (
     read_header,
 )
 
-# A map of up to this many cells is flooded cell by cell (in a few milliseconds), sparing the
-# shipped and hand-made worlds scipy's import; a larger one is flooded by scipy first.
+# A map of up to this many cells is flooded cell by cell in Python (in a few milliseconds),
+# sparing the shipped and hand-made worlds the compiled flood's loading; a larger one is
+# flooded by the compiled kernel first.
 FLOOD_IN_PYTHON_CELLS = 20_000
 
 
@@ -220,8 +221,8 @@ def _escape(
     grid: MapGrid, codes: np.ndarray, start: tuple[int, int], rings: tuple[Circle, ...]
 ) -> tuple[int, int] | None:
     """The first open cell, flooding from the start, that leads off the map, or None. A
-    small map is flooded cell by cell at once; a large one is first asked of scipy, which
-    answers in compiled code (the flood then only names the cell of a map that has one)."""
+    small map is flooded cell by cell at once; a large one is first asked of the compiled
+    flood (the flood cell by cell then only names the cell of a map that has one)."""
     if codes.size <= FLOOD_IN_PYTHON_CELLS:
         return first_escape(grid, *start, rings)
     outside = codes == OUTSIDE

@@ -1,7 +1,7 @@
 """A text map's grid as arrays: its characters' code points, the outline between wall and
 open cells as maximal straight runs, and whether the open cells round the start are
-enclosed; each in numpy or scipy's compiled loops, so that a scanned map of a million cells
-is read in a second, not a minute of Python.
+enclosed; each in numpy or a compiled loop, so that a scanned map of a million cells is
+read in a second, not a minute of Python.
 
 Rows count from the top, as the text is written; `OUTSIDE` marks the cells past the end of a
 short line, which belong to no one.
@@ -72,16 +72,18 @@ def reaches_outside(
     open_cells: np.ndarray, outside: np.ndarray, start: tuple[int, int], sides: np.ndarray
 ) -> bool:
     """Whether the open cells joined to the start's (up, down, left and right, never between
-    cells of different `sides`) touch a cell outside the map or off its edge.
+    cells of different `sides`) touch a cell outside the map or off its edge: a compiled
+    flood (core.kernels.flood) over the start's side.
 
     sides (rows + 2, columns + 2): a number for each cell and the ring of cells round the
     map, equal for cells on the same side of every ring wall."""
-    from scipy import ndimage  # only for a large map: its import costs a few tenths of a second
+    from tvl_cli.core.kernels.flood import flood  # compiled: loaded on first use
 
     padded_open = np.pad(open_cells, 1, constant_values=False)
     padded_outside = np.pad(outside, 1, constant_values=True)  # off the map: outside
     row, column = start[0] + 1, start[1] + 1
-    side = sides[row, column]
     # A step never crosses a ring wall: only cells on the start's side take part.
-    joined, _ = ndimage.label((padded_open | padded_outside) & (sides == side))
-    return bool((padded_outside & (joined == joined[row, column])).any())
+    passable = (padded_open | padded_outside) & (sides == sides[row, column])
+    reached = np.zeros_like(passable)
+    flood(passable, row, column, reached)
+    return bool((padded_outside & reached).any())
