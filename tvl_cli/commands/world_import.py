@@ -22,7 +22,14 @@ from tvl_cli.sim.maps.free_space import (
     narrow_passages,
     widest_place,
 )
-from tvl_cli.sim.maps.grid_world import GridPlace, GridWorld, body_touches, grid_world, metres
+from tvl_cli.sim.maps.grid_world import (
+    GridPlace,
+    GridWorld,
+    body_touches,
+    floor_of,
+    grid_world,
+    metres,
+)
 from tvl_cli.sim.maps.resample import coarsen, crop
 from tvl_cli.sim.world_budget import max_file_bytes, max_image_pixels, over_budget
 from tvl_cli.sim.worldheader import MAX_CELL_M, MAX_HEADING_DEG, MIN_CELL_M
@@ -116,21 +123,19 @@ def import_map(request: ImportRequest) -> Imported:
     refuse_output_among_inputs(request.output, {"MAP.yaml": request.map_yaml})
     occupancy = read_occupancy_map(request.map_yaml, max_image_pixels())
     refuse_output_among_inputs(request.output, {"the map's image": occupancy.meta.image})
-    free, place = _grid(occupancy, request)
+    floor, place = floor_of(*_grid(occupancy, request))  # the world's grid
     robot = RobotConfig()
-    space = free_space(free, place.cell_m)
+    space = free_space(floor, place.cell_m)
     start, chosen = _start(request, space, place, robot.radius_m)
-    made = grid_world(free, place, start, _name(request), _comments(occupancy, request))
+    made = grid_world(floor, place, start, _name(request), _comments(occupancy, request))
     _refuse_too_large(made, occupancy.meta.path)
     parse_world(made.text, str(request.output))  # held to `tvl world check` before writing
-    # The passages, in the world's own grid: the one the robot will drive.
-    world_free = free_space(made.floor, place.cell_m)
-    start_cell = made.place.cell(made.rows, start[0], start[1])
-    passages = _in_map_frame(narrow_passages(world_free, start_cell, robot.radius_m), made)
+    start_cell = place.cell(made.rows, start[0], start[1])
+    passages = _in_map_frame(narrow_passages(space, start_cell, robot.radius_m), made)
     with atomic_output(request.output, overwrite=request.force) as temporary:
         temporary.write_text(made.text, encoding="utf-8")
-    clearance = float(world_free.clearance_m[start_cell])
-    return Imported(occupancy, made, int(world_free.free.sum()), chosen, clearance, passages)
+    clearance = float(space.clearance_m[start_cell])
+    return Imported(occupancy, made, int(floor.sum()), chosen, clearance, passages)
 
 
 def _grid(occupancy: OccupancyMap, request: ImportRequest) -> tuple[np.ndarray, GridPlace]:

@@ -72,13 +72,8 @@ def grid_world(
 ) -> GridWorld:
     """The world of the free cells (at least one) of a (rows, columns) grid, top row first,
     with the robot at `start` (map-frame x, y in metres and a heading in degrees)."""
-    floor, top, left = _crop_to_floor(free)
+    floor, world_place = floor_of(free, place)
     rows, columns = floor.shape
-    world_place = GridPlace(
-        place.cell_m,
-        metres(place.left_x_m + left * place.cell_m),
-        metres(place.bottom_y_m + (free.shape[0] - top - rows) * place.cell_m),
-    )
     grid = np.where(floor, FLOOR, WALL)  # (rows, columns) characters, top row first
     x, y, heading = start
     text = "\n".join(
@@ -97,14 +92,21 @@ def grid_world(
     return GridWorld(text, columns, rows, world_place, start, floor)
 
 
-def _crop_to_floor(free: np.ndarray) -> tuple[np.ndarray, int, int]:
-    """The free cells' bounding box and one cell round it, and the grid's (row, column) of
-    its top-left corner (-1 where the ring lies past the grid's edge). There must be a free
-    cell."""
+def floor_of(free: np.ndarray, place: GridPlace) -> tuple[np.ndarray, GridPlace]:
+    """The free cells' bounding box and one cell round it (walls where that ring lies past
+    the grid's edge), and where it lies: the world's grid. There must be a free cell; the
+    floor of a world's grid is that grid."""
     padded = np.pad(free, 1, constant_values=False)  # past the edge: wall
     rows, columns = np.flatnonzero(padded.any(axis=1)), np.flatnonzero(padded.any(axis=0))
     top, bottom, left, right = rows[0] - 1, rows[-1] + 1, columns[0] - 1, columns[-1] + 1
-    return padded[top : bottom + 1, left : right + 1], int(top) - 1, int(left) - 1
+    floor = padded[top : bottom + 1, left : right + 1]
+    # The grid's row and column of the floor's top-left corner: one less, for the padding.
+    first_row, first_column = int(top) - 1, int(left) - 1
+    return floor, GridPlace(
+        place.cell_m,
+        metres(place.left_x_m + first_column * place.cell_m),
+        metres(place.bottom_y_m + (free.shape[0] - first_row - floor.shape[0]) * place.cell_m),
+    )
 
 
 def body_touches(
