@@ -13,7 +13,11 @@ lab, measured in the same run, each figure beside its target.
   CPU microseconds a step, and the map's over the lab's (<= 1.5);
 - with --memory, the peak memory of `tvl learn --minutes 0.1` in a hall of open floor and in
   a checkerboard of walls, each at two sizes: the bytes a grid cell and a wall segment add,
-  beside what sim/world_budget.py assumes of them.
+  beside what sim/world_budget.py assumes of them;
+- with --limits, whole processes at the limits: `tvl learn --minutes 0.2` in a 100 m hall of
+  10,000 `wall:` lines (scale.py's); `tvl run --minutes 0.5` in the largest world file a
+  machine of 1 GiB allows (TVL_MEMORY_MIB=1024), an open hall; and `tvl learn` refusing a
+  checkerboard of 600 x 600 cells (700,000 wall segments): CPU seconds and peak memory.
 
 Each time is the median of R runs. The map is Nav2's (ros-navigation/navigation2), which the
 project keeps outside its checkout: --map names it (default ../shared/maps/nav2/depot.yaml
@@ -24,12 +28,14 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import subprocess
 import tempfile
 from pathlib import Path
 
 import numpy as np
+from scale import hall_with_walls
 from timing import TVL, cpu_seconds, figure_line, median_seconds, run_process
 
 from tvl_cli.agent.drive_tvl import behave
@@ -78,26 +84,33 @@ def behaving_step_us(world: WorldMap, fam_path: Path, minutes: float) -> float:
     return 1e6 * cpu_seconds(run, 1) / (minutes * 60.0 / CONTROL_PERIOD_S)
 
 
+def measured(argv: list[str | Path], env: dict[str, str] | None = None) -> tuple[int, float, int]:
+    """A whole process's exit status, CPU seconds and peak resident bytes."""
+    process = subprocess.Popen(
+        [str(a) for a in argv],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+        env=None if env is None else {**os.environ, **env},
+    )
+    _, status, usage = os.wait4(process.pid, 0)  # this child's own resource usage
+    process.returncode = os.waitstatus_to_exitcode(status)
+    return process.returncode, usage.ru_utime + usage.ru_stime, usage.ru_maxrss * 1024
+
+
 def peak_memory_bytes(world_text: str, directory: Path) -> int:
     """The peak resident memory of `tvl learn --minutes 0.1` in a world, bytes."""
     world, log = directory / "w.txt", directory / "w.h5"
     world.write_text(world_text)
     log.unlink(missing_ok=True)
-    process = subprocess.Popen(
-        [TVL, "learn", str(world), "--log", str(log), "--minutes", "0.1"],
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.DEVNULL,
-    )
-    _, status, usage = os.wait4(process.pid, 0)  # this child's own resource usage
-    process.returncode = os.waitstatus_to_exitcode(status)
-    if process.returncode != 0:
-        raise SystemExit(f"tvl learn in a hall exited {process.returncode}")
-    return usage.ru_maxrss * 1024  # Linux reports kilobytes
+    code, _, peak = measured([TVL, "learn", world, "--log", log, "--minutes", "0.1"])
+    if code != 0:
+        raise SystemExit(f"tvl learn in a hall exited {code}")
+    return peak
 
 
-def hall(side: int, checkered: bool) -> tuple[str, int, int]:
+def hall(side: int, checkered: bool) -> str:
     """A square world of side x side cells of 5 cm: open floor, or a checkerboard of one-cell
-    walls (every wall cell's four sides a segment); its text, cells and segments."""
+    walls (every wall cell's four sides a segment); its text."""
     rows = []
     for r in range(side):
         if r in (0, side - 1):
@@ -109,17 +122,21 @@ def hall(side: int, checkered: bool) -> tuple[str, int, int]:
         )
         rows.append(f"#{inner}#")
     rows[5] = "#....>" + rows[5][6:]  # 0.25 m from the wall, 0.3 m from the checkerboard
-    text = "cell: 0.05\n" + "\n".join(rows) + "\n"
+    return "cell: 0.05\n" + "\n".join(rows) + "\n"
+
+
+def cells_and_segments(text: str) -> tuple[int, int]:
     world = parse_world(text, "hall")
-    return text, side * side, len(world.segments)
+    return _cells(world), len(world.segments)
 
 
 def memory_figures(directory: Path) -> dict[str, float]:
     """Bytes a cell and a segment add to a learning process's peak, from two sizes each."""
     figures = {}
     for checkered, sides in ((False, (400, 1600)), (True, (150, 300))):
-        small_text, small_cells, small_segments = hall(sides[0], checkered)
-        large_text, large_cells, large_segments = hall(sides[1], checkered)
+        small_text, large_text = hall(sides[0], checkered), hall(sides[1], checkered)
+        small_cells, small_segments = cells_and_segments(small_text)
+        large_cells, large_segments = cells_and_segments(large_text)
         small = peak_memory_bytes(small_text, directory)
         large = peak_memory_bytes(large_text, directory)
         if checkered:  # what the cells themselves add, at the measured rate, taken out
@@ -130,12 +147,47 @@ def memory_figures(directory: Path) -> dict[str, float]:
     return figures
 
 
+def limit_figures(directory: Path, fam: Path) -> dict[str, float]:
+    """CPU seconds and peaks of whole processes at the limits (the module's docstring)."""
+    figures = {}
+    walls = directory / "walls.txt"
+    walls.write_text(hall_with_walls(10_000))
+    code, figures["walls_cpu_s"], figures["walls_peak"] = measured(
+        [TVL, "learn", walls, "--log", directory / "walls.h5", "--minutes", "0.2"]
+    )
+    memory = {world_budget.MEMORY_VARIABLE: "1024"}
+    largest = (512 << 20) // world_budget.BYTES_PER_CELL
+    side = int((math.sqrt(1 + 4 * (largest - 11)) - 1) / 2)  # side + 1 bytes a row, 11 more
+    hall = directory / "largest.txt"
+    hall.write_text(open_hall(side))
+    figures["largest_bytes"] = hall.stat().st_size
+    code, figures["largest_cpu_s"], figures["largest_peak"] = measured(
+        [TVL, "run", fam, hall, "--behaviour", "avoid", "--minutes", "0.5"], memory
+    )
+    board = directory / "board.txt"
+    board.write_text(hall(600, checkered=True))
+    refused, figures["board_cpu_s"], _ = measured(
+        [TVL, "learn", board, "--log", directory / "board.h5", "--minutes", "0.1"]
+    )
+    if code != 0 or refused != 2:
+        raise SystemExit(f"tvl run in the largest world exited {code}, learn {refused}")
+    return figures
+
+
+def open_hall(side: int) -> str:
+    """A square world of side x side cells of 5 cm, walls round open floor, as the file."""
+    rows = ["#" * side, *(["#" + "." * (side - 2) + "#"] * (side - 2)), "#" * side]
+    rows[5] = "#....>" + rows[5][6:]
+    return "cell: 0.05\n" + "\n".join(rows) + "\n"
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--map", type=Path, default=DEPOT, help="a Nav2 map's YAML file")
     parser.add_argument("--minutes", type=float, default=5.0, help="simulated minutes a run")
     parser.add_argument("--repeats", type=int, default=3, help="timed runs; medians count")
     parser.add_argument("--memory", action="store_true", help="measure memory a cell, a wall")
+    parser.add_argument("--limits", action="store_true", help="time processes at the limits")
     parser.add_argument("--json", action="store_true", help="print the figures as JSON")
     args = parser.parse_args()
     if not args.map.is_file():
@@ -169,6 +221,8 @@ def main() -> None:
         if args.memory:
             for what, bytes_each in memory_figures(directory).items():
                 figures[f"bytes_per_{what}"] = bytes_each
+        if args.limits:
+            figures.update(limit_figures(directory, fam))
         figures["segments"], figures["cells"] = len(world.segments), _cells(world)
     if args.json:
         print(json.dumps(figures, indent=1))
@@ -212,6 +266,8 @@ def _print(args: argparse.Namespace, f: dict[str, float]) -> None:
                 ratio <= TARGET_STEP_RATIO,
             )
         )
+    if "walls_cpu_s" in f:
+        _print_limits(f)
     if "bytes_per_cell" in f:
         for what, assumed in (
             ("cell", world_budget.BYTES_PER_CELL),
@@ -229,3 +285,28 @@ def _print(args: argparse.Namespace, f: dict[str, float]) -> None:
 
 if __name__ == "__main__":
     main()
+
+
+def _print_limits(f: dict[str, float]) -> None:
+    mib = 2**20
+    print(
+        figure_line(
+            "learn 0.2 min, hall of 10,000 walls",
+            f"{f['walls_cpu_s']:.1f} s, {f['walls_peak'] / mib:.0f} MiB",
+            None,
+            None,
+        )
+    )
+    print(
+        figure_line(
+            f"run 0.5 min, largest world at 1 GiB ({f['largest_bytes'] / 1e6:.1f} MB)",
+            f"{f['largest_cpu_s']:.1f} s, {f['largest_peak'] / mib:.0f} MiB",
+            "< 1,024 MiB",
+            f["largest_peak"] < 1024 * mib,
+        )
+    )
+    print(
+        figure_line(
+            "learn refusing a 600 x 600 checkerboard", f"{f['board_cpu_s']:.1f} s", None, None
+        )
+    )
