@@ -158,11 +158,11 @@ def limit_figures(directory: Path, fam: Path) -> dict[str, float]:
     memory = {world_budget.MEMORY_VARIABLE: "1024"}
     largest = (512 << 20) // world_budget.BYTES_PER_CELL
     side = int((math.sqrt(1 + 4 * (largest - 11)) - 1) / 2)  # side + 1 bytes a row, 11 more
-    hall = directory / "largest.txt"
-    hall.write_text(open_hall(side))
-    figures["largest_bytes"] = hall.stat().st_size
+    largest_world = directory / "largest.txt"
+    largest_world.write_text(open_hall(side))
+    figures["largest_bytes"] = largest_world.stat().st_size
     code, figures["largest_cpu_s"], figures["largest_peak"] = measured(
-        [TVL, "run", fam, hall, "--behaviour", "avoid", "--minutes", "0.5"], memory
+        [TVL, "run", fam, largest_world, "--behaviour", "avoid", "--minutes", "0.5"], memory
     )
     board = directory / "board.txt"
     board.write_text(hall(600, checkered=True))
