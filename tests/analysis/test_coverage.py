@@ -3,16 +3,18 @@
 from __future__ import annotations
 
 import tracemalloc
+from pathlib import Path
 
 import numpy as np
 import pytest
 from cluttered_hall import cluttered_hall
 
+from tvl_cli.analysis import coverage
 from tvl_cli.analysis.coverage import (
+    CoverageGrid,
     CoverageTracker,
     coverage_by_minute,
     coverage_of,
-    grid_over,
     reachable_floor,
     world_floor,
 )
@@ -80,9 +82,9 @@ def test_the_tracker_ignores_poses_off_the_grid() -> None:
 
 def test_a_step_between_cells_needs_the_body_to_fit_halfway_too() -> None:
     """Two cells whose centres fit, with an obstacle only between them, are not joined."""
-    grid = grid_over(1.0, 0.5, 0.5)  # two cells side by side
-    clearance = np.array([[0.1, 0.0, 0.1]])  # (1, 3): centre, midpoint, centre
-    floor = reachable_floor(grid, clearance, (0.25, 0.25))
+    grid = CoverageGrid(0.5, rows=1, columns=2)  # two cells side by side
+    fits = np.array([[True, False, True]])  # (1, 3): centre, midpoint, centre
+    floor = reachable_floor(grid, fits, (0.25, 0.25))
     assert floor.reachable.tolist() == [True, False]
 
 
@@ -102,7 +104,7 @@ def test_the_floor_of_a_world_of_many_walls_takes_memory_for_its_cells_not_their
     assert floor.cells > 0
 
 
-@pytest.mark.parametrize("walls", [0, 40])
+@pytest.mark.parametrize("walls", [0, 40, 600])
 def test_the_floor_is_the_one_all_points_against_all_obstacles_at_once_give(walls: int) -> None:
     world = parse_world(cluttered_hall(walls, seed=2), "hall")
     floor = world_floor(world, ROBOT)
@@ -111,8 +113,22 @@ def test_the_floor_is_the_one_all_points_against_all_obstacles_at_once_give(wall
     points = lattice.reshape(-1, 2)
     clearance, nearest = np.empty(len(points)), np.empty(len(points), dtype=np.int64)
     clearances_reference(
-        points, geometry.seg_start, geometry.seg_delta, geometry.seg_len, geometry.discs,
-        geometry.rings, ROBOT.radius_m, clearance, nearest,
+        points, geometry.seg_start, geometry.seg_delta, geometry.seg_len,
+        geometry.grid.kernel_input, geometry.discs, geometry.rings, ROBOT.radius_m, np.inf,
+        clearance, nearest,
     )  # fmt: skip
-    expected = reachable_floor(floor.grid, clearance.reshape(lattice.shape[:2]), world.start[:2])
+    fits = clearance.reshape(lattice.shape[:2]) > 0.0
+    expected = reachable_floor(floor.grid, fits, world.start[:2])
     np.testing.assert_array_equal(floor.reachable, expected.reachable)
+
+
+def test_a_world_of_more_cells_than_the_floor_takes_is_measured_in_squares_of_them(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """With room for 100 cells, the 8 x 6 m lab at 0.25 m (768 cells) is measured in squares
+    of 3 x 3 of its cells: 11 x 8 of them."""
+    monkeypatch.setattr(coverage, "MAX_FLOOR_CELLS", 100)
+    world = parse_world(Path("worlds/lab.txt").read_text(), "lab")
+    floor = world_floor(world, ROBOT)
+    assert (floor.grid.cell_m, floor.grid.rows, floor.grid.columns) == (0.75, 8, 11)
+    assert 0 < floor.cells < 88

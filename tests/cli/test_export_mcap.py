@@ -26,6 +26,7 @@ ROOT = Path(__file__).resolve().parents[2]
 LAB = ROOT / "worlds" / "lab.txt"
 PER_STEP = ("/tf", "/pose", "/odometry", "/sonar", "/perceived")
 SCHEMAS = {
+    "/map": ("foxglove.Grid", "protobuf"),
     "/world": ("foxglove.SceneUpdate", "protobuf"),
     "/tf": ("foxglove.FrameTransform", "protobuf"),
     "/pose": ("foxglove.PoseInFrame", "protobuf"),
@@ -93,7 +94,7 @@ def test_each_step_is_one_message_on_each_channel_and_the_world_one(
         summary.channels[i].topic: n for i, n in summary.statistics.channel_message_counts.items()
     }
     assert {topic: counts[topic] for topic in PER_STEP} == dict.fromkeys(PER_STEP, trace.steps)
-    assert counts["/world"] == 1
+    assert counts["/world"] == counts["/map"] == 1
     began = sum(len(trace.event_steps(event)) for event in EVENTS)
     assert began > 0 and counts["/events"] == began
 
@@ -112,7 +113,24 @@ def test_the_first_and_last_poses_are_the_traces(exported: Path, run: Path) -> N
             assert (pose.position.x, pose.position.y) == (x, y)
             assert math.isclose(math.cos(_yaw(pose.orientation) - theta), 1.0)
             assert time_ns == round((step + 1) * trace.period_s * 1e9)
-            assert message.frame_id == "world"
+            assert message.frame_id == "map"
+
+
+def test_the_map_is_the_worlds_cells_in_the_map_frame(exported: Path, run: Path) -> None:
+    world = parse_world(read_run(run).world_text, "lab")
+    ((time_ns, grid),) = messages(exported, "/map")
+    assert time_ns == 0 and grid.frame_id == "map"
+    assert (grid.pose.position.x, grid.pose.position.y) == world.origin_m
+    assert (grid.cell_size.x, grid.cell_size.y) == (world.cell_m, world.cell_m)
+    rows = len(grid.data) // grid.row_stride
+    cells = np.frombuffer(grid.data, dtype=np.int8).reshape(rows, grid.column_count)
+    assert (rows * world.cell_m, grid.column_count * world.cell_m) == (
+        world.height_m,
+        world.width_m,
+    )
+    # Row 0 is the bottom row: the lab's bottom wall, then the floor above it.
+    assert (cells[0] == 100).all() and set(np.unique(cells)) == {0, 100}
+    assert (cells[1:-1, 1:-1] == 0).mean() > 0.5
 
 
 def test_the_world_scene_holds_every_wall_and_disc(exported: Path, run: Path) -> None:

@@ -100,10 +100,10 @@ TAKE_A_METHOD = {
 # change a schema, raise its schema_version and record the new pair here.
 RELEASED = {
     "world new": (1, "3e84142d3fce99e0"),
-    "world show": (1, "f40ae58dda8f4615"),
+    "world show": (2, "c6b1620391536259"),
     "world check": (1, "6f4c73aa86b3aaf4"),
     "world render": (1, "73701f22a7db6b3d"),
-    "world import": (1, "a5d23fe61222a3ad"),
+    "world import": (2, "946b4da5d9420c27"),
     "world export": (1, "9e6559936de1d145"),
     "learn": (2, "6f9670d243c0900b"),
     "train": (2, "841b73cfe295d28d"),

@@ -9,8 +9,8 @@ from pathlib import Path
 import pytest
 from json_schemas import valid
 
+from tvl_cli.sim import world_budget
 from tvl_cli.sim.worldgen import generate_world
-from tvl_cli.sim.worldmap import MAX_FILE_BYTES
 
 ROOT = Path(__file__).resolve().parents[2]
 ROOM = "#######\n#.....#\n#..>..#\n#.....#\n#######\n"
@@ -28,7 +28,7 @@ BAD_WORLDS = {  # name -> (file bytes, the error after the file name)
     "unknown header key": (
         ("colour: red\n" + ROOM).encode(),
         ":1:1: unknown header key 'colour' "
-        "(expected one of version name cell roughness rough disc ring goal wall)",
+        "(expected one of version name cell origin start roughness rough disc ring goal wall)",
     ),
     "bad header value": (
         ("cell: big\n" + ROOM).encode(),
@@ -46,7 +46,10 @@ BAD_WORLDS = {  # name -> (file bytes, the error after the file name)
         ("version: 2\n" + ROOM).encode(),
         ":1:10: unsupported version '2' (this tvl reads version 1)",
     ),
-    "no start": (ROOM.replace(">", ".").encode(), ": no start (put one of > < ^ v in the map)"),
+    "no start": (
+        ROOM.replace(">", ".").encode(),
+        ": no start (put one of > < ^ v in the map, or a start: line)",
+    ),
     "two starts": (
         ROOM.replace("#.....#\n####", "#.<...#\n####").encode(),
         ":4:3: two starts, at 3:4 and 4:3 (a world has exactly one)",
@@ -140,11 +143,42 @@ BAD_WORLDS = {  # name -> (file bytes, the error after the file name)
         ROOM.encode().replace(b"#..>", b"#.\xff>"),
         ":3:3: not UTF-8 text (byte 0xff)",
     ),
-    "file over 1 MB": (
-        (ROOM + ";" * MAX_FILE_BYTES).encode(),
-        ": file is over 1 MB (a world map is a small text file)",
-    ),
 }
+# A machine of 1 MiB, of which a world may take half: 4,369 bytes at 120 bytes a cell.
+SMALL_MACHINE_BYTES = 1 << 20
+
+
+def test_a_world_file_longer_than_this_machine_can_simulate_is_refused_unread(
+    invoke_tvl: RunTvl, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr(world_budget, "machine_bytes", lambda: SMALL_MACHINE_BYTES)
+    path = tmp_path / "long.txt"
+    path.write_text(ROOM + ";" * 5000)
+    done = invoke_tvl("world", "check", path)
+    assert (done.returncode, done.stdout) == (2, "")
+    assert done.stderr == (
+        f"tvl: error: {path}: file is over 4,369 bytes, more cells than this machine can "
+        "simulate (a world may take half its memory, 120 bytes a cell)\n"
+    )
+
+
+def test_a_world_too_large_for_this_machine_is_refused_naming_what_it_needs(
+    invoke_tvl: RunTvl, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Short enough to read, but a checkerboard of walls, thousands of segments."""
+    monkeypatch.setattr(world_budget, "machine_bytes", lambda: SMALL_MACHINE_BYTES)
+    board = ["#" * 52, *("#" + ("#." * 25)[i % 2 : i % 2 + 50] + "#" for i in range(50)), "#" * 52]
+    board[1] = "#>" + board[1][2:]
+    path = tmp_path / "board.txt"
+    path.write_text("\n".join(board))
+    assert len(path.read_bytes()) < 4369
+    done = invoke_tvl("world", "check", path)
+    assert (done.returncode, done.stdout) == (2, "")
+    assert done.stderr.startswith(f"tvl: error: {path}: a world of 2,704 cells and ")
+    assert done.stderr.endswith(
+        "over the 512 KiB this machine gives a world (half its memory); "
+        "use a coarser or smaller map\n"
+    )
 
 
 @pytest.mark.parametrize("case", BAD_WORLDS)
@@ -197,7 +231,10 @@ def test_show_json_has_the_geometry_keys(invoke_tvl: RunTvl) -> None:
     done = invoke_tvl("world", "show", ROOT / "worlds" / "circle.txt", "--json")
     assert done.stdout.count("\n") == 1  # one line, for scripts that grep it
     geometry = valid("world show", done.stdout)["world"]
-    assert list(geometry) == ["name", "cell_m", "segments", "discs", "start", "goals", "rings"]
+    assert list(geometry) == [
+        "name", "cell_m", "origin_m", "size_m", "segments", "discs", "start", "goals", "rings"
+    ]  # fmt: skip
+    assert (geometry["origin_m"], geometry["size_m"]) == ([0.0, 0.0], [5.0, 5.0])
     assert geometry["segments"] == [
         [4.75, 0.25, 0.25, 0.25],
         [0.25, 4.75, 4.75, 4.75],
@@ -210,6 +247,17 @@ def test_show_json_has_the_geometry_keys(invoke_tvl: RunTvl) -> None:
 def test_show_prints_a_readable_summary(invoke_tvl: RunTvl) -> None:
     done = invoke_tvl("world", "show", ROOT / "worlds" / "narrow.txt")
     assert "size      6 x 4 m (cell 0.25 m)" in done.stdout.splitlines()
+    assert "extent    x 0 to 6, y 0 to 4 m" in done.stdout.splitlines()
+
+
+def test_show_gives_a_world_in_its_maps_frame(invoke_tvl: RunTvl, tmp_path: Path) -> None:
+    path = tmp_path / "moved.txt"
+    path.write_text("origin: -10.05 2.5\n" + ROOM)
+    lines = invoke_tvl("world", "show", path).stdout.splitlines()
+    assert "extent    x -10.05 to -8.3, y 2.5 to 3.75 m" in lines
+    assert "start     x -9.175 y 3.125, heading 0°" in lines
+    geometry = valid("world show", invoke_tvl("world", "show", path, "--json").stdout)["world"]
+    assert geometry["origin_m"] == [-10.05, 2.5] and geometry["start"] == [-9.175, 3.125, 0.0]
 
 
 def test_render_writes_a_png(invoke_tvl: RunTvl, tmp_path: Path) -> None:
@@ -278,3 +326,30 @@ def test_new_rooms_writes_the_seeded_world_that_check_accepts(
     assert path.read_text(encoding="utf-8") == generate_world("rooms", None, None, 1003)
     checked = invoke_tvl("world", "check", path)
     assert (checked.returncode, checked.stdout.startswith(f"{path}: ok (")) == (0, True)
+
+
+@pytest.mark.parametrize("given", ["abc", "0", "-5", "1.5"])
+def test_a_memory_given_that_is_no_whole_number_of_mib_is_one_line(
+    invoke_tvl: RunTvl, monkeypatch: pytest.MonkeyPatch, given: str
+) -> None:
+    monkeypatch.setenv("TVL_MEMORY_MIB", given)
+    done = invoke_tvl("world", "check", ROOT / "worlds" / "lab.txt")
+    assert (done.returncode, done.stdout) == (2, "")
+    assert done.stderr == f"tvl: error: TVL_MEMORY_MIB={given!r}: expected a whole number of MiB\n"
+
+
+def test_a_world_of_more_walls_than_its_physics_starts_from_in_seconds_is_refused(
+    invoke_tvl: RunTvl, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr(world_budget, "MAX_SEGMENTS", 100)
+    board = ["#" * 52, *("#" + ("#." * 25)[i % 2 : i % 2 + 50] + "#" for i in range(50)), "#" * 52]
+    board[1] = "#>" + board[1][2:]
+    path = tmp_path / "board.txt"
+    path.write_text("\n".join(board))
+    done = invoke_tvl("world", "check", path)
+    assert (done.returncode, done.stdout) == (2, "")
+    assert done.stderr.startswith(f"tvl: error: {path}: a world of ")
+    assert done.stderr.endswith(
+        " wall segments, over the 100 whose physics starts in seconds; use a coarser or "
+        "smaller map\n"
+    )

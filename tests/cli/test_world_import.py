@@ -31,10 +31,16 @@ from map_samples import (
 from tvl_cli.cli.main import main
 from tvl_cli.io import occupancy_map
 from tvl_cli.io.logreader import read_log
+from tvl_cli.sim import world_budget
 from tvl_cli.sim.worldmap import layout, load_world
 
 START_PIXEL = (12, 12)  # row, column: 0.275 m and more from every wall
+MAX_PIXELS = 1 << 24
 START = "{:g},{:g},90".format(*map_frame_of_pixel(*START_PIXEL))
+
+
+def read_map(path: Path) -> occupancy_map.OccupancyMap:
+    return occupancy_map.read_occupancy_map(path, MAX_PIXELS)
 
 
 def tvl(*args: object) -> tuple[int, str, str]:
@@ -51,26 +57,36 @@ def imported(yaml_path: Path, *options: object) -> Path:
 
 
 def expected_room_grid() -> list[str]:
-    """The room's world, its walls' outer box: walls, free floor, the block and the start."""
+    """The room's world, its walls' outer box: walls, free floor and the block."""
     grid = np.full((ROOM_ROWS, ROOM_COLUMNS), ".")
     grid[[0, -1], :] = "#"
     grid[:, [0, -1]] = "#"
     top, left = BLOCK_TOP - ROOM_TOP, BLOCK_LEFT - ROOM_LEFT
     grid[top : top + BLOCK_SIZE, left : left + BLOCK_SIZE] = "#"
-    grid[START_PIXEL[0] - ROOM_TOP, START_PIXEL[1] - ROOM_LEFT] = "^"
     return ["".join(row) for row in grid]
+
+
+# The room's walls' outer box in the map's frame: its bottom-left corner.
+ROOM_ORIGIN = (-0.7, -1.75)
 
 
 def test_a_map_saver_map_becomes_its_walls_free_floor_and_start(tmp_path: Path) -> None:
     world = load_world(imported(write_map(tmp_path, free_thresh=ROS1_FREE_THRESH)))
     assert list(layout(world)[0]) == expected_room_grid()
     assert (world.width_m, world.height_m, world.cell_m) == (2.0, 1.5, 0.05)
-    # The start is its cell's centre, in the world's frame (the room's bottom-left corner).
-    x, y = map_frame_of_pixel(*START_PIXEL)
-    offset_x, offset_y = -1.0 + ROOM_LEFT * 0.05, -2.0 + (40 - ROOM_TOP - ROOM_ROWS) * 0.05
-    assert world.start == pytest.approx((x - offset_x, y - offset_y, math.pi / 2))
-    # The room's outline and the block's: four walls each.
+    assert (
+        world.origin_m
+        == ROOM_ORIGIN
+        == (
+            -1.0 + ROOM_LEFT * 0.05,
+            -2.0 + (40 - ROOM_TOP - ROOM_ROWS) * 0.05,
+        )
+    )
+    # The start is where it was asked for, in the map's frame, which is the world's.
+    assert world.start == (*map_frame_of_pixel(*START_PIXEL), math.pi / 2)
+    # The room's outline and the block's: four walls each, on the map's pixel edges.
     assert len(world.segments) == 8
+    assert (1.25, -1.7, -0.65, -1.7) in world.segments  # the floor's bottom edge
 
 
 def test_json_gives_the_extent_the_free_cells_and_the_map_frame(tmp_path: Path) -> None:
@@ -84,9 +100,10 @@ def test_json_gives_the_extent_the_free_cells_and_the_map_frame(tmp_path: Path) 
     assert found["outputs"] == {"world": str(world)}
     assert (found["columns"], found["rows"], found["cell_m"]) == (40, 30, 0.05)
     assert found["free_cells"] == int((room_pixels() == FREE).sum()) == 38 * 28 - 16
-    assert found["offset_m"] == [-0.7, -1.75]
-    assert found["start"] == [0.325, 1.125, 90.0]  # the world's frame: the map's less the offset
-    assert "; map frame: x = world x + -0.7, y = world y + -1.75" in world.read_text()
+    assert found["origin_m"] == list(ROOM_ORIGIN)
+    assert found["start"] == [-0.375, -0.625, 90.0]  # the map's frame, as given
+    assert found["start_chosen"] is False and found["narrow_passages"] == []
+    assert "origin: -0.7 -1.75\nstart: -0.375 -0.625 90.0\n" in world.read_text()
 
 
 def test_the_world_passes_world_check(tmp_path: Path) -> None:
@@ -143,13 +160,11 @@ def test_a_png_with_alpha_averages_its_opacity_in_as_map_server_does(tmp_path: P
     rgba = np.dstack([grey, grey, grey, np.full_like(grey, 255)])
     rgba[0, 0, 3] = 0  # one transparent corner pixel
     Image.fromarray(rgba, mode="RGBA").save(tmp_path / "room.png")
-    trinary = occupancy_map.read_occupancy_map(
-        write_map(tmp_path, free_thresh=ROS1_FREE_THRESH, image="room.png")
-    )
+    trinary = read_map(write_map(tmp_path, free_thresh=ROS1_FREE_THRESH, image="room.png"))
     opaque_grey = (grey == UNKNOWN) & (rgba[..., 3] == 255)
     assert trinary.free[opaque_grey].all() and trinary.occupied[grey == OCCUPIED].all()
     assert trinary.unknown[0, 0]  # (3 * 205 + 0) / 4: p = 0.397, between the thresholds
-    scale = occupancy_map.read_occupancy_map(
+    scale = read_map(
         write_map(tmp_path, free_thresh=ROS1_FREE_THRESH, image="room.png", mode="scale")
     )
     assert not scale.free[grey == UNKNOWN].any() and scale.unknown[0, 0]
@@ -158,7 +173,7 @@ def test_a_png_with_alpha_averages_its_opacity_in_as_map_server_does(tmp_path: P
 
 def test_raw_mode_reads_pixel_values_as_percent_occupancy(tmp_path: Path) -> None:
     pixels = np.array([[0, 10, 50, 70, 100, 101, 255]], dtype=np.uint8)
-    read = occupancy_map.read_occupancy_map(write_map(tmp_path, pixels, mode="raw"))
+    read = read_map(write_map(tmp_path, pixels, mode="raw"))
     assert read.free.tolist() == [[True, True, False, False, False, False, False]]
     assert read.occupied.tolist() == [[False, False, False, True, True, False, False]]
 
@@ -168,7 +183,7 @@ def test_a_sixteen_bit_pgm_is_read_at_its_maxval(tmp_path: Path) -> None:
     image = tmp_path / "room.pgm"
     write_map(tmp_path, free_thresh=ROS1_FREE_THRESH)
     image.write_bytes(b"P5 50 40 65535\n" + pixels.tobytes())
-    read = occupancy_map.read_occupancy_map(tmp_path / "room.yaml")
+    read = read_map(tmp_path / "room.yaml")
     assert np.array_equal(read.free, room_pixels() == FREE)
 
 
@@ -192,9 +207,9 @@ def test_a_robot_learns_in_the_imported_world(tmp_path: Path) -> None:
     assert code == 0, stderr
     (session,) = read_log(log).sessions
     assert session.exemplar_count > 0 and session.world_name == "room"
-    # Every pose on the room's floor, clear of its outer walls.
+    # Every pose on the room's floor, clear of its outer walls, in the map's frame.
     world = load_world(world_path)
-    x, y = session.pose[:, 0], session.pose[:, 1]
+    x, y = session.pose[:, 0] - ROOM_ORIGIN[0], session.pose[:, 1] - ROOM_ORIGIN[1]
     assert (x > 0.05).all() and (x < world.width_m - 0.05).all()
     assert (y > 0.05).all() and (y < world.height_m - 0.05).all()
 
@@ -299,7 +314,7 @@ BAD_MAPS = {  # name -> (make the map in a directory, what the one line says)
     ),
     "image of too many pixels": (
         lambda d: _image_bytes(d, b"P5\n100000 100000\n255\n" + b"\0" * 100),
-        "room.pgm: image is 100000 x 100000 pixels, over the 16,777,216 this tvl reads",
+        "room.pgm: image is 100000 x 100000 pixels, over the ",
     ),
     "plain image with a word": (
         lambda d: _image_bytes(d, b"P2\n2 1\n255\n254 free\n"),
@@ -345,15 +360,16 @@ def test_a_bad_map_is_one_line_naming_the_file_and_nothing_is_written(
     assert not world.exists()
 
 
-def test_an_image_file_over_the_size_limit_is_refused(
+def test_an_image_file_over_what_the_machine_can_read_is_refused(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    monkeypatch.setattr(occupancy_map, "MAX_IMAGE_BYTES", 1000)
+    # Half of 128 KiB at 64 bytes a pixel: 1,024 pixels, and 4 bytes each of file.
+    monkeypatch.setattr(world_budget, "machine_bytes", lambda: 128 * 1024)
     code, _, stderr = tvl(
         "world", "import", write_map(tmp_path), "-o", tmp_path / "w.txt", "--start", START
     )
     assert code == 2
-    assert "room.pgm: file is over 1,000 bytes (the image of " in stderr
+    assert "room.pgm: image is 50 x 40 pixels, over the 1,024 this machine can read" in stderr
     assert not (tmp_path / "w.txt").exists()
 
 
@@ -364,9 +380,11 @@ BAD_STARTS = {  # --start -> what the one line says
     "5,5,0": "--start 5,5,0: x 5 y 5 is not on the map's free floor",
     "-0.65,-0.5,0": "--start -0.65,-0.5,0: x -0.65 y -0.5 is not on the map's free floor",
     "-0.6,-0.5,0": "--start -0.6,-0.5,0: the robot (a disc of radius 0.2 m) would touch the "
-    "wall cell at x -0.675 y -0.475",
-    "{:g},{:g},45".format(*map_frame_of_pixel(*START_PIXEL)): "heading 45° is not 0, 90, 180 "
-    "or 270 (a world starts so)",
+    "wall cell at x -0.675 y -0.475; the widest free place is x -0.075 y -0.875 "
+    "(--start -0.075,-0.875,0)",
+    "1e308,1e308,0": "--start 1e+308,1e+308,0: x 1e+308 y 1e+308 is not on the map's free "
+    "floor; the widest free place is x -0.075 y -0.875",
+    "0,0,400": "--start '0,0,400': heading 400° is beyond a turn (from -360 to 360)",
 }
 
 

@@ -46,7 +46,10 @@ def test_a_plain_p2_image_reads_as_its_p5_twin() -> None:
         (b"P5\n1 1\n70000\n\0\0", "PGM maxval 70000 is not from 1 to 65535"),
         (b"P5\n1 1\n255", "PGM header does not end in whitespace after the maxval"),
         (b"P5\n2 2\n255\n\0\0\0", "holds 3 bytes of pixels, not the 4 its header's 2 x 2 needs"),
-        (b"P5\n200 200\n255\n", "image is 200 x 200 pixels, over the 10,000 this tvl reads"),
+        (
+            b"P5\n200 200\n255\n",
+            "image is 200 x 200 pixels, over the 10,000 this machine can read (half its memory)",
+        ),
         (b"P5\n1 1\n100\n\xc8", "a pixel is 200, above the maxval 100"),
         (b"P2\n2 2\n255\n1 2 3\n", "holds 3 pixels, not the 2 x 2 its header gives"),
         (b"P2\n1 1\n255\n-1\n", "P2 pixels hold something that is not a whole number"),

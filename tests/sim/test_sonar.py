@@ -253,19 +253,22 @@ def test_ideal_readings_match_pymunk_ray_queries_in_the_lab() -> None:
 
 
 def test_a_large_world_reads_exactly_as_if_every_wall_were_tested(monkeypatch) -> None:
-    """Only the walls near the robot are tested in a large world, with the same readings."""
-    from tvl_cli.sim import world as world_module
+    """Each ray tests only the walls of the cells it crosses in a large world, with the same
+    readings as one cell holding every wall."""
+    from tvl_cli.sim import wall_grid
     from tvl_cli.sim.worldmap import parse_world
 
-    geometry = static_geometry(parse_world(cluttered_hall(600, seed=3), "hall"))
-    assert len(geometry.seg_len) >= world_module.NEAR_MIN_SEGMENTS
+    world = parse_world(cluttered_hall(600, seed=3), "hall")
+    geometry = static_geometry(world)
+    assert geometry.grid.columns * geometry.grid.rows > 100
     sonar = SonarRing(SonarConfig(), 0.2)
     poses = np.random.default_rng(4).uniform((1, 1, -math.pi), (29, 29, math.pi), (300, 3))
-    near = [sonar.read(geometry, tuple(p), np.random.default_rng(5)) for p in poses]
-    assert len(geometry.walls_near(15.0, 15.0, 5.0)) < len(geometry.seg_len) / 4
-    monkeypatch.setattr(world_module, "NEAR_MIN_SEGMENTS", math.inf)
-    every = [sonar.read(geometry, tuple(p), np.random.default_rng(5)) for p in poses]
-    np.testing.assert_array_equal(near, every)
+    bucketed = [sonar.read(geometry, tuple(p), np.random.default_rng(5)) for p in poses]
+    monkeypatch.setattr(wall_grid, "MIN_WALLS_TO_BUCKET", math.inf)
+    one_cell = static_geometry(world)
+    assert one_cell.grid.columns * one_cell.grid.rows == 1
+    every = [sonar.read(one_cell, tuple(p), np.random.default_rng(5)) for p in poses]
+    np.testing.assert_array_equal(bucketed, every)
     assert (np.array(every) < SonarConfig().max_range_m).mean() > 0.5  # walls were heard
 
 

@@ -194,3 +194,53 @@ def test_load_world_reads_a_real_file(tmp_path: Path) -> None:
     )  # BOM and CRLF, as on Windows
     world = load_world(path)
     assert (len(world.segments), world.name) == (4, "room")
+
+
+def test_an_origin_places_the_grid_and_every_coordinate_in_the_maps_frame() -> None:
+    plain = parse_world(ROOM, "r.txt")
+    moved = parse_world("origin: -10.5 3.25\ngoal: -9.5 4\ndisc: -9.5 3.625 0.05\n" + ROOM, "r.txt")
+    assert moved.origin_m == (-10.5, 3.25)
+    assert (moved.width_m, moved.height_m) == (plain.width_m, plain.height_m)
+    assert sorted(moved.segments) == sorted(
+        (x1 - 10.5, y1 + 3.25, x2 - 10.5, y2 + 3.25) for x1, y1, x2, y2 in plain.segments
+    )
+    assert moved.start == (plain.start[0] - 10.5, plain.start[1] + 3.25, 0.0)
+    assert moved.goals == ((-9.5, 4.0),)
+
+
+def test_coordinates_in_the_maps_frame_carry_no_float_noise() -> None:
+    # 0.1 is not a binary fraction: -2.9 + 3 * 0.1 computes -2.5999999999999996.
+    rows = ["#" * 12, *(["#" + "." * 10 + "#"] * 8), "#" * 12]
+    rows[5] = "#...." + ">" + "......#"
+    world = parse_world("origin: -2.9 -0.3\ncell: 0.1\n" + "\n".join(rows), "r.txt")
+    coordinates = {v for segment in world.segments for v in segment}
+    assert coordinates == {round(v, 9) for v in coordinates}
+    assert coordinates >= {-2.8, -1.8, -0.2, 0.6}  # the walls' inner faces
+    assert world.start == (-2.35, 0.15, 0.0)
+
+
+def test_a_header_start_takes_any_place_and_heading() -> None:
+    world = parse_world("start: 0.8 0.6 30\n" + ROOM.replace(">", "."), "s.txt")
+    assert world.start == (0.8, 0.6, math.radians(30))
+
+
+@pytest.mark.parametrize(
+    ("header", "error"),
+    [
+        ("start: 0.8 0.6 30", r"s\.txt:1:8: two starts, the header's and the map's at 4:3"),
+        ("start: 9 9 0", r"s\.txt:1:8: the start x 9 y 9 is not on the map's floor"),
+        ("start: 0.1 0.6 0", r"s\.txt:1:8: the start x 0.1 y 0.6 is not on the map's floor"),
+        ("start: 0.4 0.6 0", r"s\.txt:1:8: the start touches the wall at 4:1"),
+        ("start: 0.8 0.6 400", r"s\.txt:1:8: bad value for 'start': '0.8 0.6 400'"),
+        ("start: 0.8 0.6", r"s\.txt:1:8: bad value for 'start'"),
+        ("origin: 1e308 0", r"s\.txt:1:9: bad value for 'origin'"),
+        ("origin: 0 nan", r"s\.txt:1:9: bad value for 'origin'"),
+        ("origin: 1 2\norigin: 1 2", r"s\.txt:2:1: 'origin' given twice"),
+    ],
+)
+def test_a_bad_start_or_origin_is_named_with_line_and_column(header: str, error: str) -> None:
+    room = ROOM if header.startswith("start: 0.8 0.6 30") else ROOM.replace(">", ".")
+    if header.startswith("origin"):
+        room = ROOM
+    with pytest.raises(WorldMapError, match=error):
+        parse_world(f"{header}\n{room}", "s.txt")

@@ -64,7 +64,9 @@ def world_import_json(request: ImportRequest, imported: Imported) -> dict[str, A
     inputs = {
         "map_yaml": input_file(request.map_yaml),
         "image": input_file(imported.map.meta.image),
-        "start": list(request.start),
+        "start": None if request.start is None else list(request.start),
+        "cell_m": request.cell_m,
+        "crop_m": None if request.crop is None else list(request.crop),
         "name": request.name,
     }
     return document(

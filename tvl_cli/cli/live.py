@@ -44,6 +44,7 @@ class LiveView:
         pace: float | None,
     ) -> None:
         self.robot, self.threshold, self.goal, self.pace = robot, threshold, goal, pace
+        self.origin = world.origin_m  # the map's frame: where the view's bottom-left lies
         self.scale = max(world.width_m / MAP_COLUMNS, world.height_m / MAP_ROWS)
         self.columns = min(MAP_COLUMNS, math.ceil(world.width_m / self.scale))
         self.rows = min(MAP_ROWS, math.ceil(world.height_m / self.scale))
@@ -74,6 +75,7 @@ class LiveView:
         return layout
 
     def _cell(self, x: float, y: float) -> tuple[int, int]:
+        x, y = x - self.origin[0], y - self.origin[1]
         column = min(max(int(x / self.scale), 0), self.columns - 1)
         row = min(max(self.rows - 1 - int(y / self.scale), 0), self.rows - 1)
         return row, column
@@ -83,7 +85,7 @@ class LiveView:
         The material counts apart: where the view's cells line up with the map's, an outer
         wall runs along their edges, exactly half a cell from either side's centre."""
         rows, columns = np.mgrid[0 : self.rows, 0 : self.columns]
-        centres = np.stack(
+        centres = np.array(self.origin) + np.stack(
             [(columns.ravel() + 0.5) * self.scale, (self.rows - rows.ravel() - 0.5) * self.scale],
             axis=1,
         )
@@ -244,8 +246,9 @@ def window_view(view: WindowView) -> Iterator[WindowView]:
 def _in_material(world: WorldMap, points: np.ndarray) -> np.ndarray:
     """(N,) bool: whether each of the (N, 2) points, metres, lies in a wall cell of the map."""
     map_rows, _ = layout(world)
-    row = np.floor(len(map_rows) - points[:, 1] / world.cell_m).astype(int)
-    column = np.floor(points[:, 0] / world.cell_m).astype(int)
+    x0, y0 = world.origin_m
+    row = np.floor(len(map_rows) - (points[:, 1] - y0) / world.cell_m).astype(int)
+    column = np.floor((points[:, 0] - x0) / world.cell_m).astype(int)
     return np.array(
         [
             0 <= r < len(map_rows) and 0 <= c < len(map_rows[r]) and map_rows[r][c] == WALL

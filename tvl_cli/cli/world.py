@@ -24,7 +24,14 @@ from tvl_cli.commands.world import (
     show_world,
 )
 from tvl_cli.commands.world_export import export_map, image_beside
-from tvl_cli.commands.world_import import ImportRequest, import_map, parse_start
+from tvl_cli.commands.world_import import (
+    Imported,
+    ImportRequest,
+    import_map,
+    parse_box,
+    parse_start,
+)
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.occupancy_map import SAVED_FREE_THRESH, UNKNOWN_PIXEL
 from tvl_cli.sim.worldgen import KINDS, SMOOTH, Materials
 from tvl_cli.sim.worldmap import describe, world_to_dict
@@ -127,41 +134,101 @@ def world_render(file: Path, output: Path, force: bool, as_json: bool) -> None:
 @click.option("-o", "--output", type=click.Path(path_type=Path), required=True, help="World file.")
 @click.option(
     "--start",
-    required=True,
+    default=None,
     metavar="X,Y,HEADING_DEG",
-    help="Where the robot starts, in the map's frame (metres), facing 0, 90, 180 or 270°.",
+    help="Where the robot starts, in the map's frame (metres), facing any way (degrees CCW "
+    "from +x). Default: the widest free place, facing +x.",
+)
+@click.option(
+    "--cell",
+    type=float,
+    default=None,
+    metavar="METRES",
+    help="Coarser cells than the map's: a cell is free only where every map cell under it is.",
+)
+@click.option(
+    "--crop",
+    default=None,
+    metavar="X0,Y0,X1,Y1",
+    help="Keep only this rectangle of the map (its frame, metres).",
 )
 @click.option("--name", default=None, help="The world's name (default: the map's file name).")
 @click.option("--force", is_flag=True, help="Overwrite OUTPUT.")
 @click.option("--json", "as_json", is_flag=True, help="Print what was written as JSON.")
 def world_import(
-    map_yaml: Path, output: Path, start: str, name: str | None, force: bool, as_json: bool
+    map_yaml: Path,
+    output: Path,
+    start: str | None,
+    cell: float | None,
+    crop: str | None,
+    name: str | None,
+    force: bool,
+    as_json: bool,
 ) -> None:
     """Make a world from a ROS map_server occupancy grid (a YAML file and its PGM or PNG).
 
     Cells are read by map_server's rule (free below free_thresh, occupied above
-    occupied_thresh); every cell not free, unknown ones too, becomes a wall.
+    occupied_thresh); every cell not free, unknown ones too, becomes a wall. The world keeps
+    the map's frame: every coordinate of it, and of the runs in it, is the map's.
     """
-    request = ImportRequest(map_yaml, output, parse_start(start), name, force)
+    request = ImportRequest(
+        map_yaml,
+        output,
+        None if start is None else parse_start(start),
+        name,
+        cell,
+        None if crop is None else parse_box(crop),
+        force,
+    )
     refuse_shared_paths({"-o": output}, {"MAP.yaml": map_yaml})
     refuse_existing(output, force)
     imported = import_map(request)
-    grey = imported.map.unknown_grey_free
-    if grey:
-        click.echo(
-            f"tvl: warning: {map_yaml}: {grey:,} cells of grey {UNKNOWN_PIXEL} (map_saver's "
-            f"unknown) are free under free_thresh {imported.map.meta.free_thresh:g}, as "
-            f"map_server reads them; free_thresh {SAVED_FREE_THRESH:g} keeps them unknown",
-            err=True,
-        )
-    found = imported.to_dict()
+    for warning in _import_warnings(imported):
+        click.echo(f"tvl: warning: {map_yaml}: {warning}", err=True)
     if as_json:
         print_json(documents.world_import_json(request, imported))
     else:
-        click.echo(
-            f"{output}: {found['columns']} x {found['rows']} cells of {found['cell_m']:g} m, "
-            f"{found['free_cells']:,} free; map frame offset {found['offset_m']}"
+        click.echo(_import_summary(output, imported))
+
+
+def _import_warnings(imported: Imported) -> list[str]:
+    """What the user may not expect of the world made: unknown grey read as free, and floor
+    the robot fits on but cannot reach."""
+    warnings = []
+    grey = imported.map.unknown_grey_free
+    if grey:
+        warnings.append(
+            f"{grey:,} cells of grey {UNKNOWN_PIXEL} (map_saver's unknown) are free under "
+            f"free_thresh {imported.map.meta.free_thresh:g}, as map_server reads them; "
+            f"free_thresh {SAVED_FREE_THRESH:g} keeps them unknown"
         )
+    if imported.passages:
+        count = len(imported.passages)
+        narrowest = imported.passages[0]
+        warnings.append(
+            f"{count} passage{'s' if count > 1 else ''} narrower than the robot "
+            f"({2 * RobotConfig().radius_m:g} m across) lead{'' if count > 1 else 's'} to floor "
+            f"it fits on but cannot reach; the narrowest is {narrowest.width_m:.3g} m wide "
+            f"at x {narrowest.x_m:g} y {narrowest.y_m:g}, with {narrowest.beyond_m2:.3g} m² "
+            "beyond it"
+        )
+    return warnings
+
+
+def _import_summary(output: Path, imported: Imported) -> str:
+    found = imported.to_dict()
+    x0, y0 = imported.world.place.left_x_m, imported.world.place.bottom_y_m
+    x, y, heading = imported.world.start
+    how = (
+        f" (the widest free place, {imported.start_clearance_m:.2f} m clear)"
+        if imported.start_chosen
+        else ""
+    )
+    return (
+        f"{output}: {found['columns']} x {found['rows']} cells of {found['cell_m']:g} m, "
+        f"{found['free_cells']:,} free, origin x {x0:g} y {y0:g} (the map's frame); "
+        f"start x {x:g} y {y:g} heading {heading:g}°{how}"
+    )
 
 
 @world.command("export")

@@ -7,6 +7,7 @@ from pathlib import Path
 
 from tvl_cli.core.errors import BadInput
 from tvl_cli.io.occupancy_map import write_occupancy_map
+from tvl_cli.io.paths import refuse_output_among_inputs
 from tvl_cli.sim.maps.raster import rasterise
 from tvl_cli.sim.worldmap import load_world
 
@@ -43,12 +44,15 @@ def image_beside(map_yaml: Path) -> Path:
 
 
 def export_map(world_path: Path, map_yaml: Path) -> Exported:
-    """Rasterise a world at its cell size and write it as map_saver writes a map."""
+    """Rasterise a world at its cell size and write it as map_saver writes a map, its
+    origin the world's (so that importing it gives back the world's frame)."""
+    image = image_beside(map_yaml)
+    refuse_output_among_inputs(map_yaml, {"the world": world_path})
+    refuse_output_among_inputs(image, {"the world": world_path})
     world = load_world(world_path)
     raster = rasterise(world)
     free = ~(raster.occupied | raster.outside)
-    image = image_beside(map_yaml)
-    write_occupancy_map(map_yaml, image, free, raster.occupied, world.cell_m)
+    write_occupancy_map(map_yaml, image, free, raster.occupied, world.cell_m, world.origin_m)
     rows, columns = free.shape
     return Exported(
         world_path,

@@ -3,12 +3,16 @@ tools to play back.
 
 Channels, with a message for every step of the run unless said:
 
+    /map        foxglove.Grid            once, at time 0: the world's cells as an occupancy grid
+                                         in the map frame, its corner at the world's origin, one
+                                         int8 `occupancy` a cell as ROS's OccupancyGrid has it
+                                         (0 free, 100 occupied, -1 outside the world)
     /world      foxglove.SceneUpdate     once, at time 0: the walls as one line list, ring walls
                                          as line loops, discs and pillars as cylinders, and the
                                          robot's body, locked to base_link
-    /tf         foxglove.FrameTransform  world -> base_link: the true pose
-    /pose       foxglove.PoseInFrame     the true pose, in world
-    /odometry   foxglove.PoseInFrame     the pose the wheels report, in world
+    /tf         foxglove.FrameTransform  map -> base_link: the true pose
+    /pose       foxglove.PoseInFrame     the true pose, in map
+    /odometry   foxglove.PoseInFrame     the pose the wheels report, in map
     /sonar      foxglove.PointCloud      the ring's echo points in base_link, with each point's
                                          range_m, sonar (0 to 15) and echo (0 where the beam
                                          heard nothing and reads the maximum range); no points
@@ -19,6 +23,10 @@ Channels, with a message for every step of the run unless said:
     /events     foxglove.Log             a message for each event a step began (bump, near
                                          miss, back-off, spin, trapped), level warning for
                                          contacts and traps
+
+Every pose is in the `map` frame: the frame of the world, which is the frame of the map it was
+imported from (`tvl world import`), so that a run lies over the map in Foxglove's 3D panel as
+it lies in the world.
 
 Time is simulated time from the run's start. A step's ring and perceived velocities are
 stamped at its start, when the robot read and chose, where the step before left it; its pose,
@@ -43,6 +51,7 @@ import numpy as np
 from foxglove_schemas_protobuf.Color_pb2 import Color
 from foxglove_schemas_protobuf.CylinderPrimitive_pb2 import CylinderPrimitive
 from foxglove_schemas_protobuf.FrameTransform_pb2 import FrameTransform
+from foxglove_schemas_protobuf.Grid_pb2 import Grid
 from foxglove_schemas_protobuf.LinePrimitive_pb2 import LinePrimitive
 from foxglove_schemas_protobuf.Log_pb2 import Log
 from foxglove_schemas_protobuf.PackedElementField_pb2 import PackedElementField
@@ -53,6 +62,7 @@ from foxglove_schemas_protobuf.PoseInFrame_pb2 import PoseInFrame
 from foxglove_schemas_protobuf.Quaternion_pb2 import Quaternion
 from foxglove_schemas_protobuf.SceneEntity_pb2 import SceneEntity
 from foxglove_schemas_protobuf.SceneUpdate_pb2 import SceneUpdate
+from foxglove_schemas_protobuf.Vector2_pb2 import Vector2
 from foxglove_schemas_protobuf.Vector3_pb2 import Vector3
 from google.protobuf.message import Message
 from google.protobuf.timestamp_pb2 import Timestamp
@@ -65,8 +75,9 @@ from tvl_cli.core.ring import beam_lines, mm_to_ring
 from tvl_cli.io.atomic import atomic_output
 from tvl_cli.io.runfile import RunTrace
 
-WORLD_FRAME, ROBOT_FRAME = "world", "base_link"
-WORLD, TF, POSE, ODOMETRY, SONAR, PERCEIVED, EVENTS_TOPIC = (
+MAP_FRAME, ROBOT_FRAME = "map", "base_link"
+MAP, WORLD, TF, POSE, ODOMETRY, SONAR, PERCEIVED, EVENTS_TOPIC = (
+    "/map",
     "/world",
     "/tf",
     "/pose",
@@ -94,13 +105,17 @@ _FIELD_TYPES = {
 RING_LOOP_POINTS = 72  # a ring wall drawn as a polygon of 5° sides
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, eq=False)
 class Scene:
-    """The static world to draw, in metres."""
+    """The static world to draw, in metres, in the map frame."""
 
     segments: tuple[tuple[float, float, float, float], ...]  # walls: x1, y1, x2, y2
     discs: tuple[tuple[float, float, float], ...]  # pillars: x, y, radius
     rings: tuple[tuple[float, float, float], ...]  # ring walls: x, y, radius
+    # The world's cells, (rows, columns) int8 top row first: 0 free, 100 occupied, -1 outside.
+    occupancy: np.ndarray
+    cell_m: float
+    origin_m: tuple[float, float]  # the cells' bottom-left corner
 
 
 @dataclass(frozen=True, slots=True)
@@ -118,6 +133,7 @@ def write_run_mcap(path: Path, trace: RunTrace, scene: Scene, robot: Robot) -> d
         writer = Writer(stream)
         writer.start(profile="", library=f"tvl {__version__}")
         channels = _Channels(writer, robot.trajectory_names)
+        channels.write(MAP, 0, _occupancy_grid(scene))
         channels.write(WORLD, 0, _scene_update(scene, robot))
         _write_steps(channels, trace, robot)
         writer.add_metadata(
@@ -202,7 +218,7 @@ def _write_steps(channels: _Channels, trace: RunTrace, robot: Robot) -> None:
             time_ns,
             FrameTransform(
                 timestamp=stamp,
-                parent_frame_id=WORLD_FRAME,
+                parent_frame_id=MAP_FRAME,
                 child_frame_id=ROBOT_FRAME,
                 translation=Vector3(x=x, y=y, z=0.0),
                 rotation=_yaw(theta),
@@ -212,7 +228,7 @@ def _write_steps(channels: _Channels, trace: RunTrace, robot: Robot) -> None:
             channels.write(
                 topic,
                 time_ns,
-                PoseInFrame(timestamp=stamp, frame_id=WORLD_FRAME, pose=_pose(*pose)),
+                PoseInFrame(timestamp=stamp, frame_id=MAP_FRAME, pose=_pose(*pose)),
             )
         for bit, event in enumerate(EVENTS):
             if int(events[step]) & (1 << bit):
@@ -247,6 +263,23 @@ def _echo_cloud(time_ns: int, ring_m: np.ndarray, echoes: np.ndarray, robot: Rob
     )
 
 
+def _occupancy_grid(scene: Scene) -> Grid:
+    """The world's cells as Foxglove's grid: rows from the bottom (y up), one int8 a cell."""
+    columns = scene.occupancy.shape[1]
+    x0, y0 = scene.origin_m
+    return Grid(
+        timestamp=Timestamp(),
+        frame_id=MAP_FRAME,
+        pose=_pose(x0, y0, 0.0),
+        column_count=columns,
+        cell_size=Vector2(x=scene.cell_m, y=scene.cell_m),
+        row_stride=columns,
+        cell_stride=1,
+        fields=[PackedElementField(name="occupancy", offset=0, type=PackedElementField.INT8)],
+        data=np.ascontiguousarray(scene.occupancy[::-1], dtype=np.int8).tobytes(),
+    )
+
+
 def _scene_update(scene: Scene, robot: Robot) -> SceneUpdate:
     """The world's walls, rings and discs, drawn once and kept; and the robot's body."""
     walls = LinePrimitive(
@@ -274,7 +307,7 @@ def _scene_update(scene: Scene, robot: Robot) -> SceneUpdate:
     discs = [_cylinder(x, y, r, WALL_HEIGHT_M, WALL_COLOUR) for x, y, r in scene.discs]
     world = SceneEntity(
         timestamp=Timestamp(),
-        frame_id=WORLD_FRAME,
+        frame_id=MAP_FRAME,
         id="world",
         lines=[walls, *rings],
         cylinders=discs,

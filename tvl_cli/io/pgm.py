@@ -38,9 +38,7 @@ def decode_pgm(data: bytes, max_pixels: int) -> tuple[np.ndarray, int]:
     if not 1 <= maxval <= MAX_SAMPLE:
         raise ValueError(f"PGM maxval {maxval} is not from 1 to {MAX_SAMPLE}")
     if width * height > max_pixels:
-        raise ValueError(
-            f"image is {width} x {height} pixels, over the {max_pixels:,} this tvl reads"
-        )
+        raise ValueError(over_pixels(width, height, max_pixels))
     # Exactly one whitespace character ends the header.
     if data[position : position + 1] not in (b" ", b"\t", b"\n", b"\r"):
         raise ValueError("PGM header does not end in whitespace after the maxval")
@@ -53,6 +51,14 @@ def decode_pgm(data: bytes, max_pixels: int) -> tuple[np.ndarray, int]:
     if samples.max(initial=0) > maxval:
         raise ValueError(f"a pixel is {int(samples.max())}, above the maxval {maxval}")
     return samples.reshape(height, width), maxval
+
+
+def over_pixels(columns: int, rows: int, max_pixels: int) -> str:
+    """Why an image of this size is refused."""
+    return (
+        f"image is {columns} x {rows} pixels, over the {max_pixels:,} this machine can read "
+        "(half its memory)"
+    )
 
 
 def _binary(body: bytes, width: int, height: int, maxval: int) -> np.ndarray:

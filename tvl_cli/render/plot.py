@@ -38,7 +38,8 @@ def draw_world(ax: Axes, world: WorldMap, robot_at_start: bool = True) -> None:
     itself (a moment of a run, a replay's frames), `robot_at_start` False marks it instead
     with a small open triangle pointing the way the robot started, so that only the robot
     looks like one."""
-    ax.add_patch(Rectangle((0, 0), world.width_m, world.height_m, color=SOLID_COLOUR, lw=0))
+    x0, y0 = world.origin_m  # the map's frame: the axes read its coordinates
+    ax.add_patch(Rectangle((x0, y0), world.width_m, world.height_m, color=SOLID_COLOUR, lw=0))
     ax.add_patch(PathPatch(_floor(world), facecolor="white", lw=0))
     walls = [((x1, y1), (x2, y2)) for x1, y1, x2, y2 in world.segments]
     ax.add_collection(
@@ -67,12 +68,12 @@ def draw_world(ax: Axes, world: WorldMap, robot_at_start: bool = True) -> None:
         )
 
     # A 1 m scale bar under the bottom-left corner.
-    bar_y = -0.6 * MARGIN_M
-    ax.plot([0, 1], [bar_y, bar_y], color="black", lw=2, solid_capstyle="butt")
-    ax.text(0.5, bar_y - 0.05, "1 m", ha="center", va="top", fontsize=8)
+    bar_y = y0 - 0.6 * MARGIN_M
+    ax.plot([x0, x0 + 1], [bar_y, bar_y], color="black", lw=2, solid_capstyle="butt")
+    ax.text(x0 + 0.5, bar_y - 0.05, "1 m", ha="center", va="top", fontsize=8)
 
-    ax.set_xlim(-MARGIN_M, world.width_m + MARGIN_M)
-    ax.set_ylim(-2.5 * MARGIN_M, world.height_m + MARGIN_M)
+    ax.set_xlim(x0 - MARGIN_M, x0 + world.width_m + MARGIN_M)
+    ax.set_ylim(y0 - 2.5 * MARGIN_M, y0 + world.height_m + MARGIN_M)
     ax.set_aspect("equal")
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")

@@ -72,11 +72,11 @@ class SonarRing:
         )
         ray_gap = 2.0 * half_cone / (rays - 1) if rays > 1 else 2.0 * half_cone
         corner_slope = CORNER_FOOTPRINTS * math.tan(ray_gap / 2.0)
-        # A wall farther than this from the centre can give no echo within range, nor hide
-        # one: a corner echo is at most the corner slope (or its minimum radius) nearer than
-        # the wall it is judged on.
+        # A crossing farther than this along a ray from its transducer can give no echo
+        # within range, nor hide one: a corner echo is at most the corner slope (or its
+        # minimum radius) nearer than the wall it is judged on.
         self._wall_reach_m = (
-            body_radius_m + (config.max_range_m + CORNER_MIN_RADIUS_M) / (1.0 - corner_slope)
+            (config.max_range_m + CORNER_MIN_RADIUS_M) / (1.0 - corner_slope)
             if corner_slope < 1.0
             else math.inf
         )
@@ -106,35 +106,30 @@ class SonarRing:
     ) -> np.ndarray:
         """(16,) float64 metres from each transducer, S0 forward, counter-clockwise.
 
-        Noise is drawn from rng (16 normal draws a reading) unless the ring is ideal or
-        there is nothing near to hear.
+        Noise is drawn from rng (16 normal draws a reading) unless the ring is ideal or the
+        world holds nothing to hear.
         """
-        walls = geometry.walls_near(pose[0], pose[1], self._reach_m(geometry))
         noise = self._quiet
-        if self._noisy(geometry, walls):
+        if self._noisy(geometry):
             noise = rng.standard_normal(self.config.count)[None, :]
-        return self._cast(geometry, pose, noise, walls)[0]
+        return self._cast(geometry, pose, noise)[0]
 
     def read_many(
         self, geometry: StaticGeometry, poses: np.ndarray, rngs: Sequence[np.random.Generator]
     ) -> np.ndarray:
         """(N, 16) float64 metres read by N robots at poses (N, 3) (x, y metres, heading rad)
         in one kernel call, robot i's noise drawn from rngs[i] just as `read` draws it."""
-        walls = self._walls_near_each(geometry, poses)
         noise = np.zeros((len(poses), self.config.count))  # (N, 16) standard normal draws
-        for row, near, rng in zip(noise, walls, rngs, strict=True):
-            if self._noisy(geometry, near):
+        if self._noisy(geometry):
+            for row, rng in zip(noise, rngs, strict=True):
                 rng.standard_normal(out=row)
-        readings = np.empty((len(poses), self.config.count))  # (N, 16) metres
-        sources = np.empty((len(poses), self.config.count), dtype=np.int64)  # (N, 16)
-        self._ring_ranges(*self._inputs_near(geometry, poses, noise, walls), readings, sources)
-        return readings
+        return self.ranges(geometry, poses, noise)
 
-    def _noisy(self, geometry: StaticGeometry, walls: np.ndarray) -> bool:
-        """Whether a reading among these walls draws noise: not from an ideal ring, nor where
-        there is nothing near to hear."""
+    def _noisy(self, geometry: StaticGeometry) -> bool:
+        """Whether a reading draws noise: not from an ideal ring, nor in a world with nothing
+        in it to hear."""
         return not self.config.ideal and bool(
-            len(walls) or len(geometry.discs) or len(geometry.rings)
+            len(geometry.seg_len) or len(geometry.discs) or len(geometry.rings)
         )
 
     def echo_sources(
@@ -143,22 +138,15 @@ class SonarRing:
         """Ground truth for a reading at `pose`, without noise: each transducer's range
         (16,) metres (the maximum where nothing echoes) and the obstacle it heard (16,), as
         StaticGeometry.element_of numbers them (-1: none)."""
-        walls = geometry.walls_near(pose[0], pose[1], self._reach_m(geometry))
-        return self._cast(geometry, pose, self._quiet, walls)
+        return self._cast(geometry, pose, self._quiet)
 
     def _cast(
-        self,
-        geometry: StaticGeometry,
-        pose: tuple[float, float, float],
-        noise: np.ndarray,
-        walls: np.ndarray,
+        self, geometry: StaticGeometry, pose: tuple[float, float, float], noise: np.ndarray
     ) -> tuple[np.ndarray, np.ndarray]:
-        """One robot's readings (16,) metres and the obstacles they heard (16,), among the
-        walls (indices) near it."""
+        """One robot's readings (16,) metres and the obstacles they heard (16,)."""
         readings = np.empty((1, self.config.count))  # (1, 16) metres
         sources = np.empty((1, self.config.count), dtype=np.int64)  # (1, 16) obstacles
-        inputs = self._inputs(geometry, np.array([pose]), noise, walls, np.array((0, len(walls))))
-        self._ring_ranges(*inputs, readings, sources)
+        self._ring_ranges(*self.cast_inputs(geometry, np.array([pose]), noise), readings, sources)
         return readings[0], sources[0]
 
     def ranges(self, geometry: StaticGeometry, poses: np.ndarray, noise: np.ndarray) -> np.ndarray:
@@ -174,45 +162,19 @@ class SonarRing:
     ) -> tuple[object, ...]:
         """The arguments of core.kernels.ring.ring_ranges for N robots at poses (N, 3), but
         the readings (N, 16) it fills."""
-        return self._inputs_near(geometry, poses, noise, self._walls_near_each(geometry, poses))
-
-    def _walls_near_each(self, geometry: StaticGeometry, poses: np.ndarray) -> list[np.ndarray]:
-        """The walls (indices) near each of the robots at poses (N, 3)."""
-        reach_m = self._reach_m(geometry)
-        return [geometry.walls_near(x, y, reach_m) for x, y, _ in poses]
-
-    def _inputs_near(
-        self,
-        geometry: StaticGeometry,
-        poses: np.ndarray,
-        noise: np.ndarray,
-        walls: list[np.ndarray],
-    ) -> tuple[object, ...]:
-        """The kernel's arguments for robots at poses (N, 3), each among its walls near."""
-        starts = np.cumsum([0, *(len(w) for w in walls)])  # (N + 1,)
-        ids = np.concatenate(walls) if walls else np.empty(0, dtype=np.intp)
-        return self._inputs(geometry, poses, noise, ids, starts)
-
-    def _reach_m(self, geometry: StaticGeometry) -> float:
-        """How far from the centre a wall may echo or hide an echo."""
-        # A pillar's echo comes from its nearest point, up to a diameter nearer than where a
-        # ray meets it: a wall in front of that meeting point still decides the echo.
-        return self._wall_reach_m + 2.0 * geometry.max_disc_radius_m
-
-    def _inputs(
-        self,
-        g: StaticGeometry,
-        poses: np.ndarray,
-        noise: np.ndarray,
-        wall_ids: np.ndarray,
-        wall_ids_start: np.ndarray,
-    ) -> tuple[object, ...]:
+        g = geometry
         walls = (g.seg_start, g.seg_normal, g.seg_moment, g.seg_len, g.seg_ends, g.corner_sides,
                  g.seg_roughness)  # fmt: skip
         return (
-            poses, noise, self._layout, walls, wall_ids, wall_ids_start, g.discs, g.rings,
-            g.ring_roughness, self._model,
+            poses, noise, self._layout, walls, g.grid.kernel_input, self._reach_m(g), g.discs,
+            g.rings, g.ring_roughness, self._model,
         )  # fmt: skip
+
+    def _reach_m(self, geometry: StaticGeometry) -> float:
+        """How far along a ray from its transducer a crossing may decide an echo."""
+        # A pillar's echo comes from its nearest point, up to a diameter nearer than where a
+        # ray meets it: a wall in front of that meeting point still decides the echo.
+        return self._wall_reach_m + 2.0 * geometry.max_disc_radius_m
 
     def rays(self, pose: tuple[float, float, float]) -> tuple[np.ndarray, np.ndarray]:
         """Every ray's origin (16 * rays, 2) metres and unit direction (16 * rays, 2), beam by

@@ -9,13 +9,13 @@ wall segment of radius `skin` stops the body when its true edge reaches the wall
 from __future__ import annotations
 
 import math
-from collections import defaultdict
 from dataclasses import dataclass, field, replace
 
 import numpy as np
 import pymunk
 
 from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.sim.wall_grid import WallGrid, wall_grid
 from tvl_cli.sim.worldmap import WorldMap
 
 # A quarter of the body radius: walls become solid strips (10 cm wide for the default robot)
@@ -36,11 +36,6 @@ _ROBOT_MASS_KG = 10.0
 # Every robot's disc is in this shape group (pymunk never collides shapes of one group);
 # obstacles are in none (group 0).
 ROBOT_GROUP = 1
-# Walls near the robot are chosen for the squares of this side it stands in, once a square.
-NEAR_TILE_M = 1.0
-# Below this many wall segments, testing every one costs less than choosing the near ones
-# (and every shipped and generated world stays below it, so their readings never change).
-NEAR_MIN_SEGMENTS = 256
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -64,16 +59,11 @@ class StaticGeometry:
     max_disc_radius_m: float  # 0 without discs
     roughness: float  # the world's, 0 to 1: how much sound its walls scatter diffusely
     seg_roughness: np.ndarray  # (n,) each wall's own (a `rough:` rectangle's, or the world's)
+    grid: WallGrid  # the segments by cell, for the rays and points that ask only the near ones
     ring_roughness: np.ndarray = field(init=False)  # (k,) each ring wall's: the world's
-    _every_wall: np.ndarray = field(init=False, repr=False)  # (n,) indices 0 .. n - 1
-    # walls_near's last answer, by tile and reach: a robot stays in a tile for many steps.
-    _near: dict[tuple[int, int, float], np.ndarray] = field(
-        default_factory=dict, init=False, repr=False, compare=False
-    )
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "ring_roughness", np.full(len(self.rings), self.roughness))
-        object.__setattr__(self, "_every_wall", np.arange(len(self.seg_len)))
 
     def with_roughness(self, roughness: float) -> StaticGeometry:
         """The same obstacles with every wall, ring walls too, this rough."""
@@ -94,29 +84,6 @@ class StaticGeometry:
         if element < len(self.seg_len):
             return "segment"
         return "disc" if element < len(self.seg_len) + len(self.discs) else "ring"
-
-    def walls_near(self, x: float, y: float, reach_m: float) -> np.ndarray:
-        """Indices (in increasing order, so that ties are broken as among all of them) of the
-        wall segments that may pass within `reach_m` of (x, y); every one in a small world."""
-        if len(self.seg_len) < NEAR_MIN_SEGMENTS:
-            return self._every_wall
-        tile = (math.floor(x / NEAR_TILE_M), math.floor(y / NEAR_TILE_M), reach_m)
-        found = self._near.get(tile)
-        if found is None:
-            found = self._walls_in_tile(*tile)
-            self._near.clear()  # one tile kept: memory stays bounded in a world of any size
-            self._near[tile] = found
-        return found
-
-    def _walls_in_tile(self, column: int, row: int, reach_m: float) -> np.ndarray:
-        """Segments whose bounding box meets the tile grown by reach_m: a few more than
-        strictly within reach, never fewer."""
-        low = np.array([column, row]) * NEAR_TILE_M - reach_m  # (2,) metres
-        high = low + NEAR_TILE_M + 2.0 * reach_m
-        ends = self.seg_ends  # (n, 2, 2) metres
-        return np.flatnonzero(
-            np.all(ends.max(axis=1) >= low, axis=1) & np.all(ends.min(axis=1) <= high, axis=1)
-        )
 
 
 def static_geometry(world: WorldMap) -> StaticGeometry:
@@ -141,6 +108,7 @@ def geometry_of(
     start = np.ascontiguousarray(segments[:, :2].T)  # (2, n) metres
     delta = np.ascontiguousarray((segments[:, 2:] - segments[:, :2]).T)  # (2, n) metres
     own = np.asarray(segment_roughness, dtype=np.float64)
+    normal = np.stack([delta[1], -delta[0]])
     return StaticGeometry(
         segments=segments,
         discs=discs,
@@ -148,13 +116,14 @@ def geometry_of(
         seg_start=start,
         seg_delta=delta,
         seg_len=np.hypot(delta[0], delta[1]),
-        seg_normal=np.stack([delta[1], -delta[0]]),
+        seg_normal=normal,
         seg_moment=start[0] * delta[1] - start[1] * delta[0],
         seg_ends=segments.reshape(-1, 2, 2),
         corner_sides=_corner_sides(segments),
         max_disc_radius_m=float(discs[:, 2].max(initial=0.0)),
         roughness=roughness,
         seg_roughness=own if len(own) else np.full(len(segments), roughness),
+        grid=wall_grid(segments, normal, start),
     )
 
 
@@ -162,7 +131,8 @@ def _corner_sides(segments: np.ndarray) -> np.ndarray:
     """For each segment's start and end, the side of its line where another wall leaves it.
 
     A map's outline only meets itself at endpoints; where more than two walls meet (two wall
-    cells touching diagonally) the first non-collinear one is taken.
+    cells touching diagonally) the first non-collinear one (lowest numbered endpoint) is
+    taken.
     """
     n = len(segments)
     ends = np.concatenate([segments[:, :2], segments[:, 2:]])  # (2n, 2) starts, then ends
@@ -170,49 +140,69 @@ def _corner_sides(segments: np.ndarray) -> np.ndarray:
     owner = np.tile(np.arange(n), 2)  # (2n,) segment of each endpoint
     delta = segments[:, 2:] - segments[:, :2]  # (n, 2) start -> end
     sides = np.zeros(2 * n)  # (2n,) -1, 0 or +1 for each endpoint
-    # Endpoints bucketed on a grid of the tolerance, so that each is compared only with those
-    # in its own and the neighbouring buckets: memory and time grow with the walls, not their
-    # square.
-    buckets: dict[tuple[int, int], list[int]] = defaultdict(list)
-    keys = np.floor(ends / CORNER_TOLERANCE_M).astype(np.int64)  # (2n, 2)
-    for index, (kx, ky) in enumerate(keys.tolist()):
-        buckets[kx, ky].append(index)
-    for here, (kx, ky) in enumerate(keys.tolist()):
-        near = sorted(
-            there
-            for dx in (-1, 0, 1)
-            for dy in (-1, 0, 1)
-            for there in buckets.get((kx + dx, ky + dy), ())
-        )
-        for there in near:
-            if owner[there] == owner[here]:
-                continue
-            if np.any(np.abs(ends[there] - ends[here]) > CORNER_TOLERANCE_M):
-                continue
-            arm = far[there] - ends[there]  # the other wall, leaving the corner
-            own = delta[owner[here]]
-            cross = own[0] * arm[1] - own[1] * arm[0]
-            if abs(cross) > _COLLINEAR_SINE * np.hypot(own[0], own[1]) * np.hypot(*arm):
-                sides[here] = np.sign(cross)
-                break
+    here, there = _meeting_ends(ends)
+    arm = far[there] - ends[there]  # the other wall, leaving the corner
+    own = delta[owner[here]]
+    cross = own[:, 0] * arm[:, 1] - own[:, 1] * arm[:, 0]
+    turning = np.abs(cross) > _COLLINEAR_SINE * np.hypot(own[:, 0], own[:, 1]) * np.hypot(
+        arm[:, 0], arm[:, 1]
+    )
+    keep = turning & (owner[here] != owner[there])
+    here, there, cross = here[keep], there[keep], cross[keep]
+    order = np.lexsort((there, here))  # by endpoint, then by the other's number
+    here, cross = here[order], cross[order]
+    first = np.unique(here, return_index=True)[1]  # each endpoint's lowest numbered other
+    sides[here[first]] = np.sign(cross[first])
     return np.ascontiguousarray(sides.reshape(2, n).T)  # (n, 2) [start, end]
 
 
-def clearances_m(geometry: StaticGeometry, points: np.ndarray, body_radius_m: float) -> np.ndarray:
+def _meeting_ends(ends: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Every ordered pair (here, there) of distinct points (k, 2) within CORNER_TOLERANCE_M
+    of each other on both axes, in time that grows with the points, not their square.
+
+    Each point falls in a square bucket of the tolerance's side, numbered as a complex
+    number (column + row i, exact below 2**53), so that sorting them sorts buckets by
+    column, then row; a point's partners lie in its own bucket or the eight round it, each
+    found by a binary search among the sorted buckets."""
+    bucket = np.floor(ends / CORNER_TOLERANCE_M)  # (k, 2)
+    keys = bucket[:, 0] + 1j * bucket[:, 1]  # (k,)
+    order = np.argsort(keys, kind="stable")
+    sorted_keys = keys[order]
+    here_parts, there_parts = [], []
+    for dx in (-1, 0, 1):
+        for dy in (-1, 0, 1):
+            target = keys + (dx + 1j * dy)
+            low = np.searchsorted(sorted_keys, target, side="left")
+            high = np.searchsorted(sorted_keys, target, side="right")
+            counts = high - low
+            here = np.repeat(np.arange(len(ends)), counts)
+            offsets = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts)
+            here_parts.append(here)
+            there_parts.append(order[np.repeat(low, counts) + offsets])
+    here, there = np.concatenate(here_parts), np.concatenate(there_parts)
+    near = np.all(np.abs(ends[here] - ends[there]) <= CORNER_TOLERANCE_M, axis=1)
+    near &= here != there
+    return here[near], there[near]
+
+
+def clearances_m(
+    geometry: StaticGeometry, points: np.ndarray, body_radius_m: float, limit_m: float = math.inf
+) -> np.ndarray:
     """(p,) metres from the edge of a body centred at each of points (p, 2) to the nearest
-    obstacle; 0 where the body touches or overlaps one, inf in a world with no obstacles."""
-    return _clearances(geometry, points, body_radius_m)[0]
+    obstacle; 0 where the body touches or overlaps one, inf where none lies within limit_m
+    of the centre (a world with no obstacles)."""
+    return _clearances(geometry, points, body_radius_m, limit_m)[0]
 
 
 def nearest_element(geometry: StaticGeometry, x: float, y: float) -> tuple[int, float]:
     """The obstacle nearest (x, y), as StaticGeometry.element_of numbers it, and its distance
     in metres; (-1, inf) in a world with none."""
-    gap, element = _clearances(geometry, np.array([[x, y]]), 0.0)
+    gap, element = _clearances(geometry, np.array([[x, y]]), 0.0, math.inf)
     return int(element[0]), float(gap[0])
 
 
 def _clearances(
-    geometry: StaticGeometry, points: np.ndarray, body_radius_m: float
+    geometry: StaticGeometry, points: np.ndarray, body_radius_m: float, limit_m: float
 ) -> tuple[np.ndarray, np.ndarray]:
     """clearances_m, and the nearest obstacle to each point (p,) as element_of numbers it."""
     from tvl_cli.core.kernels.clearance import clearances  # compiled: loaded on first use
@@ -222,8 +212,8 @@ def _clearances(
     found = np.empty(len(points))  # (p,) metres
     nearest = np.empty(len(points), dtype=np.int64)  # (p,) obstacles
     clearances(
-        points, g.seg_start, g.seg_delta, g.seg_len, g.discs, g.rings, body_radius_m, found,
-        nearest,
+        points, g.seg_start, g.seg_delta, g.seg_len, g.grid.kernel_input, g.discs, g.rings,
+        body_radius_m, limit_m, found, nearest,
     )  # fmt: skip
     return found, nearest
 
@@ -265,8 +255,7 @@ def static_space(world: WorldMap, robot: RobotConfig) -> pymunk.Space:
             pymunk.Segment(space.static_body, a, b, skin)
             for a, b in zip(points, points[1:] + points[:1], strict=True)
         ]
-    for shape in static:
-        shape.friction = 0.0
+    # pymunk's shapes have no friction unless given one, which these never are.
     space.add(*static)
     return space
 

@@ -1,7 +1,10 @@
 """The header lines of a world file (`key: value`), checked as they are read.
 
-Besides the name, the cell size, pillars, ring walls and goals, a header may draw straight
-walls at any angle: `wall: x1 y1 x2 y2 [thickness]`. A wall with no thickness is a thin edge
+Besides the name, the cell size, pillars, ring walls and goals, a header may place the map in
+the frame of the map it was made from (`origin: x y`, the grid's bottom-left corner; every
+coordinate of the world is in that frame), start the robot anywhere facing any way (`start:
+x y heading`, degrees, instead of a start in the grid) and draw straight walls at any angle:
+`wall: x1 y1 x2 y2 [thickness]`. A wall with no thickness is a thin edge
 (a table top seen from the side), solid and echoing from both faces; a thick one is a solid
 rectangle centred on the line.
 
@@ -33,10 +36,24 @@ MIN_CELL_M, MAX_CELL_M = 0.01, 10.0
 # As fine as the finest map: a shorter wall is a slip of the pen, not a shape a sonar could
 # tell from a point.
 MIN_WALL_M = MIN_CELL_M
-HEADER_KEYS = ("version", "name", "cell", "roughness", "rough", "disc", "ring", "goal", "wall")
+# A map's frame may lie this far from its corner (metres): a UTM northing fits.
+MAX_ORIGIN_M = 1e7
+# A start's heading, degrees: a turn either way.
+MAX_HEADING_DEG = 360.0
+HEADER_KEYS = (
+    "version", "name", "cell", "origin", "start", "roughness", "rough", "disc", "ring", "goal",
+    "wall",
+)  # fmt: skip
+# Keys a header gives at most once.
+ONE_OFF_KEYS = ("version", "name", "cell", "origin", "start", "roughness")
 HEADER_LINE = re.compile(r"\s*([A-Za-z_]\w*)\s*:\s*(.*?)\s*")
 _NUMBERS = {  # key -> (how many numbers, what they are); the last must be positive but for goals
     "cell": (1, f"a size in metres from {MIN_CELL_M:g} to {MAX_CELL_M:g}"),
+    "origin": (2, f"x y in metres, each from {-MAX_ORIGIN_M:g} to {MAX_ORIGIN_M:g}"),
+    "start": (
+        3,
+        f"x y heading: metres, then degrees from {-MAX_HEADING_DEG:g} to {MAX_HEADING_DEG:g}",
+    ),
     "roughness": (1, "a fraction from 0 (smooth) to 1"),
     "rough": (5, "R x1 y1 x2 y2: a roughness from 0 to 1, then a rectangle's corners in metres"),
     "disc": (3, "x y r in metres, r > 0"),
@@ -107,6 +124,8 @@ class Header:
     seen: dict[str, int] = field(default_factory=dict)
     name: str | None = None
     cell_m: float = DEFAULT_CELL_M
+    origin_m: tuple[float, float] = (0.0, 0.0)  # the grid's bottom-left corner
+    start: tuple[float, float, float, str] | None = None  # x, y, heading (rad), where
     roughness: float = 0.0  # smooth walls: only near-normal echoes (paper Fig. 12)
     discs: list[tuple[float, float, float, str]] = field(default_factory=list)  # x, y, r, where
     rings: list[tuple[float, float, float, str]] = field(default_factory=list)  # x, y, r, where
@@ -129,7 +148,7 @@ def read_header(header: Header, match: re.Match[str], where: str, number: int) -
             f"{where}:{match.start(1) + 1}: unknown header key {key!r} "
             f"(expected one of {' '.join(HEADER_KEYS)})"
         )
-    if key in ("version", "name", "cell", "roughness"):
+    if key in ONE_OFF_KEYS:
         if key in header.seen:
             raise WorldMapError(
                 f"{where}:1: {key!r} given twice (first on line {header.seen[key]})"
@@ -151,6 +170,10 @@ def read_header(header: Header, match: re.Match[str], where: str, number: int) -
         numbers = _numbers(key, value, value_at)
         if key == "cell":
             header.cell_m = numbers[0]
+        elif key == "origin":
+            header.origin_m = (numbers[0], numbers[1])
+        elif key == "start":
+            header.start = (numbers[0], numbers[1], math.radians(numbers[2]), value_at)
         elif key == "roughness":
             header.roughness = numbers[0]
         elif key == "goal":
@@ -174,18 +197,20 @@ def _floats(value: str) -> tuple[float, ...]:
 
 
 def _numbers(key: str, value: str, value_at: str) -> tuple[float, ...]:
-    """The numbers of a `cell`, `roughness`, `disc`, `ring` or `goal` header; sizes must be
-    positive."""
+    """The numbers of a `cell`, `origin`, `start`, `roughness`, `rough`, `disc`, `ring` or
+    `goal` header, each in its range; sizes must be positive."""
     wanted, usage = _NUMBERS[key]
     numbers = _floats(value)
     if (
         len(numbers) != wanted
-        or (key not in ("goal", "roughness", "rough") and numbers[-1] <= 0)
+        or (key in ("cell", "disc", "ring") and numbers[-1] <= 0)
         or (key in ("roughness", "rough") and not 0 <= numbers[0] <= 1)
         or (key == "rough" and (numbers[1] == numbers[3] or numbers[2] == numbers[4]))
         # A ring is a wall bent round: no shorter across than the shortest straight wall.
         or (key == "ring" and numbers[-1] < MIN_WALL_M)
         or (key == "cell" and not MIN_CELL_M <= numbers[0] <= MAX_CELL_M)
+        or (key == "origin" and not all(abs(n) <= MAX_ORIGIN_M for n in numbers))
+        or (key == "start" and not abs(numbers[2]) <= MAX_HEADING_DEG)
     ):
         raise WorldMapError(f"{value_at}: bad value for {key!r}: {value!r} (expected {usage})")
     return numbers

@@ -3,22 +3,42 @@
 from __future__ import annotations
 
 import math
-from collections import defaultdict, deque
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from tvl_cli.core.errors import BadInput
-from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.sim.maps.cells import OUTSIDE, char_codes, first_where, outline_runs, reaches_outside
+from tvl_cli.sim.maps.text_grid import (
+    GOAL,
+    GRID_CHARS,
+    PILLAR,
+    START_HEADINGS,
+    WALL,
+    MapGrid,
+    check_goal_in,
+    check_inside,
+    check_start_clear,
+    first_escape,
+    ring_sides,
+    wall_segments,
+)
+from tvl_cli.sim.world_budget import BYTES_PER_CELL, max_file_bytes, over_budget
 from tvl_cli.sim.worldheader import (
     HEADER_LINE,
     Circle,
     Header,
     Segment,
-    Wall,
     WorldMapError,
     read_header,
 )
+
+# A map of up to this many cells is flooded cell by cell in Python (in a few milliseconds),
+# sparing the shipped and hand-made worlds the compiled flood's loading; a larger one is
+# flooded by the compiled kernel first.
+FLOOD_IN_PYTHON_CELLS = 20_000
 
 
 @dataclass(frozen=True, slots=True)
@@ -39,30 +59,25 @@ class WorldMap:
     roughness: float = 0.0
     # Each segment's own share, as `rough:` rectangles give it (empty: the world's for all).
     segment_roughness: tuple[float, ...] = ()
-
-
-MAX_FILE_BYTES = 1 << 20  # 1 MB: far beyond any hand-made map, small enough to read at once
-WALL, PILLAR, GOAL = "#", "o", "G"
-START_HEADINGS = {">": 0.0, "<": math.pi, "^": math.pi / 2, "v": -math.pi / 2}
-GRID_CHARS = "#.><^vGo"
-_DIRECTIONS = (
-    (0, 1),
-    (1, 0),
-    (0, -1),
-    (-1, 0),
-)  # (row, column) steps; fixed order keeps BFS stable
+    # Where the grid's bottom-left corner lies (`origin:` header, metres): the frame of the
+    # map the world was made from, which every coordinate of the world is given in.
+    origin_m: tuple[float, float] = (0.0, 0.0)
 
 
 def load_world(path: str | Path) -> WorldMap:
     """Read and parse a world file; WorldMapError if it is too big, not UTF-8, empty or invalid."""
     path = Path(path)
+    limit = max_file_bytes()
     try:
         with path.open("rb") as file:
-            data = file.read(MAX_FILE_BYTES + 1)
+            data = file.read(limit + 1)
     except OSError as error:
         raise WorldMapError(f"{path}: cannot read ({error.strerror})") from None
-    if len(data) > MAX_FILE_BYTES:
-        raise WorldMapError(f"{path}: file is over 1 MB (a world map is a small text file)")
+    if len(data) > limit:
+        raise WorldMapError(
+            f"{path}: file is over {limit:,} bytes, more cells than this machine can simulate "
+            f"(a world may take half its memory, {BYTES_PER_CELL} bytes a cell)"
+        )
     try:
         text = data.decode("utf-8-sig")  # tolerate the byte-order mark some editors write
     except UnicodeDecodeError as error:
@@ -74,38 +89,6 @@ def load_world(path: str | Path) -> WorldMap:
     return parse_world(text, str(path))
 
 
-@dataclass(frozen=True, slots=True)
-class _Grid:
-    """The map characters, top line first; cells past a short line's end are outside."""
-
-    rows: tuple[str, ...]
-    lines: tuple[int, ...]  # source line number of each row
-    cell_m: float
-
-    @property
-    def width_m(self) -> float:
-        return max(len(row) for row in self.rows) * self.cell_m
-
-    @property
-    def height_m(self) -> float:
-        return len(self.rows) * self.cell_m
-
-    def inside(self, r: int, c: int) -> bool:
-        return 0 <= r < len(self.rows) and 0 <= c < len(self.rows[r])
-
-    def is_wall(self, r: int, c: int) -> bool:
-        return self.inside(r, c) and self.rows[r][c] == WALL
-
-    def is_open(self, r: int, c: int) -> bool:
-        return self.inside(r, c) and self.rows[r][c] != WALL
-
-    def centre(self, r: int, c: int) -> tuple[float, float]:
-        return (c + 0.5) * self.cell_m, (len(self.rows) - r - 0.5) * self.cell_m
-
-    def where(self, r: int, c: int) -> str:
-        return f"{self.lines[r]}:{c + 1}"
-
-
 def parse_world(text: str, source: str) -> WorldMap:
     """Parse the text of a world file (SPEC §3); `source` names the file in error messages."""
     grid, header = _split(text, source)
@@ -115,7 +98,7 @@ def parse_world(text: str, source: str) -> WorldMap:
 def check_goal(world: WorldMap, x: float, y: float, where: str) -> None:
     """WorldMapError unless a goal at (x, y) lies in the robot's part of the world."""
     grid, header = _split(world.text, world.name)
-    _check_goal(grid, x, y, world.discs, header.walls, where)
+    check_goal_in(grid, x, y, world.discs, header.walls, where)
     sx, sy, _ = world.start
     for cx, cy, r in world.rings:
         if (math.hypot(sx - cx, sy - cy) < r) != (math.hypot(x - cx, y - cy) < r):
@@ -148,7 +131,7 @@ def layout(world: WorldMap) -> tuple[tuple[str, ...], Header]:
     return grid.rows, header
 
 
-def _split(text: str, source: str) -> tuple[_Grid, Header]:
+def _split(text: str, source: str) -> tuple[MapGrid, Header]:
     """The header and the grid of a world text, checked for form only."""
     lines = [line.rstrip("\r") for line in text.split("\n")]
     if not any(line.strip() and not line.startswith(";") for line in lines):
@@ -177,232 +160,133 @@ def _split(text: str, source: str) -> tuple[_Grid, Header]:
     if "" in rows:
         blank = row_lines[rows.index("")]
         raise WorldMapError(f"{source}:{blank}:1: blank line inside the map")
-    return _Grid(tuple(rows), tuple(row_lines), header.cell_m), header
+    return MapGrid(tuple(rows), tuple(row_lines), header.cell_m, header.origin_m), header
 
 
-def _build(grid: _Grid, header: Header, text: str, source: str) -> WorldMap:
-    starts: list[tuple[int, int]] = []
-    pillars: list[Circle] = []
-    goals = list(header.goals)
-    half = grid.cell_m / 2
-    for r, row in enumerate(grid.rows):
-        for c, char in enumerate(row):
-            if char not in GRID_CHARS:
-                raise WorldMapError(
-                    f"{source}:{grid.where(r, c)}: unknown character {char!r} "
-                    f"(expected one of {' '.join(GRID_CHARS)})"
-                )
-            x, y = grid.centre(r, c)
-            if char in START_HEADINGS:
-                if starts:
-                    first = grid.where(*starts[0])
-                    raise WorldMapError(
-                        f"{source}:{grid.where(r, c)}: two starts, at {first} and "
-                        f"{grid.where(r, c)} (a world has exactly one)"
-                    )
-                starts.append((r, c))
-            elif char == PILLAR:
-                pillars.append((x, y, half))
-            elif char == GOAL:
-                goals.append((x, y, f"{source}:{grid.where(r, c)}"))
-    if not starts:
-        raise WorldMapError(f"{source}: no start (put one of > < ^ v in the map)")
-    sr, sc = starts[0]
+def _build(grid: MapGrid, header: Header, text: str, source: str) -> WorldMap:
+    codes = char_codes(grid.rows)  # (rows, columns) code points, top row first
+    outside = codes == OUTSIDE
+    wall = codes == ord(WALL)
+    _check_characters(grid, codes, outside, header, source)
+    runs = outline_runs(wall, ~(wall | outside))
+    too_large = over_budget(codes.size, len(runs) + 4 * len(header.walls))
+    if too_large:
+        raise WorldMapError(f"{source}: {too_large}; use a coarser or smaller map")
+    start = _start(grid, codes, header, source)
+    pillars = tuple((*grid.centre(r, c), grid.cell_m / 2) for r, c in _cells(codes, PILLAR))
+    goals = [*header.goals, *((*grid.centre(r, c), f"{source}:{grid.where(r, c)}")
+                              for r, c in _cells(codes, GOAL))]  # fmt: skip
     discs = (*((x, y, r) for x, y, r, _ in header.discs), *pillars)
-    width_m, height_m = grid.width_m, grid.height_m
-    _check_inside(header, width_m, height_m)
-    sx, sy = grid.centre(sr, sc)
-    start_at = f"{source}:{grid.where(sr, sc)}"
-    _check_start_clear(grid, sr, sc, discs, header, start_at)
+    check_inside(grid, header)
+    (sr, sc), (sx, sy, heading), start_at = start
+    check_start_clear(grid, sx, sy, discs, header, start_at)
     rings = tuple((x, y, r) for x, y, r, _ in header.rings)
-    escape = _escape(grid, sr, sc, rings)
+    escape = _escape(grid, codes, (sr, sc), rings)
     if escape is not None:
         raise WorldMapError(
             f"{source}:{grid.where(*escape)}: open boundary: the robot can leave the world here "
             "(walls must enclose the start)"
         )
     for x, y, where in goals:
-        _check_goal(grid, x, y, discs, header.walls, where)
-    segments = (*_wall_segments(grid), *(s for w in header.walls for s in w.outline()))
+        check_goal_in(grid, x, y, discs, header.walls, where)
+    segments = (*wall_segments(grid, runs),
+                *(s for w in header.walls for s in w.outline()))  # fmt: skip
     return WorldMap(
         name=header.name or Path(source).stem,
         cell_m=grid.cell_m,
-        width_m=width_m,
-        height_m=height_m,
+        width_m=grid.width_m,
+        height_m=grid.height_m,
         segments=segments,
         discs=discs,
         rings=rings,
-        start=(sx, sy, START_HEADINGS[grid.rows[sr][sc]]),
+        start=(sx, sy, heading),
         goals=tuple((x, y) for x, y, _ in goals),
         text=text,
         roughness=header.roughness,
-        segment_roughness=tuple(
-            header.roughness_at((x1 + x2) / 2.0, (y1 + y2) / 2.0) for x1, y1, x2, y2 in segments
-        ),
+        segment_roughness=_roughness_of(header, segments),
+        origin_m=grid.origin_m,
     )
 
 
-def _distance_to_cell(grid: _Grid, x: float, y: float, r: int, c: int) -> float:
-    cx, cy = grid.centre(r, c)
-    half = grid.cell_m / 2
-    return math.hypot(max(abs(x - cx) - half, 0.0), max(abs(y - cy) - half, 0.0))
+def _roughness_of(header: Header, segments: tuple[Segment, ...]) -> tuple[float, ...]:
+    """Each segment's roughness: its `rough:` rectangle's, else the world's."""
+    if not header.rough:
+        return (header.roughness,) * len(segments)
+    return tuple(
+        header.roughness_at((x1 + x2) / 2.0, (y1 + y2) / 2.0) for x1, y1, x2, y2 in segments
+    )
 
 
-def _check_inside(header: Header, width_m: float, height_m: float) -> None:
-    """Header walls and pillars must stand within the map's extent: the grid encloses the
-    robot's world, and nothing outside it could ever be met. A thick wall's corners count,
-    not only its ends."""
-
-    def inside(x: float, y: float) -> bool:
-        return 0.0 <= x <= width_m and 0.0 <= y <= height_m
-
-    extent = f"(the map is 0..{width_m:g} x 0..{height_m:g} m)"
-    for wall in header.walls:
-        ends = [end for segment in wall.outline() for end in (segment[:2], segment[2:])]
-        if not all(inside(x, y) for x, y in ends):
-            raise WorldMapError(f"{wall.where}: wall reaches outside the world {extent}")
-    for x, y, r, where in header.discs:
-        if not inside(x, y):
-            raise WorldMapError(
-                f"{where}: disc at x {x:g} y {y:g} r {r:g} is outside the world {extent}"
-            )
-    for x, y, r, where in header.rings:
-        if not (inside(x - r, y - r) and inside(x + r, y + r)):
-            raise WorldMapError(
-                f"{where}: ring at x {x:g} y {y:g} r {r:g} reaches outside the world {extent}"
-            )
-    for region in header.rough:
-        if not (inside(region.x_min, region.y_min) and inside(region.x_max, region.y_max)):
-            raise WorldMapError(f"{region.where}: rough rectangle reaches outside {extent}")
+def _escape(
+    grid: MapGrid, codes: np.ndarray, start: tuple[int, int], rings: tuple[Circle, ...]
+) -> tuple[int, int] | None:
+    """The first open cell, flooding from the start, that leads off the map, or None. A
+    small map is flooded cell by cell at once; a large one is first asked of the compiled
+    flood (the flood cell by cell then only names the cell of a map that has one)."""
+    if codes.size <= FLOOD_IN_PYTHON_CELLS:
+        return first_escape(grid, *start, rings)
+    outside = codes == OUTSIDE
+    open_cells = ~(outside | (codes == ord(WALL)))
+    if not reaches_outside(open_cells, outside, start, ring_sides(grid, codes, rings)):
+        return None
+    return first_escape(grid, *start, rings)
 
 
-def _check_start_clear(
-    grid: _Grid, sr: int, sc: int, discs: tuple[Circle, ...], header: Header, start_at: str
+def _cells(codes: np.ndarray, chars: str) -> list[tuple[int, int]]:
+    """The (row, column) of every cell holding one of `chars`, in reading order."""
+    rows, columns = np.nonzero(np.isin(codes, [ord(char) for char in chars]))
+    return list(zip(rows.tolist(), columns.tolist(), strict=True))
+
+
+def _check_characters(
+    grid: MapGrid, codes: np.ndarray, outside: np.ndarray, header: Header, source: str
 ) -> None:
-    """The robot's body disc at the start must not overlap a wall, a disc or a ring."""
-    radius = RobotConfig().radius_m
-    x, y = grid.centre(sr, sc)
-    body = f"(the robot is a disc of radius {radius:g} m)"
-    reach = math.ceil(radius / grid.cell_m)
-    near = [
-        (_distance_to_cell(grid, x, y, r, c), r, c)
-        for r in range(sr - reach, sr + reach + 1)
-        for c in range(sc - reach, sc + reach + 1)
-        if grid.is_wall(r, c)
-    ]
-    if near and min(near)[0] < radius:
-        _, r, c = min(near)
-        raise WorldMapError(f"{start_at}: the start touches the wall at {grid.where(r, c)} {body}")
-    for dx, dy, dr in discs:
-        if math.hypot(x - dx, y - dy) < dr + radius:
-            raise WorldMapError(
-                f"{start_at}: the start overlaps the disc at x {dx:g} y {dy:g} r {dr:g} {body}"
-            )
-    for wall in header.walls:
-        if wall.distance_m(x, y) < radius:
-            line_col = ":".join(wall.where.rsplit(":", 2)[-2:])
-            raise WorldMapError(f"{start_at}: the start touches the wall at {line_col} {body}")
-    for rx, ry, rr, _ in header.rings:
-        if abs(math.hypot(x - rx, y - ry) - rr) < radius:
-            raise WorldMapError(
-                f"{start_at}: the start touches the ring at x {rx:g} y {ry:g} r {rr:g} {body}"
-            )
-
-
-def _escape(grid: _Grid, sr: int, sc: int, rings: tuple[Circle, ...]) -> tuple[int, int] | None:
-    """Flood the open cells from the start; the first cell that leads off the map, or None.
-
-    Ring walls block a step whose two cell centres lie on opposite sides of the circle.
-    """
-
-    def crosses_ring(a: tuple[float, float], b: tuple[float, float]) -> bool:
-        return any(
-            (math.hypot(a[0] - x, a[1] - y) < r) != (math.hypot(b[0] - x, b[1] - y) < r)
-            for x, y, r in rings
-        )
-
-    seen = {(sr, sc)}
-    queue = deque([(sr, sc)])
-    while queue:
-        r, c = queue.popleft()
-        for dr, dc in _DIRECTIONS:
-            nr, nc = r + dr, c + dc
-            if (nr, nc) in seen or grid.is_wall(nr, nc):
-                continue
-            if crosses_ring(grid.centre(r, c), grid.centre(nr, nc)):
-                continue
-            if not grid.inside(nr, nc):
-                return r, c
-            seen.add((nr, nc))
-            queue.append((nr, nc))
-    return None
-
-
-def _check_goal(
-    grid: _Grid,
-    x: float,
-    y: float,
-    discs: tuple[Circle, ...],
-    walls: list[Wall],
-    where: str,
-) -> None:
-    """A goal must lie inside the world, outside walls and pillars."""
-    width_m, height_m = grid.width_m, grid.height_m
-    if not (0 <= x <= width_m and 0 <= y <= height_m):
+    """Every character must be a map character and the map must hold exactly one start
+    (a start character, or the header's `start:`); the first fault in reading order is
+    named."""
+    unknown = ~np.isin(codes, [ord(char) for char in GRID_CHARS]) & ~outside
+    starts = _cells(codes, "".join(START_HEADINGS))
+    bad = first_where(unknown)
+    second = starts[1] if len(starts) > 1 else None
+    if bad is not None and (second is None or bad < second):
+        char = chr(int(codes[bad]))
         raise WorldMapError(
-            f"{where}: goal x {x:g} y {y:g} is outside the world "
-            f"(0..{width_m:g} x 0..{height_m:g} m)"
+            f"{source}:{grid.where(*bad)}: unknown character {char!r} "
+            f"(expected one of {' '.join(GRID_CHARS)})"
         )
-    r = min(int((height_m - y) / grid.cell_m), len(grid.rows) - 1)
-    c = int(x / grid.cell_m)
-    inside_disc = any(math.hypot(x - dx, y - dy) < dr for dx, dy, dr in discs)
-    on_wall = any(wall.distance_m(x, y) == 0.0 for wall in walls)
-    if not grid.is_open(r, c) or inside_disc or on_wall:
-        raise WorldMapError(f"{where}: goal x {x:g} y {y:g} is inside a wall or pillar")
+    if second is not None:
+        first = grid.where(*starts[0])
+        raise WorldMapError(
+            f"{source}:{grid.where(*second)}: two starts, at {first} and "
+            f"{grid.where(*second)} (a world has exactly one)"
+        )
+    if starts and header.start is not None:
+        raise WorldMapError(
+            f"{header.start[3]}: two starts, the header's and the map's at "
+            f"{grid.where(*starts[0])} (a world has exactly one)"
+        )
+    if not starts and header.start is None:
+        raise WorldMapError(f"{source}: no start (put one of > < ^ v in the map, or a start: line)")
 
 
-def _wall_segments(grid: _Grid) -> tuple[Segment, ...]:
-    """The outline between wall cells and open cells, as maximal straight segments.
-
-    Each segment keeps the wall on its left. Unit edges are keyed by the line they lie on
-    and their direction, so collinear neighbours with the wall on the same side merge.
-    Edges between two wall cells, or facing off the map, are never seen by the robot.
-    """
-    edges: dict[tuple[str, int, int], list[int]] = defaultdict(list)  # (axis, line, dir) -> starts
-    n = len(grid.rows)
-    for r, row in enumerate(grid.rows):
-        j = n - 1 - r  # row counted from the bottom, in cells
-        for c, char in enumerate(row):
-            if char != WALL:
-                continue
-            if grid.is_open(r + 1, c):  # open below: runs +x along y = j
-                edges["h", j, 1].append(c)
-            if grid.is_open(r - 1, c):  # open above: runs -x along y = j + 1
-                edges["h", j + 1, -1].append(c)
-            if grid.is_open(r, c + 1):  # open right: runs +y along x = c + 1
-                edges["v", c + 1, 1].append(j)
-            if grid.is_open(r, c - 1):  # open left: runs -y along x = c
-                edges["v", c, -1].append(j)
-
-    def metres(k: int) -> float:
-        return round(k * grid.cell_m, 9)  # so that 3 * 0.1 reads 0.3
-
-    segments: list[Segment] = []
-    for (axis, line, direction), starts in sorted(edges.items()):
-        starts.sort()
-        first = previous = starts[0]
-        for s in [*starts[1:], None]:
-            if s == previous + 1:
-                previous = s
-                continue
-            a, b = (first, previous + 1) if direction > 0 else (previous + 1, first)
-            if axis == "h":
-                segments.append((metres(a), metres(line), metres(b), metres(line)))
-            else:
-                segments.append((metres(line), metres(a), metres(line), metres(b)))
-            if s is not None:
-                first = previous = s
-    return tuple(segments)
+def _start(
+    grid: MapGrid, codes: np.ndarray, header: Header, source: str
+) -> tuple[tuple[int, int], tuple[float, float, float], str]:
+    """The start's cell, its pose (x, y metres, heading rad) and where it was given."""
+    if header.start is None:
+        ((r, c),) = _cells(codes, "".join(START_HEADINGS))
+        return (
+            (r, c),
+            (*grid.centre(r, c), START_HEADINGS[grid.rows[r][c]]),
+            (f"{source}:{grid.where(r, c)}"),
+        )
+    x, y, heading, where = header.start
+    r, c = grid.cell_at(x, y)
+    if not grid.is_open(r, c):
+        raise WorldMapError(
+            f"{where}: the start x {x:g} y {y:g} is not on the map's floor {grid.extent()}"
+        )
+    return (r, c), (x, y, heading), where
 
 
 def world_to_dict(world: WorldMap) -> dict[str, Any]:
@@ -412,6 +296,8 @@ def world_to_dict(world: WorldMap) -> dict[str, Any]:
     return {
         "name": world.name,
         "cell_m": world.cell_m,
+        "origin_m": list(world.origin_m),
+        "size_m": [world.width_m, world.height_m],
         "segments": [list(s) for s in world.segments],
         "discs": [list(d) for d in world.discs],
         "start": [x, y, math.degrees(heading)],
@@ -423,11 +309,13 @@ def world_to_dict(world: WorldMap) -> dict[str, Any]:
 def describe(world: WorldMap) -> str:
     """A short readable summary of a world (`tvl world show`)."""
     x, y, heading = world.start
+    x0, y0 = world.origin_m
     goals = ", ".join(f"({gx:g}, {gy:g})" for gx, gy in world.goals) or "none"
     return "\n".join(
         [
             f"name      {world.name}",
             f"size      {world.width_m:g} x {world.height_m:g} m (cell {world.cell_m:g} m)",
+            f"extent    x {x0:g} to {x0 + world.width_m:g}, y {y0:g} to {y0 + world.height_m:g} m",
             f"walls     {len(world.segments)} segments, {len(world.rings)} rings",
             f"discs     {len(world.discs)}",
             f"start     x {x:g} y {y:g}, heading {math.degrees(heading):g}°",

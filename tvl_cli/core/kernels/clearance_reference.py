@@ -11,14 +11,16 @@ def clearances_reference(
     seg_start: np.ndarray,
     seg_delta: np.ndarray,
     seg_len: np.ndarray,
+    grid: tuple[object, ...],
     discs: np.ndarray,
     rings: np.ndarray,
     body_radius_m: float,
+    limit_m: float,
     found: np.ndarray,
     which: np.ndarray,
 ) -> None:
     """Fill found (p,) with metres and which (p,) with obstacles, as clearance.clearances
-    (which documents the arguments)."""
+    (which documents the arguments; this asks every segment, and leaves the grid unused)."""
     px = points[:, 0:1]  # (p, 1) metres
     py = points[:, 1:2]
     gaps = [np.full((len(points), 1), np.inf)]  # (p, 1) no obstacle at all, then each kind
@@ -37,5 +39,6 @@ def clearances_reference(
     every = np.concatenate(gaps, axis=1)  # (p, 1 + n + m + k) metres from the centre
     first = every.argmin(axis=1)  # (p,) the first of the nearest, as the kernel keeps it
     nearest = every[np.arange(len(points)), first]
-    found[...] = np.maximum(nearest - body_radius_m, 0.0)
-    which[...] = first - 1
+    within = nearest <= limit_m
+    found[...] = np.where(within, np.maximum(nearest - body_radius_m, 0.0), np.inf)
+    which[...] = np.where(within, first - 1, -1)

@@ -1,7 +1,8 @@
 """The sonar ring's ray casting, for any number of robots in one world at once.
 
 Each ray's fate is decided by the first surface it meets (sim.sonar states the echo rules):
-the nearest crossing among its robot's chosen walls, the discs and the ring walls; then its
+the nearest crossing among the walls of the cells it crosses, the discs and the ring walls;
+then its
 echo, by the specular rule, a corner or edge near the hit, the wall's roughness, or a
 pillar's nearest point. A transducer reads its nearest echo plus noise, clamped to the range.
 
@@ -16,6 +17,8 @@ The arguments come in tuples, each unpacked by name where it is used:
     walls = (start, normal, moment, length, ends, corner_sides, roughness)
         as sim.world.StaticGeometry's seg_start, seg_normal, seg_moment, seg_len, seg_ends,
         corner_sides and seg_roughness (n,): 0 to 1, how much sound each wall scatters
+    grid = (x0_m, y0_m, cell_m, columns, rows, first, walls, lines, largest)
+        sim.wall_grid.WallGrid's cells of walls (as_kernel_input), and the most any holds
     model = (body_radius_m, behind_m, cos_specular, corner_slope, corner_min_radius_m,
              edge_echo_range_m, max_range_m, min_range_m, noise_sigma_m, noise_fraction, ideal)
         behind_m: a crossing this far behind a transducer lies inside the body (touching);
@@ -30,7 +33,7 @@ import math
 
 import numpy as np
 
-from tvl_cli.core.kernels import kernel
+from tvl_cli.core.kernels import inlined, kernel
 
 # A ray's line crosses a wall's line this far beyond the wall's ends (as a fraction of its
 # length) at most for the wall to be tested exactly: any wider than rounding could reach.
@@ -43,46 +46,29 @@ _RING_WALL = -1.0
 
 @kernel
 def ring_ranges(
-    poses, noise, layout, walls, wall_ids, wall_ids_start, discs, rings, rings_rough, model,
-    readings, sources,
+    poses, noise, layout, walls, grid, reach_m, discs, rings, rings_rough, model, readings,
+    sources,
 ):  # fmt: skip
     """Fill readings (N, 16) with the metres read by N robots at poses (N, 3) (x, y metres,
     heading rad), and sources (N, 16) with the obstacle each beam's echo came from, numbered
     walls first, then discs, then ring walls (-1: no echo).
 
-    Robot i tests the walls wall_ids[wall_ids_start[i]:wall_ids_start[i + 1]], in increasing
-    order (of equally near crossings, the first wins), and every disc (m, 3) and ring wall
+    Each ray tests the walls of the grid's cells it crosses within reach_m of its
+    transducer, nearest first, until a cell ends beyond its nearest crossing (of equally
+    near crossings, the wall numbered first wins), and every disc (m, 3) and ring wall
     (k, 3) (x, y, r metres; rings_rough (k,) their roughness). noise (N, 16): standard
     normal draws, used unless the model is ideal.
     """
     transducers, rays = layout
-    start, normal, moment, length_m, ends, corner_sides, roughness = walls
-    (body_radius_m, behind_m, _, _, _, _, max_range_m, min_range_m, noise_sigma_m,
-     noise_fraction, ideal) = model  # fmt: skip
+    body_radius_m = model[0]
     count = transducers.shape[0]
     per_beam = rays.shape[0] // count
-    first_disc = length_m.shape[0]
-    first_ring = first_disc + discs.shape[0]
-    # A robot's walls side by side (normal x, normal y, start x, start y); for a ray, each
-    # one's cross(D, E) and cross(A - O, D) numerator, and whether it lies across the ray's
-    # line: worked out for all of them at once, free of branches, before the exact tests of
-    # the few that do.
-    most = 0  # the most walls any robot tests
-    for robot in range(poses.shape[0]):
-        if wall_ids_start[robot + 1] - wall_ids_start[robot] > most:
-            most = wall_ids_start[robot + 1] - wall_ids_start[robot]
-    near = np.empty((4, most))
-    crosses, s_nums = np.empty(most), np.empty(most)
-    across_line = np.empty(most, dtype=np.bool_)
+    # Room for a cell's walls' screening by a ray (_nearest_wall), allocated once.
+    most = grid[8]
+    scratch = (np.empty(most), np.empty(most), np.empty(most, dtype=np.bool_))
     for robot in range(poses.shape[0]):
         x, y, heading = poses[robot, 0], poses[robot, 1], poses[robot, 2]
         cos_h, sin_h = math.cos(heading), math.sin(heading)
-        mine = wall_ids[wall_ids_start[robot] : wall_ids_start[robot + 1]]
-        walls_mine = mine.shape[0]
-        for q in range(walls_mine):
-            w = mine[q]
-            near[0, q], near[1, q] = normal[0, w], normal[1, w]
-            near[2, q], near[3, q] = start[0, w], start[1, w]
         for beam in range(count):
             ux, uy = transducers[beam, 0], transducers[beam, 1]
             ox = x + body_radius_m * (ux * cos_h - uy * sin_h)  # the transducer O, metres
@@ -96,61 +82,163 @@ def ring_ranges(
                 # D.O and cross(O, D), the ray leaving the body's edge at its offset
                 along = dx * x + dy * y + rays[ray, 2]
                 across = dy * x - dx * y + rays[ray, 3]
-                # Ray O + tD meets segment A + sE where t = cross(A - O, E) / cross(D, E) and
-                # s = cross(A - O, D) / cross(D, E).
-                hit = math.inf
-                wall = -1
-                hit_cross = hit_s = 0.0
-                # Most walls lie off the ray's line: leave them before dividing, with room to
-                # spare so that the exact tests below decide every wall they could pass.
-                for q in range(walls_mine):
-                    cross = dx * near[0, q] + dy * near[1, q]
-                    s_num = (dy * near[2, q] - dx * near[3, q]) - across
-                    crosses[q], s_nums[q] = cross, s_num
-                    across_line[q] = abs(s_num) <= abs(cross) * _BEYOND_ENDS
-                for q in range(walls_mine):
-                    if not across_line[q]:
-                        continue
-                    w, cross = mine[q], crosses[q]
-                    s = s_nums[q] / cross
-                    t = (moment[w] - (ox * normal[0, w] + oy * normal[1, w])) / cross
-                    # (nan fails every test: the ray runs along the wall's line)
-                    if s >= 0.0 and s <= 1.0 and t > -behind_m and t < hit:
-                        hit, wall, hit_cross, hit_s = t, w, cross, s
-                echo = hit
-                source = wall
-                if wall >= 0 and not ideal:
-                    echo = _wall_echo(
-                        hit, hit_s, hit_cross, length_m[wall], ends[wall, 0, 0] - ox,
-                        ends[wall, 0, 1] - oy, ends[wall, 1, 0] - ox, ends[wall, 1, 1] - oy,
-                        corner_sides[wall, 0], corner_sides[wall, 1], roughness[wall], model,
-                    )  # fmt: skip
-                for j in range(discs.shape[0]):
-                    disc_hit, disc_echo = _circle(
-                        dx, dy, along, across, discs[j, 0], discs[j, 1], discs[j, 2], 0.0, _DISC,
-                        model,
-                    )  # fmt: skip
-                    if disc_hit < hit:
-                        hit, echo, source = disc_hit, disc_echo, first_disc + j
-                for j in range(rings.shape[0]):
-                    ring_hit, ring_echo = _circle(
-                        dx, dy, along, across, rings[j, 0], rings[j, 1], rings[j, 2],
-                        rings_rough[j], _RING_WALL, model,
-                    )  # fmt: skip
-                    if ring_hit < hit:
-                        hit, echo, source = ring_hit, ring_echo, first_ring + j
+                echo, source = _ray_echo(
+                    ox, oy, dx, dy, along, across, walls, grid, reach_m, discs, rings,
+                    rings_rough, model, scratch,
+                )  # fmt: skip
                 if echo < nearest:
                     nearest, nearest_source = echo, source
-            reading = max_range_m
-            sources[robot, beam] = nearest_source if nearest <= max_range_m else -1
-            if nearest <= max_range_m:
-                if not ideal:
-                    sigma = noise_sigma_m + noise_fraction * nearest
-                    nearest = nearest + sigma * noise[robot, beam]
-                reading = nearest if nearest > min_range_m else min_range_m
-                if reading > max_range_m:
-                    reading = max_range_m
-            readings[robot, beam] = reading
+            readings[robot, beam], sources[robot, beam] = _reading(
+                nearest, nearest_source, noise[robot, beam], model
+            )
+
+
+@kernel
+def _ray_echo(
+    ox, oy, dx, dy, along, across, walls, grid, reach_m, discs, rings, rings_rough, model,
+    scratch,
+):  # fmt: skip
+    """(echo, source) of one ray from the transducer O in direction D: the echo of the first
+    surface it meets (metres, inf for none) and that surface, numbered as ring_ranges
+    numbers them."""
+    _, normal, moment, length_m, ends, corner_sides, roughness = walls
+    behind_m, ideal = model[1], model[10]
+    first_disc = length_m.shape[0]
+    first_ring = first_disc + discs.shape[0]
+    hit, wall, hit_cross, hit_s = _nearest_wall(
+        ox, oy, dx, dy, across, normal, moment, grid, -behind_m, reach_m, *scratch
+    )
+    echo = hit
+    source = wall
+    if wall >= 0 and not ideal:
+        echo = _wall_echo(
+            hit, hit_s, hit_cross, length_m[wall], ends[wall, 0, 0] - ox, ends[wall, 0, 1] - oy,
+            ends[wall, 1, 0] - ox, ends[wall, 1, 1] - oy, corner_sides[wall, 0],
+            corner_sides[wall, 1], roughness[wall], model,
+        )  # fmt: skip
+    for j in range(discs.shape[0]):
+        disc_hit, disc_echo = _circle(
+            dx, dy, along, across, discs[j, 0], discs[j, 1], discs[j, 2], 0.0, _DISC, model
+        )
+        if disc_hit < hit:
+            hit, echo, source = disc_hit, disc_echo, first_disc + j
+    for j in range(rings.shape[0]):
+        ring_hit, ring_echo = _circle(
+            dx, dy, along, across, rings[j, 0], rings[j, 1], rings[j, 2], rings_rough[j],
+            _RING_WALL, model,
+        )  # fmt: skip
+        if ring_hit < hit:
+            hit, echo, source = ring_hit, ring_echo, first_ring + j
+    return echo, source
+
+
+@kernel
+def _reading(nearest, source, noise, model):
+    """(reading, source) of a transducer whose nearest echo is `nearest` metres (inf: none)
+    from `source`: plus its noise (a standard normal draw) unless the model is ideal,
+    clamped to the range; the maximum range and -1 where nothing echoed within it."""
+    max_range_m, min_range_m, noise_sigma_m, noise_fraction, ideal = model[6:]
+    if not nearest <= max_range_m:
+        return max_range_m, -1
+    if not ideal:
+        sigma = noise_sigma_m + noise_fraction * nearest
+        nearest = nearest + sigma * noise
+    reading = nearest if nearest > min_range_m else min_range_m
+    return (reading if reading < max_range_m else max_range_m), source
+
+
+@kernel
+def _nearest_wall(
+    ox, oy, dx, dy, across, normal, moment, grid, t_low, t_high, crosses, s_nums, across_line
+):  # fmt: skip
+    """(t, wall, cross(D, E), s) of the nearest crossing of the ray O + tD, t_low < t, with a
+    wall, walking the grid's cells along it as far as t_high; (inf, -1, 0, 0) for none.
+    `crosses`, `s_nums` and `across_line`: room for a cell's walls."""
+    x0, y0, cell_m, columns, rows, first, cell_walls, lines, _ = grid
+    hit = math.inf
+    wall = -1
+    hit_cross = hit_s = 0.0
+    t_in, t_out = _span_in_box(ox, oy, dx, dy, t_low, t_high, x0, y0, columns * cell_m,
+                               rows * cell_m)  # fmt: skip
+    if not t_in <= t_out:
+        return hit, wall, hit_cross, hit_s
+    column = _cell_of(ox + t_in * dx - x0, cell_m, columns)
+    row = _cell_of(oy + t_in * dy - y0, cell_m, rows)
+    while True:
+        cell = row * columns + column
+        first_entry, last_entry = first[cell], first[cell + 1]
+        # Ray O + tD meets segment A + sE where t = cross(A - O, E) / cross(D, E) and
+        # s = cross(A - O, D) / cross(D, E). Most walls lie off the ray's line: leave them
+        # before dividing, with room to spare so that the exact tests below decide every
+        # wall they could pass.
+        for q in range(last_entry - first_entry):
+            e = first_entry + q
+            cross = dx * lines[0, e] + dy * lines[1, e]
+            s_num = (dy * lines[2, e] - dx * lines[3, e]) - across
+            crosses[q], s_nums[q] = cross, s_num
+            across_line[q] = abs(s_num) <= abs(cross) * _BEYOND_ENDS
+        for q in range(last_entry - first_entry):
+            if not across_line[q]:
+                continue
+            w, cross = cell_walls[first_entry + q], crosses[q]
+            s = s_nums[q] / cross
+            t = (moment[w] - (ox * normal[0, w] + oy * normal[1, w])) / cross
+            # (nan fails every test: the ray runs along the wall's line)
+            if s >= 0.0 and s <= 1.0 and t > t_low and (t < hit or (t == hit and w < wall)):
+                hit, wall, hit_cross, hit_s = t, w, cross, s
+        # Where the ray leaves this cell: any crossing beyond lies in the cells ahead.
+        t_column = _t_to_edge(ox - x0, dx, column, cell_m)
+        t_row = _t_to_edge(oy - y0, dy, row, cell_m)
+        t_exit = t_column if t_column < t_row else t_row
+        if hit <= t_exit or t_exit >= t_out:
+            return hit, wall, hit_cross, hit_s
+        if t_column < t_row:
+            column += 1 if dx > 0.0 else -1
+        else:
+            row += 1 if dy > 0.0 else -1
+        if column < 0 or column >= columns or row < 0 or row >= rows:
+            return hit, wall, hit_cross, hit_s
+
+
+@inlined
+def _span_in_box(ox, oy, dx, dy, t_low, t_high, x0, y0, width, height):
+    """The part [t_in, t_out] of O + tD, t_low <= t <= t_high, inside the box from (x0, y0)
+    of this width and height (t_in > t_out: none)."""
+    for o, d, low, size in ((ox, dx, x0, width), (oy, dy, y0, height)):
+        if d == 0.0:
+            if o < low or o > low + size:
+                return 1.0, 0.0
+        else:
+            near = (low - o) / d
+            far = (low + size - o) / d
+            if near > far:
+                near, far = far, near
+            if near > t_low:
+                t_low = near
+            if far < t_high:
+                t_high = far
+    return t_low, t_high
+
+
+@inlined
+def _cell_of(offset_m, cell_m, cells):
+    """The cell holding a point this far along an axis from the grid's edge, clamped to the
+    grid (a point on its edge, or a hair past it by rounding)."""
+    index = math.floor(offset_m / cell_m)
+    if index < 0:
+        return 0
+    return cells - 1 if index > cells - 1 else index
+
+
+@inlined
+def _t_to_edge(offset_m, d, index, cell_m):
+    """Where the ray, leaving from this far along an axis from the grid's edge in direction
+    d, reaches the far edge (along d) of cell `index` on that axis; inf if it runs along it."""
+    if d > 0.0:
+        return ((index + 1) * cell_m - offset_m) / d
+    if d < 0.0:
+        return (index * cell_m - offset_m) / d
+    return math.inf
 
 
 @kernel

@@ -1,5 +1,7 @@
-"""The sonar ring cast in plain numpy, every ray of a robot at once: what `ring.ring_ranges`
-computes, kept for the tests that compare the two. Same arguments, same results."""
+"""The sonar ring cast in plain numpy, every ray of a robot at once against every wall: what
+`ring.ring_ranges` computes, kept for the tests that compare the two. Same arguments, same
+results: the kernel asks only the walls of the cells each ray crosses, this asks them all, so
+the two agree only if the grid never leaves out a wall that decides a reading."""
 
 from __future__ import annotations
 
@@ -13,8 +15,8 @@ def ring_ranges_reference(
     noise: np.ndarray,
     layout: tuple[np.ndarray, np.ndarray],
     walls: tuple[np.ndarray, ...],
-    wall_ids: np.ndarray,
-    wall_ids_start: np.ndarray,
+    grid: tuple[object, ...],
+    reach_m: float,
     discs: np.ndarray,
     rings: np.ndarray,
     rings_rough: np.ndarray,
@@ -23,23 +25,12 @@ def ring_ranges_reference(
     sources: np.ndarray,
 ) -> None:
     """Fill readings (N, 16) with metres and sources (N, 16) with obstacles, as
-    ring.ring_ranges (which documents the arguments)."""
-    start, normal, moment, length, ends, corner_sides, roughness = walls
+    ring.ring_ranges (which documents the arguments; the grid and the reach go unused)."""
+    first_disc = len(walls[3])
+    numbers = (np.arange(first_disc), first_disc, first_disc + len(discs))
     for robot, pose in enumerate(poses):
-        mine = wall_ids[wall_ids_start[robot] : wall_ids_start[robot + 1]]
-        mine_walls = (
-            start[:, mine],
-            normal[:, mine],
-            moment[mine],
-            length[mine],
-            ends[mine],
-            corner_sides[mine],
-            roughness[mine],
-        )
-        first_disc = len(length)
-        numbers = (mine, first_disc, first_disc + len(discs))  # the obstacles' numbering
         readings[robot], sources[robot] = _read(
-            pose, noise[robot], layout, mine_walls, discs, rings, rings_rough, model, numbers
+            pose, noise[robot], layout, walls, discs, rings, rings_rough, model, numbers
         )
 
 

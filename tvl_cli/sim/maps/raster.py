@@ -33,7 +33,7 @@ def rasterise(world: WorldMap) -> Raster:
     rows, header = layout(world)
     columns = max(len(row) for row in rows)
     chars = np.array([list(row.ljust(columns)) for row in rows])  # (rows, columns)
-    cells = _Cells(world.cell_m, len(rows), columns)
+    cells = _Cells(world.cell_m, len(rows), columns, *world.origin_m)
     occupied = chars == WALL
     for x, y, r in world.discs:
         window, cx, cy = cells.window(x - r, y - r, x + r, y + r)
@@ -60,11 +60,14 @@ def rasterise(world: WorldMap) -> Raster:
 
 @dataclass(frozen=True, slots=True)
 class _Cells:
-    """The grid's geometry: cell size, shape, and windows of cell centres."""
+    """The grid's geometry: cell size, shape, where its bottom-left corner lies, and windows
+    of cell centres."""
 
     cell_m: float
     rows: int
     columns: int
+    x0_m: float
+    y0_m: float
 
     @property
     def half_m(self) -> float:
@@ -77,15 +80,18 @@ class _Cells:
     def window(
         self, x_min: float, y_min: float, x_max: float, y_max: float
     ) -> tuple[tuple[slice, slice], np.ndarray, np.ndarray]:
-        """The cells whose squares may meet a box, and their centres' x and y (m), each
-        (rows, columns) of the window."""
+        """The cells whose squares may meet a box (the world's frame), and their centres' x
+        and y (m), each (rows, columns) of the window."""
+        x_min, x_max, y_min, y_max = (
+            x_min - self.x0_m, x_max - self.x0_m, y_min - self.y0_m, y_max - self.y0_m
+        )  # fmt: skip
         c0 = max(math.floor(x_min / self.cell_m) - 1, 0)
         c1 = min(math.floor(x_max / self.cell_m) + 2, self.columns)
         # Rows count down from the top; y counts up from the bottom.
         r0 = max(self.rows - 1 - math.floor(y_max / self.cell_m) - 1, 0)
         r1 = min(self.rows - math.floor(y_min / self.cell_m) + 1, self.rows)
-        cx = (np.arange(c0, c1) + 0.5) * self.cell_m
-        cy = (self.rows - np.arange(r0, r1) - 0.5) * self.cell_m
+        cx = self.x0_m + (np.arange(c0, c1) + 0.5) * self.cell_m
+        cy = self.y0_m + (self.rows - np.arange(r0, r1) - 0.5) * self.cell_m
         return (slice(r0, r1), slice(c0, c1)), *np.meshgrid(cx, cy)
 
     def overlap(self, corners: np.ndarray, cx: np.ndarray, cy: np.ndarray) -> np.ndarray:
