@@ -132,6 +132,7 @@ _MAYBE_NAMED = (
     "collision_points", "run_memory",
 )  # fmt: skip
 _FLAGS = ("goal_reached", "online", "trace")
+_MAYBE_FLAGGED = ("goal_reached",)  # null: the run sought no goal
 _LISTS = ("minutes", "competence_checks")
 
 
@@ -154,6 +155,8 @@ def _check_types(row: Row, where: str) -> None:
             raise BadInput(f"{where}: {key!r} is {value!r}, expected a number")
     for key in _FLAGS:
         if key in row and not isinstance(row[key], bool):
+            if row[key] is None and key in _MAYBE_FLAGGED:
+                continue
             raise BadInput(f"{where}: {key!r} is {row[key]!r}, expected true or false")
     if row.get("threshold") is not None and not is_threshold(row["threshold"]):
         raise BadInput(f"{where}: 'threshold' is {row['threshold']!r}, outside (0, 1]")
@@ -388,9 +391,9 @@ def markdown(title: str, header: Sequence[str], body: Iterable[Sequence[str]]) -
 
 def learning_minutes(rows: Iterable[Row]) -> list[Row]:
     """The per-minute rows (minute, delta_v, collisions, ...) of every learn record, with its
-    seed, world and config; `minute` becomes the end of that minute (1 for the first)."""
+    seed and world; `minute` counted from 1, so it is also when that minute ended."""
     return [
-        {**minute, "minute": minute["minute"] + 1, "seed": row["seed"], "world": row["world"]}
+        {**minute, "seed": row["seed"], "world": row["world"]}
         for row in rows
         if row["kind"] == "learn"
         for minute in row.get("minutes", [])

@@ -13,6 +13,7 @@ from tvl_cli.cli.tables import table
 from tvl_cli.cli.views import out
 from tvl_cli.commands.design import DesignSummary, design_from_logs
 from tvl_cli.core.fam_config_json import MAX_ENTRIES
+from tvl_cli.core.words import counted
 
 
 @click.command()
@@ -82,7 +83,7 @@ def _show(summary: DesignSummary) -> None:
     columns = ("configuration", "rules", "held-out error (m/s)")
     scores = table(
         *columns,
-        title=f"trained on {summary.design.train_episodes} episodes, "
+        title=f"trained on {counted(summary.design.train_episodes, 'episode')}, "
         f"scored on {summary.design.heldout_episodes} held out",
         right=columns[1:],
     )

@@ -19,10 +19,12 @@ from tvl_cli.cli.options import (
     refuse_shared_paths,
     training_options,
 )
+from tvl_cli.commands.interrupts import STOPPED_EXIT
 from tvl_cli.commands.learn import LearnRequest, LearnResult, learn_to_log
 from tvl_cli.core.method import DEFAULT, EXPLORATION_RULES, LEARNING_FIELDS, MethodChoice
 from tvl_cli.core.robot_config import EDGE_ECHO_RANGE_M, FASTEST_MPS, SONAR_MODELS
 from tvl_cli.core.trajectory_choice import DEFAULT_THRESHOLD
+from tvl_cli.core.words import counted
 from tvl_cli.sim.worldmap import load_world
 
 DEFAULT_LEARN = LearnParams()
@@ -137,7 +139,7 @@ def learn(
     else:
         views.learn_summary(result, log)
     if result.summary.stopped_by:
-        sys.exit(130 if result.summary.stopped_by == "SIGINT" else 143)
+        sys.exit(STOPPED_EXIT[result.summary.stopped_by])
 
 
 def _learn_live(request: LearnRequest, pace: float | None) -> LearnResult:
@@ -150,7 +152,8 @@ def _learn_live(request: LearnRequest, pace: float | None) -> LearnResult:
 
     def on_minute(stats: MinuteStats) -> None:
         view.caption = (
-            f"minute {stats.minute + 1}: {stats.episodes} episodes, {stats.collisions} collisions"
+            f"minute {stats.minute + 1}: {counted(stats.episodes, 'episode')}, "
+            f"{counted(stats.collisions, 'collision')}"
         )
 
     with live_view(view, views.out) as watch:

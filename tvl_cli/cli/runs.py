@@ -7,6 +7,7 @@ the options (and loads neither HDF5 nor the physics).
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import asdict
@@ -130,6 +131,7 @@ def run(
 
     Every rule beyond the paper's method is a reflex: --reflex none runs the paper's choice
     rule alone, and --paper the paper's whole method (no reflex, no echo memory) on the FAM."""
+    from tvl_cli.commands.interrupts import STOPPED_EXIT, catching_signals
     from tvl_cli.commands.run import OnlineLearning, RunRequest, run_behaviour
 
     refuse_both_formats(as_json, as_csv)
@@ -156,8 +158,11 @@ def run(
         method,
         learning,
     )
-    with _watching(request, TERMINAL if live else view, pace) as watch:
-        result = run_behaviour(request, watch)
+    with (
+        catching_signals() as interrupted,
+        _watching(request, TERMINAL if live else view, pace) as watch,
+    ):
+        result = run_behaviour(request, watch, interrupted.reason)
     if as_json:
         print_json(documents.run_json(request, result))
     elif as_csv:
@@ -165,6 +170,9 @@ def run(
     else:
         views.run_metrics(result.metrics, result.method)
         views.run_learning(result, learning.log if learning else None)
+    if result.stopped_by is not None:
+        views.stopped(result.stopped_by, result.metrics.sim_s, trace)
+        sys.exit(STOPPED_EXIT[result.stopped_by])
 
 
 # replay's options that shape an animation, and nothing else.

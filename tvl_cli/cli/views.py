@@ -14,6 +14,7 @@ from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, T
 from tvl_cli.cli.tables import NOTHING, cell, facts, label, labelled, number, percent, table
 from tvl_cli.core.method import describe_record
 from tvl_cli.core.trajectory_choice import DEFAULT_THRESHOLD
+from tvl_cli.core.words import counted
 
 if TYPE_CHECKING:
     # What is shown, named for its type only: a command's `--help` imports this module, and
@@ -92,8 +93,8 @@ def learning_progress(
             bar.update(
                 task,
                 description=(
-                    f"minute {stats.minute + 1}: {stats.episodes} episodes, "
-                    f"{stats.collisions} collisions, ΔV {stats.delta_v:.2e}"
+                    f"minute {stats.minute + 1}: {counted(stats.episodes, 'episode')}, "
+                    f"{counted(stats.collisions, 'collision')}, ΔV {stats.delta_v:.2e}"
                 ),
             )
 
@@ -126,7 +127,8 @@ def learn_summary(result: LearnResult, log: Path) -> None:
         )
     out.print(minutes)
     out.print(
-        f"{s.episodes} episodes, {s.collisions} collisions, {s.exemplars} exemplars in "
+        f"{counted(s.episodes, 'episode')}, {counted(s.collisions, 'collision')}, "
+        f"{counted(s.exemplars, 'exemplar')} in "
         f"{s.sim_s / 60:.1f} simulated minutes, coverage {percent(result.coverage)} "
         f"({result.wall_s:.1f} s), session {result.session}"
     )
@@ -197,7 +199,7 @@ def autopsy(a: Autopsy) -> None:
         "obstacle",
         "driven",
         "reflex",
-        title=f"{len(a.contacts)} contacts",
+        title=counted(len(a.contacts), "contact"),
     )
     for c in a.contacts:
         f = c.facts
@@ -247,14 +249,27 @@ def explanation(e: Explanation) -> None:
     out.print(perceived)
 
 
+# The metrics of reaching a goal, which a run that sought none does not show.
+GOAL_METRICS = ("goal_reached", "time_to_goal_s")
+
+
 def run_metrics(metrics: RunMetrics, method: dict[str, Any] | None = None) -> None:
-    """The metrics of a run (what --json prints, in words), and the method it ran by (its
-    record)."""
-    out.print(labelled(asdict(metrics)))
+    """The metrics of a run (what --json prints, in words; a goal's only if it sought one),
+    and the method it ran by (its record)."""
+    shown = asdict(metrics)
+    if metrics.goal_reached is None:
+        for key in GOAL_METRICS:
+            del shown[key]
+    out.print(labelled(shown))
     if method is not None:
-        reflexes = method.get("reflexes") or []
-        out.print(f"reflexes: {', '.join(reflexes) or 'none (the paper method)'}")
+        out.print(f"reflexes: {', '.join(method.get('reflexes') or []) or 'none'}")
         out.print(f"method: {describe_record(method)}")
+
+
+def stopped(signal_name: str, sim_s: float, trace: Path | None) -> None:
+    """Why a run ended before its time, and what it kept."""
+    kept = f"; {trace} keeps it" if trace is not None else ""
+    say(f"stopped by {signal_name} after {sim_s:.1f} simulated seconds{kept}")
 
 
 def run_learning(result: RunResult, log: Path | None) -> None:
@@ -278,7 +293,7 @@ def replay(summary: Replay) -> None:
     else:
         _log_replay(summary)
     if summary.animation_frames is not None:
-        out.print(f"animation: {summary.animation_frames} frames")
+        out.print(f"animation: {counted(summary.animation_frames, 'frame')}")
 
 
 LEARNT_COLUMNS = (
@@ -291,10 +306,6 @@ LEARNT_COLUMNS = (
 )
 
 
-def _count(n: int, thing: str) -> str:
-    return f"{n} {thing}" if n == 1 else f"{n} {thing}s"
-
-
 def _log_replay(summary: LogReplay) -> None:
     # Two tables of a row a session, each narrow enough for 80 columns.
     sessions = table(
@@ -304,8 +315,8 @@ def _log_replay(summary: LogReplay) -> None:
         "seed",
         "explore",
         "status",
-        title=f"learning log: {_count(len(summary.sessions), 'session')}, "
-        f"{summary.exemplars} exemplars",
+        title=f"learning log: {counted(len(summary.sessions), 'session')}, "
+        f"{counted(summary.exemplars, 'exemplar')}",
         right=("seed",),
     )
     learnt = table(*LEARNT_COLUMNS, title="what each session learnt", right=LEARNT_COLUMNS[1:])

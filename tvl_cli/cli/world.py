@@ -25,6 +25,7 @@ from tvl_cli.commands.world import (
 )
 from tvl_cli.commands.world_export import export_map, image_beside
 from tvl_cli.commands.world_import import ImportRequest, import_map, parse_start
+from tvl_cli.core.words import counted
 from tvl_cli.io.occupancy_map import SAVED_FREE_THRESH, UNKNOWN_PIXEL
 from tvl_cli.sim.worldgen import KINDS, SMOOTH, Materials
 from tvl_cli.sim.worldmap import describe, world_to_dict
@@ -81,6 +82,8 @@ def world_new(
         given = {"kind": kind, "width_m": width_m, "height_m": height_m, "seed": seed}
         options = {**given, "rough_share": rough_share, "roughness": roughness}
         print_json(documents.world_new_json(options, output, made))
+    else:
+        click.echo(f"{output}: a {kind} world ({counts_text(made)})")
 
 
 @world.command("show")
@@ -105,7 +108,7 @@ def world_check(file: Path, as_json: bool) -> None:
     if as_json:
         print_json(documents.world_check_json(file, found))
     else:
-        click.echo(f"{file}: ok ({', '.join(f'{n} {what}' for what, n in found.items())})")
+        click.echo(f"{file}: ok ({counts_text(found)})")
 
 
 @world.command("render")
@@ -120,6 +123,13 @@ def world_render(file: Path, output: Path, force: bool, as_json: bool) -> None:
     drawn = render_world(file, output)
     if as_json:
         print_json(documents.world_render_json(file, output, drawn))
+    else:
+        click.echo(f"{output}: {file} drawn ({counts_text(drawn)})")
+
+
+def counts_text(counts: dict[str, int]) -> str:
+    """A world's counts in words: `4 segments, 1 disc, 0 rings, 0 goals`."""
+    return ", ".join(counted(n, what.removesuffix("s")) for what, n in counts.items())
 
 
 @world.command("import")

@@ -15,6 +15,7 @@ from tvl_cli.core.fired_rules import Explanation, restricted
 from tvl_cli.core.memory import MemoryConfig
 from tvl_cli.core.ring import mm_to_ring
 from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.core.words import counted
 from tvl_cli.io.famfile import read_fam
 from tvl_cli.io.logreader import file_sha256
 from tvl_cli.io.runfile import RunTrace, read_run
@@ -183,7 +184,8 @@ def _step(trace: RunTrace, path: Path, moment: Moment) -> int:
     steps = trace.event_steps(event)
     if not 1 <= moment.index <= len(steps):
         raise BadInput(
-            f"{path}: --index {moment.index}: the run has {len(steps)} {moment.event} events"
+            f"{path}: --index {moment.index}: the run has "
+            f"{counted(len(steps), f'{moment.event} event')}"
         )
     return int(steps[moment.index - 1])
 

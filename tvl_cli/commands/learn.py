@@ -3,20 +3,17 @@ surviving Ctrl-C and SIGTERM with every finished episode kept."""
 
 from __future__ import annotations
 
-import signal
-import threading
 import time
-from collections.abc import Callable, Iterator
-from contextlib import contextmanager
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from types import FrameType
 from typing import Any
 
 from tvl_cli.agent.drive import StepSink
 from tvl_cli.agent.explore import Learner, LearnParams, LearnSummary, MinuteStats
 from tvl_cli.agent.perception import perceived_episodes
 from tvl_cli.analysis.coverage import CoverageTracker, world_floor
+from tvl_cli.commands.interrupts import catching_signals
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS, Fam
@@ -29,7 +26,7 @@ from tvl_cli.io.fam_config_file import resolve_fam_config
 from tvl_cli.io.famfile import read_fam, write_fam
 from tvl_cli.io.log_sessions import distinct_sessions, provenance
 from tvl_cli.io.logfile import LogWriter
-from tvl_cli.io.loglayout import STATUS_FINISHED
+from tvl_cli.io.loglayout import ended_status
 from tvl_cli.io.logreader import file_sha256, read_log
 from tvl_cli.sim.worldmap import load_world
 
@@ -68,35 +65,6 @@ class LearnResult:
     status: str
     minute_coverage: list[float]  # at the end of each of summary.minutes
     coverage: float  # after every episode of the session
-
-
-class _Interrupted:
-    """Remembers the first SIGINT/SIGTERM so the loop stops after the episode under way."""
-
-    def __init__(self) -> None:
-        self.signal_name: str | None = None
-
-    def __call__(self, signum: int, frame: FrameType | None) -> None:
-        self.signal_name = self.signal_name or signal.Signals(signum).name
-
-    def reason(self) -> str | None:
-        return self.signal_name
-
-
-@contextmanager
-def _catching_signals() -> Iterator[_Interrupted]:
-    interrupted = _Interrupted()
-    if threading.current_thread() is not threading.main_thread():
-        # Only the main thread may set handlers (a Dask worker learns in a thread of its
-        # own); there the process's own handling of signals stands.
-        yield interrupted
-        return
-    previous = {s: signal.signal(s, interrupted) for s in (signal.SIGINT, signal.SIGTERM)}
-    try:
-        yield interrupted
-    finally:
-        for s, handler in previous.items():
-            signal.signal(s, handler)
 
 
 def learn_to_log(
@@ -166,7 +134,7 @@ def learn_to_log(
             write_every_s=LOG_WRITE_EVERY_S,
             method=recorded,
         ) as writer,
-        _catching_signals() as interrupted,
+        catching_signals() as interrupted,
     ):
         if writer.session != f"{len(earlier):04d}":
             raise BadInput(f"{request.log}: another process added a session meanwhile")
@@ -191,7 +159,7 @@ def learn_to_log(
             on_minute(stats)
 
         summary = learner.run(record, minute, interrupted.reason, watch)
-        status = f"interrupted: {summary.stopped_by}" if summary.stopped_by else STATUS_FINISHED
+        status = ended_status(summary.stopped_by)
         session = writer.session
         writer.close(status)
     if request.fam_out is not None and summary.episodes == 0:

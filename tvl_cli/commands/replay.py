@@ -13,7 +13,7 @@ from tvl_cli.analysis.coverage import coverage_by_minute, coverage_of, world_flo
 from tvl_cli.core.contacts import EVENTS
 from tvl_cli.core.errors import BadInput
 from tvl_cli.io.log_sessions import explore_rule
-from tvl_cli.io.loglayout import KIND_LEARNING, MINUTE_COLUMNS
+from tvl_cli.io.loglayout import KIND_LEARNING, MINUTE_COLUMNS, STATUS_FINISHED
 from tvl_cli.io.logreader import LearningLog, Session, read_log
 from tvl_cli.io.runfile import RunTrace, read_run
 from tvl_cli.io.schema import LOG_FORMAT, RUN_FORMAT, file_format
@@ -121,7 +121,6 @@ def _learning(
     minutes: list[dict[str, str | int | float]] = []
     coverage: dict[str, list[float]] = {}  # by session: at the end of each whole minute
     for s in log.sessions:
-        sim_s = float(s.episode_table["end_time_s"][-1]) if len(s.episode_table) else 0.0
         floor = world_floor(
             parse_world(s.world_text, f"{log.path} session {s.name}"), s.robot_config
         )
@@ -138,7 +137,7 @@ def _learning(
                 episodes=len(s.episode_table),
                 collisions=int(s.episode_table["bumped"].sum()),
                 exemplars=s.exemplar_count,
-                sim_minutes=sim_s / 60.0,
+                sim_minutes=_simulated_minutes(s),
                 coverage=coverage_of(floor, s.pose),
                 method=s.method,
             )
@@ -177,13 +176,25 @@ def _learning(
     return LogReplay(sessions, log.exemplar_count, minutes, drawn_names)
 
 
+def _simulated_minutes(session: Session) -> float:
+    """How long a session learnt: a learning session that finished, the minutes it was asked
+    for (it drove them all; the episode under way when time ran out is not kept); any other,
+    to the end of its last episode kept."""
+    asked = session.parameters.get("minutes")
+    if session.kind == KIND_LEARNING and session.status == STATUS_FINISHED and asked:
+        return float(asked)
+    table = session.episode_table
+    return float(table["end_time_s"][-1]) / 60.0 if len(table) else 0.0
+
+
 def _minute_row(row: np.ndarray) -> dict[str, int | float]:
-    """A log's minute row (stored as floats) with the types `tvl learn` gives it: counts
-    as whole numbers, ΔV as a float."""
-    return {
+    """A log's minute row (stored as floats, the minute as its start, 0 for the first) as
+    `tvl learn` gives it: counts as whole numbers, the minute counted from 1, ΔV a float."""
+    values = {
         name: float(value) if name == "delta_v" else int(value)
         for name, value in zip(MINUTE_COLUMNS, row, strict=True)
     }
+    return {**values, "minute": int(values["minute"]) + 1}
 
 
 def _session(log: LearningLog, name: str | None) -> Session:

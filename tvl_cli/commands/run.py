@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from contextlib import AbstractContextManager, ExitStack
 from dataclasses import asdict, dataclass, field, fields, replace
 from pathlib import Path
@@ -72,6 +73,7 @@ class RunResult:
     # The options the run was made with, as resolved (the FAM's sonar and memory, the
     # world's goal): the run's inputs beside its FAM and world files
     options: dict[str, Any] = field(default_factory=dict)
+    stopped_by: str | None = None  # the signal that ended the run early ("SIGINT"), if one did
 
     def to_dict(self) -> dict[str, Any]:
         """What `tvl run --json` found: the metrics, the contacts of each simulated minute,
@@ -172,10 +174,15 @@ def run_fam(request: RunRequest, watch: StepSink | None = None) -> RunMetrics:
     return run_behaviour(request, watch).metrics
 
 
-def run_behaviour(request: RunRequest, watch: StepSink | None = None) -> RunResult:
+def run_behaviour(
+    request: RunRequest,
+    watch: StepSink | None = None,
+    stop: Callable[[], str | None] = lambda: None,
+) -> RunResult:
     """Run one behaviour with a learnt FAM; write the trace and picture if asked, show each
     step to `watch` (a progress bar, a live view) as the run goes, and with `request.learn`
-    train the FAM on what the run meets."""
+    train the FAM on what the run meets. A run that `stop()` names a reason for (a signal)
+    ends at that step, and its trace and picture keep what it did."""
     if request.behaviour not in BEHAVIOUR_NAMES:
         raise BadInput(f"unknown behaviour {request.behaviour!r}")
     check_threshold(request.threshold)
@@ -217,12 +224,15 @@ def run_behaviour(request: RunRequest, watch: StepSink | None = None) -> RunResu
             goal_xy=goal,
             on_step=on_step,
             method=method,
+            stop=lambda: stop() is not None,
         )
         if learner is not None:
             learner.finish(metrics.sim_s)
         recorder.close()
+        stopped_by = stop()
         if trace is not None:
             trace.metrics = asdict(metrics)
+            trace.stopped_by = stopped_by
     if request.png is not None:
         # matplotlib only when a picture is wanted
         from tvl_cli.render.plot import path_marks, render_path
@@ -238,7 +248,9 @@ def run_behaviour(request: RunRequest, watch: StepSink | None = None) -> RunResu
         )
     learnt = learner.summary() if learner is not None else None
     options = run_options(request, robot, method, goal)
-    return RunResult(metrics, tally.minutes(metrics), learnt, session, recorded, options)
+    return RunResult(
+        metrics, tally.minutes(metrics), learnt, session, recorded, options, stopped_by
+    )
 
 
 def training_params(fam_file: FamFile, fam_path: Path) -> TrainParams:

@@ -9,7 +9,8 @@ are still read):
                   parameters (JSON: behaviour, threshold, minutes, goal, seed, reflexes, sonar,
                   echo memory, FAM file and its SHA-256, the sonars each trajectory's table
                   reads), robot_config (JSON), metrics (JSON: what `tvl run --json` prints),
-                  method (JSON, core.method.method_record: the method the run was made by)
+                  method (JSON, core.method.method_record: the method the run was made by),
+                  status ("finished", or "interrupted: SIGINT" for a run Ctrl-C ended early)
     pose          (N, 3) float64  true x, y (m), theta (rad) after each step
     odometry      (N, 3) float64  odometry x, y (m), theta (rad) after each step
     ring_mm       (N, 16) uint16  sonar ranges read before the step, mm; 0 if not read
@@ -26,9 +27,10 @@ are still read):
     events        (N,) uint8      events the step began, one bit each (attribute `bits`)
     bumped        (N,) bool       bump sensor after the step
 
-`method` came without a new format version: a record of how the run was made, it changes
-how nothing else is read, so a reader that ignores it misreads nothing. A trace without it
-shows the method as unrecorded.
+`method` and `status` came without a new format version: records of how the run was made
+and ended, they change how nothing else is read, so a reader that ignores them misreads
+nothing. A trace without `method` shows the method as unrecorded; one without `status`
+finished.
 """
 
 from __future__ import annotations
@@ -44,6 +46,7 @@ import numpy as np
 
 from tvl_cli.core.contacts import EVENTS, steps_beginning
 from tvl_cli.io.atomic import atomic_output
+from tvl_cli.io.loglayout import STATUS_FINISHED, ended_status
 from tvl_cli.io.schema import (
     LIBVER,
     RUN_FORMAT,
@@ -98,6 +101,7 @@ class RunTrace:
     reflex_names: tuple[str, ...] = ()
     robot_config: dict[str, Any] = field(default_factory=dict)  # RobotConfig.to_dict()
     method: dict[str, Any] | None = None  # method_record; None: unrecorded
+    status: str = STATUS_FINISHED  # or "interrupted: SIGINT": a run stopped early
 
     @property
     def steps(self) -> int:
@@ -132,6 +136,7 @@ class RunTraceWriter:
         # deallocator, where a failed write can only be printed, not raised.
         self._datasets: dict[str, h5py.Dataset] = {}
         self.metrics: dict[str, Any] = {}  # what `tvl run --json` prints, set when the run ends
+        self.stopped_by: str | None = None  # the signal that ended the run early, if one did
 
     def __call__(self, columns: dict[str, np.ndarray]) -> None:
         """Append the columns (every dataset above, by name, one row per step)."""
@@ -191,6 +196,7 @@ def run_trace_output(
             writer = RunTraceWriter(f, reflex_names)
             yield writer
             f.attrs["metrics"] = to_json(writer.metrics)
+            f.attrs["status"] = ended_status(writer.stopped_by)
             f.flush()
         except (OSError, RuntimeError):
             raise  # possibly a failed write: closing could crash
@@ -229,6 +235,7 @@ def read_run(path: Path | str) -> RunTrace:
             reflex_names=reflex_names,
             robot_config=read_json_attr(f, "robot_config", path),
             method=read_json_attr(f, "method", path) if "method" in f.attrs else None,
+            status=read_str_attr(f, "status", path) if "status" in f.attrs else STATUS_FINISHED,
         )
 
 

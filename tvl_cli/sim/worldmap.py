@@ -10,6 +10,7 @@ from typing import Any
 
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.core.words import counted
 from tvl_cli.sim.worldheader import (
     HEADER_LINE,
     Circle,
@@ -428,7 +429,8 @@ def describe(world: WorldMap) -> str:
         [
             f"name      {world.name}",
             f"size      {world.width_m:g} x {world.height_m:g} m (cell {world.cell_m:g} m)",
-            f"walls     {len(world.segments)} segments, {len(world.rings)} rings",
+            f"walls     {counted(len(world.segments), 'segment')}, "
+            f"{counted(len(world.rings), 'ring')}",
             f"discs     {len(world.discs)}",
             f"start     x {x:g} y {y:g}, heading {math.degrees(heading):g}°",
             f"goals     {goals}",
