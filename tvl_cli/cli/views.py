@@ -8,10 +8,18 @@ from dataclasses import asdict
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from rich.console import Console
-from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, TimeElapsedColumn
+from rich.progress import (
+    BarColumn,
+    Progress,
+    TaskProgressColumn,
+    TextColumn,
+    TimeElapsedColumn,
+    TimeRemainingColumn,
+)
 
-from tvl_cli.cli.tables import NOTHING, cell, facts, label, labelled, number, percent, table
+from tvl_cli.cli.console import err, out, say
+from tvl_cli.cli.fam_views import explanation
+from tvl_cli.cli.tables import NOTHING, cell, facts, label, labelled, percent, table
 from tvl_cli.core.method import describe_record
 from tvl_cli.core.trajectory_choice import DEFAULT_THRESHOLD
 from tvl_cli.core.words import counted
@@ -22,22 +30,12 @@ if TYPE_CHECKING:
     from tvl_cli.agent.drive import Step, StepSink
     from tvl_cli.agent.explore import MinuteStats
     from tvl_cli.analysis.autopsy import Autopsy
-    from tvl_cli.analysis.famdiff import FamDifference
     from tvl_cli.commands.demo import DemoResult
     from tvl_cli.commands.explain import StepExplanation
     from tvl_cli.commands.learn import LearnResult
     from tvl_cli.commands.replay import LogReplay, Replay, RunReplay
     from tvl_cli.commands.run import RunResult
-    from tvl_cli.commands.train import TrainSummary
-    from tvl_cli.core.fired_rules import Explanation
     from tvl_cli.core.metrics import RunMetrics
-
-out = Console(highlight=False)
-err = Console(stderr=True, highlight=False)
-
-
-def say(message: str) -> None:
-    err.print(message)
 
 
 def _bar(description: str) -> Progress:
@@ -46,6 +44,9 @@ def _bar(description: str) -> Progress:
         BarColumn(),
         TaskProgressColumn(),
         TimeElapsedColumn(),
+        TextColumn("elapsed,"),
+        TimeRemainingColumn(),
+        TextColumn("left"),
         console=err,
         transient=True,
         # A bar only for a person watching: scripts and pipes get clean stderr.
@@ -135,36 +136,6 @@ def learn_summary(result: LearnResult, log: Path) -> None:
     out.print(f"method: {describe_record(result.method)}")
 
 
-def train_summary(summary: TrainSummary, output: Path) -> None:
-    rows = [
-        ("configuration", summary.fam.config.name),
-        ("method", describe_record(summary.method)),
-        ("episodes", summary.episodes),
-        ("exemplars used", summary.exemplars),
-        ("rules touched", f"{summary.rules_touched} of {summary.rules_total}"),
-        ("rules never touched", summary.rules_total - summary.rules_touched),
-        ("time (s)", summary.wall_s),
-        *(("trained once", repeat.text()) for repeat in summary.repeated_sessions),
-    ]
-    out.print(facts(rows, title=f"trained → {output}"))
-
-
-def fam_difference(d: FamDifference, first: Path, second: Path) -> None:
-    columns = ("trajectory", "rules differing", "mean |change| (m/s)")
-    differences = table(
-        *columns,
-        title=f"{first} → {second} ({d.config}, tolerance {d.tolerance_mps:g} m/s)",
-        right=columns[1:],
-    )
-    for t in d.trajectories:
-        differences.add_row(
-            t.trajectory, f"{t.differing} of {t.rules}", number(t.mean_abs_change_mps, 3)
-        )
-    out.print(differences)
-    for rule in d.largest:
-        out.print(rule.sentence(), highlight=False, markup=False, soft_wrap=True)
-
-
 def step_explanation(e: StepExplanation) -> None:
     ring = " ".join(f"{r:.2f}" for r in e.ring_m) if e.ring_m else "not read"
     velocities = " ".join(NOTHING if v is None else f"{v:.2f}" for v in e.velocities_mps)
@@ -224,29 +195,6 @@ def autopsy(a: Autopsy) -> None:
             f"goal missed: {a.goal_failure} (came within {a.goal_closest_m:.2f} m of it)",
             highlight=False,
         )
-
-
-def explanation(e: Explanation) -> None:
-    inputs = table("table", "input", "sonars", "range (m)", "memberships", title="inputs")
-    for i in e.inputs:
-        fired = ", ".join(f"{s.name} {s.degree:.2f}" for s in i.fired)
-        sonars = ",".join(f"S{s}" for s in i.sonars)
-        inputs.add_row(i.table, i.name, sonars, f"{i.value_m:.3f}", fired)
-    out.print(inputs)
-    rules = table("table", "IF", "strength", "THEN (m/s, experience)", title="rules that fire")
-    for r in e.rules:
-        then = ", ".join(
-            f"{t} = {v:.2f} ({x:.1f})"
-            for t, v, x in zip(r.trajectories, r.velocities_mps, r.experience, strict=True)
-        )
-        rules.add_row(r.table, " AND ".join(r.set_names), f"{r.strength:.3f}", then)
-    out.print(rules)
-    # What each row holds is said beside it: a title that said it would wrap over the
-    # narrow table of one or two trajectories.
-    perceived = table("", *e.trajectories, title="perceived", right=e.trajectories)
-    perceived.add_row("velocity (m/s)", *(f"{v:.2f}" for v in e.velocities_mps))
-    perceived.add_row("experience", *(f"{x:.1f}" for x in e.experience))
-    out.print(perceived)
 
 
 # The metrics of reaching a goal, which a run that sought none does not show.

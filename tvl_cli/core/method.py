@@ -199,7 +199,8 @@ def method_record(method: Method, names: Iterable[str] = ()) -> dict[str, Any]:
 
 
 def describe_record(record: Mapping[str, Any] | None) -> str:
-    """One line for people: the preset, or how the method differs from ours."""
+    """One line for people: the preset, or how the method differs from ours
+    (`default, except memory none`)."""
     if record is None:
         return "unrecorded"
     preset = record.get("preset")
@@ -207,7 +208,7 @@ def describe_record(record: Mapping[str, Any] | None) -> str:
         return str(preset)
     ours = DEFAULT.to_dict()
     changed = [f"{n} {_shown(record[n])}" for n in FIELDS if n in record and record[n] != ours[n]]
-    return "custom: " + (", ".join(changed) or "as default")
+    return f"default, except {', '.join(changed)}" if changed else "as default"
 
 
 def _shown(value: Any) -> str:

@@ -27,6 +27,7 @@ ROBOT_COLOUR = "#1f77b4"
 GOAL_COLOUR = "#f2b701"
 START_COLOUR = "#555555"  # where a picture of the robot itself marks the start
 WALL_WIDTH_PT = 3.0
+UNTRAINED_HATCH = "////"  # over a velocity no exemplar taught
 FIGURE_WIDTH_IN = 7.0
 MARGIN_M = 0.25  # room around the world for the scale bar and the wall line width
 
@@ -257,10 +258,12 @@ def render_learning_curves(
 
 
 def render_surfaces(surfaces: Sequence[Surface], png_path: str | Path, title: str) -> None:
-    """One panel per trajectory: its learnt velocity over two inputs, on one colour scale."""
+    """One panel per trajectory: its learnt velocity over two inputs, on one colour scale,
+    hatched where it learnt nothing; a trajectory whose table does not read an input says so
+    over its panel."""
     columns = min(len(surfaces), 4)
     rows = math.ceil(len(surfaces) / columns)
-    figure = Figure(figsize=(3.0 * columns + 1.0, 2.8 * rows + 0.6), layout="constrained")
+    figure = Figure(figsize=(3.0 * columns + 1.0, 2.8 * rows + 0.9), layout="constrained")
     FigureCanvasAgg(figure)
     axes = figure.subplots(rows, columns, squeeze=False)
     top = max(float(s.velocity_mps.max()) for s in surfaces) or 1.0
@@ -270,7 +273,17 @@ def render_surfaces(surfaces: Sequence[Surface], png_path: str | Path, title: st
         mesh = ax.pcolormesh(
             ranges, ranges, surface.velocity_mps, vmin=0.0, vmax=top, cmap="viridis"
         )
-        ax.set_title(surface.trajectory, fontsize=10)
+        if surface.untrained.any():
+            ax.contourf(
+                ranges,
+                ranges,
+                surface.untrained.astype(float),
+                levels=[0.5, 1.5],
+                colors="none",
+                hatches=[UNTRAINED_HATCH],
+            )
+        unread = f" (reads no {' or '.join(surface.unread)})" if surface.unread else ""
+        ax.set_title(f"{surface.trajectory}{unread}", fontsize=9 if unread else 10)
         ax.set_xlabel(f"{surface.over[0]} (m)", fontsize=8)
         ax.set_ylabel(f"{surface.over[1]} (m)", fontsize=8)
         ax.set_aspect("equal")
@@ -278,5 +291,7 @@ def render_surfaces(surfaces: Sequence[Surface], png_path: str | Path, title: st
         ax.set_visible(False)
     assert mesh is not None
     figure.colorbar(mesh, ax=axes, label="learnt velocity (m/s)", shrink=0.8)
-    figure.suptitle(title, fontsize=10)
+    figure.suptitle(
+        f"{title}\nhatched: untrained, at the velocity every entry started at", fontsize=10
+    )
     _save(figure, png_path)
