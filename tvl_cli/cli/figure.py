@@ -6,7 +6,7 @@ from pathlib import Path
 
 import click
 
-from tvl_cli.cli import documents
+from tvl_cli.cli import documents, views
 from tvl_cli.cli.options import (
     PICTURE,
     PICTURE_HELP,
@@ -41,4 +41,5 @@ def figure(
     if as_json:
         print_json(documents.figure_json(name, results, output, table, summary))
     else:
-        click.echo(summary, nl=False)
+        # Its tables and notes laid out for the terminal's width; --table keeps the markdown.
+        views.markdown_summary(summary)

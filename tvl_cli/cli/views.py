@@ -17,7 +17,7 @@ from rich.progress import (
     TimeRemainingColumn,
 )
 
-from tvl_cli.cli.console import err, out, say
+from tvl_cli.cli.console import err, folded, out, say
 from tvl_cli.cli.fam_views import explanation
 from tvl_cli.cli.tables import NOTHING, cell, facts, label, labelled, percent, table
 from tvl_cli.core.method import describe_record
@@ -336,12 +336,11 @@ def demo(result: DemoResult) -> None:
         "near misses",
         "speed (m/s)",
         "clearance (m)",
-        "picture",
     )
     runs = table(
         *columns,
         title=f"behaviours after learning (threshold {DEFAULT_THRESHOLD:g})",
-        right=columns[2:6],
+        right=columns[2:],
     )
     for row in result.rows:
         m = row.metrics
@@ -352,6 +351,30 @@ def demo(result: DemoResult) -> None:
             str(m.near_misses),
             f"{m.mean_speed_mps:.2f}",
             f"{m.mean_wall_clearance_m or m.mean_clearance_m:.2f}",
-            str(row.png),
         )
     out.print(runs)
+    # A line a picture, whole: in a table's column a path folds into pieces.
+    out.print("pictures:", *(f"  {row.png}" for row in result.rows), sep="\n", soft_wrap=True)
+
+
+def markdown_summary(text: str) -> None:
+    """A figure's summary (markdown: `### title`, pipe tables and notes) laid out for the
+    terminal: each table as a table of the terminal's, each note folded at its width."""
+    title: str | None = None
+    rows: list[list[str]] = []
+    for line in [*text.splitlines(), ""]:
+        if line.startswith("|"):
+            cells = [c.strip().replace("`", "") for c in line.strip().strip("|").split("|")]
+            if not all(set(c) <= {"-", ":"} for c in cells):  # not the header's rule
+                rows.append(cells)
+            continue
+        if rows:
+            shown = table(*rows[0], title=title, right=rows[0][2:])
+            for cells in rows[1:]:
+                shown.add_row(*cells)
+            out.print(shown)
+            rows, title = [], None
+        if line.startswith("### "):
+            title = line.removeprefix("### ")
+        elif line.strip():
+            out.print(folded(line.replace("`", "")), soft_wrap=True, markup=False)
