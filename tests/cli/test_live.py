@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import subprocess
 from pathlib import Path
 
@@ -117,3 +118,34 @@ def test_the_view_draws_the_robot_the_run_drives(
     assert done.exit_code == 0, done.output
     assert [robot.sonar for robot in shown] == [SONAR_MODELS["ideal"]]
     assert SONAR_MODELS["ideal"] != RobotConfig().sonar
+
+
+def test_the_bars_stay_while_the_robot_spins(fam: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Through `tvl run --live`: on every step that perceives nothing (a spin, a back-off,
+    the steps between two readings) the view still shows the seven bars, as last perceived."""
+    from click.testing import CliRunner
+
+    from tvl_cli.cli import live, views
+    from tvl_cli.cli.main import main
+
+    blind: list[str] = []  # the side panel on each step that perceived no velocities
+
+    class Watched(LiveView):
+        def __call__(self, step) -> None:  # type: ignore[no-untyped-def]
+            super().__call__(step)
+            if step.decision.velocities is None and self.perceived is not None:
+                console = Console(record=True, width=80, color_system=None)
+                console.print(*self._side())
+                blind.append(console.export_text())
+
+    monkeypatch.setattr(live, "LiveView", Watched)
+    monkeypatch.setattr(views, "out", Console(force_terminal=True, width=80, height=24))
+    args = ["run", fam, LAB, "--behaviour", "avoid", "--minutes", "0.5", "--live", "--json"]
+    done = CliRunner().invoke(main, list(map(str, args)))
+    assert done.exit_code == 0, done.output
+    spins = json.loads(done.stdout[done.stdout.index("{") :])["spins"]
+    assert spins > 0 and any("spinning: as perceived at" in side for side in blind)
+    for side in blind:
+        assert "as perceived at" in side
+        assert all(f"{name} " in side for name in ("T3L", "T2L", "T1L", "T0", "T1R", "T2R", "T3R"))
+        assert "no velocities perceived" not in side

@@ -52,7 +52,7 @@ from tvl_cli.render.plot import ROBOT_COLOUR
 from tvl_cli.sim.worldmap import load_world
 
 square = Path({str(SQUARE)!r})
-view = WindowView(load_world(square), RobotConfig(), 0.85, pace=None)
+view = WindowView(load_world(square), RobotConfig(), 0.85, None, pace=None)
 run_fam(RunRequest(Path({str(fam)!r}), square, "avoid", 0.85, 0.2, seed=1), view)
 view.draw()
 view.window.hold(0.3)

@@ -50,6 +50,7 @@ class LiveView:
         self.walls = self._wall_cells(world)
         self.visited: set[tuple[int, int]] = set()
         self.step: Step | None = None
+        self.perceived: Step | None = None  # the last step that perceived velocities
         self.counts = {BUMP: 0, NEAR_MISS: 0}
         self.distance_m = 0.0
         self.caption = ""  # a line of the caller's: while learning, the last minute's counts
@@ -60,6 +61,8 @@ class LiveView:
             (x0, y0, _), (x1, y1, _) = self.step.pose, step.pose
             self.distance_m += math.hypot(x1 - x0, y1 - y0)
         self.step = step
+        if step.decision.velocities is not None:
+            self.perceived = step
         self.visited.add(self._cell(step.pose[0], step.pose[1]))
         for event in step.events:
             if event in self.counts:
@@ -148,13 +151,19 @@ class LiveView:
         return lines
 
     def _bars(self, step: Step) -> list[Text]:
-        """A bar per trajectory: perceived velocity, '|' at the threshold, '*' driven."""
-        velocities, fast = step.decision.velocities, step.decision.fast
-        if velocities is None:  # nothing perceived: exploring, spinning or backing off
+        """A bar per trajectory: perceived velocity, '|' at the threshold, '*' driven. On a
+        step that perceived nothing (a spin, a back-off, an episode of learning), the bars
+        of the last step that did, dimmed, under the time they were perceived at."""
+        shown = step if step.decision.velocities is not None else self.perceived
+        if shown is None:
             followed = step.decision.trajectory
             name = self.robot.trajectories[followed].name if followed >= 0 else "none"
             return [Text(f"following {name}, no velocities perceived")]
+        velocities, fast = shown.decision.velocities, shown.decision.fast
+        assert velocities is not None
         lines = []
+        if shown is not step:
+            lines.append(Text(f"{_doing(step)}: as perceived at {shown.time_s:.1f} s", "dim"))
         for j, trajectory in enumerate(self.robot.trajectories):
             top = trajectory.v_max_mps
             v = 0.0 if np.isnan(velocities[j]) else float(velocities[j])
@@ -165,8 +174,19 @@ class LiveView:
             )
             driven = "*" if j == step.decision.trajectory else " "
             style = "green" if fast is not None and fast[j] else ""
-            lines.append(Text(f"{driven}{trajectory.name:>3} {bar} {v:.2f}", style=style))
+            faded = "" if shown is step else "dim "
+            lines.append(Text(f"{driven}{trajectory.name:>3} {bar} {v:.2f}", f"{faded}{style}"))
         return lines
+
+
+def _doing(step: Step) -> str:
+    """What a step that perceived nothing did, in a word or two."""
+    decision = step.decision
+    if decision.reflex:
+        return decision.reflex
+    if decision.trapped:
+        return "trapped"
+    return "spinning" if decision.trajectory < 0 else "following"
 
 
 def _hold_back(time_s: float, pace: float | None, started: float) -> None:
@@ -183,7 +203,12 @@ class WindowView:
     frames a wall second, and paces the run."""
 
     def __init__(
-        self, world: WorldMap, robot: RobotConfig, threshold: float, pace: float | None
+        self,
+        world: WorldMap,
+        robot: RobotConfig,
+        threshold: float,
+        goal: tuple[float, float] | None,
+        pace: float | None,
     ) -> None:
         from tvl_cli.render.animate import FIGURE_SIZE_IN, WINDOW_DPI, RunFrame
         from tvl_cli.render.window import FrameWindow
@@ -193,7 +218,7 @@ class WindowView:
         width_in, height_in = FIGURE_SIZE_IN
         size_px = (round(height_in * WINDOW_DPI), round(width_in * WINDOW_DPI))
         self.window = FrameWindow(f"tvl run: {world.name}", size_px, WINDOW_DPI)
-        self.frame = RunFrame(world, robot, threshold, WINDOW_DPI)
+        self.frame = RunFrame(world, robot, threshold, WINDOW_DPI, goal)
         self.window.show(self.frame.blitter.still())
         self.trail: list[tuple[float, float]] = []
         self.step: Step | None = None

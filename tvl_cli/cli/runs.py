@@ -372,10 +372,10 @@ def _watching(request: RunRequest, view: str | None, pace: float | None) -> Iter
 
     world = load_world(request.world)
     robot = request_robot(request)
+    goal = resolve_goal(request.world, world, request.behaviour, request.goal)
     if view == WINDOW:
-        with window_view(WindowView(world, robot, request.threshold, pace)) as shown:
+        with window_view(WindowView(world, robot, request.threshold, goal, pace)) as shown:
             yield shown
         return
-    goal = resolve_goal(request.world, world, request.behaviour, request.goal)
     with live_view(LiveView(world, robot, request.threshold, goal, pace), views.out) as watch:
         yield watch

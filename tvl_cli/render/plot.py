@@ -17,6 +17,8 @@ from matplotlib.path import Path as DrawPath
 from tvl_cli.analysis.surface import Surface
 from tvl_cli.core.contacts import BACKOFF, BUMP, NEAR_MISS, steps_beginning
 from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.core.trajectory_choice import GOAL_RADIUS_M
+from tvl_cli.core.words import counted
 from tvl_cli.render.formats import save_picture
 from tvl_cli.sim.worldmap import WorldMap
 
@@ -25,6 +27,8 @@ SOLID_COLOUR = "#c8c8c8"  # wall and furniture material behind the outlines
 PILLAR_COLOUR = "#8c8c8c"
 ROBOT_COLOUR = "#1f77b4"
 GOAL_COLOUR = "#f2b701"
+TARGET_COLOUR = "crimson"  # the goal a run seeks, and how near counts as reached
+OTHER_GOAL_COLOUR = "#8c8c8c"  # the world's goals a run does not seek
 START_COLOUR = "#555555"  # where a picture of the robot itself marks the start
 WALL_WIDTH_PT = 3.0
 UNTRAINED_HATCH = "////"  # over a velocity no exemplar taught
@@ -32,13 +36,19 @@ FIGURE_WIDTH_IN = 7.0
 MARGIN_M = 0.25  # room around the world for the scale bar and the wall line width
 
 
-def draw_world(ax: Axes, world: WorldMap, robot_at_start: bool = True) -> None:
+def draw_world(
+    ax: Axes,
+    world: WorldMap,
+    robot_at_start: bool = True,
+    target: Sequence[float] | None = None,
+) -> None:
     """Walls, pillars, ring walls, the start pose and the goals, in metres on equal axes.
 
     The start is drawn as the robot standing there; where the picture draws the robot
     itself (a moment of a run, a replay's frames), `robot_at_start` False marks it instead
     with a small open triangle pointing the way the robot started, so that only the robot
-    looks like one."""
+    looks like one. A run that seeks the goal `target` (X, Y) draws it ringed at the distance
+    that counts as reached, and the world's other goals hollow."""
     ax.add_patch(Rectangle((0, 0), world.width_m, world.height_m, color=SOLID_COLOUR, lw=0))
     ax.add_patch(PathPatch(_floor(world), facecolor="white", lw=0))
     walls = [((x1, y1), (x2, y2)) for x1, y1, x2, y2 in world.segments]
@@ -54,18 +64,21 @@ def draw_world(ax: Axes, world: WorldMap, robot_at_start: bool = True) -> None:
         _draw_robot_at_start(ax, world.start)
     else:
         _mark_start(ax, world.start)
-    if world.goals:
-        gx, gy = zip(*world.goals, strict=True)
+    others = [goal for goal in world.goals if target is None or tuple(goal) != tuple(target)]
+    if others:
+        gx, gy = zip(*others, strict=True)
         ax.plot(
             gx,
             gy,
             linestyle="none",
             marker="*",
             markersize=14,
-            color=GOAL_COLOUR,
-            markeredgecolor="black",
-            markeredgewidth=0.6,
+            color=GOAL_COLOUR if target is None else "none",
+            markeredgecolor="black" if target is None else OTHER_GOAL_COLOUR,
+            markeredgewidth=0.6 if target is None else 1.0,
         )
+    if target is not None:
+        _mark_target(ax, (float(target[0]), float(target[1])))
 
     # A 1 m scale bar under the bottom-left corner.
     bar_y = -0.6 * MARGIN_M
@@ -90,6 +103,23 @@ def _draw_robot_at_start(ax: Axes, start: tuple[float, float, float]) -> None:
         xy=(x + 2 * radius * math.cos(heading), y + 2 * radius * math.sin(heading)),
         xytext=(x, y),
         arrowprops={"arrowstyle": "-|>", "color": ROBOT_COLOUR, "lw": 2, "mutation_scale": 15},
+    )
+
+
+def _mark_target(ax: Axes, goal: tuple[float, float]) -> None:
+    """The goal a run seeks: a star ringed at the distance that counts as reached."""
+    ax.add_patch(
+        Circle(goal, GOAL_RADIUS_M, fill=False, edgecolor=TARGET_COLOUR, lw=1.5, ls="--", zorder=3)
+    )
+    ax.plot(
+        *goal,
+        linestyle="none",
+        marker="*",
+        markersize=16,
+        color=GOAL_COLOUR,
+        markeredgecolor=TARGET_COLOUR,
+        markeredgewidth=1.2,
+        zorder=6,
     )
 
 
@@ -134,12 +164,14 @@ def _floor(world: WorldMap) -> DrawPath:
     return DrawPath(vertices, codes)
 
 
-def _world_figure(world: WorldMap, extra_width_in: float = 0.0) -> tuple[Figure, Axes]:
+def _world_figure(
+    world: WorldMap, extra_width_in: float = 0.0, target: Sequence[float] | None = None
+) -> tuple[Figure, Axes]:
     aspect = (world.height_m + 3.5 * MARGIN_M) / (world.width_m + 2 * MARGIN_M)
     figure = Figure(figsize=(FIGURE_WIDTH_IN + extra_width_in, FIGURE_WIDTH_IN * aspect + 0.8))
     FigureCanvasAgg(figure)
     ax = figure.add_subplot()
-    draw_world(ax, world)
+    draw_world(ax, world, target=target)
     return figure, ax
 
 
@@ -156,9 +188,9 @@ def render_world(world: WorldMap, png_path: str | Path) -> None:
 
 # How each event a path marks is drawn: (matplotlib marker, colour, size, legend noun).
 PATH_MARKS: dict[str, tuple[str, str, float, str]] = {
-    BUMP: ("x", "red", 8, "collisions"),
-    NEAR_MISS: ("^", "darkorange", 6, "near misses"),
-    BACKOFF: (".", "purple", 5, "back-offs"),
+    BUMP: ("x", "red", 8, "collision"),
+    NEAR_MISS: ("^", "darkorange", 6, "near miss"),
+    BACKOFF: (".", "purple", 5, "back-off"),
 }
 
 
@@ -173,7 +205,7 @@ def render_path(
 ) -> None:
     """The world with a path coloured by speed, and the steps where events began (`marks`:
     step indices by event, of PATH_MARKS) marked where the robot then was."""
-    figure, ax = _world_figure(world, extra_width_in=1.2)
+    figure, ax = _world_figure(world, extra_width_in=1.2, target=goal)
     xy = np.asarray(poses, dtype=np.float64).reshape(-1, 3)[:, :2]  # (N, 2) metres
     speed = np.abs(np.asarray(speeds_mps, dtype=np.float64))
     if len(xy) > 1:
@@ -194,12 +226,10 @@ def render_path(
                 color=colour,
                 markersize=size,
                 zorder=5,
-                label=f"{len(steps)} {noun}",
+                label=counted(len(steps), noun),
             )
     if any(len(steps) for steps in marks.values()):
         ax.legend(loc="upper right", fontsize=8)
-    if goal is not None:
-        ax.plot(*goal, marker="*", color="crimson", markersize=16, zorder=6)
     ax.set_title(title)
     _save(figure, png_path)
 
