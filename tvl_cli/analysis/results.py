@@ -23,6 +23,7 @@ from tvl_cli.core import competence, jsontext
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.method import DEFAULT_NAME, PAPER_NAME
 from tvl_cli.core.metrics import RunMetrics
+from tvl_cli.core.text import decoded
 from tvl_cli.core.trajectory_choice import BEHAVIOUR_NAMES, is_threshold
 
 Row = dict[str, Any]
@@ -65,11 +66,11 @@ def read_results(path: Path) -> dict[int, Row]:
     """The runs of a JSON-lines results file by line number; BadInput naming the line that is
     not one."""
     try:
-        text = path.read_text(encoding="utf-8")
+        text = decoded(path.read_bytes(), str(path))
     except FileNotFoundError:
         raise BadInput(f"{path}: no such results file") from None
-    except (OSError, UnicodeDecodeError) as error:
-        raise BadInput(f"{path}: cannot read ({error})") from None
+    except OSError as error:
+        raise BadInput(f"{path}: cannot read ({error.strerror})") from None
     rows: dict[int, Row] = {}
     for number, line in enumerate(text.splitlines(), start=1):
         if not line.strip():

@@ -7,7 +7,7 @@ from pathlib import Path
 import click
 
 from tvl_cli.cli import documents
-from tvl_cli.cli.options import print_json, refuse_existing, refuse_shared_paths
+from tvl_cli.cli.options import MCAP, print_json, refuse_existing, refuse_shared_paths
 from tvl_cli.commands.export import export_mcap
 
 
@@ -16,7 +16,7 @@ from tvl_cli.commands.export import export_mcap
 @click.option(
     "--mcap",
     "output",
-    type=click.Path(path_type=Path),
+    type=MCAP,
     required=True,
     metavar="OUT.mcap",
     help="MCAP file for Foxglove.",

@@ -11,6 +11,7 @@ from tvl_cli.analysis.famdiff import DEFAULT_TOLERANCE_MPS
 from tvl_cli.analysis.rules import SORT_KEYS
 from tvl_cli.cli import documents, fam_views, views
 from tvl_cli.cli.options import (
+    HDF5,
     PICTURE,
     given_on_command_line,
     memory_options,
@@ -32,7 +33,7 @@ from tvl_cli.core.method import MethodChoice
 
 @click.command()
 @click.argument("logs", nargs=-1, required=True, type=click.Path(path_type=Path))
-@click.option("-o", "--output", type=click.Path(path_type=Path), required=True, help="FAM file.")
+@click.option("-o", "--output", type=HDF5, required=True, help="FAM file (.h5).")
 @method_options
 @training_options
 @click.option(

@@ -8,6 +8,7 @@ import click
 
 from tvl_cli.cli import documents, views
 from tvl_cli.cli.options import (
+    MARKDOWN,
     PICTURE,
     PICTURE_HELP,
     print_json,
@@ -22,7 +23,7 @@ from tvl_cli.commands.figure import FigureRequest, draw
 @click.argument("name", metavar="NAME", shell_complete=complete_figure)
 @click.argument("results", type=click.Path(path_type=Path))
 @click.option("-o", "--output", type=PICTURE, required=True, help=PICTURE_HELP)
-@click.option("--table", type=click.Path(path_type=Path), default=None, help="Markdown file.")
+@click.option("--table", type=MARKDOWN, default=None, help="Markdown file (.md).")
 @click.option("--force", is_flag=True, help="Overwrite the picture and table files.")
 @click.option("--json", "as_json", is_flag=True, help="Print the files and the table as JSON.")
 def figure(

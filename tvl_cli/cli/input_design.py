@@ -8,7 +8,7 @@ import click
 
 from tvl_cli.analysis.input_selection import DEFAULT_BUDGET_RULES
 from tvl_cli.cli import documents
-from tvl_cli.cli.options import SEED, print_json, refuse_existing, refuse_shared_paths
+from tvl_cli.cli.options import JSON_FILE, SEED, print_json, refuse_existing, refuse_shared_paths
 from tvl_cli.cli.tables import table
 from tvl_cli.cli.views import out
 from tvl_cli.commands.design import DesignSummary, design_from_logs
@@ -18,9 +18,7 @@ from tvl_cli.core.words import counted
 
 @click.command()
 @click.argument("logs", nargs=-1, required=True, type=click.Path(path_type=Path))
-@click.option(
-    "-o", "--output", type=click.Path(path_type=Path), required=True, help="CONFIG.json to write."
-)
+@click.option("-o", "--output", type=JSON_FILE, required=True, help="CONFIG.json to write.")
 @click.option(
     "--budget",
     type=click.IntRange(1, MAX_ENTRIES),

@@ -10,6 +10,7 @@ import click
 from tvl_cli.agent.explore import LearnParams, MinuteStats
 from tvl_cli.cli import documents, views
 from tvl_cli.cli.options import (
+    HDF5,
     SEED,
     live_options,
     memory_options,
@@ -34,9 +35,9 @@ DEFAULT_LEARN = LearnParams()
 @click.argument("world_file", metavar="WORLD", type=click.Path(path_type=Path))
 @click.option(
     "--log",
-    type=click.Path(path_type=Path),
+    type=HDF5,
     required=True,
-    help="Learning log to create or add a session to.",
+    help="Learning log (.h5) to create or add a session to.",
 )
 @click.option(
     "--minutes",
@@ -51,9 +52,9 @@ DEFAULT_LEARN = LearnParams()
 @click.option(
     "--fam",
     "fam_out",
-    type=click.Path(path_type=Path),
+    type=HDF5,
     default=None,
-    help="Also write the online FAM here.",
+    help="Also write the online FAM here (.h5).",
 )
 @click.option(
     "--learn-speed",

@@ -20,6 +20,7 @@ from tvl_cli.cli import documents, views
 from tvl_cli.cli.options import (
     GIF,
     GOAL,
+    HDF5,
     MP4,
     PICTURE,
     SEED,
@@ -71,9 +72,7 @@ VIEWS = (TERMINAL, WINDOW)
 )
 @click.option("--seed", type=SEED, default=1, show_default=True)
 @click.option("--png", type=PICTURE, default=None, help="Draw the path.")
-@click.option(
-    "--log", "trace", type=click.Path(path_type=Path), default=None, help="Write a run trace."
-)
+@click.option("--log", "trace", type=HDF5, default=None, help="Write a run trace (.h5).")
 @method_options
 @reflex_options(default=ALL)
 @click.option(
@@ -89,7 +88,7 @@ VIEWS = (TERMINAL, WINDOW)
 )
 @click.option(
     "--learn-log",
-    type=click.Path(path_type=Path),
+    type=HDF5,
     default=None,
     metavar="LOG",
     help="Learn while behaving (as --learn) and append what is learnt to LOG as a behaving "

@@ -30,8 +30,7 @@ def atomic_output(path: Path | str, overwrite: bool = True) -> Iterator[Path]:
     The temporary file sits in the same directory so the rename never crosses file systems.
     """
     path = Path(path)
-    if not path.parent.is_dir():
-        raise BadInput(f"{path}: cannot write, directory {path.parent} does not exist")
+    refuse_missing_directory(path)
     refuse_non_file(path)
     _remove_abandoned_temporaries(path)
     temporary = path.with_name(f".{path.name}.{_HOST}.{os.getpid()}.{secrets.token_hex(4)}.tmp")
@@ -54,6 +53,17 @@ def atomic_output(path: Path | str, overwrite: bool = True) -> Iterator[Path]:
     except BaseException:
         temporary.unlink(missing_ok=True)
         raise
+
+
+def refuse_missing_directory(path: Path) -> None:
+    """BadInput unless the directory to write `path` in is there: one that does not exist,
+    or a file named where a directory should be."""
+    folder = path.parent
+    if folder.is_dir():
+        return
+    if folder.exists():
+        raise BadInput(f"{path}: cannot write, {folder} is a file, not a directory")
+    raise BadInput(f"{path}: cannot write, directory {folder} does not exist")
 
 
 def refuse_non_file(path: Path) -> None:

@@ -9,6 +9,7 @@ from tvl_cli.core.errors import BadInput, did_you_mean
 from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS, FamConfig
 from tvl_cli.core.fam_config_json import fam_config_from_json
 from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.core.text import decoded
 
 
 def resolve_fam_config(spec: str, robot: RobotConfig) -> FamConfig:
@@ -22,7 +23,8 @@ def resolve_fam_config(spec: str, robot: RobotConfig) -> FamConfig:
             f"({did_you_mean(spec, list(BUILTIN_FAM_CONFIGS))})"
         )
     try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as error:
-        raise BadInput(f"{spec}: cannot read the FAM configuration ({error})") from None
+        data = path.read_bytes()
+    except OSError as error:
+        raise BadInput(f"{spec}: cannot read the FAM configuration ({error.strerror})") from None
+    text = decoded(data, spec)
     return fam_config_from_json(text, [t.name for t in robot.trajectories], spec)

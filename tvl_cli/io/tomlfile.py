@@ -8,6 +8,7 @@ from pathlib import Path
 from typing import Any
 
 from tvl_cli.core.errors import BadInput
+from tvl_cli.core.text import decoded
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -22,15 +23,13 @@ def read_toml(path: Path, what: str) -> dict[str, Any]:
     """The table of a TOML file; BadInput naming the file (and the line of a syntax error).
     `what` names the kind of file for a missing one ("grid")."""
     try:
-        text = path.read_text(encoding="utf-8")
+        text = decoded(path.read_bytes(), str(path))
     except FileNotFoundError:
         raise BadInput(f"{path}: no such {what} file") from None
     except IsADirectoryError:
         raise BadInput(f"{path}: is a directory, not a {what} file") from None
     except OSError as error:
         raise BadInput(f"{path}: cannot read ({error.strerror})") from None
-    except UnicodeDecodeError as error:
-        raise BadInput(f"{path}: not UTF-8 text ({error.reason})") from None
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as error:

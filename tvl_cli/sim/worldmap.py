@@ -10,6 +10,7 @@ from typing import Any
 
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.core.text import decoded
 from tvl_cli.core.words import counted
 from tvl_cli.sim.worldheader import (
     HEADER_LINE,
@@ -64,15 +65,7 @@ def load_world(path: str | Path) -> WorldMap:
         raise WorldMapError(f"{path}: cannot read ({error.strerror})") from None
     if len(data) > MAX_FILE_BYTES:
         raise WorldMapError(f"{path}: file is over 1 MB (a world map is a small text file)")
-    try:
-        text = data.decode("utf-8-sig")  # tolerate the byte-order mark some editors write
-    except UnicodeDecodeError as error:
-        line = data.count(b"\n", 0, error.start) + 1
-        col = error.start - (data.rfind(b"\n", 0, error.start) + 1) + 1
-        raise WorldMapError(
-            f"{path}:{line}:{col}: not UTF-8 text (byte 0x{data[error.start]:02x})"
-        ) from None
-    return parse_world(text, str(path))
+    return parse_world(decoded(data, str(path), WorldMapError), str(path))
 
 
 @dataclass(frozen=True, slots=True)
