@@ -10,6 +10,7 @@ import click
 from tvl_cli.analysis.famdiff import DEFAULT_TOLERANCE_MPS
 from tvl_cli.analysis.rules import SORT_KEYS
 from tvl_cli.cli import documents, fam_views, views
+from tvl_cli.cli.examples import examples
 from tvl_cli.cli.options import (
     HDF5,
     PICTURE,
@@ -31,7 +32,7 @@ from tvl_cli.commands.train import train as train_fam
 from tvl_cli.core.method import MethodChoice
 
 
-@click.command()
+@click.command(epilog=examples("train"))
 @click.argument("logs", nargs=-1, required=True, type=click.Path(path_type=Path))
 @click.option("-o", "--output", type=HDF5, required=True, help="FAM file (.h5).")
 @method_options
@@ -70,7 +71,7 @@ def train(
         fam_views.train_summary(summary, output, method)
 
 
-@click.command()
+@click.command(epilog=examples("inspect"))
 @click.argument("fam", type=click.Path(path_type=Path))
 @click.option(
     "--trajectory",
@@ -176,7 +177,7 @@ def inspect(
 RULE_OPTIONS = ("--trajectory", "--top", "--sort", "--untrained")
 
 
-@click.command()
+@click.command(epilog=examples("diff"))
 @click.argument("first", type=click.Path(path_type=Path))
 @click.argument("second", type=click.Path(path_type=Path))
 @click.option(

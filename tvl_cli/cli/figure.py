@@ -7,6 +7,7 @@ from pathlib import Path
 import click
 
 from tvl_cli.cli import documents, views
+from tvl_cli.cli.examples import examples
 from tvl_cli.cli.options import (
     MARKDOWN,
     PICTURE,
@@ -19,7 +20,7 @@ from tvl_cli.cli.params import complete_figure
 from tvl_cli.commands.figure import FigureRequest, draw
 
 
-@click.command()
+@click.command(epilog=examples("figure"))
 @click.argument("name", metavar="NAME", shell_complete=complete_figure)
 @click.argument("results", type=click.Path(path_type=Path))
 @click.option("-o", "--output", type=PICTURE, required=True, help=PICTURE_HELP)

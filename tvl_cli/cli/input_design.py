@@ -8,6 +8,7 @@ import click
 
 from tvl_cli.analysis.input_selection import DEFAULT_BUDGET_RULES
 from tvl_cli.cli import documents
+from tvl_cli.cli.examples import examples
 from tvl_cli.cli.options import JSON_FILE, SEED, print_json, refuse_existing, refuse_shared_paths
 from tvl_cli.cli.tables import table
 from tvl_cli.cli.views import out
@@ -16,7 +17,7 @@ from tvl_cli.core.fam_config_json import MAX_ENTRIES
 from tvl_cli.core.words import counted
 
 
-@click.command()
+@click.command(epilog=examples("design"))
 @click.argument("logs", nargs=-1, required=True, type=click.Path(path_type=Path))
 @click.option("-o", "--output", type=JSON_FILE, required=True, help="CONFIG.json to write.")
 @click.option(

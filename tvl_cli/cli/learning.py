@@ -9,15 +9,16 @@ import click
 
 from tvl_cli.agent.explore import LearnParams, MinuteStats
 from tvl_cli.cli import documents, views
+from tvl_cli.cli.examples import examples
 from tvl_cli.cli.options import (
     HDF5,
-    SEED,
     live_options,
     memory_options,
     method_options,
     print_json,
     refuse_existing,
     refuse_shared_paths,
+    seed_option,
     training_options,
 )
 from tvl_cli.commands.interrupts import STOPPED_EXIT
@@ -31,7 +32,7 @@ from tvl_cli.sim.worldmap import load_world
 DEFAULT_LEARN = LearnParams()
 
 
-@click.command()
+@click.command(epilog=examples("learn"))
 @click.argument("world_file", metavar="WORLD", type=click.Path(path_type=Path))
 @click.option(
     "--log",
@@ -46,7 +47,7 @@ DEFAULT_LEARN = LearnParams()
     show_default=True,
     help="Simulated minutes.",
 )
-@click.option("--seed", type=SEED, default=1, show_default=True)
+@seed_option("every random choice (exploration's ties, sonar and odometry noise)")
 @method_options
 @training_options
 @click.option(

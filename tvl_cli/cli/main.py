@@ -17,6 +17,7 @@ from typing import NoReturn
 import click
 
 from tvl_cli import __version__
+from tvl_cli.cli.examples import examples
 from tvl_cli.commands.interrupts import STOPPED_EXIT
 from tvl_cli.core.errors import BadInput, EnvironmentFailure
 
@@ -218,7 +219,11 @@ def _file_of(error: BaseException) -> str:
 
 
 # -h as well as --help, for the group and (inherited through the context) every command.
-@click.group(cls=TvlGroup, context_settings={"help_option_names": ["-h", "--help"]})
+@click.group(
+    cls=TvlGroup,
+    context_settings={"help_option_names": ["-h", "--help"]},
+    epilog=examples(""),
+)
 @click.version_option(__version__, prog_name="tvl")
 @click.option("--debug", is_flag=True, help="Show the traceback of an error.")
 @click.pass_context

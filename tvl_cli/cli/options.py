@@ -45,7 +45,42 @@ from tvl_cli.io.methodfile import chosen_method
 from tvl_cli.io.table import csv_text
 from tvl_cli.render.formats import picture_format, refuse_other_extension
 
-SEED = click.IntRange(0, MAX_SEED)
+
+class Seed(click.ParamType):
+    """A seed: a whole number a 64-bit file field holds and numpy takes (0 to 2^63 - 1),
+    said so in words rather than as click's range of nineteen digits."""
+
+    name = "seed"
+
+    def get_metavar(self, *args: Any, **kwargs: Any) -> str:
+        return "N"
+
+    def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> Any:
+        if isinstance(value, int) and not isinstance(value, bool):
+            number = value
+        else:
+            try:
+                number = int(str(value).strip())
+            except ValueError:
+                self.fail(f"{value!r} is not a whole number", param, ctx)
+        if not 0 <= number <= MAX_SEED:
+            self.fail(f"{value} is not a seed: a whole number from 0 to 2^63 - 1", param, ctx)
+        return number
+
+
+SEED = Seed()
+
+
+def seed_option(what: str) -> Callable[[Callable[..., None]], Callable[..., None]]:
+    """--seed N, default 1, its help saying `what` it draws: the same seed and inputs give the
+    same outputs."""
+    return click.option(
+        "--seed",
+        type=SEED,
+        default=1,
+        show_default=True,
+        help=f"Seed of {what}; the same seed gives the same result.",
+    )
 
 
 class FormattedPath(click.Path):

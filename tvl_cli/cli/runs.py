@@ -17,13 +17,13 @@ from typing import TYPE_CHECKING
 import click
 
 from tvl_cli.cli import documents, views
+from tvl_cli.cli.examples import examples
 from tvl_cli.cli.options import (
     GIF,
     GOAL,
     HDF5,
     MP4,
     PICTURE,
-    SEED,
     given_on_command_line,
     live_options,
     memory_options,
@@ -34,6 +34,7 @@ from tvl_cli.cli.options import (
     refuse_both_formats,
     refuse_existing,
     refuse_shared_paths,
+    seed_option,
 )
 from tvl_cli.core.contacts import EVENT_CHOICES
 from tvl_cli.core.errors import DEFAULT_RUN_MINUTES, BadInput
@@ -51,7 +52,7 @@ TERMINAL, WINDOW = "terminal", "window"
 VIEWS = (TERMINAL, WINDOW)
 
 
-@click.command()
+@click.command(epilog=examples("run"))
 @click.argument("fam", type=click.Path(path_type=Path))
 @click.argument("world_file", metavar="WORLD", type=click.Path(path_type=Path))
 @click.option("--behaviour", type=click.Choice(BEHAVIOUR_NAMES), required=True)
@@ -70,7 +71,7 @@ VIEWS = (TERMINAL, WINDOW)
     show_default=True,
     help="Simulated minutes.",
 )
-@click.option("--seed", type=SEED, default=1, show_default=True)
+@seed_option("the sonar and odometry noise")
 @click.option("--png", type=PICTURE, default=None, help="Draw the path.")
 @click.option("--log", "trace", type=HDF5, default=None, help="Write a run trace (.h5).")
 @method_options
@@ -178,7 +179,7 @@ def run(
 ANIMATION_OPTIONS = ("--from", "--to", "--every", "--fps")
 
 
-@click.command()
+@click.command(epilog=examples("replay"))
 @click.argument("file", type=click.Path(path_type=Path))
 @click.option("--png", type=PICTURE, default=None, help="Draw the paths.")
 @click.option(
@@ -266,7 +267,7 @@ def replay(
         views.replay(summary)
 
 
-@click.command()
+@click.command(epilog=examples("demo"))
 @click.argument("directory", default="tvl-demo", type=click.Path(path_type=Path))
 @click.option("--force", is_flag=True, help="Write into a DIRECTORY that is not empty.")
 @click.option("--json", "as_json", is_flag=True, help="Print the results as JSON.")
@@ -281,7 +282,7 @@ def demo(directory: Path, force: bool, as_json: bool) -> None:
         views.demo(result)
 
 
-@click.command()
+@click.command(epilog=examples("explain"))
 @click.argument("trace", metavar="RUN", type=click.Path(path_type=Path))
 @click.option("--step", type=click.IntRange(min=0), default=None, help="The step, 0 the first.")
 @click.option(

@@ -8,6 +8,8 @@ from pathlib import Path
 import click
 
 from tvl_cli.cli import documents
+from tvl_cli.cli.examples import examples
+from tvl_cli.cli.groups import Subcommands
 from tvl_cli.cli.options import (
     PICTURE,
     PICTURE_HELP,
@@ -31,12 +33,16 @@ from tvl_cli.sim.worldgen import KINDS, SMOOTH, Materials
 from tvl_cli.sim.worldmap import describe, world_to_dict
 
 
-@click.group()
+@click.group(cls=Subcommands, epilog=examples("world"))
 def world() -> None:
     """Make, check, show and draw text-map worlds; import and export occupancy grids."""
 
 
-@world.command("new", help=f"Write a generated world of KIND: {', '.join(KINDS)}.")
+@world.command(
+    "new",
+    help=f"Write a generated world of KIND: {', '.join(KINDS)}.",
+    epilog=examples("world new"),
+)
 @click.argument("kind", metavar="KIND", type=click.Choice(list(KINDS)))
 @click.option("-o", "--output", type=click.Path(path_type=Path), required=True, help="World file.")
 @click.option("--size", type=(float, float), default=None, metavar="W H", help="Metres.")
@@ -86,7 +92,7 @@ def world_new(
         click.echo(f"{output}: a {kind} world ({counts_text(made)})")
 
 
-@world.command("show")
+@world.command("show", epilog=examples("world show"))
 @click.argument("file", type=click.Path(path_type=Path))
 @click.option("--json", "as_json", is_flag=True, help="Print the geometry as JSON.")
 def world_show(file: Path, as_json: bool) -> None:
@@ -99,7 +105,7 @@ def world_show(file: Path, as_json: bool) -> None:
         click.echo(describe(loaded))
 
 
-@world.command("check")
+@world.command("check", epilog=examples("world check"))
 @click.argument("file", type=click.Path(path_type=Path))
 @click.option("--json", "as_json", is_flag=True, help="Print the counts as JSON.")
 def world_check(file: Path, as_json: bool) -> None:
@@ -111,7 +117,7 @@ def world_check(file: Path, as_json: bool) -> None:
         click.echo(f"{file}: ok ({counts_text(found)})")
 
 
-@world.command("render")
+@world.command("render", epilog=examples("world render"))
 @click.argument("file", type=click.Path(path_type=Path))
 @click.option("-o", "--output", type=PICTURE, required=True, help=PICTURE_HELP)
 @click.option("--force", is_flag=True, help="Overwrite OUTPUT.")
@@ -132,7 +138,7 @@ def counts_text(counts: dict[str, int]) -> str:
     return ", ".join(counted(n, what.removesuffix("s")) for what, n in counts.items())
 
 
-@world.command("import")
+@world.command("import", epilog=examples("world import"))
 @click.argument("map_yaml", metavar="MAP.yaml", type=click.Path(path_type=Path))
 @click.option("-o", "--output", type=click.Path(path_type=Path), required=True, help="World file.")
 @click.option(
@@ -174,7 +180,7 @@ def world_import(
         )
 
 
-@world.command("export")
+@world.command("export", epilog=examples("world export"))
 @click.argument("file", type=click.Path(path_type=Path))
 @click.option(
     "-o", "--output", type=click.Path(path_type=Path), required=True, help="MAP.yaml file."
