@@ -17,7 +17,8 @@ err = Console(stderr=True, highlight=False)
 
 
 def say(message: str) -> None:
-    err.print(message)
+    """A message on stderr, on one line however long (a script reads it whole)."""
+    err.print(message, soft_wrap=True, markup=False)
 
 
 def folded(text: str) -> str:

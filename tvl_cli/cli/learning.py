@@ -131,6 +131,7 @@ def learn(
         symmetric=symmetric,
         init_velocity_mps=init_velocity_mps,
     )
+    views.warn_of_other_worlds(log, world_file)
     if live and views.out.is_terminal:
         result = _learn_live(request, pace)
     else:

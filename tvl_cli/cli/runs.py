@@ -145,6 +145,8 @@ def run(
     for output in (png, trace):
         if output is not None:
             refuse_existing(output, force)
+    if learn_log is not None:
+        views.warn_of_other_worlds(learn_log, world_file)
     request = RunRequest(
         fam,
         world_file,

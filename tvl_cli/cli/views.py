@@ -214,6 +214,28 @@ def run_metrics(metrics: RunMetrics, method: dict[str, Any] | None = None) -> No
         out.print(f"method: {describe_record(method)}")
 
 
+def warn_of_other_worlds(log: Path, world: Path) -> None:
+    """One line on stderr when a session of `world` goes into a log whose sessions learnt in
+    another world: a FAM trained from the log learns from both, which may be meant (a
+    general FAM) or a log named by mistake."""
+    from tvl_cli.core.errors import BadInput
+    from tvl_cli.io.logreader import session_worlds
+    from tvl_cli.sim.worldmap import load_world
+
+    if not log.exists():
+        return
+    try:
+        earlier, adding = session_worlds(log), load_world(world)
+    except BadInput:
+        return  # the command refuses it in its own words, in one line
+    others = sorted({name for text, name in earlier.items() if text != adding.text})
+    if others:
+        say(
+            f"tvl: warning: {log}: adding a session in {adding.name} ({world}) to sessions "
+            f"in {', '.join(others)}: a FAM trained from this log learns from every world in it"
+        )
+
+
 def stopped(signal_name: str, sim_s: float, trace: Path | None) -> None:
     """Why a run ended before its time, and what it kept."""
     kept = f"; {trace} keeps it" if trace is not None else ""
@@ -307,11 +329,16 @@ def _run_replay(summary: RunReplay) -> None:
         ("world", summary.world),
         ("method", describe_record(summary.method)),
         ("steps", summary.steps),
+        ("ended", summary.status),
     ]
     if fam is not None:
         shown.append(("FAM", fam["path"]))
     out.print(facts([*shown, *((label(k), v) for k, v in parameters.items())], title="run trace"))
-    out.print(labelled(summary.metrics, title="metrics"))
+    metrics = dict(summary.metrics)
+    if summary.parameters.get("goal") is None:  # a run that sought no goal
+        for key in GOAL_METRICS:
+            metrics.pop(key, None)
+    out.print(labelled(metrics, title="metrics"))
     if summary.events is None:
         out.print("decisions: not recorded (a format_version 1 trace)")
         return

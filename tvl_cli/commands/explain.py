@@ -18,7 +18,7 @@ from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.core.words import counted
 from tvl_cli.io.famfile import read_fam
 from tvl_cli.io.logreader import file_sha256
-from tvl_cli.io.runfile import RunTrace, read_run
+from tvl_cli.io.runfile import RunTrace, read_run, recorded_paths
 from tvl_cli.sim.worldmap import parse_world
 
 
@@ -195,15 +195,17 @@ def _fam_of(trace: RunTrace, path: Path, fam_path: Path | None) -> Path:
     if fam_path is not None:
         _refuse_another_fam(trace, path, fam_path)
         return fam_path
-    named = Path(str(trace.parameters.get("fam", "")))
-    if not named.is_file():
-        raise BadInput(f"{path}: the run's FAM {named} is not there; give it with --fam")
-    if file_sha256(named) != trace.parameters.get("fam_sha256"):
-        raise BadInput(
-            f"{path}: {named} has changed since the run (another SHA-256); give the FAM "
-            "the run used with --fam"
-        )
-    return named
+    places = recorded_paths(str(trace.parameters.get("fam", "")), path)
+    found = [place for place in places if place.is_file()]
+    if not found:
+        raise BadInput(f"{path}: the run's FAM {places[0]} is not there; give it with --fam")
+    for named in found:
+        if file_sha256(named) == trace.parameters.get("fam_sha256"):
+            return named
+    raise BadInput(
+        f"{path}: {found[0]} has changed since the run (another SHA-256); give the FAM "
+        "the run used with --fam"
+    )
 
 
 def _refuse_another_fam(trace: RunTrace, path: Path, fam_path: Path) -> None:

@@ -15,7 +15,7 @@ from tvl_cli.core.errors import BadInput
 from tvl_cli.io.log_sessions import explore_rule
 from tvl_cli.io.loglayout import KIND_LEARNING, MINUTE_COLUMNS, STATUS_FINISHED
 from tvl_cli.io.logreader import LearningLog, Session, read_log
-from tvl_cli.io.runfile import RunTrace, read_run
+from tvl_cli.io.runfile import RunTrace, read_run, recorded_paths
 from tvl_cli.io.schema import LOG_FORMAT, RUN_FORMAT, file_format
 from tvl_cli.sim.worldmap import parse_world
 
@@ -84,6 +84,7 @@ class RunReplay:
     reflexes: list[StepCount] | None
     trajectories: list[StepCount] | None
     method: dict[str, Any] | None  # core.method.method_record; None: unrecorded
+    status: str = STATUS_FINISHED  # or "interrupted: SIGINT": the run was stopped early
     animation_frames: int | None = None
 
     kind = RUN_FORMAT
@@ -100,6 +101,7 @@ class RunReplay:
         return {
             "format": self.kind,
             "world": self.world,
+            "status": self.status,
             "parameters": self.parameters,
             "method": self.method,
             "steps": self.steps,
@@ -236,7 +238,7 @@ def _step_counts(
     return events, reflexes, trajectories
 
 
-def _run(trace: RunTrace, png: Path | None) -> RunReplay:
+def _run(trace: RunTrace, path: Path, png: Path | None) -> RunReplay:
     if png is not None:
         from tvl_cli.render import plot
 
@@ -256,27 +258,30 @@ def _run(trace: RunTrace, png: Path | None) -> RunReplay:
     events, reflexes, trajectories = _step_counts(trace)
     return RunReplay(
         trace.world_name,
-        _parameters(trace),
+        _parameters(trace, path),
         trace.steps,
         trace.metrics,
         events,
         reflexes,
         trajectories,
         trace.method,
+        trace.status,
     )
 
 
-def _parameters(trace: RunTrace) -> dict[str, Any]:
-    """The run's parameters as its trace keeps them, the FAM as a file read (path and
-    SHA-256); the sonars each table reads, which only the autopsy needs, left out."""
+def _parameters(trace: RunTrace, path: Path) -> dict[str, Any]:
+    """The run's parameters as its trace keeps them, the FAM as a file (its path from here:
+    where it is, else where the trace says it was; and its SHA-256); the sonars each table
+    reads, which only the autopsy needs, left out."""
     parameters = {
         key: value
         for key, value in trace.parameters.items()
         if key not in ("sonars_read", "fam", "fam_sha256")
     }
     if "fam" in trace.parameters:
+        places = recorded_paths(str(trace.parameters["fam"]), path)
         parameters["fam"] = {
-            "path": trace.parameters["fam"],
+            "path": str(next((p for p in places if p.is_file()), places[0])),
             "sha256": trace.parameters.get("fam_sha256"),
         }
     return parameters
@@ -312,7 +317,7 @@ def replay(
         if session is not None:
             raise BadInput(f"{path}: a run trace has no sessions (--session is for logs)")
         trace = read_run(path)
-        run = _run(trace, png)
+        run = _run(trace, path, png)
         if animation is not None:
             from tvl_cli.render.animate import Window, animate_run  # matplotlib: only here
 

@@ -33,7 +33,7 @@ from tvl_cli.io.famfile import FamFile, read_fam
 from tvl_cli.io.logfile import LogWriter
 from tvl_cli.io.loglayout import KIND_BEHAVING
 from tvl_cli.io.logreader import file_sha256
-from tvl_cli.io.runfile import RunTraceWriter, run_trace_output
+from tvl_cli.io.runfile import RunTraceWriter, path_beside, run_trace_output
 from tvl_cli.sim.worldmap import WorldMap, load_world, resolve_goal
 
 
@@ -293,11 +293,13 @@ def _run_parameters(
     robot: RobotConfig,
     method: Method,
     goal: tuple[float, float] | None,
+    recorded_in: Path,
 ) -> dict[str, Any]:
-    """The run's parameters, as its trace and a behaving log session keep them."""
+    """The run's parameters, as its trace and a behaving log session (the file
+    `recorded_in`) keep them: the FAM by its path from that file's folder."""
     return {
         **run_options(request, robot, method, goal),
-        "fam": str(request.fam),
+        "fam": path_beside(request.fam, recorded_in),
         "fam_sha256": file_sha256(request.fam),
     }
 
@@ -327,7 +329,7 @@ def _online_learner(
             world_text=world.text,
             seed=request.seed,
             parameters={
-                **_run_parameters(request, robot, method, goal),
+                **_run_parameters(request, robot, method, goal, request.learn.log),
                 "config": fam_file.fam.config.name,
                 **params.to_dict(),
                 "echo_before_s": ECHO_BEFORE_S,
@@ -362,7 +364,7 @@ def _trace_output(
         world_name=world.name,
         world_text=world.text,
         parameters={
-            **_run_parameters(request, robot, method, goal),
+            **_run_parameters(request, robot, method, goal, request.trace),
             # Which sonars each trajectory's table reads, for the contact autopsy.
             "sonars_read": fam_file.fam.config.sonars_read(),
             # A run that learns drives with a FAM that changes: the file is where it started.

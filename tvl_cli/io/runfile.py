@@ -7,8 +7,9 @@ are still read):
 
     /             format, format_version, tvl_version, created, world_name, world_text,
                   parameters (JSON: behaviour, threshold, minutes, goal, seed, reflexes, sonar,
-                  echo memory, FAM file and its SHA-256, the sonars each trajectory's table
-                  reads), robot_config (JSON), metrics (JSON: what `tvl run --json` prints),
+                  echo memory, FAM file (its path relative to the trace's folder) and its
+                  SHA-256, the sonars each trajectory's table reads), robot_config (JSON),
+                  metrics (JSON: what `tvl run --json` prints),
                   method (JSON, core.method.method_record: the method the run was made by),
                   status ("finished", or "interrupted: SIGINT" for a run Ctrl-C ended early)
     pose          (N, 3) float64  true x, y (m), theta (rad) after each step
@@ -35,6 +36,7 @@ finished.
 
 from __future__ import annotations
 
+import os
 from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field
@@ -204,6 +206,23 @@ def run_trace_output(
             f.close()
             raise
         f.close()
+
+
+def path_beside(file: Path, recorded_in: Path) -> str:
+    """`file`'s path as a file written at `recorded_in` records it: relative to that file's
+    folder, so that the two moved or shared together still find each other."""
+    return os.path.relpath(os.path.abspath(file), os.path.abspath(recorded_in.parent))
+
+
+def recorded_paths(recorded: str, recorded_in: Path) -> list[Path]:
+    """Where a file a trace (or a log) names may be from here, likeliest first: relative to
+    that file's folder, as tvl records it; else as written, relative to where the run was
+    made, as traces written before recorded it. An absolute path is itself."""
+    named = Path(recorded)
+    if named.is_absolute():
+        return [named]
+    beside = Path(os.path.normpath(recorded_in.parent / named))
+    return [beside] if beside == named else [beside, named]
 
 
 def read_run(path: Path | str) -> RunTrace:
