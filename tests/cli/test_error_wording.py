@@ -117,3 +117,12 @@ def test_ctrl_c_where_no_command_catches_it_exits_130(
     done = invoke_tvl("world", "check", SQUARE)
     assert done.returncode == 130
     assert done.stderr == "tvl: interrupted\n" and "Aborted" not in done.stdout
+
+
+def test_a_grid_of_two_worlds_of_one_name_asks_for_another_name(invoke_tvl, tmp_path: Path) -> None:
+    (tmp_path / "copy.txt").write_text(SQUARE.read_text())
+    grid = tmp_path / "grid.toml"
+    grid.write_text('world = ["square", "copy.txt"]\nseed = 1\nbehaviour = "avoid"\n')
+    done = invoke_tvl("sweep", grid, "--out", tmp_path / "out")
+    assert_one_line_refusal(done, "worlds 'square' and 'copy.txt' are both named 'square'")
+    assert done.stderr.endswith("so give one of them another name\n")

@@ -205,6 +205,30 @@ def test_the_moment_names_each_trajectory_apart_and_writes_each_rule_within_its_
     assert rules and _apart(rules) and _inside(rules, rules_ax)
 
 
+@pytest.fixture(scope="module")
+def ran_multi(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
+    """A multi FAM, whose rules read seven sonars (long sentences), and a trace of it."""
+    directory = tmp_path_factory.mktemp("multi-pictures")
+    trained = train_from_logs([ROOT / "logs" / "square-s1.h5"], MULTI, until_minute=3)
+    fam = directory / "multi.h5"
+    write_fam(fam, trained.fam, robot_config=trained.robot, provenance=trained.provenance)
+    trace = directory / "run.h5"
+    run_fam(RunRequest(fam, SQUARE, "avoid", 0.85, 0.3, seed=1, trace=trace))
+    return {"fam": fam, "trace": trace}
+
+
+@pytest.mark.parametrize("step", [0, 60, 170])
+def test_a_multi_fams_long_rules_fold_within_their_panel_as_saved(
+    ran_multi: dict[str, Path], step: int, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    figure = _moment(ran_multi, step, tmp_path, monkeypatch)
+    assert figure.dpi == moment.MOMENT_DPI  # laid out as it is saved
+    rules_ax = figure.axes[2]
+    sentences = [t for t in rules_ax.texts if t.get_text().startswith("IF ")]
+    assert any("\n" in t.get_text() for t in sentences)  # too long for one line
+    assert _inside(_boxes(sentences, figure), rules_ax)
+
+
 def _start_marks(ax: Axes, robot: RobotConfig) -> tuple[int, list[Line2D]]:
     """How many robot-sized circles an axes draws, and the lines marking a start."""
     bodies = [p for p in ax.patches if isinstance(p, Circle) and p.radius == robot.radius_m]

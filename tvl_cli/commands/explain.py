@@ -123,6 +123,7 @@ def explain_run(
             float(trace.parameters.get("threshold", 0.0)),
             found,
             png,
+            trace.parameters.get("goal"),
         )
     return found
 
