@@ -138,7 +138,8 @@ BAD_WORLDS = {  # name -> (file bytes, the error after the file name)
     "empty file": (b"", ": file is empty (a world needs a map of # walls and a start)"),
     "non-UTF-8 file": (
         ROOM.encode().replace(b"#..>", b"#.\xff>"),
-        ":3:3: not a text file (byte 0xff is not UTF-8: a binary file, or text in another encoding)",
+        ":3:3: not a text file (byte 0xff is not UTF-8: a binary file, or text in another "
+        "encoding)",
     ),
     "file over 1 MB": (
         (ROOM + ";" * MAX_FILE_BYTES).encode(),

@@ -21,12 +21,12 @@ from tvl_cli.cli.options import (
     seed_option,
     training_options,
 )
-from tvl_cli.commands.interrupts import STOPPED_EXIT
 from tvl_cli.commands.learn import LearnRequest, LearnResult, learn_to_log
 from tvl_cli.core.method import DEFAULT, EXPLORATION_RULES, LEARNING_FIELDS, MethodChoice
 from tvl_cli.core.robot_config import EDGE_ECHO_RANGE_M, FASTEST_MPS, SONAR_MODELS
 from tvl_cli.core.trajectory_choice import DEFAULT_THRESHOLD
 from tvl_cli.core.words import counted
+from tvl_cli.io.interrupts import STOPPED_EXIT
 from tvl_cli.sim.worldmap import load_world
 
 DEFAULT_LEARN = LearnParams()

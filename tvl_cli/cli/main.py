@@ -18,8 +18,8 @@ import click
 
 from tvl_cli import __version__
 from tvl_cli.cli.examples import examples
-from tvl_cli.commands.interrupts import STOPPED_EXIT
 from tvl_cli.core.errors import BadInput, EnvironmentFailure
+from tvl_cli.io.interrupts import STOPPED_EXIT
 
 # name -> (module, attribute, the line `tvl --help` shows for it). The line is kept here so
 # the top-level help needs no import; a test holds it to the command's own first line.

@@ -131,8 +131,8 @@ def run(
 
     Every rule beyond the paper's method is a reflex: --reflex none runs the paper's choice
     rule alone, and --paper the paper's whole method (no reflex, no echo memory) on the FAM."""
-    from tvl_cli.commands.interrupts import STOPPED_EXIT, catching_signals
     from tvl_cli.commands.run import OnlineLearning, RunRequest, run_behaviour
+    from tvl_cli.io.interrupts import STOPPED_EXIT, catching_signals
 
     refuse_both_formats(as_json, as_csv)
     if live and view is not None:

@@ -13,7 +13,6 @@ from tvl_cli.agent.drive import StepSink
 from tvl_cli.agent.explore import Learner, LearnParams, LearnSummary, MinuteStats
 from tvl_cli.agent.perception import perceived_episodes
 from tvl_cli.analysis.coverage import CoverageTracker, world_floor
-from tvl_cli.commands.interrupts import catching_signals
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS, Fam
@@ -24,6 +23,7 @@ from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.core.training import TrainParams, train_episodes, train_params
 from tvl_cli.io.fam_config_file import resolve_fam_config
 from tvl_cli.io.famfile import read_fam, write_fam
+from tvl_cli.io.interrupts import catching_signals
 from tvl_cli.io.log_sessions import distinct_sessions, provenance
 from tvl_cli.io.logfile import LogWriter
 from tvl_cli.io.loglayout import ended_status

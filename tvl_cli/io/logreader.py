@@ -158,10 +158,14 @@ def session_worlds(path: Path | str) -> dict[str, str]:
     sessions' attributes alone, quick beside reading their exemplars."""
     path = Path(path)
     with open_for_reading(path, LOG_FORMAT) as f:
-        return {
-            read_str_attr(group, "world_text", path): read_str_attr(group, "world_name", path)
-            for _, group in sorted(f.get(SESSIONS, {}).items())
-        }
+        check_log_structure(f, path)
+        try:
+            return {
+                read_str_attr(group, "world_text", path): read_str_attr(group, "world_name", path)
+                for _, group in sorted(f.get(SESSIONS, {}).items())
+            }
+        except (OSError, KeyError, ValueError, TypeError) as error:
+            raise FormatError(f"{path}: corrupt tvl-log ({error})") from None
 
 
 def _read_session(group: h5py.Group, name: str, path: Path) -> Session:

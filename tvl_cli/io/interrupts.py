@@ -1,5 +1,6 @@
-"""Ctrl-C and SIGTERM as a request to stop: a long command (learning, a run) ends the step
-under way, keeps what it made and says so, rather than dying with its output half written."""
+"""Ctrl-C and SIGTERM, as the operating system delivers them, taken as a request to stop: a
+long command (learning, a run) ends the step under way, keeps what it made and says so,
+rather than dying with its output half written."""
 
 from __future__ import annotations
 
