@@ -120,6 +120,7 @@ def test_the_view_draws_the_robot_the_run_drives(
     assert SONAR_MODELS["ideal"] != RobotConfig().sonar
 
 
+@pytest.mark.slow  # half a simulated minute through the live view
 def test_the_bars_stay_while_the_robot_spins(fam: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     """Through `tvl run --live`: on every step that perceives nothing (a spin, a back-off,
     the steps between two readings) the view still shows the seven bars, as last perceived."""

@@ -18,6 +18,10 @@ CIRCLE = ROOT / "worlds" / "circle.txt"
 EXAMPLE_LOG = ROOT / "logs" / "square-s1.h5"
 
 
+# Each test learns, trains, runs or draws: over a second each.
+pytestmark = pytest.mark.slow
+
+
 @pytest.fixture
 def shared(invoke_tvl, tmp_path: Path) -> Path:
     """A folder holding a FAM in fams/ and the trace of a run with it in runs/."""

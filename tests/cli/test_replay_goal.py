@@ -20,6 +20,10 @@ SOUGHT = "6.125,2.625"  # the world's second goal of four
 READABLE_PX = (800, 400)  # a frame at least this large: 9-point titles read at 100 %
 
 
+# Each test learns, trains, runs or draws: over a second each.
+pytestmark = pytest.mark.slow
+
+
 @pytest.fixture(scope="module")
 def fam(tmp_path_factory: pytest.TempPathFactory) -> Path:
     path = tmp_path_factory.mktemp("goal") / "fam.h5"

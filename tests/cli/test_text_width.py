@@ -18,6 +18,10 @@ EXAMPLE_LOG = ROOT / "logs" / "square-s1.h5"
 TABLE_EDGES = "┏┃┡│└"
 
 
+# Each test learns, trains, runs or draws: over a second each.
+pytestmark = pytest.mark.slow
+
+
 @pytest.fixture(scope="module")
 def fams(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
     from conftest import invoke
