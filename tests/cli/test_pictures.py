@@ -21,11 +21,11 @@ from PIL import Image
 from rich.console import Console
 
 from tvl_cli.cli import main
-from tvl_cli.cli.live import LiveView
+from tvl_cli.cli.live import LiveView, Sight
 from tvl_cli.commands.run import RunRequest, run_fam
 from tvl_cli.commands.train import train_from_logs
 from tvl_cli.core.fam import Fam
-from tvl_cli.core.fam_config import MULTI, SINGLE
+from tvl_cli.core.fam_config import MULTI, SINGLE, FamConfig
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.famfile import write_fam
 from tvl_cli.io.runfile import read_run
@@ -44,8 +44,12 @@ OBSTACLES = ROOT / "worlds" / "obstacles.txt"
 def ran(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
     """A FAM from the example log's first minutes, and a trace of it avoiding in the
     square: it chooses, spins to face what it chose, and drives."""
-    directory = tmp_path_factory.mktemp("pictures")
-    trained = train_from_logs([ROOT / "logs" / "square-s1.h5"], SINGLE, until_minute=3)
+    return _trained_and_ran(tmp_path_factory.mktemp("pictures"), SINGLE)
+
+
+def _trained_and_ran(directory: Path, config: FamConfig) -> dict[str, Path]:
+    """A FAM of `config` from the example log's first 3 minutes, and 18 s of it avoiding."""
+    trained = train_from_logs([ROOT / "logs" / "square-s1.h5"], config, until_minute=3)
     fam = directory / "fam.h5"
     write_fam(fam, trained.fam, robot_config=trained.robot, provenance=trained.provenance)
     trace = directory / "run.h5"
@@ -208,13 +212,7 @@ def test_the_moment_names_each_trajectory_apart_and_writes_each_rule_within_its_
 @pytest.fixture(scope="module")
 def ran_multi(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
     """A multi FAM, whose rules read seven sonars (long sentences), and a trace of it."""
-    directory = tmp_path_factory.mktemp("multi-pictures")
-    trained = train_from_logs([ROOT / "logs" / "square-s1.h5"], MULTI, until_minute=3)
-    fam = directory / "multi.h5"
-    write_fam(fam, trained.fam, robot_config=trained.robot, provenance=trained.provenance)
-    trace = directory / "run.h5"
-    run_fam(RunRequest(fam, SQUARE, "avoid", 0.85, 0.3, seed=1, trace=trace))
-    return {"fam": fam, "trace": trace}
+    return _trained_and_ran(tmp_path_factory.mktemp("multi-pictures"), MULTI)
 
 
 @pytest.mark.slow  # trains a multi FAM and draws three moments
@@ -269,7 +267,7 @@ def test_inspect_draws_a_multi_fam_over_inputs_its_tables_have(tmp_path: Path) -
 
 
 def test_the_live_view_draws_the_walls_around_the_obstacles() -> None:
-    view = LiveView(load_world(OBSTACLES), RobotConfig(), 0.85, None, pace=None)
+    view = LiveView(Sight(load_world(OBSTACLES), RobotConfig(), 0.85))
     console = Console(record=True, width=80, height=24, color_system=None)
     console.print(view.panel())
     lines = console.export_text().splitlines()[: view.rows]

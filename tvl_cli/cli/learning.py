@@ -147,11 +147,10 @@ def learn(
 
 def _learn_live(request: LearnRequest, pace: float | None) -> LearnResult:
     """Learn with the live view: the robot exploring, and the last whole minute's counts."""
-    from tvl_cli.cli.live import LiveView, live_view
+    from tvl_cli.cli.live import LiveView, Sight, live_view
 
-    view = LiveView(
-        load_world(request.world), request.method.robot(), DEFAULT_THRESHOLD, None, pace
-    )
+    robot = request.method.robot()
+    view = LiveView(Sight(load_world(request.world), robot, DEFAULT_THRESHOLD, pace=pace))
 
     def on_minute(stats: MinuteStats) -> None:
         view.caption = (

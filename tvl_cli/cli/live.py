@@ -12,6 +12,7 @@ import math
 import time
 from collections.abc import Iterator
 from contextlib import contextmanager
+from dataclasses import dataclass
 
 import numpy as np
 from rich.console import Console, Group
@@ -32,18 +33,26 @@ BAR_WIDTH = 16  # characters for a trajectory's top speed
 ARROWS = "→↗↑↖←↙↓↘"
 
 
+@dataclass(frozen=True, slots=True)
+class Sight:
+    """What a view of a run shows it in: the world, the robot, the threshold (a fraction of
+    each trajectory's maximum) its bars mark, the goal sought (None: none), and the pace
+    (simulated seconds a wall second; None: flat out)."""
+
+    world: WorldMap
+    robot: RobotConfig
+    threshold: float
+    goal: tuple[float, float] | None = None
+    pace: float | None = None
+
+
 class LiveView:
     """A step sink that keeps what the view shows and paces the run; `panel()` draws it."""
 
-    def __init__(
-        self,
-        world: WorldMap,
-        robot: RobotConfig,
-        threshold: float,
-        goal: tuple[float, float] | None,
-        pace: float | None,
-    ) -> None:
-        self.robot, self.threshold, self.goal, self.pace = robot, threshold, goal, pace
+    def __init__(self, sight: Sight) -> None:
+        world = sight.world
+        self.robot, self.threshold, self.goal = sight.robot, sight.threshold, sight.goal
+        self.pace = sight.pace
         self.scale = max(world.width_m / MAP_COLUMNS, world.height_m / MAP_ROWS)
         self.columns = min(MAP_COLUMNS, math.ceil(world.width_m / self.scale))
         self.rows = min(MAP_ROWS, math.ceil(world.height_m / self.scale))
@@ -202,23 +211,16 @@ class WindowView:
     """A step sink that shows the run in a window as `tvl replay --gif` draws it, a few
     frames a wall second, and paces the run."""
 
-    def __init__(
-        self,
-        world: WorldMap,
-        robot: RobotConfig,
-        threshold: float,
-        goal: tuple[float, float] | None,
-        pace: float | None,
-    ) -> None:
+    def __init__(self, sight: Sight) -> None:
         from tvl_cli.render.animate import FIGURE_SIZE_IN, WINDOW_DPI, RunFrame
         from tvl_cli.render.window import FrameWindow
 
-        self.robot, self.pace = robot, pace
+        self.robot, self.pace = sight.robot, sight.pace
         # Opened first: without a display, the run stops before anything is drawn.
         width_in, height_in = FIGURE_SIZE_IN
         size_px = (round(height_in * WINDOW_DPI), round(width_in * WINDOW_DPI))
-        self.window = FrameWindow(f"tvl run: {world.name}", size_px, WINDOW_DPI)
-        self.frame = RunFrame(world, robot, threshold, WINDOW_DPI, goal)
+        self.window = FrameWindow(f"tvl run: {sight.world.name}", size_px, WINDOW_DPI)
+        self.frame = RunFrame(sight.world, sight.robot, sight.threshold, WINDOW_DPI, sight.goal)
         self.window.show(self.frame.blitter.still())
         self.trail: list[tuple[float, float]] = []
         self.step: Step | None = None

@@ -368,16 +368,17 @@ def _watching(request: RunRequest, view: str | None, pace: float | None) -> Iter
         with views.run_progress(request.minutes) as bar:
             yield bar
         return
-    from tvl_cli.cli.live import LiveView, WindowView, live_view, window_view
+    from tvl_cli.cli.live import LiveView, Sight, WindowView, live_view, window_view
     from tvl_cli.commands.run import request_robot
     from tvl_cli.sim.worldmap import load_world, resolve_goal
 
     world = load_world(request.world)
     robot = request_robot(request)
     goal = resolve_goal(request.world, world, request.behaviour, request.goal)
+    sight = Sight(world, robot, request.threshold, goal, pace)
     if view == WINDOW:
-        with window_view(WindowView(world, robot, request.threshold, goal, pace)) as shown:
+        with window_view(WindowView(sight)) as shown:
             yield shown
         return
-    with live_view(LiveView(world, robot, request.threshold, goal, pace), views.out) as watch:
+    with live_view(LiveView(sight), views.out) as watch:
         yield watch
