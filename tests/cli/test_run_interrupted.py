@@ -18,6 +18,7 @@ ROOT = Path(__file__).resolve().parents[2]
 SQUARE = ROOT / "worlds" / "square.txt"
 EXAMPLE_LOG = ROOT / "logs" / "square-s1.h5"
 LONG_MINUTES = 10_000.0  # far longer than the test waits
+DRIVING_S = 2.0  # wall seconds the run drives before it is stopped
 
 pytestmark = pytest.mark.slow  # every test starts the real `tvl` and signals it
 
@@ -40,8 +41,10 @@ def start_run(fam: Path, trace: Path, *args: str) -> subprocess.Popen[str]:
     )  # fmt: skip
     deadline = time.monotonic() + 60
     while time.monotonic() < deadline:
-        # The trace is written beside its name while the run goes; its chunks follow.
-        if any(p.stat().st_size > 50_000 for p in trace.parent.glob(f".{trace.name}.*.tmp")):
+        # The trace is written beside its name while the run goes (HDF5 holds its chunks
+        # until it closes the file): once it is there, the run has begun.
+        if any(trace.parent.glob(f".{trace.name}.*.tmp")):
+            time.sleep(DRIVING_S)
             return process
         time.sleep(0.05)
     process.kill()
