@@ -31,6 +31,7 @@ from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS, SINGLE
 from tvl_cli.core.kernels.perception_reference import infer_views_reference
 from tvl_cli.core.kernels.rule_updates_reference import train_table_reference
+from tvl_cli.core.method import DEFAULT
 from tvl_cli.core.robot_config import SONAR_COUNT, RobotConfig
 from tvl_cli.io.famfile import write_fam
 
@@ -112,7 +113,9 @@ def measure(config_name: str, count: int, repeats: int) -> tuple[Fam, dict[str, 
     }
     with tempfile.TemporaryDirectory() as directory:
         path = Path(directory) / f"{config_name}.h5"
-        write_fam(path, fam, robot_config=ROBOT, provenance={"benchmark": "fam_speed"})
+        write_fam(
+            path, fam, robot_config=ROBOT, method=DEFAULT, provenance={"benchmark": "fam_speed"}
+        )
         figures["fam_file_bytes"] = path.stat().st_size
     return fam, figures
 

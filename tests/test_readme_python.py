@@ -9,6 +9,8 @@ from pathlib import Path
 import pytest
 from doc_pages import ROOT, code_blocks, every_page, page
 
+from tvl_cli.core.method import DEFAULT
+
 # The pages with a Python example, each run by a test below.
 EXAMPLES = ("guide/python-api.md", "guide/gym.md", "guide/engine.md")
 
@@ -33,10 +35,14 @@ def test_every_python_block_of_the_documentation_is_run_here() -> None:
 
 @pytest.mark.slow  # over a second
 def test_the_python_api_example_runs(tmp_path: Path) -> None:
-    episodes, velocities, metrics = _run_example("guide/python-api.md", tmp_path)
+    episodes, fam_memory, velocities, metrics = _run_example("guide/python-api.md", tmp_path)
     assert int(episodes.split()[0]) > 0
+    # Learnt through our echo memory, the FAM reads through it, and so does its run.
+    assert fam_memory == DEFAULT.memory.kind == "patches"
     assert len(velocities.strip("[]").split()) == 7
-    contacts_per_min, speed = map(float, metrics.split())
+    run_memory, *measured = metrics.split()
+    assert run_memory == "patches"
+    contacts_per_min, speed = map(float, measured)
     assert contacts_per_min >= 0 and speed > 0
     assert (tmp_path / "api.h5").exists() and (tmp_path / "multi.h5").exists()
 

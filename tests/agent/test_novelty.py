@@ -18,7 +18,6 @@ from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.memory import NO_MEMORY
 from tvl_cli.core.method import DEFAULT, NOVELTY, Method
 from tvl_cli.core.robot_config import RobotConfig
-from tvl_cli.io.log_sessions import explore_rule
 from tvl_cli.sim.worldmap import load_world
 
 ROBOT = RobotConfig()
@@ -135,8 +134,3 @@ def test_an_unknown_rule_is_refused() -> None:
         BadInput, match="--explore 'bogus': choose least-experience, novelty, random"
     ):
         Method(exploration="bogus")
-
-
-def test_a_session_without_a_rule_followed_the_papers() -> None:
-    assert explore_rule({"near_m": 0.16}) == "least-experience"
-    assert explore_rule({"explore": NOVELTY}) == NOVELTY

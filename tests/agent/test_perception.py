@@ -234,7 +234,7 @@ def test_replaying_a_log_session_gives_each_episode_its_virtual_rings(tmp_path: 
         )
     )
     (session,) = read_log(log).sessions
-    assert session.parameters["memory"] == PATCH_MEMORY.to_dict()
+    assert session.method.memory == PATCH_MEMORY
     online, _ = _session_steps(1.0, PATCH_MEMORY)
     replayed = perceived_episodes(session.episodes(), PATCH_MEMORY, ROBOT)
     assert len(replayed) == len(online)

@@ -13,13 +13,13 @@ from tvl_cli.analysis.exploration import (
 )
 
 
-def learn(rule: str, seed: int, coverage: list[float], points: str = "sonar") -> dict:
+def learn(rule: str, seed: int, coverage: list[float], near_m: float = 0.16) -> dict:
     minutes = [{"minute": float(m), "coverage": c} for m, c in enumerate(coverage)]
     return {
         "kind": "learn",
         "world": "lab",
-        "explore": rule,
-        "collision_points": points,
+        "exploration": rule,
+        "near_m": near_m,
         "seed": seed,
         "minutes": minutes,
     }
@@ -29,7 +29,7 @@ def avoid(rule: str, world: str, seed: int, learnt: float, competent: bool) -> d
     return run_row(
         kind="tvl",
         world=world,
-        explore=rule,
+        exploration=rule,
         seed=seed,
         minute=learnt,
         mean_speed_mps=0.4 if competent else 0.1,

@@ -11,6 +11,7 @@ import h5py
 import numpy as np
 import pytest
 from conftest import TVL
+from method_samples import LIVE_RING
 
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.fam import Fam
@@ -44,6 +45,7 @@ def _open_log(path: Path, robot: RobotConfig) -> LogWriter:
         parameters={},
         robot_config=robot.to_dict(),
         fam_config=SINGLE.to_dict(),
+        method=LIVE_RING,
     )
 
 
@@ -77,6 +79,7 @@ def fam_file(tmp_path: Path) -> Path:
         path,
         Fam(SINGLE, [t.name for t in robot.trajectories]),
         robot_config=robot,
+        method=LIVE_RING,
         provenance={},
     )
     return path
@@ -168,6 +171,7 @@ def test_run_refuses_a_fam_of_another_robot(invoke_tvl, tmp_path):
         path,
         Fam(SINGLE, [t.name for t in other.trajectories]),
         robot_config=other,
+        method=LIVE_RING,
         provenance={},
     )
     result = invoke_tvl("run", path, SQUARE, "--behaviour", "avoid")

@@ -5,6 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 import pytest
+from method_samples import LIVE_RING
 
 from tvl_cli.core.errors import MAX_SIMULATED_MINUTES
 from tvl_cli.core.fam import Fam
@@ -31,7 +32,7 @@ def fam(tmp_path_factory) -> Path:
     path = tmp_path_factory.mktemp("fam") / "fam.h5"
     robot = RobotConfig()
     fam = Fam(SINGLE, [t.name for t in robot.trajectories])
-    write_fam(path, fam, robot_config=robot, provenance={})
+    write_fam(path, fam, robot_config=robot, method=LIVE_RING, provenance={})
     return path
 
 

@@ -12,6 +12,7 @@ import click
 import pytest
 from click.shell_completion import ShellComplete
 from click.testing import CliRunner
+from method_samples import LIVE_RING
 
 from tvl_cli.agent.reflexes import STACK_ORDER
 from tvl_cli.cli import main
@@ -37,6 +38,7 @@ def fam(tmp_path_factory: pytest.TempPathFactory) -> Path:
     path = tmp_path_factory.mktemp("click") / "fam.h5"
     robot = RobotConfig()
     write_fam(path, Fam(SINGLE, [t.name for t in robot.trajectories]), robot_config=robot,
+              method=LIVE_RING,
               provenance={})  # fmt: skip
     return path
 

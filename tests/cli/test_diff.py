@@ -36,8 +36,8 @@ def test_a_fam_agrees_with_itself(fams: dict[str, Path], tmp_path: Path) -> None
         again,
         late.fam,
         robot_config=late.robot_config,
+        method=late.method,
         provenance={**late.provenance, "copied": True},
-        memory=late.memory,
     )
     printed = valid("diff", tvl("diff", fams["late"], again, "--json").stdout)
     assert printed["differing"] == 0 and printed["rules_differing_most"] == []

@@ -98,8 +98,8 @@ def _another_fam(collided: dict[str, Path]) -> Path:
         other,
         used.fam,
         robot_config=used.robot_config,
+        method=used.method,
         provenance={**used.provenance, "copied": True},
-        memory=used.memory,
     )
     return other
 

@@ -26,13 +26,13 @@ def novelty_log(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, dict]:
 
 def test_the_session_records_its_rule_and_trains(novelty_log, invoke_tvl, tmp_path) -> None:
     log, _ = novelty_log
-    assert read_log(log).sessions[0].parameters["explore"] == "novelty"
+    assert read_log(log).sessions[0].method.exploration == "novelty"
     fam = tmp_path / "fam.h5"
     trained = invoke_tvl("train", log, "-o", fam, "--json")
     assert trained.returncode == 0, trained.stderr
     assert valid("train", trained.stdout)["exemplars"] == read_log(log).exemplar_count
     (session,) = read_fam(fam).provenance["logs"][0]["sessions"]
-    assert session["explore"] == "novelty"
+    assert session["exploration"] == "novelty"
 
 
 def test_learn_and_replay_agree_on_the_coverage_of_each_minute(novelty_log, invoke_tvl) -> None:

@@ -27,7 +27,13 @@ LAB = ROOT / "worlds" / "lab.txt"
 def fam(tmp_path_factory: pytest.TempPathFactory) -> Path:
     trained = train_from_logs([ROOT / "logs" / "lab-s1.h5"], SINGLE)
     path = tmp_path_factory.mktemp("live") / "fam.h5"
-    write_fam(path, trained.fam, robot_config=trained.robot, provenance=trained.provenance)
+    write_fam(
+        path,
+        trained.fam,
+        robot_config=trained.robot,
+        method=trained.made_by,
+        provenance=trained.provenance,
+    )
     return path
 
 

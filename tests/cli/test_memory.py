@@ -47,8 +47,8 @@ def learnt(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]:
 def test_learning_records_its_memory_in_the_log_and_the_fam(learnt: tuple[Path, Path]) -> None:
     log, fam = learnt
     (session,) = read_log(log).sessions
-    assert MemoryConfig.from_dict(session.parameters["memory"]) == PATCHES_20
-    assert read_fam(fam).memory == PATCHES_20
+    assert session.method.memory == PATCHES_20
+    assert read_fam(fam).method.memory == PATCHES_20
 
 
 def test_train_rebuilds_the_online_fam_through_the_logs_memory(
@@ -58,7 +58,7 @@ def test_train_rebuilds_the_online_fam_through_the_logs_memory(
     rebuilt = tmp_path / "rebuilt.h5"
     tvl("train", log, "-o", rebuilt)
     first, second = read_fam(online), read_fam(rebuilt)
-    assert second.memory == PATCHES_20
+    assert second.method.memory == PATCHES_20
     np.testing.assert_array_equal(first.fam.velocity_table(0), second.fam.velocity_table(0))
     np.testing.assert_array_equal(first.fam.experience_table(0), second.fam.experience_table(0))
 
@@ -70,7 +70,7 @@ def test_a_log_learnt_with_a_memory_trains_a_fam_without_one_and_back(
     log, online = learnt
     plain = tmp_path / "plain.h5"
     tvl("train", log, "-o", plain, "--memory", "none")
-    assert read_fam(plain).memory == NO_MEMORY
+    assert read_fam(plain).method.memory == NO_MEMORY
     # Without the memory the FAM trains on the live rings, which differ.
     assert not np.array_equal(
         read_fam(plain).fam.velocity_table(0), read_fam(online).fam.velocity_table(0)
@@ -78,7 +78,7 @@ def test_a_log_learnt_with_a_memory_trains_a_fam_without_one_and_back(
     # And the example log, learnt before there was a memory, trains a FAM that has one.
     remembering = tmp_path / "remembering.h5"
     tvl("train", ROOT / "logs" / "square-s1.h5", "-o", remembering, *MEMORY_OPTIONS)
-    assert read_fam(remembering).memory == PATCHES_20
+    assert read_fam(remembering).method.memory == PATCHES_20
 
 
 def test_a_run_reads_through_its_fams_memory_unless_told(
@@ -102,7 +102,7 @@ def test_a_run_reads_through_its_fams_memory_unless_told(
     )
     tvl("run", fam, LAB, "--behaviour", "avoid", "--minutes", 0.5, "--log", paper, "--paper")
     memory = {
-        name: MemoryConfig.from_dict(read_run(path).parameters["memory"])
+        name: read_run(path).method.memory
         for name, path in (("kept", kept), ("changed", changed), ("paper", paper))
     }
     assert memory["kept"] == PATCHES_20

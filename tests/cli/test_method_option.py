@@ -16,7 +16,6 @@ from tvl_cli.cli.main import main
 from tvl_cli.core.method import (
     BEHAVING_FIELDS,
     DEFAULT,
-    LEARNING_FIELDS,
     PAPER,
     method_record,
 )
@@ -80,9 +79,9 @@ def test_learn_by_the_paper_named_three_ways_records_one_method(
         printed("learn", SQUARE, "--log", log, "--minutes", "0.1", *way)["inputs"]["method"]
         for log, way in zip(logs, _three_ways(learnt), strict=True)
     ]
-    assert records == [method_record(PAPER, LEARNING_FIELDS)] * 3
+    assert records == [method_record(PAPER)] * 3
     ours = printed("learn", SQUARE, "--log", tmp_path / "ours.h5", "--minutes", "0.1")
-    assert ours["inputs"]["method"] == method_record(DEFAULT, LEARNING_FIELDS)
+    assert ours["inputs"]["method"] == method_record(DEFAULT)
 
 
 def test_train_run_and_the_baselines_by_the_paper_named_three_ways_agree(
@@ -91,7 +90,7 @@ def test_train_run_and_the_baselines_by_the_paper_named_three_ways_agree(
     for i, way in enumerate(_three_ways(learnt)):
         fam = tmp_path / f"{i}.h5"
         trained = printed("train", learnt["paper_log"], "-o", fam, *way)["inputs"]["method"]
-        assert trained == method_record(PAPER, LEARNING_FIELDS)
+        assert trained == method_record(PAPER)
         assert printed("run", fam, SQUARE, *RUN, *way)["inputs"]["method"] == method_record(PAPER)
         dwa = printed("baseline", "dwa", SQUARE, "--minutes", "0.1", "--sensor", "ring", *way)
         live_ring = PAPER.memory.to_dict()
@@ -119,7 +118,7 @@ def test_train_keeps_the_logs_collision_points_and_takes_its_own_labels(
     ]
     labels = (made["near_m"], made["decel_mps2"])
     assert made["preset"] is None and labels == (DEFAULT.near_m, PAPER.decel_mps2)
-    assert read_fam(tmp_path / "f.h5").method == made
+    assert read_fam(tmp_path / "f.h5").made_by.record() == made
 
 
 def test_a_fam_from_logs_that_learnt_differently_says_so_and_is_no_preset(
@@ -128,24 +127,24 @@ def test_a_fam_from_logs_that_learnt_differently_says_so_and_is_no_preset(
     fam = tmp_path / "f.h5"
     logs = (learnt["paper_log"], learnt["ours_log"])
     made = printed("train", *logs, "-o", fam, "--paper")["inputs"]["method"]
-    assert made == method_record(PAPER, LEARNING_FIELDS) | {
+    assert made == method_record(PAPER) | {
         "preset": None,
         "sessions_differ_in": ["near_m"],
     }
     ran = printed("run", fam, SQUARE, *RUN, "--paper")["inputs"]["method"]
-    assert ran == method_record(PAPER) | {"preset": None}
+    assert ran == method_record(PAPER) | {"preset": None, "sessions_differ_in": ["near_m"]}
 
 
 def test_every_file_records_the_method_it_was_made_by(
     learnt: dict[str, Path], tmp_path: Path
 ) -> None:
     (session,) = read_log(learnt["paper_log"]).sessions
-    assert session.method == method_record(PAPER, LEARNING_FIELDS)
-    assert read_fam(learnt["paper_fam"]).method == method_record(PAPER, LEARNING_FIELDS)
+    assert session.method == PAPER
+    assert read_fam(learnt["paper_fam"]).method == PAPER
     trace = tmp_path / "run.h5"
     code, _, err = tvl("run", learnt["paper_fam"], SQUARE, *RUN, "--paper", "--log", trace)
     assert code == 0, err
-    assert read_run(trace).method == method_record(PAPER)
+    assert read_run(trace).method == PAPER
     shown = printed("replay", trace)
     assert shown["method"] == method_record(PAPER)
     code, out, _ = tvl("replay", learnt["ours_log"])
@@ -158,18 +157,29 @@ def test_every_file_records_the_method_it_was_made_by(
 def test_files_from_before_methods_were_recorded_say_so(
     learnt: dict[str, Path], tmp_path: Path
 ) -> None:
+    # A version 2 FAM kept its labels where the reader does not find them, and no learning
+    # choice: each is named unrecorded; it reads through its memory.
     code, out, _ = tvl("inspect", GOLDEN_FAM, "--top", "1")
-    assert code == 0 and out.splitlines()[0] == "method: unrecorded"
-    assert read_log(GOLDEN_LOG).sessions[0].method is None
+    unknown = "decel_mps2, margin_m, near_m, exploration unrecorded"
+    assert (
+        code == 0 and out.splitlines()[0] == f"method: default, except memory patches ({unknown})"
+    )
+    assert read_log(GOLDEN_LOG).sessions[0].made_by.unrecorded
+    # A version 1 session without the record read its method from its parameters.
     old = tmp_path / "old.h5"
     shutil.copy(learnt["ours_log"], old)
     with h5py.File(old, "r+") as f:
-        del f["sessions/0000"].attrs["method"]
-    assert [s["method"] for s in printed("replay", old)["sessions"]] == [None]
-    assert "session 0000 method: unrecorded" in tvl("replay", old)[1]
+        f.attrs["format_version"] = 1
+        group = f["sessions/0000"]
+        del group.attrs["method"]
+        group.attrs["parameters"] = json.dumps({"explore": "random", "near_m": 0.0})
+    (session,) = printed("replay", old)["sessions"]
+    assert session["method"]["exploration"] == "random" and session["method"]["near_m"] == 0
+    assert session["method"]["unrecorded"] == ["decel_mps2", "margin_m"]
+    assert "session 0000 method: default, except " in tvl("replay", old)[1]
     run = printed("run", GOLDEN_FAM, SQUARE, *RUN, "--paper")["inputs"]["method"]
-    assert run["learning"] == "unrecorded" and run["preset"] is None
-    assert set(run) == {"preset", "learning", "sonar", *BEHAVING_FIELDS}
+    assert run["preset"] is None and run["reflexes"] == []
+    assert run["unrecorded"] == ["decel_mps2", "margin_m", "near_m", "exploration"]
 
 
 @pytest.mark.parametrize(
@@ -181,8 +191,8 @@ def test_files_from_before_methods_were_recorded_say_so(
         (("--paper", "--explore", "novelty"), "--explore cannot be given with --paper"),
         (("--paper", "--memory-window", "5"), "--memory-window cannot be given with --paper"),
         (("--paper", "--method", "paper"), "give --method or --paper, not both"),
-        (("--method", "nowhere.toml"), "--method nowhere.toml: neither a preset nor a method file"),
-        (("--method", "papr"), "neither a preset nor a method file (did you mean 'paper'?)"),
+        (("--method", "nowhere.toml"), "--method nowhere.toml: neither a preset (paper, default)"),
+        (("--method", "papr"), "nor a method file (did you mean 'paper'?)"),
     ],
 )  # fmt: skip
 def test_contradictions_and_unknown_methods_are_one_line_and_exit_2(
@@ -199,7 +209,7 @@ def test_finer_options_that_agree_with_the_paper_or_change_ours_are_taken(
 ) -> None:
     agreeing = printed("learn", SQUARE, "--log", tmp_path / "a.h5", "--minutes", "0.1",
                        "--paper", "--decel", "0.2", "--sonar", "edges")  # fmt: skip
-    assert agreeing["inputs"]["method"] == method_record(PAPER, LEARNING_FIELDS) | {
+    assert agreeing["inputs"]["method"] == method_record(PAPER) | {
         "preset": None,
         "sonar": "edges",
     }

@@ -17,6 +17,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Circle
 from matplotlib.text import Text
 from matplotlib.transforms import Bbox
+from method_samples import LIVE_RING
 from PIL import Image
 from rich.console import Console
 
@@ -51,7 +52,13 @@ def _trained_and_ran(directory: Path, config: FamConfig) -> dict[str, Path]:
     """A FAM of `config` from the example log's first 3 minutes, and 18 s of it avoiding."""
     trained = train_from_logs([ROOT / "logs" / "square-s1.h5"], config, until_minute=3)
     fam = directory / "fam.h5"
-    write_fam(fam, trained.fam, robot_config=trained.robot, provenance=trained.provenance)
+    write_fam(
+        fam,
+        trained.fam,
+        robot_config=trained.robot,
+        method=trained.made_by,
+        provenance=trained.provenance,
+    )
     trace = directory / "run.h5"
     run_fam(RunRequest(fam, SQUARE, "avoid", 0.85, 0.3, seed=1, trace=trace))
     return {"fam": fam, "trace": trace}
@@ -259,6 +266,7 @@ def test_inspect_draws_a_multi_fam_over_inputs_its_tables_have(tmp_path: Path) -
     fam = tmp_path / "multi.h5"
     robot = RobotConfig()
     write_fam(fam, Fam(MULTI, [t.name for t in robot.trajectories]), robot_config=robot,
+              method=LIVE_RING,
               provenance={})  # fmt: skip
     png = tmp_path / "m.png"
     code, _, err = tvl("inspect", fam, "--png", png, "--top", "1")

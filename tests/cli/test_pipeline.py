@@ -166,9 +166,9 @@ def test_the_paper_method_runs_alone_and_says_so(invoke_tvl, learnt, tmp_path, m
     assert result.returncode == 0, result.stderr
     metrics = valid("run", result.stdout)
     assert metrics["contacts"] == metrics["collisions"] + metrics["near_misses"]
-    assert metrics["inputs"]["reflexes"] == []
+    assert metrics["inputs"]["method"]["reflexes"] == []
     replayed = valid("replay", invoke_tvl("replay", trace, "--json").stdout)
-    assert replayed["parameters"]["reflexes"] == replayed["reflexes"] == []
+    assert replayed["method"]["reflexes"] == replayed["reflexes"] == []
     with h5py.File(trace) as f:
         assert (f["reflex"][()] == -1).all()  # no step was taken by a reflex
 
@@ -180,7 +180,7 @@ def test_reflexes_are_named_in_the_trace_and_the_table(invoke_tvl, learnt, tmp_p
     assert result.returncode == 0, result.stderr
     assert "reflexes: near-miss, bump" in result.stdout
     replayed = valid("replay", invoke_tvl("replay", trace, "--json").stdout)
-    assert replayed["parameters"]["reflexes"] == ["near-miss", "bump"]
+    assert replayed["method"]["reflexes"] == ["near-miss", "bump"]
     assert [r["reflex"] for r in replayed["reflexes"]] == ["near-miss", "bump"]
 
 
@@ -208,7 +208,7 @@ def test_an_ideal_sonar_fam_runs_with_the_ideal_sonar(invoke_tvl, tmp_path):
     result = invoke_tvl(*args)
     assert result.returncode == 0, result.stderr
     replayed = valid("replay", invoke_tvl("replay", trace, "--json").stdout)
-    assert replayed["parameters"]["sonar"] == "ideal"
+    assert replayed["method"]["sonar"] == "ideal"
     real = invoke_tvl(*args[:-2], "--sonar", "real", "--log", tmp_path / "real.h5")
     assert real.returncode == 0, real.stderr
 
@@ -225,7 +225,7 @@ def test_an_edges_sonar_fam_runs_with_edge_echoes_and_keeps_them_in_its_robot(in
         ran = invoke_tvl(*args, *(["--sonar", sonar] if sonar else []))
         assert ran.returncode == 0, ran.stderr
         replayed = valid("replay", invoke_tvl("replay", trace, "--json").stdout)
-        assert replayed["parameters"]["sonar"] == expected
+        assert replayed["method"]["sonar"] == expected
 
 
 def test_same_seed_gives_identical_logs_and_run_json(run_tvl, tmp_path):

@@ -14,6 +14,7 @@ import pytest
 from click.testing import CliRunner
 from conftest import TVL
 from json_schemas import valid
+from method_samples import LIVE_RING
 from test_bad_numbers import SQUARE, assert_one_line_refusal
 
 from tvl_cli.agent.drive_tvl import behave
@@ -123,6 +124,7 @@ def test_the_log_replays_into_the_fam_the_run_ended_with(learnt_live: Path, tmp_
         parameters={},
         robot_config=robot.to_dict(),
         fam_config=SINGLE.to_dict(),
+        method=LIVE_RING,
         kind=KIND_BEHAVING,
     ) as writer:
         learner = OnlineLearner(fam, robot, TrainParams(), world.start, writer.append_episode)
@@ -172,7 +174,7 @@ def test_per_minute_contacts_add_up_to_the_run_s(fam: Path) -> None:
                             "--paper", "--json")  # fmt: skip
     assert code == 0, err
     printed = valid("run", out)
-    assert not printed["inputs"]["learn"] and printed["inputs"]["reflexes"] == []
+    assert not printed["inputs"]["learn"] and printed["inputs"]["method"]["reflexes"] == []
     minutes = printed["minutes"]
     assert [m["minute"] for m in minutes] == [1, 2]  # counted from 1, as the tables count
     assert [m["sim_s"] for m in minutes] == pytest.approx([60.0, 30.0])

@@ -23,7 +23,13 @@ def fam(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
     trained = train_from_logs([ROOT / "logs" / "square-s1.h5"], SINGLE)
     path = tmp_path_factory.mktemp("window") / "fam.h5"
-    write_fam(path, trained.fam, robot_config=trained.robot, provenance=trained.provenance)
+    write_fam(
+        path,
+        trained.fam,
+        robot_config=trained.robot,
+        method=trained.made_by,
+        provenance=trained.provenance,
+    )
     return path
 
 

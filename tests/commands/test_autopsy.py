@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 from json_schemas import valid
+from method_samples import LIVE_RING
 
 from tvl_cli.agent.drive_tvl import behave
 from tvl_cli.agent.trace import Columns, TraceRecorder
@@ -156,7 +157,7 @@ def test_explain_contacts_reads_a_trace_file(tmp_path: Path) -> None:
     world_file = tmp_path / "room.txt"
     world_file.write_text(room_with(slanted_wall()).text, encoding="utf-8")
     fam_file = tmp_path / "fast.h5"
-    write_fam(fam_file, fast_fam(), robot_config=ROBOT, provenance={})
+    write_fam(fam_file, fast_fam(), robot_config=ROBOT, method=LIVE_RING, provenance={})
     trace = tmp_path / "run.h5"
     runner = CliRunner()
     ran = runner.invoke(

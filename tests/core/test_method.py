@@ -123,11 +123,11 @@ def test_a_setting_contradicts_the_papers_method_only_by_name_and_only_if_it_dif
     def contradictions(name: str, *settings: tuple[str, object], **memory: object) -> list[str]:
         return MethodChoice(PAPER, name, settings, MemoryChoice(**memory)).contradictions()
 
-    assert contradictions("paper", ("decel_mps2", 0.1), ("near_m", 0.0)) == ["--decel"]
+    assert contradictions("paper", ("decel_mps2", 0.1), ("near_m", 0.0)) == ["decel_mps2"]
     assert contradictions("paper", ("reflexes", ()), ("decel_mps2", PAPER.decel_mps2)) == []
     assert contradictions("paper", kind="patches", window_s=10.0) == [
-        "--memory",
-        "--memory-window",
+        "memory.kind",
+        "memory.window_s",
     ]
     # The sonar model is no addition: another is a setting, not a contradiction.
     assert contradictions("paper", ("sonar", "edges")) == []

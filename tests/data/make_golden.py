@@ -2,15 +2,18 @@
 
     python tests/data/make_golden.py
 
-They stand for the files users of format version 1 have on disk, so they are made once and
-kept: a later tvl must still read them. The expected contents live here, as constants, and
-the test checks what the reader returns against them, never against what the current writer
-would write. Refuses to overwrite existing golden files unless given --force.
+They stand for the files users of each format version have on disk, so they are made once
+and kept: a later tvl must still read them. The script writes those of the current versions
+that are missing; the older ones were written by the tvl of their version. The expected
+contents live here, as constants, and the test checks what the reader returns against them,
+never against what the current writer would write. Refuses to overwrite existing golden files
+unless given --force.
 """
 
 from __future__ import annotations
 
 import sys
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -18,7 +21,8 @@ import numpy as np
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import SINGLE, FamConfig, FamInput, FamTable, Partition
-from tvl_cli.core.memory import NO_MEMORY, MemoryConfig
+from tvl_cli.core.memory import MemoryConfig
+from tvl_cli.core.method import PAPER
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.famfile import write_fam
 from tvl_cli.io.logfile import LogWriter
@@ -29,11 +33,22 @@ GOLDEN_FAM = HERE / "golden-fam-v1.h5"
 # Version 2 of the FAM file adds the echo memory it reads through.
 GOLDEN_FAM_V2 = HERE / "golden-fam-v2.h5"
 MEMORY = {"kind": "patches", "window_s": 12.5, "range_m": 1.75, "patch_m": 0.4}
+# Log version 2 and FAM version 3 keep their method whole, once: one of no preset's.
+GOLDEN_LOG_V2 = HERE / "golden-log-v2.h5"
+GOLDEN_FAM_V3 = HERE / "golden-fam-v3.h5"
+METHOD = replace(PAPER, near_m=0.2, reflexes=("bump", "tie"), memory=MemoryConfig(**MEMORY))
+PROVENANCE_V3 = {
+    "logs": [{"path": "golden-log-v2.h5", "sha256": "1" * 64, "sessions": ["0000", "0001"]}],
+    "sessions_differ_in": [],
+    "training": {"config": "tiny", "symmetric": False, "init_velocity_mps": 0.1},
+}
 
 ROBOT = RobotConfig()
 NAMES = tuple(t.name for t in ROBOT.trajectories)
 WORLD_TEXT = "version: 1\nname: golden\ncell: 0.25\n\n######\n#.>..#\n#....#\n######\n"
 PARAMETERS = {"minutes": 0.5, "learn_speed_mps": 0.2, "decel_mps2": 0.5, "config": "single"}
+# A session of log version 2 keeps only the settings that are not the method's.
+PARAMETERS_V2 = {"minutes": 0.5, "learn_speed_mps": 0.2, "config": "single"}
 SEEDS = (11, 12)
 MINUTES = ((1.0, 2.0, 1.0, 5.0, 0.0125),)
 
@@ -110,15 +125,17 @@ def golden_tables() -> tuple[np.ndarray, np.ndarray]:
 
 
 def write_log(path: Path) -> None:
+    """The log of the current version: the golden episodes, learnt by METHOD."""
     for seed, episodes in zip(SEEDS, golden_episodes(), strict=True):
         with LogWriter.open(
             path,
             world_name="golden",
             world_text=WORLD_TEXT,
             seed=seed,
-            parameters=PARAMETERS,
+            parameters=PARAMETERS_V2,
             robot_config=ROBOT.to_dict(),
             fam_config=SINGLE.to_dict(),
+            method=METHOD,
         ) as writer:
             for episode in episodes:
                 writer.append_episode(episode)
@@ -133,17 +150,18 @@ def write_log(path: Path) -> None:
                     )
 
 
-def write_golden_fam(path: Path, memory: MemoryConfig = NO_MEMORY) -> None:
+def write_golden_fam(path: Path) -> None:
+    """The FAM of the current version: the golden tables, made by METHOD."""
     velocity, experience = golden_tables()
     fam = Fam.from_tables(TINY, NAMES, [velocity], [experience], INIT_VELOCITY_MPS)
-    write_fam(path, fam, robot_config=ROBOT, provenance=PROVENANCE, memory=memory)
+    write_fam(path, fam, robot_config=ROBOT, method=METHOD, provenance=PROVENANCE_V3)
 
 
 def main(argv: list[str]) -> int:
     """Write the golden files that are missing: those of the current format versions. The
     older ones were written by the tvl of their version and are kept as they are."""
     force = "--force" in argv
-    writers = {GOLDEN_FAM_V2: lambda path: write_golden_fam(path, MemoryConfig(**MEMORY))}
+    writers = {GOLDEN_LOG_V2: write_log, GOLDEN_FAM_V3: write_golden_fam}
     for path, write in writers.items():
         if path.exists() and not force:
             print(f"{path}: already exists (golden files are kept; use --force)", file=sys.stderr)

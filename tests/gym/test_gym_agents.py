@@ -9,6 +9,7 @@ from pathlib import Path
 import gymnasium
 import numpy as np
 import pytest
+from method_samples import LIVE_RING
 
 from tvl_cli.agent.policy import LazyRing, Observation
 from tvl_cli.agent.tvl import TvlPolicy
@@ -90,7 +91,7 @@ def test_the_tvl_policy_reads_a_fam_file_and_refuses_bad_input(
     square_fam: Fam, tmp_path: Path
 ) -> None:
     path = tmp_path / "square.h5"
-    write_fam(path, square_fam, robot_config=ROBOT, provenance={})
+    write_fam(path, square_fam, robot_config=ROBOT, method=LIVE_RING, provenance={})
     ring_m = np.linspace(0.3, 3.0, 16, dtype=np.float32)
     assert TvlGymPolicy(path)(ring_m) == TvlGymPolicy(square_fam)(ring_m)
     with pytest.raises(ValueError, match=r"missing\.h5"):

@@ -293,7 +293,7 @@ def test_the_method_is_given_whole_by_preset_or_by_file(tmp_path: Path) -> None:
     a, _ = env.reset(seed=1)
     np.testing.assert_array_equal(a, env.reset(seed=2)[0])  # the ideal ring draws no noise
     assert SonarRingEnv("square", method=str(chosen)).method == env.method
-    with pytest.raises(ValueError, match="method 'lines' is neither a preset"):
+    with pytest.raises(ValueError, match="method 'lines': neither a preset"):
         SonarRingEnv("square", method="lines")
     with pytest.raises(TypeError, match="method 3 is not a Method"):
         SonarRingEnv("square", method=3)  # type: ignore[arg-type]

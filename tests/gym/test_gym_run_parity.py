@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from click.testing import CliRunner
+from method_samples import LIVE_RING
 
 from tvl_cli.agent.trace import NOT_READ_MM
 from tvl_cli.cli import main
@@ -16,7 +17,7 @@ from tvl_cli.commands.train import train_from_logs
 from tvl_cli.core.contacts import BUMP, EVENTS, NEAR_MISS, TRAPPED
 from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.memory import NO_MEMORY, NONE, MemoryChoice
-from tvl_cli.core.method import MethodChoice, method_from_dict
+from tvl_cli.core.method import MethodChoice
 from tvl_cli.gym import SonarRingEnv
 from tvl_cli.gym.env import ROBOT
 from tvl_cli.io.famfile import write_fam
@@ -35,7 +36,7 @@ def fam_path(tmp_path_factory: pytest.TempPathFactory) -> Path:
     live_ring = MethodChoice(memory=MemoryChoice(NONE))
     fam = train_from_logs([ROOT / "logs" / "square-s1.h5"], SINGLE, live_ring).fam
     path = tmp_path_factory.mktemp("fam") / "square.h5"
-    write_fam(path, fam, robot_config=ROBOT, provenance={})
+    write_fam(path, fam, robot_config=ROBOT, method=LIVE_RING, provenance={})
     return path
 
 
@@ -55,10 +56,7 @@ def tvl_run(fam: Path, tmp_path: Path, sonar: str, seed: int, threshold: float) 
 def env_rollout(run: RunTrace, seed: int) -> dict[str, np.ndarray]:
     """The run's commands, one a step, through the environment made with the method the run
     recorded (its sonar model, and the live ring its FAM reads) and reset with its seed."""
-    assert run.method is not None
-    # The FAM records no learning, so the run records its own choices and says so.
-    recorded = {key: value for key, value in run.method.items() if key != "learning"}
-    method = method_from_dict(recorded, "the run's method")
+    method = run.method
     env = SonarRingEnv(str(CIRCLE), action_type="continuous", method=method)
     assert env.method.memory == NO_MEMORY and env.method.reflexes  # ours, reflexes and all
     obs, _ = env.reset(seed=seed)

@@ -2,12 +2,15 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.fam_config import SINGLE
+from tvl_cli.core.memory import NO_MEMORY
+from tvl_cli.core.method import DEFAULT
 from tvl_cli.core.ring import ring_to_mm
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.logfile import LogWriter
@@ -48,6 +51,8 @@ def open_sample_writer(
         parameters=PARAMETERS,
         robot_config=robot.to_dict(),
         fam_config=SINGLE.to_dict(),
+        # Its own, not tests/method_samples: child processes import this module alone.
+        method=replace(DEFAULT, memory=NO_MEMORY),
         write_every_s=write_every_s,
     )
 

@@ -10,6 +10,7 @@ from typing import Any
 import h5py
 import numpy as np
 import pytest
+from method_samples import LIVE_RING
 
 from tvl_cli import __version__
 from tvl_cli.core.errors import BadInput
@@ -51,7 +52,7 @@ def trained(config: FamConfig, seed: int = 0, count: int = 2000) -> Fam:
 
 
 def written(path: Path, fam: Fam) -> Path:
-    write_fam(path, fam, robot_config=ROBOT, provenance=PROVENANCE)
+    write_fam(path, fam, robot_config=ROBOT, method=LIVE_RING, provenance=PROVENANCE)
     return path
 
 
@@ -110,7 +111,13 @@ def test_rewriting_a_read_fam_keeps_every_dataset_and_attribute(tmp_path: Path) 
     first = written(tmp_path / "a.h5", trained(SINGLE))
     read = read_fam(first)
     second = tmp_path / "b.h5"
-    write_fam(second, read.fam, robot_config=read.robot_config, provenance=read.provenance)
+    write_fam(
+        second,
+        read.fam,
+        robot_config=read.robot_config,
+        method=read.method,
+        provenance=read.provenance,
+    )
     assert contents(second) == contents(first)
 
 
@@ -162,7 +169,7 @@ def test_root_attributes_describe_the_file(tmp_path: Path) -> None:
     path = written(tmp_path / "f.h5", trained(SINGLE))
     with h5py.File(path) as f:
         attrs = f.attrs
-        assert attrs["format"] == "tvl-fam" and attrs["format_version"] == 2
+        assert attrs["format"] == "tvl-fam" and attrs["format_version"] == 3
         assert FamConfig.from_dict(json.loads(attrs["config"])) == SINGLE
         assert Robot.from_dict(json.loads(attrs["robot_config"])) == ROBOT
         assert json.loads(attrs["provenance"]) == PROVENANCE
@@ -196,7 +203,7 @@ def test_fam_for_another_robot_is_a_programming_error(tmp_path: Path) -> None:
     fam = Fam(SINGLE, NAMES)
     robot = Robot(trajectories=tuple(reversed(ROBOT.trajectories)))
     with pytest.raises(ValueError, match="not the robot's"):
-        write_fam(tmp_path / "f.h5", fam, robot_config=robot, provenance={})
+        write_fam(tmp_path / "f.h5", fam, robot_config=robot, method=LIVE_RING, provenance={})
 
 
 def test_reading_a_log_as_a_fam_is_refused_by_name(tmp_path: Path) -> None:

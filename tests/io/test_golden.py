@@ -4,9 +4,11 @@ as the constants they were made from."""
 from __future__ import annotations
 
 import importlib.util
+import json
 from pathlib import Path
 from types import ModuleType
 
+import h5py
 import numpy as np
 from log_samples import assert_same_episode
 
@@ -77,13 +79,48 @@ def test_golden_fam_perceives_a_ring_on_set_centres_as_its_rule() -> None:
 
 
 def test_golden_fam_of_version_1_reads_the_live_ring() -> None:
-    assert read_fam(GOLDEN.GOLDEN_FAM).memory == NO_MEMORY
+    assert read_fam(GOLDEN.GOLDEN_FAM).method.memory == NO_MEMORY
 
 
 def test_golden_fam_of_version_2_reads_back_its_memory_and_tables() -> None:
     read = read_fam(GOLDEN.GOLDEN_FAM_V2)
-    assert read.memory == MemoryConfig(**GOLDEN.MEMORY)
+    assert read.method.memory == MemoryConfig(**GOLDEN.MEMORY)
     velocity, experience = GOLDEN.golden_tables()
     np.testing.assert_array_equal(read.fam.velocity_table(0), velocity)
     np.testing.assert_array_equal(read.fam.experience_table(0), experience)
     assert read.provenance == GOLDEN.PROVENANCE
+
+
+def test_golden_log_of_version_1_reads_its_method_from_its_parameters() -> None:
+    for session in read_log(GOLDEN.GOLDEN_LOG).sessions:
+        # Its parameters gave the labels' rate alone; the rest is ours, named unrecorded.
+        assert session.method.decel_mps2 == GOLDEN.PARAMETERS["decel_mps2"]
+        assert session.method.memory == NO_MEMORY
+        assert "margin_m" in session.made_by.unrecorded
+
+
+def test_golden_files_of_the_current_versions_keep_their_method_whole() -> None:
+    log = read_log(GOLDEN.GOLDEN_LOG_V2)
+    for session, expected in zip(log.sessions, GOLDEN.golden_episodes(), strict=True):
+        assert session.method == GOLDEN.METHOD
+        assert session.made_by.unrecorded == ()
+        for read, written in zip(session.episodes(), expected, strict=True):
+            assert_same_episode(read, written)
+    fam = read_fam(GOLDEN.GOLDEN_FAM_V3)
+    assert fam.method == GOLDEN.METHOD
+    assert fam.made_by.unrecorded == ()
+    assert fam.provenance == GOLDEN.PROVENANCE_V3
+    velocity, _ = GOLDEN.golden_tables()
+    np.testing.assert_array_equal(fam.fam.velocity_table(0), velocity)
+
+
+def test_files_of_the_current_versions_keep_no_piece_of_their_method_beside_it() -> None:
+    with h5py.File(GOLDEN.GOLDEN_FAM_V3) as f:
+        assert "memory" not in f.attrs
+        training = json.loads(f.attrs["provenance"])["training"]
+        assert not {"decel_mps2", "margin_m"} & set(training)
+    with h5py.File(GOLDEN.GOLDEN_LOG_V2) as f:
+        for group in f["sessions"].values():
+            parameters = json.loads(group.attrs["parameters"])
+            assert not {"memory", "explore", "near_m", "decel_mps2", "margin_m"} & set(parameters)
+            assert json.loads(group.attrs["method"])["memory"] == GOLDEN.MEMORY

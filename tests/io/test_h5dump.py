@@ -8,6 +8,7 @@ from pathlib import Path
 
 import pytest
 from log_samples import ROBOT, open_sample_writer, sample_episode
+from method_samples import LIVE_RING
 
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import SINGLE
@@ -35,7 +36,7 @@ def sample_log(path: Path) -> Path:
 
 def sample_fam(path: Path) -> Path:
     fam = Fam(SINGLE, [t.name for t in ROBOT.trajectories])
-    write_fam(path, fam, robot_config=ROBOT, provenance={"logs": []})
+    write_fam(path, fam, robot_config=ROBOT, method=LIVE_RING, provenance={"logs": []})
     return path
 
 

@@ -21,6 +21,7 @@ from log_samples import (
     open_sample_writer,
     sample_episode,
 )
+from method_samples import LIVE_RING
 
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam_config import SINGLE
@@ -208,7 +209,11 @@ def test_appending_to_a_fam_file_is_refused_and_the_file_left_alone(tmp_path: Pa
 
     path = tmp_path / "f.h5"
     write_fam(
-        path, Fam(SINGLE, [t.name for t in ROBOT.trajectories]), robot_config=ROBOT, provenance={}
+        path,
+        Fam(SINGLE, [t.name for t in ROBOT.trajectories]),
+        robot_config=ROBOT,
+        method=LIVE_RING,
+        provenance={},
     )
     before = path.read_bytes()
     with pytest.raises(FormatError, match=r"f\.h5: is a tvl-fam file, expected a tvl-log"):

@@ -42,7 +42,7 @@ def refusal(path: Path, expected: str = LOG_FORMAT) -> str:
 def test_header_names_format_version_tool_and_time(tmp_path: Path) -> None:
     with h5py.File(tvl_file(tmp_path / "a.h5", FAM_FORMAT, extra=1)) as f:
         assert f.attrs["format"] == "tvl-fam"
-        assert f.attrs["format_version"] == FORMAT_VERSIONS["tvl-fam"] == 2
+        assert f.attrs["format_version"] == FORMAT_VERSIONS["tvl-fam"] == 3
         assert f.attrs["tvl_version"] == __version__
         assert str(f.attrs["created"]).endswith("+00:00")
 
@@ -91,9 +91,9 @@ def test_another_tvl_format_is_refused_by_name(tmp_path: Path) -> None:
 
 
 def test_newer_version_is_refused(tmp_path: Path) -> None:
-    path = tvl_file(tmp_path / "a.h5", format_version=2)
+    path = tvl_file(tmp_path / "a.h5", format_version=3)
     message = refusal(path)
-    assert message == f"{path}: format_version 2 is newer than this tvl reads (1)"
+    assert message == f"{path}: format_version 3 is newer than this tvl reads (2)"
 
 
 def test_hdf5_file_without_format_is_not_a_tvl_file(tmp_path: Path) -> None:

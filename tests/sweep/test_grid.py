@@ -47,8 +47,9 @@ def test_cells_are_every_combination_with_the_last_key_fastest(tmp_path: Path) -
         seed=1,
         learn_config="single",
         learn_minutes=15.0,
-        explore=None,
-        collision_points=None,
+        exploration=None,
+        near_m=None,
+        memory=None,
         config="single",
         minute=None,
         behaviour="avoid",
@@ -215,18 +216,37 @@ def test_each_kind_of_cell_varies_only_the_keys_it_reads(tmp_path: Path) -> None
     assert {c.behaviour for c in cells if c.kind == "learn"} == {None}
 
 
-def test_exploration_and_collision_points_change_the_method_learnt_by(tmp_path: Path) -> None:
+def test_the_keys_named_after_the_methods_fields_change_the_method_learnt_by(
+    tmp_path: Path,
+) -> None:
     text = (
-        'world = "square"\nseed = 1\nexplore = ["novelty", "random"]\n'
-        'collision_points = ["sonar", "bumps"]\nmethod = "paper"\n'
+        'world = "square"\nseed = 1\nexploration = ["novelty", "random"]\n'
+        'near_m = [0.16, 0]\nmemory = "points"\nmethod = "default"\n'
     )
     cells = read_grid(grid_of(tmp_path, text)).cells
-    learnt = {(c.explore, c.collision_points): c.learning_method(PAPER) for c in cells}
-    assert learnt["random", "bumps"].exploration == "random"
-    assert learnt["random", "bumps"].near_m == 0.0
-    # The paper's collision points are bumps alone: "sonar" gives them ours.
-    assert learnt["novelty", "sonar"].near_m == DEFAULT.near_m
-    assert learnt["novelty", "sonar"].decel_mps2 == PAPER.decel_mps2
+    learnt = {(c.exploration, c.near_m): c.learning_method(DEFAULT) for c in cells}
+    assert learnt["random", 0.0].exploration == "random"
+    assert learnt["random", 0.0].near_m == 0.0
+    assert learnt["novelty", 0.16].near_m == 0.16
+    assert {m.memory.kind for m in learnt.values()} == {"points"}
+    assert learnt["novelty", 0.16].decel_mps2 == DEFAULT.decel_mps2
+
+
+@pytest.mark.parametrize(
+    ("key", "value"),
+    [("exploration", '"novelty"'), ("near_m", "0.16"), ("memory", '"patches"')],
+)
+def test_a_methods_field_beside_the_papers_method_that_contradicts_it_is_refused(
+    tmp_path: Path, key: str, value: str
+) -> None:
+    text = f'world = "square"\nseed = 1\nmethod = "paper"\n{key} = {value}\n'
+    with pytest.raises(BadInput, match=f'{key} .* contradicts method "paper", which fixes it'):
+        read_grid(grid_of(tmp_path, text))
+    # The paper's own value is no contradiction.
+    paper = {"exploration": '"least-experience"', "near_m": "0", "memory": '"none"'}[key]
+    agreeing = f'world = "square"\nseed = 1\nmethod = "paper"\n{key} = {paper}\n'
+    (cell,) = read_grid(grid_of(tmp_path, agreeing)).cells
+    assert cell.learning_method(PAPER) == PAPER
 
 
 def test_a_run_may_read_through_another_echo_memory_than_its_fam_learnt_with(
@@ -300,8 +320,12 @@ def test_a_learner_exploring_with_the_trained_configuration(tmp_path: Path) -> N
             'kind = "tlv"',
             r"kind 'tlv' is not one of tvl, learn, dwa, qlearn \(did you mean 'tvl'\?\)",
         ),
-        ('explore = "novel"', r"explore 'novel' is not one of .* \(did you mean 'novelty'\?\)"),
-        ('collision_points = "bump"', r"collision_points 'bump' is not one of sonar, bumps"),
+        (
+            'exploration = "novel"',
+            r"exploration 'novel' is not one of .* \(did you mean 'novelty'\?\)",
+        ),
+        ("near_m = -1", r"near_m -1 must be >= 0 m"),
+        ('memory = "patch"', r"memory 'patch' is not one of none, points, patches"),
         (
             'run_memory = "patch"',
             r"run_memory 'patch' is not one of none, points, patches \(did you mean 'patches'\?\)",

@@ -1,9 +1,9 @@
 """The exploration experiment's numbers (experiments/grids/exploration.toml): coverage while
 learning and time to competence, by the rule that chose where to learn (`tvl learn --explore`).
 
-Its learn cells carry `explore`, `collision_points` (`sonar`, the learner's default, or
-`bumps`) and the per-minute rows `tvl replay --json` prints, with their `coverage`; its avoid
-runs carry `explore` and `minute`, the length of learning their FAM had.
+Its learn cells carry `exploration`, `near_m` (where the sonar places collision points; 0:
+bumps alone) and the per-minute rows `tvl replay --json` prints, with their `coverage`; its
+avoid runs carry `exploration` and `minute`, the length of learning their FAM had.
 """
 
 from __future__ import annotations
@@ -46,16 +46,19 @@ def minute_reaching(curve: np.ndarray, goal: float) -> float | None:
     return float(reached[0] + 1) if len(reached) else None
 
 
+def collision_points(near_m: float | None) -> str:
+    """How a row's learner placed its collision points, in words."""
+    return "bumps" if near_m == 0 else "sonar"
+
+
 def coverage_rows(rows: list[Row], worlds: tuple[str, ...]) -> list[list[str]]:
     """Per collision-point setting and rule, over the learn runs in these worlds: the mean
     coverage (lowest–highest of the runs) at each reading, and when the goal was reached."""
     learnt = select(rows, kind="learn", world=worlds)
     table = []
-    for points in distinct(learnt, "collision_points", ("sonar", "bumps")):
-        for rule in distinct(learnt, "explore"):
-            curves = [
-                coverage_curve(r) for r in select(learnt, collision_points=points, explore=rule)
-            ]
+    for near_m in distinct(learnt, "near_m"):
+        for rule in distinct(learnt, "exploration"):
+            curves = [coverage_curve(r) for r in select(learnt, near_m=near_m, exploration=rule)]
             cells = []
             for minute in COVERAGE_READINGS_MIN:
                 at = [c[minute - 1] for c in curves if len(c) >= minute]
@@ -66,7 +69,9 @@ def coverage_rows(rows: list[Row], worlds: tuple[str, ...]) -> list[list[str]]:
                 )
             horizon = max((len(c) for c in curves), default=None)
             times = [minute_reaching(c, COVERAGE_GOAL) for c in curves]
-            table.append([points, rule, *cells, describe_competence(times, horizon)])
+            table.append(
+                [collision_points(near_m), rule, *cells, describe_competence(times, horizon)]
+            )
     return table
 
 
@@ -86,9 +91,9 @@ def competence_rows(rows: list[Row]) -> tuple[list[str], list[list[str]]]:
     horizon = max((r["minute"] for r in snapshots), default=None)
     header = ["rule", *worlds, "all worlds"]
     body = []
-    for rule in distinct(snapshots, "explore"):
+    for rule in distinct(snapshots, "exploration"):
         # A snapshot's learning length is the minute time to competence reads.
-        runs = select(snapshots, explore=rule)
+        runs = select(snapshots, exploration=rule)
         cells = [
             describe_competence(competence_times(select(runs, world=world)), horizon)
             for world in worlds

@@ -100,8 +100,8 @@ _WORDS = (
     "method",
     "reflexes",
     "goal",
-    "explore",
-    "collision_points",
+    "exploration",
+    "memory",
     "run_memory",
     "trace_file",
 )
@@ -113,6 +113,7 @@ _NUMBERS = (
     "learn_minutes",
     "run_minutes",
     "competence_every",
+    "near_m",
     "delta_v",
     "learn_collisions",
     *(f.name for f in fields(RunMetrics) if f.name != "goal_reached"),
@@ -127,10 +128,11 @@ _MAYBE_TAKEN = (
     "learn_minutes",
     "run_minutes",
     "competence_every",
+    "near_m",
 )
 _MAYBE_NAMED = (
-    "goal", "config", "learn_config", "behaviour", "method", "reflexes", "explore",
-    "collision_points", "run_memory",
+    "goal", "config", "learn_config", "behaviour", "method", "reflexes", "exploration",
+    "memory", "run_memory",
 )  # fmt: skip
 _FLAGS = ("goal_reached", "online", "trace")
 _MAYBE_FLAGGED = ("goal_reached",)  # null: the run sought no goal
@@ -235,13 +237,13 @@ FIGURE_NEEDS: dict[str, tuple[Needs, ...]] = {
         Needs(
             "learning runs",
             {"kind": "learn"},
-            ("world", "seed", "explore", "collision_points", "minutes"),
+            ("world", "seed", "exploration", "near_m", "minutes"),
             ("minutes",),
         ),
         Needs(
             "avoid snapshots",
             {"kind": "tvl", "behaviour": "avoid"},
-            (*_RUN_KEYS, "explore", "minute"),
+            (*_RUN_KEYS, "exploration", "minute"),
             _PLOTTED,
         ),
     ),

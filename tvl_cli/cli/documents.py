@@ -102,7 +102,7 @@ def learn_json(result: LearnResult) -> dict[str, Any]:
         "seed": r.seed,
         **_config(r.config),
         **r.learn.to_dict(),
-        "training": r.train.to_dict(),
+        "training": r.train.settings(),
         "from_fam": optional_file(r.from_fam),
         "method": result.method,
     }
@@ -132,10 +132,9 @@ def train_json(
     inputs = {
         "logs": [input_file(log) for log in logs],
         **_config(config),
-        "training": summary.training.to_dict(),
+        "training": summary.training.settings(),
         "until_minute": until_minute,
-        "memory": summary.memory.to_dict(),
-        "method": summary.method,
+        "method": summary.method_record(),
     }
     return document(
         "train",
@@ -248,7 +247,7 @@ def inspect_json(
         {"fam": input_file(fam), **options, "explain_ring_m": explained},
         outputs={"png": output_path(png)},
         config=loaded.fam.config.to_dict(),
-        method=loaded.method,
+        method=loaded.made_by.record(),
         provenance=loaded.provenance,
         rules=None if rules is None else [r.to_dict() for r in rules],
         explanation=None if explanation is None else explanation.to_dict(),

@@ -165,7 +165,7 @@ def inspect(
     elif as_csv:
         print_csv([rule.to_row() for rule in found.rules or []])
     else:
-        fam_views.say_method(found.loaded.method)
+        fam_views.say_method(found.loaded.made_by.record())
         if png is not None and found.over is not None:
             click.echo(f"{png}: the learnt velocity over {' and '.join(found.over)}")
         # A picture asked for alone is the answer; rules asked for as well come after it.

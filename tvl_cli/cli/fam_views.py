@@ -25,7 +25,7 @@ if TYPE_CHECKING:
 def train_summary(summary: TrainSummary, output: Path, choice: MethodChoice) -> None:
     rows = [
         ("configuration", summary.fam.config.name),
-        ("method", trained_method(summary.method, choice)),
+        ("method", trained_method(summary.method_record(), choice)),
         ("episodes", summary.episodes),
         ("exemplars used", summary.exemplars),
         ("rules touched", f"{summary.rules_touched} of {summary.rules_total}"),

@@ -22,7 +22,7 @@ from tvl_cli.cli.options import (
     training_options,
 )
 from tvl_cli.commands.learn import LearnRequest, LearnResult, learn_to_log
-from tvl_cli.core.method import DEFAULT, EXPLORATION_RULES, LEARNING_FIELDS, MethodChoice
+from tvl_cli.core.method import DEFAULT, EXPLORATION_RULES, FIELDS, MethodChoice
 from tvl_cli.core.robot_config import EDGE_ECHO_RANGE_M, FASTEST_MPS, SONAR_MODELS
 from tvl_cli.core.trajectory_choice import DEFAULT_THRESHOLD
 from tvl_cli.core.words import counted
@@ -125,7 +125,7 @@ def learn(
         seed,
         config,
         LearnParams(minutes=minutes, learn_speed_mps=learn_speed),
-        method.over(DEFAULT, LEARNING_FIELDS),
+        method.over(DEFAULT, FIELDS),
         fam_out,
         from_fam=from_fam,
         symmetric=symmetric,

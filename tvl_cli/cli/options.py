@@ -33,6 +33,8 @@ from tvl_cli.core.memory import (
 )
 from tvl_cli.core.method import (
     DEFAULT,
+    FLAGS,
+    MEMORY_SETTINGS,
     PAPER,
     PAPER_NAME,
     REFLEX_NAMES,
@@ -41,7 +43,7 @@ from tvl_cli.core.method import (
 )
 from tvl_cli.core.robot_config import SLOWEST_TOP_MPS
 from tvl_cli.io.atomic import refuse_missing_directory, refuse_non_file
-from tvl_cli.io.methodfile import chosen_method
+from tvl_cli.io.methodfile import resolve_method
 from tvl_cli.io.table import csv_text
 from tvl_cli.render.formats import picture_format, refuse_other_extension
 
@@ -218,6 +220,11 @@ _SETTINGS: dict[str, tuple[str, Callable[[Any], Any]]] = {
     "reflex": ("reflexes", parse_reflexes),
 }
 _MEMORY_SETTINGS = ("memory", "memory_window", "memory_range", "memory_patch")
+# The flag of each setting of the memory, as a method choice names it.
+_MEMORY_FLAGS = {
+    f"memory.{key}": f"--{keyword.replace('_', '-')}"
+    for key, keyword in zip(MEMORY_SETTINGS, _MEMORY_SETTINGS, strict=True)
+}
 
 
 def method_options(command: Callable[..., None]) -> Callable[..., None]:
@@ -243,10 +250,11 @@ def method_options(command: Callable[..., None]) -> Callable[..., None]:
             if "memory" in kwargs
             else NOT_CHOSEN
         )
-        chosen = None if name is None else chosen_method(name)
+        chosen = None if name is None else resolve_method(name, label="--method")
         choice = MethodChoice(chosen, name, settings, memory)
         how = "--paper" if paper else f"--method {name}"
-        for flag in choice.contradictions():
+        for setting in choice.contradictions():
+            flag = FLAGS.get(setting) or _MEMORY_FLAGS[setting]
             raise BadInput(f"{flag} cannot be given with {how}, which fixes it")
         command(*args, method=choice, **kwargs)
 

@@ -114,15 +114,15 @@ def sweep(
     """Learn, train and run every combination of a grid's settings into one results table.
 
     GRID is a TOML file whose keys each give one value or a list: world and seed, and kind,
-    behaviour, config, learn_config, learn_minutes, minute, explore, collision_points,
-    threshold, goal, run_minutes, online, competence_every, trace, method, reflexes and
-    run_memory, in [[part]]s if need be (docs/guide/experiments.md, "Sweeps"; the paper's
-    figures are experiments/grids/). Each combination is a cell: one run (a TVL run or a
-    baseline's) or a learning log's record, after the learning and training it needs, each
-    done once for every cell that shares it. Rows go to results.jsonl as runs end, and the
-    grid's table to results.csv (and results.parquet with pyarrow) in the directory. The
-    terminal shows each setting's mean and 95 % interval over its seeds. One sweep at a time
-    runs in a directory."""
+    behaviour, config, learn_config, learn_minutes, minute, the method's fields exploration,
+    near_m and memory, threshold, goal, run_minutes, online, competence_every, trace,
+    method, reflexes and run_memory, in [[part]]s if need be (docs/guide/experiments.md,
+    "Sweeps"; the paper's figures are experiments/grids/). Each combination is a cell: one
+    run (a TVL run or a baseline's) or a learning log's record, after the learning and
+    training it needs, each done once for every cell that shares it. Rows go to
+    results.jsonl as runs end, and the grid's table to results.csv (and results.parquet with
+    pyarrow) in the directory. The terminal shows each setting's mean and 95 % interval over
+    its seeds. One sweep at a time runs in a directory."""
     refuse_both_formats(as_json, as_csv)
     if workers is not None and scheduler is not None:
         raise click.UsageError("give --workers or --scheduler, not both (a cluster has its own)")

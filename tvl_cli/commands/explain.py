@@ -12,7 +12,6 @@ import numpy as np
 from tvl_cli.core.contacts import EVENT_ALIASES, EVENT_CHOICES, EVENTS
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fired_rules import Explanation, restricted
-from tvl_cli.core.memory import MemoryConfig
 from tvl_cli.core.ring import mm_to_ring
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.core.words import counted
@@ -160,7 +159,7 @@ def _nearest_decision(trace: RunTrace, step: int) -> tuple[int, str | None]:
 
 def _remembers(trace: RunTrace) -> bool:
     """Whether the run perceived through an echo memory (traces before it: never)."""
-    return MemoryConfig.from_dict(trace.parameters.get("memory") or {}).remembers
+    return trace.method.memory.remembers
 
 
 def _step(trace: RunTrace, path: Path, moment: Moment) -> int:

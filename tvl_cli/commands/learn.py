@@ -18,7 +18,7 @@ from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS, Fam
 from tvl_cli.core.fam_config import FamConfig
 from tvl_cli.core.memory import MemoryConfig
-from tvl_cli.core.method import DEFAULT, LEARNING_FIELDS, Method, method_record
+from tvl_cli.core.method import DEFAULT, Method, method_record
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.core.training import TrainParams, train_episodes, train_params
 from tvl_cli.io.fam_config_file import resolve_fam_config
@@ -110,17 +110,12 @@ def learn_to_log(
         symmetric=request.symmetric,
     )
     started = time.perf_counter()
-    recorded = method_record(method, LEARNING_FIELDS)
     parameters = {
         "config": config.name,
         **request.learn.to_dict(),
-        # As sessions recorded them before the method was: readers of those read these.
-        "near_m": method.near_m,
-        "explore": method.exploration,
-        **request.train.to_dict(),
+        **request.train.settings(),
         "seed_stream": len(earlier),
         "from_fam": started_from or None,
-        "memory": method.memory.to_dict(),
     }
     with (
         LogWriter.open(
@@ -132,7 +127,7 @@ def learn_to_log(
             robot_config=robot.to_dict(),
             fam_config=config.to_dict(),
             write_every_s=LOG_WRITE_EVERY_S,
-            method=recorded,
+            method=method,
         ) as writer,
         catching_signals() as interrupted,
     ):
@@ -174,18 +169,17 @@ def learn_to_log(
             request.fam_out,
             fam,
             robot_config=robot,
+            method=method,
             provenance={
                 **provenance([read_log(request.log)], request.train, config),
                 "online_session": session,
                 "from_fam": started_from or None,
             },
-            memory=method.memory,
-            method=recorded,
         )
     return LearnResult(
         request,
         session,
-        recorded,
+        method_record(method),
         summary,
         time.perf_counter() - started,
         status,
@@ -206,9 +200,9 @@ def _fam_to_start_from(
             f"{path}: FAM has configuration {found.fam.config.name!r}, not {config.name!r} "
             "(give --config to match it)"
         )
-    if found.memory != memory:
+    if found.method.memory != memory:
         raise BadInput(
-            f"{path}: FAM reads through another echo memory ({found.memory.kind}) than this "
-            f"session's ({memory.kind}); give --memory to match it"
+            f"{path}: FAM reads through another echo memory ({found.method.memory.kind}) than "
+            f"this session's ({memory.kind}); give --memory to match it"
         )
     return found.fam

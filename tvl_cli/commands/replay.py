@@ -12,7 +12,6 @@ import numpy as np
 from tvl_cli.analysis.coverage import coverage_by_minute, coverage_of, world_floor
 from tvl_cli.core.contacts import EVENTS
 from tvl_cli.core.errors import BadInput
-from tvl_cli.io.log_sessions import explore_rule
 from tvl_cli.io.loglayout import KIND_LEARNING, MINUTE_COLUMNS, STATUS_FINISHED
 from tvl_cli.io.logreader import LearningLog, Session, read_log
 from tvl_cli.io.runfile import RunTrace, read_run, recorded_paths
@@ -134,14 +133,14 @@ def _learning(
                 kind=s.kind,
                 world=s.world_name,
                 seed=s.seed,
-                explore=explore_rule(s.parameters) if s.kind == KIND_LEARNING else None,
+                explore=s.method.exploration if s.kind == KIND_LEARNING else None,
                 status=s.status,
                 episodes=len(s.episode_table),
                 collisions=int(s.episode_table["bumped"].sum()),
                 exemplars=s.exemplar_count,
                 sim_minutes=_simulated_minutes(s),
                 coverage=coverage_of(floor, s.pose),
-                method=s.method,
+                method=s.made_by.record(),
             )
         )
         minutes += [
@@ -264,7 +263,7 @@ def _run(trace: RunTrace, path: Path, png: Path | None) -> RunReplay:
         events,
         reflexes,
         trajectories,
-        trace.method,
+        trace.made_by.record(),
         trace.status,
     )
 

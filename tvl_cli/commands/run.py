@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from contextlib import AbstractContextManager, ExitStack
-from dataclasses import asdict, dataclass, field, fields, replace
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -14,20 +14,19 @@ from tvl_cli.agent.drive_tvl import behave
 from tvl_cli.agent.online import ECHO_AFTER_S, ECHO_BEFORE_S, OnlineLearner, OnlineSummary
 from tvl_cli.agent.trace import ColumnSink, PathRecorder, TraceRecorder
 from tvl_cli.core.errors import BadInput, check_run_minutes
+from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS
 from tvl_cli.core.method import (
     BEHAVING_FIELDS,
     DEFAULT,
-    FIELDS,
     NOT_GIVEN,
     Method,
     MethodChoice,
     as_choice,
-    method_from_dict,
     method_record,
 )
 from tvl_cli.core.metrics import MinuteContacts, MinuteTally, RunMetrics
 from tvl_cli.core.robot_config import SONAR_MODELS, RobotConfig, sonar_model_name
-from tvl_cli.core.training import TrainParams
+from tvl_cli.core.training import TrainParams, train_params
 from tvl_cli.core.trajectory_choice import BEHAVIOUR_NAMES, is_threshold
 from tvl_cli.io.famfile import FamFile, read_fam
 from tvl_cli.io.logfile import LogWriter
@@ -129,44 +128,19 @@ def request_robot(request: RunRequest, fam_file: FamFile | None = None) -> Robot
     return run_robot(fam_file.robot_config, sonar, request.fam)
 
 
-def run_method(fam_file: FamFile, fam_path: Path, choice: MethodChoice) -> Method:
-    """The method a run is made by: the FAM's learning (as it records it; else ours, with its
-    labels, memory and sonar), ours or the chosen reflexes, wall rule and memory, and the
-    settings given."""
-    made_by = fam_file.method
-    if made_by is not None:
-        # Its fields: the record's notes (the preset, sessions that learnt otherwise) aside.
-        fields = {k: v for k, v in made_by.items() if k in FIELDS}
-        inherited = method_from_dict(fields, f"{fam_path}: method")
-    else:
-        training = training_params(fam_file, fam_path)
-        inherited = Method(
-            decel_mps2=training.decel_mps2,
-            margin_m=training.margin_m,
-            sonar=sonar_model_name(fam_file.robot_config.sonar) or DEFAULT.sonar,
-        )
-    # A run's own choices are ours unless chosen; the FAM reads through its own memory.
-    inherited = replace(
-        inherited,
-        reflexes=DEFAULT.reflexes,
-        wall_rule=DEFAULT.wall_rule,
-        memory=fam_file.memory,
-    )
+def run_method(fam_file: FamFile, choice: MethodChoice) -> Method:
+    """The method a run is made by: the FAM's (its labels, and the memory it reads through),
+    with ours or the chosen reflexes, wall rule and memory, and the settings given."""
+    # A run's own choices are ours unless chosen, whatever the FAM's learner would have run.
+    inherited = replace(fam_file.method, reflexes=DEFAULT.reflexes, wall_rule=DEFAULT.wall_rule)
     return choice.over(inherited, BEHAVING_FIELDS)
 
 
 def run_record(method: Method, fam_file: FamFile) -> dict[str, Any]:
-    """What the run records of its method: every field, or, for a FAM that does not record
-    how it was learnt, the run's own choices alone."""
-    if fam_file.method is not None:
-        record = method_record(method)
-        # A FAM whose sessions learnt differently is no preset, nor is a run driving it.
-        return record if "sessions_differ_in" not in fam_file.method else {**record, "preset": None}
-    return {
-        **method_record(method, (*BEHAVING_FIELDS, "sonar")),
-        "preset": None,
-        "learning": "unrecorded",
-    }
+    """What the run records of its method: every field, with those the FAM did not record or
+    its sessions chose otherwise named, as the FAM names them."""
+    made_by = fam_file.made_by
+    return method_record(method, unrecorded=made_by.unrecorded, mixed=made_by.mixed)
 
 
 def run_fam(request: RunRequest, watch: StepSink | None = None) -> RunMetrics:
@@ -190,7 +164,7 @@ def run_behaviour(
     fam_file = read_fam(request.fam)
     world = load_world(request.world)
     choice = as_choice(request.method)
-    method = run_method(fam_file, request.fam, choice)
+    method = run_method(fam_file, choice)
     recorded = run_record(method, fam_file)
     robot = request_robot(request, fam_file)
     goal = resolve_goal(request.world, world, request.behaviour, request.goal)
@@ -198,7 +172,7 @@ def run_behaviour(
     tally = MinuteTally(robot.control_period_s)
     with ExitStack() as outputs:
         learner, session = (
-            _online_learner(request, fam_file, world, robot, method, recorded, goal, outputs)
+            _online_learner(request, fam_file, world, robot, method, goal, outputs)
             if request.learn is not None
             else (None, None)
         )
@@ -247,7 +221,7 @@ def run_behaviour(
             goal=goal,
         )
     learnt = learner.summary() if learner is not None else None
-    options = run_options(request, robot, method, goal)
+    options = run_options(request, goal)
     return RunResult(
         metrics, tally.minutes(metrics), learnt, session, recorded, options, stopped_by
     )
@@ -255,50 +229,40 @@ def run_behaviour(
 
 def training_params(fam_file: FamFile, fam_path: Path) -> TrainParams:
     """How the episodes a run learns are labelled and trained: as the FAM's own were (its
-    provenance), so that the log replays into it; the defaults for a FAM that does not say."""
+    method's labels, its provenance's settings), so that the log replays into it."""
     training = fam_file.provenance.get("training")
-    if not isinstance(training, dict):
-        return TrainParams()
-    names = {f.name for f in fields(TrainParams)}
+    settings = training if isinstance(training, dict) else {}
     try:
-        return TrainParams(**{k: v for k, v in training.items() if k in names})
-    except (TypeError, BadInput) as error:
+        return train_params(
+            fam_file.method,
+            bool(settings.get("symmetric", True)),
+            float(settings.get("init_velocity_mps", DEFAULT_INIT_VELOCITY_MPS)),
+        )
+    except (TypeError, ValueError, BadInput) as error:
         raise BadInput(
-            f"{fam_path}: unreadable training parameters in its provenance ({error})"
+            f"{fam_path}: unreadable training settings in its provenance ({error})"
         ) from None
 
 
-def run_options(
-    request: RunRequest,
-    robot: RobotConfig,
-    method: Method,
-    goal: tuple[float, float] | None,
-) -> dict[str, Any]:
-    """What a run was asked to do, as it was done: the sonar and memory it drove with and
-    the goal it sought, where the request left them to the FAM or the world."""
+def run_options(request: RunRequest, goal: tuple[float, float] | None) -> dict[str, Any]:
+    """What a run was asked to do beside its method, as it was done: the goal it sought where
+    the request left it to the world."""
     return {
         "behaviour": request.behaviour,
         "threshold": request.threshold,
         "minutes": request.minutes,
         "goal": list(goal) if goal else None,
         "seed": request.seed,
-        "reflexes": list(method.reflexes),
-        "sonar": sonar_model_name(robot.sonar),
-        "memory": method.memory.to_dict(),
     }
 
 
 def _run_parameters(
-    request: RunRequest,
-    robot: RobotConfig,
-    method: Method,
-    goal: tuple[float, float] | None,
-    recorded_in: Path,
+    request: RunRequest, goal: tuple[float, float] | None, recorded_in: Path
 ) -> dict[str, Any]:
-    """The run's parameters, as its trace and a behaving log session (the file
-    `recorded_in`) keep them: the FAM by its path from that file's folder."""
+    """The run's parameters beside its method, as its trace and a behaving log session (the
+    file `recorded_in`) keep them: the FAM by its path from that file's folder."""
     return {
-        **run_options(request, robot, method, goal),
+        **run_options(request, goal),
         "fam": path_beside(request.fam, recorded_in),
         "fam_sha256": file_sha256(request.fam),
     }
@@ -310,7 +274,6 @@ def _online_learner(
     world: WorldMap,
     robot: RobotConfig,
     method: Method,
-    recorded: dict[str, Any],
     goal: tuple[float, float] | None,
     outputs: ExitStack,
 ) -> tuple[OnlineLearner, str | None]:
@@ -329,16 +292,16 @@ def _online_learner(
             world_text=world.text,
             seed=request.seed,
             parameters={
-                **_run_parameters(request, robot, method, goal, request.learn.log),
+                **_run_parameters(request, goal, request.learn.log),
                 "config": fam_file.fam.config.name,
-                **params.to_dict(),
+                **params.settings(),
                 "echo_before_s": ECHO_BEFORE_S,
                 "echo_after_s": ECHO_AFTER_S,
             },
             robot_config=robot.to_dict(),
             fam_config=fam_file.fam.config.to_dict(),
             kind=KIND_BEHAVING,
-            method=recorded,
+            method=method,
         )
     )
     learner = OnlineLearner(
@@ -364,7 +327,7 @@ def _trace_output(
         world_name=world.name,
         world_text=world.text,
         parameters={
-            **_run_parameters(request, robot, method, goal, request.trace),
+            **_run_parameters(request, goal, request.trace),
             # Which sonars each trajectory's table reads, for the contact autopsy.
             "sonars_read": fam_file.fam.config.sonars_read(),
             # A run that learns drives with a FAM that changes: the file is where it started.

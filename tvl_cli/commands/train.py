@@ -15,8 +15,14 @@ from tvl_cli.agent.perception import perceived_episodes
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS, Fam
 from tvl_cli.core.fam_config import FamConfig
-from tvl_cli.core.memory import MemoryConfig
-from tvl_cli.core.method import NOT_GIVEN, Method, MethodChoice, as_choice
+from tvl_cli.core.method import (
+    NOT_GIVEN,
+    SESSIONS_DIFFER_IN,
+    Method,
+    MethodChoice,
+    as_choice,
+    method_record,
+)
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.core.training import TrainParams, train_episodes, train_params
 from tvl_cli.io.fam_config_file import resolve_fam_config
@@ -50,8 +56,7 @@ class TrainRequest:
 class TrainSummary:
     fam: Fam
     robot: RobotConfig
-    memory: MemoryConfig  # what the FAM was trained to read through
-    method: dict[str, Any]  # method_record of the learning choices that made it
+    made_by: Method  # every choice that made it: its labels, the memory it reads through
     training: TrainParams  # how its exemplars became entries
     provenance: dict[str, Any]
     exemplars: int
@@ -60,6 +65,11 @@ class TrainSummary:
     rules_total: int
     wall_s: float
     repeated_sessions: list[RepeatedSession] = field(default_factory=list)  # trained once
+
+    def method_record(self) -> dict[str, Any]:
+        """Its method as the FAM file and --json record it, with the fields its learning
+        sessions differ in named (the first's are recorded)."""
+        return method_record(self.made_by, mixed=self.provenance[SESSIONS_DIFFER_IN])
 
 
 def train_from_logs(
@@ -82,7 +92,7 @@ def train_from_logs(
     logs = [read_log(path) for path in paths]
     refuse_repeated([(log.path, log.sha256) for log in logs], "log")
     robot = common_robot(logs)
-    made_by, record = training_method(logs, as_choice(method))
+    made_by, differing = training_method(logs, as_choice(method))
     memory_read = made_by.memory
     params = train_params(made_by, symmetric, init_velocity_mps)
     fam = Fam(config, [t.name for t in robot.trajectories], params.init_velocity_mps)
@@ -99,11 +109,10 @@ def train_from_logs(
     return TrainSummary(
         fam=fam,
         robot=robot,
-        memory=memory_read,
-        method=record,
+        made_by=made_by,
         training=params,
         provenance={
-            **provenance(logs, params, config),
+            **provenance(logs, params, config, differing),
             "until_minute": until_minute,
             "repeated_sessions": [r.text() for r in repeats],
         },
@@ -117,15 +126,14 @@ def train_from_logs(
 
 
 def write_trained(path: Path, trained: TrainSummary, overwrite: bool = True) -> None:
-    """Write a trained FAM as `tvl train` does: with its robot, its provenance and the echo
-    memory it was trained to read through, which a run then reads through."""
+    """Write a trained FAM as `tvl train` does: with its robot, the method that made it (whose
+    echo memory a run then reads through) and its provenance."""
     write_fam(
         path,
         trained.fam,
         robot_config=trained.robot,
+        method=trained.made_by,
         provenance=trained.provenance,
-        memory=trained.memory,
-        method=trained.method,
         overwrite=overwrite,
     )
 

@@ -190,25 +190,52 @@ def preset_name(method: Method, names: Iterable[str] = ()) -> str | None:
     return next((n for n, p in PRESETS.items() if not method.differs(p, names)), None)
 
 
-def method_record(method: Method, names: Iterable[str] = ()) -> dict[str, Any]:
+# The keys of a record that list the fields its file did not record (an older file's, which
+# a reader filled with ours), and those in which the sessions a FAM was trained on differ
+# (the first session's are recorded).
+UNRECORDED = "unrecorded"
+SESSIONS_DIFFER_IN = "sessions_differ_in"
+
+
+def method_record(
+    method: Method,
+    names: Iterable[str] = (),
+    unrecorded: Iterable[str] = (),
+    mixed: Iterable[str] = (),
+) -> dict[str, Any]:
     """What a file or a --json records of a method: its fields (of `names`, or all), and the
-    preset it equals on them (null: none)."""
+    preset it equals on them (null: none); with the fields an older file did not record (and
+    a reader filled with ours) listed as `unrecorded`, and those its sources chose otherwise
+    among them as `sessions_differ_in`: no preset can be said to equal either."""
     names = tuple(names) or FIELDS
+    notes = {
+        key: [n for n in FIELDS if n in set(given)]
+        for key, given in ((UNRECORDED, unrecorded), (SESSIONS_DIFFER_IN, mixed))
+    }
+    notes = {key: listed for key, listed in notes.items() if listed}
     values = method.to_dict()
-    return {"preset": preset_name(method, names), **{n: values[n] for n in names}}
+    preset = None if notes else preset_name(method, names)
+    return {"preset": preset, **{n: values[n] for n in names}, **notes}
 
 
 def describe_record(record: Mapping[str, Any] | None) -> str:
     """One line for people: the preset, or how the method differs from ours
-    (`default, except memory none`)."""
+    (`default, except memory none`; and, for an older file, which of its choices it did not
+    record)."""
     if record is None:
         return "unrecorded"
     preset = record.get("preset")
     if preset:
         return str(preset)
     ours = DEFAULT.to_dict()
-    changed = [f"{n} {_shown(record[n])}" for n in FIELDS if n in record and record[n] != ours[n]]
-    return f"default, except {', '.join(changed)}" if changed else "as default"
+    unknown = record.get(UNRECORDED) or []
+    changed = [
+        f"{n} {_shown(record[n])}"
+        for n in FIELDS
+        if n in record and n not in unknown and record[n] != ours[n]
+    ]
+    text = f"default, except {', '.join(changed)}" if changed else "as default"
+    return text + (f" ({', '.join(unknown)} unrecorded)" if unknown else "")
 
 
 def _shown(value: Any) -> str:
@@ -219,13 +246,17 @@ def _shown(value: Any) -> str:
     return f"{value:g}" if isinstance(value, float) else str(value)
 
 
+# Keys of a record that note something of the method rather than choose it.
+RECORD_NOTES = ("preset", UNRECORDED, SESSIONS_DIFFER_IN)
+
+
 def method_from_dict(data: Mapping[str, Any], where: str) -> Method:
     """A method from a table of fields (a TOML file, a recorded JSON object); fields it does
     not give are ours. BadInput naming `where` and the key at the first fault, an unknown key
     with the field it may have meant."""
     values: dict[str, Any] = {}
     for key, value in data.items():
-        if key == "preset":  # a record's note of the preset it equals, not a choice
+        if key in RECORD_NOTES:  # a record's notes (the preset it equals ...), not choices
             continue
         if key not in FIELDS:
             raise BadInput(f"{where}: unknown key {key!r} ({did_you_mean(key, FIELDS)})")
@@ -278,20 +309,23 @@ class MethodChoice:
         return replace(method, memory=self.memory.over(method.memory))
 
     def contradictions(self) -> list[str]:
-        """The finer flags that contradict the paper's method when it was chosen by name:
-        each sets an addition's field (or a memory setting) to other than the paper's."""
+        """The settings that contradict the paper's method when it was chosen by name: each
+        sets an addition's field (or a setting of the memory, named `memory.KEY`) to other
+        than the paper's. The command line names them by flag, a grid by key."""
         if self.name != PAPER_NAME:
             return []
         additions = {a.field for a in ADDITIONS}
-        found = [FLAGS[n] for n, v in self.settings if n in additions and v != getattr(PAPER, n)]
+        found = [n for n, v in self.settings if n in additions and v != getattr(PAPER, n)]
         paper_memory = PAPER.memory.to_dict()
-        memory_flags = {"kind": "--memory", "window_s": "--memory-window"}
-        memory_flags |= {"range_m": "--memory-range", "patch_m": "--memory-patch"}
-        for key, flag in memory_flags.items():
+        for key in MEMORY_SETTINGS:
             given = getattr(self.memory, key)
             if given is not None and given != paper_memory[key]:
-                found.append(flag)
+                found.append(f"memory.{key}")
         return found
+
+
+# The settings of the echo memory a choice may give one by one (core.memory.MemoryChoice).
+MEMORY_SETTINGS = ("kind", "window_s", "range_m", "patch_m")
 
 
 NOT_GIVEN = MethodChoice()

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -19,7 +19,7 @@ from tvl_cli.core.robot_config import SLOWEST_TOP_MPS, RobotConfig
 
 @dataclass(frozen=True, slots=True)
 class TrainParams:
-    """How exemplars become FAM entries; recorded in every FAM file's provenance."""
+    """How exemplars become FAM entries: the method's labels, and the settings beyond it."""
 
     decel_mps2: float = DEFAULT_DECEL_MPS2
     margin_m: float = DEFAULT_MARGIN_M
@@ -40,8 +40,10 @@ class TrainParams:
                 f"slowest trajectory's maximum ({slowest:g} m/s)"
             )
 
-    def to_dict(self) -> dict[str, float | bool]:
-        return asdict(self)
+    def settings(self) -> dict[str, float | bool]:
+        """What a FAM's provenance records of its training: the settings that are not the
+        method's (whose labels the FAM's method records)."""
+        return {"symmetric": self.symmetric, "init_velocity_mps": self.init_velocity_mps}
 
 
 def train_params(

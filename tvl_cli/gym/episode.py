@@ -25,9 +25,9 @@ from tvl_cli.core.contacts import drives_forward
 from tvl_cli.core.drive_command import STOP, Command
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.memory import MemoryConfig
-from tvl_cli.core.method import DEFAULT, PRESETS, Method
+from tvl_cli.core.method import DEFAULT, Method
 from tvl_cli.core.robot_config import SONAR_MODELS, RobotConfig
-from tvl_cli.io.methodfile import read_method
+from tvl_cli.io.methodfile import resolve_method as resolve_named_method
 from tvl_cli.sim.motion import Pose
 from tvl_cli.sim.worldgen import bundled_world_path
 from tvl_cli.sim.worldmap import WorldMap, check_goal, load_world
@@ -79,19 +79,10 @@ def resolve_method(method: object) -> Method:
     wrong (TypeError for a value of the wrong kind)."""
     if method is None:
         return DEFAULT
-    if isinstance(method, Method):
-        return method
-    if not isinstance(method, str | Path):
+    if not isinstance(method, Method | str | Path):
         raise TypeError(f"method {method!r} is not a Method, a preset's name or a method file")
-    if isinstance(method, str) and method in PRESETS:
-        return PRESETS[method]
-    path = Path(method)
-    if not path.is_file():
-        raise ValueError(
-            f"method {str(method)!r} is neither a preset ({', '.join(PRESETS)}) nor a method file"
-        )
     try:
-        return read_method(path)
+        return resolve_named_method(method)
     except BadInput as problem:
         raise ValueError(str(problem)) from None
 

@@ -1,12 +1,13 @@
 """The FAM file (`tvl-fam`): learnt velocities and experience, with how they were learnt.
 
-Layout:
+Layout (format_version 3):
 
     /                 format, format_version, tvl_version, created, config (FamConfig JSON),
-                      robot_config (JSON), init_velocity_mps, trajectories, provenance (JSON),
-                      memory (JSON: the echo memory it was trained to read through; a file
-                      without it reads the live ring), method (JSON, core.method.method_record:
-                      the learning choices it was made by; optional, see below)
+                      robot_config (JSON), init_velocity_mps, trajectories, method (JSON,
+                      core.method.method_record: every choice of the method it was made by,
+                      its labels and the echo memory it reads through among them),
+                      provenance (JSON: the logs and sessions it was trained from, and the
+                      training settings that are not the method's)
     /fams/<table>     one group per FAM table, e.g. /fams/all or /fams/T1L
         velocity      table.shape + (trajectories,) float64 m/s, one axis per input
         experience    the same shape, unitless (summed rule firing strengths, eq. 1)
@@ -14,10 +15,9 @@ Layout:
                       dimension scale of that input's axis
         axes/trajectory  the table's trajectory names: the scale of the last axis
 
-`method` came without a new format version: it records how the FAM was made and changes
-nothing in how it is read or driven (the labels a run learns with come from `provenance`, the
-memory from `memory`), so a reader that ignores it misreads nothing. Files without it show
-the method as unrecorded.
+Versions 1 and 2 kept the method's pieces (its labels in the provenance's training, the
+memory in a `memory` attribute from version 2, some fields in an optional `method`);
+io.method_records reads them.
 
 Datasets are written with fixed settings, so the same FAM always gives the same dataset
 bytes; only the `created` attribute tells two writes apart.
@@ -35,10 +35,12 @@ import numpy as np
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import FamConfig, FamTable
-from tvl_cli.core.memory import NO_MEMORY, MemoryConfig
+from tvl_cli.core.method import SESSIONS_DIFFER_IN, Method, method_record
 from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.io.method_records import ReadMethod, current, fam_method
 from tvl_cli.io.schema import (
     FAM_FORMAT,
+    METHOD_RECORDED_SINCE,
     FormatError,
     hdf5_output,
     open_for_reading,
@@ -62,8 +64,11 @@ class FamFile:
     provenance: dict[str, Any]
     tvl_version: str
     created: str  # UTC ISO 8601
-    memory: MemoryConfig = NO_MEMORY  # what it perceives through: a run's default
-    method: dict[str, Any] | None = None  # method_record of its making; None: unrecorded
+    made_by: ReadMethod  # the method it was made by: its labels, and the memory it reads
+
+    @property
+    def method(self) -> Method:
+        return self.made_by.method
 
 
 def write_fam(
@@ -71,13 +76,13 @@ def write_fam(
     fam: Fam,
     *,
     robot_config: RobotConfig,
+    method: Method,
     provenance: dict[str, Any],
-    memory: MemoryConfig = NO_MEMORY,
-    method: dict[str, Any] | None = None,
     overwrite: bool = True,
 ) -> None:
-    """Write `fam` to `path` atomically: a failure leaves any existing file untouched, and
-    without `overwrite` a file that appeared meanwhile is refused, not replaced."""
+    """Write `fam`, made by `method`, to `path` atomically: a failure leaves any existing file
+    untouched, and without `overwrite` a file that appeared meanwhile is refused, not
+    replaced."""
     names = tuple(t.name for t in robot_config.trajectories)
     if fam.trajectory_names != names:
         raise ValueError(f"FAM trajectories {fam.trajectory_names} are not the robot's {names}")
@@ -91,9 +96,8 @@ def write_fam(
             FAM_FORMAT,
             config=fam.config.to_dict(),
             robot_config=robot_config.to_dict(),
+            method=method_record(method),
             provenance=provenance,
-            memory=memory.to_dict(),
-            **({} if method is None else {"method": method}),
         )
         f.attrs["init_velocity_mps"] = fam.init_velocity_mps
         f.attrs["trajectories"] = list(names)
@@ -203,16 +207,23 @@ def _read(f: h5py.File, path: Path) -> FamFile:
         experience,
         float(f.attrs["init_velocity_mps"]),
     )
+    provenance = read_json_attr(f, "provenance", path)
     return FamFile(
         fam=fam,
         robot_config=robot,
-        provenance=read_json_attr(f, "provenance", path),
+        provenance=provenance,
         tvl_version=read_str_attr(f, "tvl_version", path),
         created=read_str_attr(f, "created", path),
-        memory=(
-            MemoryConfig.from_dict(read_json_attr(f, "memory", path))
-            if "memory" in f.attrs
-            else NO_MEMORY
-        ),
-        method=read_json_attr(f, "method", path) if "method" in f.attrs else None,
+        made_by=_method(f, path, provenance, robot),
     )
+
+
+def _method(f: h5py.File, path: Path, provenance: Any, robot: RobotConfig) -> ReadMethod:
+    """The FAM's method, from its record or, in a file of version 1 or 2, its pieces."""
+    optional = {n: read_json_attr(f, n, path) for n in ("method", "memory") if n in f.attrs}
+    where = "FAM"  # read_fam names the file
+    if not isinstance(provenance, dict):
+        raise FormatError(f"{path}: provenance is not a JSON object")
+    if int(f.attrs["format_version"]) >= METHOD_RECORDED_SINCE[FAM_FORMAT]:
+        return current(optional.get("method"), where, provenance.get(SESSIONS_DIFFER_IN, []))
+    return fam_method(optional.get("method"), optional.get("memory"), provenance, robot, where)

@@ -58,11 +58,36 @@ def load_schema(name: str) -> dict[str, Any]:
 
 
 def command_schema(command: str) -> dict[str, Any]:
-    """A command's schema, whole: the shared definitions it refers to embedded under its
-    `$defs` by their `$id` (a JSON Schema 2020-12 bundle), so that it needs no other file."""
+    """A command's schema, whole: the shared definitions it refers to, and those they refer
+    to, embedded under its `$defs` by their `$id` (a JSON Schema 2020-12 bundle), so that it
+    needs no other file and changes only with what its document may hold."""
     schema = load_schema(schema_name(command))
     common = load_schema(COMMON)
-    return {**schema, "$defs": {**schema.get("$defs", {}), common["$id"]: common}}
+    shared = common["$defs"]
+    wanted: set[str] = set()
+    found = _shared_refs(schema, common["$id"])
+    while found - wanted:
+        wanted |= found
+        found = wanted | {n for name in wanted for n in _shared_refs(shared[name], "")}
+    used = {**common, "$defs": {name: shared[name] for name in sorted(wanted)}}
+    return {**schema, "$defs": {**schema.get("$defs", {}), common["$id"]: used}}
+
+
+def _shared_refs(schema: Any, common_id: str) -> set[str]:
+    """The names of the shared definitions `schema` refers to: `COMMON_ID#/$defs/NAME` from a
+    command's schema, `#/$defs/NAME` (common_id "") from within the shared file."""
+    found: set[str] = set()
+    if isinstance(schema, dict):
+        ref = schema.get("$ref")
+        prefix = f"{common_id}#/$defs/"
+        if isinstance(ref, str) and ref.startswith(prefix):
+            found.add(ref[len(prefix) :])
+        for value in schema.values():
+            found |= _shared_refs(value, common_id)
+    elif isinstance(schema, list):
+        for item in schema:
+            found |= _shared_refs(item, common_id)
+    return found
 
 
 def schema_version(command: str) -> int:

@@ -6,23 +6,14 @@ from __future__ import annotations
 
 import hashlib
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from itertools import takewhile
-from typing import Any
 
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam_config import FamConfig
 from tvl_cli.core.memory import NO_MEMORY, MemoryConfig
-from tvl_cli.core.method import (
-    DEFAULT,
-    LEARNING_FIELDS,
-    LEAST_EXPERIENCE,
-    Method,
-    MethodChoice,
-    method_from_dict,
-    method_record,
-)
+from tvl_cli.core.method import DEFAULT, FIELDS, SESSIONS_DIFFER_IN, Method, MethodChoice
 from tvl_cli.core.robot_config import RobotConfig, sonar_model_name
 from tvl_cli.core.training import TrainParams
 from tvl_cli.io.loglayout import KIND_LEARNING
@@ -91,24 +82,10 @@ def finished_episodes(session: Session, until_s: float | None = None) -> list[Ep
     return list(takewhile(lambda e: e.end_time_s <= until_s, episodes))
 
 
-def session_memory(session: Session, where: str) -> MemoryConfig:
-    """The echo memory a session was learnt through; none for one that does not say (all
-    sessions written before there was a memory)."""
-    try:
-        return MemoryConfig.from_dict(session.parameters.get("memory") or {})
-    except BadInput as error:
-        raise BadInput(f"{where} session {session.name}: {error}") from None
-
-
 def common_memory(logs: Sequence[LearningLog]) -> MemoryConfig:
     """The one echo memory all the logs' sessions were learnt through; BadInput if they differ,
     since one FAM reads through one memory."""
-    found = {
-        (str(log.path), s.name): session_memory(s, str(log.path))
-        for log in logs
-        for s in log.sessions
-    }
-    memories = set(found.values())
+    memories = {s.method.memory for log in logs for s in log.sessions}
     if len(memories) > 1:
         raise BadInput(
             "the sessions were learnt through different echo memories "
@@ -117,65 +94,49 @@ def common_memory(logs: Sequence[LearningLog]) -> MemoryConfig:
     return memories.pop() if memories else NO_MEMORY
 
 
-def explore_rule(parameters: dict[str, Any]) -> str:
-    """The exploration rule a log session's parameters name; sessions written before there
-    was a choice followed the paper's."""
-    return str(parameters.get("explore", LEAST_EXPERIENCE))
+# The learning choices of a session that a FAM trained on it keeps as they were: where the
+# collision points fell and how exploration chose where to go are in what was recorded.
+_LEARNT_AS_RECORDED = ("near_m", "exploration")
 
 
-def session_method(session: Session, where: str) -> Method:
-    """The method a learning session was learnt by: as it records it, or as its parameters
-    and robot say (sessions written before the method was recorded)."""
-    if session.method is not None:
-        return method_from_dict(session.method, f"{where} session {session.name} method")
-    parameters = session.parameters
-    return Method(
-        decel_mps2=float(parameters.get("decel_mps2", DEFAULT.decel_mps2)),
-        margin_m=float(parameters.get("margin_m", DEFAULT.margin_m)),
-        near_m=float(parameters.get("near_m", DEFAULT.near_m)),
-        exploration=explore_rule(parameters),
-        sonar=sonar_model_name(session.robot_config.sonar) or DEFAULT.sonar,
-        memory=session_memory(session, where),
-    )
-
-
-def training_method(
-    logs: Sequence[LearningLog], choice: MethodChoice
-) -> tuple[Method, dict[str, Any]]:
-    """The method a FAM trained from the logs is made by, and its record: the labels and
-    memory chosen (ours, reading through the sessions' own memory, unless chosen); the
-    collision points, exploration and sonar of the learning sessions. Sessions of different
-    memories need a memory chosen; sessions that learnt differently are named in the record."""
+def training_method(logs: Sequence[LearningLog], choice: MethodChoice) -> tuple[Method, list[str]]:
+    """The method a FAM trained from the logs is made by: the labels, memory and behaving
+    choices chosen (ours, reading through the sessions' own memory, unless chosen), the
+    collision points and exploration of the first learning session, and the sonar of the
+    logs' robot; and the
+    fields in which the learning sessions differ from the first (then the first's are
+    recorded). Sessions of different memories need a memory chosen."""
     try:
         memory = common_memory(logs)
     except BadInput:
         if choice.method is None and choice.memory.kind is None:
             raise
         memory = NO_MEMORY
-    learnt = [
-        session_method(s, str(log.path))
-        for log in logs
-        for s in log.sessions
-        if s.kind == KIND_LEARNING
-    ]
+    learnt = [s.method for log in logs for s in log.sessions if s.kind == KIND_LEARNING]
     first = learnt[0] if learnt else DEFAULT
-    inherited = Method(
-        near_m=first.near_m,
-        exploration=first.exploration,
+    inherited = replace(
+        DEFAULT,
+        **{n: getattr(first, n) for n in _LEARNT_AS_RECORDED},
         sonar=sonar_model_name(logs[0].sessions[0].robot_config.sonar) or DEFAULT.sonar,
         memory=memory,
     )
-    method = choice.over(inherited, ("decel_mps2", "margin_m", "memory"))
-    record = method_record(method, LEARNING_FIELDS)
-    differing = sorted({n for m in learnt for n in m.differs(first, ("near_m", "exploration"))})
-    if differing:
-        # The first session's are recorded; the others learnt otherwise.
-        record = {**record, "preset": None, "sessions_differ_in": differing}
-    return method, record
+    # The chosen method gives the rest: its labels and memory, and the behaving choices it
+    # records for the runs of the FAM.
+    own = tuple(n for n in FIELDS if n not in (*_LEARNT_AS_RECORDED, "sonar"))
+    method = choice.over(inherited, own)
+    differing = sorted({n for m in learnt for n in m.differs(first, _LEARNT_AS_RECORDED)})
+    return method, differing
 
 
-def provenance(logs: Sequence[LearningLog], params: TrainParams, config: FamConfig) -> dict:
-    """Everything needed to rebuild the FAM: its sources and every training parameter."""
+def provenance(
+    logs: Sequence[LearningLog],
+    params: TrainParams,
+    config: FamConfig,
+    sessions_differ_in: Sequence[str] = (),
+) -> dict:
+    """Everything needed to rebuild the FAM beside its method: its sources, how its learning
+    sessions differ from the first's (whose choices its method keeps), and the training
+    settings that are not the method's."""
     return {
         "logs": [
             {
@@ -187,7 +148,7 @@ def provenance(logs: Sequence[LearningLog], params: TrainParams, config: FamConf
                         "world": s.world_name,
                         "seed": s.seed,
                         # How it chose where to learn; a behaving session did not explore.
-                        "explore": explore_rule(s.parameters) if s.kind == KIND_LEARNING else None,
+                        "exploration": s.method.exploration if s.kind == KIND_LEARNING else None,
                         "status": s.status,
                         "episodes": len(s.episode_table),
                         "exemplars": s.exemplar_count,
@@ -197,5 +158,6 @@ def provenance(logs: Sequence[LearningLog], params: TrainParams, config: FamConf
             }
             for log in logs
         ],
-        "training": {"config": config.name, **params.to_dict()},
+        SESSIONS_DIFFER_IN: list(sessions_differ_in),
+        "training": {"config": config.name, **params.settings()},
     }

@@ -1,13 +1,14 @@
 """The learning log (`tvl-log`): every exemplar a learner recorded, grouped in sessions.
 
-Layout (all lengths grow as whole episodes are appended):
+Layout (format_version 2; all lengths grow as whole episodes are appended):
 
     /                       format, format_version, tvl_version, created
     /sessions/0000          kind ('learning' or 'behaving'), world_name, world_text, seed,
-                            parameters, robot_config, fam_config (JSON), status, started,
-                            ended, tvl_version, episodes_written, minutes_written, method
-                            (JSON, core.method.method_record: the method the session was
-                            learnt by; sessions written before it was recorded lack it)
+                            method (JSON, core.method.method_record: every choice of the
+                            method the session was learnt by), parameters (JSON: the
+                            settings that are not the method's: minutes, speeds, seed
+                            stream, ...), robot_config, fam_config (JSON), status, started,
+                            ended, tvl_version, episodes_written, minutes_written
         ring_mm     (N, 16) uint16  sonar ranges in millimetres, S0 forward, CCW
         pose        (N, 3)  float64 true x, y (m), theta (rad)
         odometry    (N, 3)  float64 odometry x, y (m), theta (rad)
@@ -17,6 +18,11 @@ Layout (all lengths grow as whole episodes are appended):
         episode     (N,)    int32   episode index in the session
         episodes    (E,)    one row per episode (EPISODE_DTYPE)
         minutes     (M, 5)  float64 per simulated minute: MINUTE_COLUMNS
+
+Sessions of version 1 kept the method's pieces in their parameters (labels, collision
+points, exploration rule, memory), some with a `method` of the learning fields beside them;
+io.method_records reads them. A version 1 log that a session is added to becomes version 2:
+its earlier sessions read as before.
 
 Surviving a killed learner: a session being written keeps its datasets chunked but
 uncompressed, so every chunk stays where it was first written and HDF5 never frees and
@@ -49,6 +55,7 @@ import numpy as np
 from tvl_cli import __version__
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
+from tvl_cli.core.method import Method, method_record
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.atomic import atomic_output, refuse_missing_directory
 from tvl_cli.io.lock import WriterLock
@@ -67,6 +74,7 @@ from tvl_cli.io.loglayout import (
     check_log_structure,
 )
 from tvl_cli.io.schema import (
+    FORMAT_VERSIONS,
     LIBVER,
     LOG_FORMAT,
     hdf5_output,
@@ -115,9 +123,9 @@ class LogWriter:
         parameters: dict[str, Any],
         robot_config: dict[str, Any],
         fam_config: dict[str, Any],
+        method: Method,
         kind: str = KIND_LEARNING,
         write_every_s: float = 0.0,
-        method: dict[str, Any] | None = None,
     ) -> LogWriter:
         """Create the log, or add a new session of `kind` (SESSION_KINDS) to an existing one
         (which must be a tvl-log of the same robot). BadInput if another process is writing
@@ -143,12 +151,16 @@ class LogWriter:
             if not created:
                 check_log_structure(f, path)
                 _refuse_other_robot(f, path, robot_config)
+                # Its new session keeps the method as this version does: a tvl that reads
+                # only version 1 must refuse the log rather than misread that session.
+                f.attrs["format_version"] = FORMAT_VERSIONS[LOG_FORMAT]
             group = _new_session(f, RobotConfig.from_dict(robot_config))
             group.attrs.update(
                 kind=kind,
                 world_name=world_name,
                 world_text=world_text,
                 seed=np.int64(seed),
+                method=to_json(method_record(method)),
                 parameters=to_json(parameters),
                 robot_config=to_json(robot_config),
                 fam_config=to_json(fam_config),
@@ -157,8 +169,6 @@ class LogWriter:
                 tvl_version=__version__,
             )
             group.attrs.update({COMMITTED_EPISODES: np.int64(0), COMMITTED_MINUTES: np.int64(0)})
-            if method is not None:
-                group.attrs["method"] = to_json(method)
             f.flush()
         except BaseException:
             # Cleared first: HDF5 may fail again closing a file it could not write (a full

@@ -15,6 +15,7 @@ import numpy as np
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam_config import FamConfig
+from tvl_cli.core.method import Method
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.lock import writer_pid
 from tvl_cli.io.loglayout import (
@@ -29,6 +30,7 @@ from tvl_cli.io.loglayout import (
     STATUS_RUNNING,
     check_log_structure,
 )
+from tvl_cli.io.method_records import ReadMethod, session_method
 from tvl_cli.io.schema import (
     LOG_FORMAT,
     FormatError,
@@ -63,9 +65,11 @@ class Session:
     episode: np.ndarray  # (N,) int32
     episode_table: np.ndarray  # (E,) EPISODE_DTYPE
     minutes: np.ndarray  # (M, 5) float64, MINUTE_COLUMNS
-    # The method it was learnt by (core.method.method_record); None: written before logs
-    # recorded one.
-    method: dict[str, Any] | None = None
+    made_by: ReadMethod  # the method it was learnt by
+
+    @property
+    def method(self) -> Method:
+        return self.made_by.method
 
     @property
     def exemplar_count(self) -> int:
@@ -189,13 +193,17 @@ def _read_session(group: h5py.Group, name: str, path: Path) -> Session:
     status = read_str_attr(group, "status", path)
     if status == STATUS_RUNNING and writer_pid(path) is None:
         status = STATUS_NOT_CLOSED
+    parameters = read_json_attr(group, "parameters", path)
+    if not isinstance(parameters, dict):
+        raise FormatError(f"{where}: parameters are not a JSON object")
+    recorded = read_json_attr(group, "method", path) if "method" in group.attrs else None
     return Session(
         name=name,
         kind=kind,
         world_name=read_str_attr(group, "world_name", path),
         world_text=read_str_attr(group, "world_text", path),
         seed=int(group.attrs["seed"]),
-        parameters=read_json_attr(group, "parameters", path),
+        parameters=parameters,
         robot_config=robot,
         fam_config=fam,
         status=status,
@@ -204,7 +212,7 @@ def _read_session(group: h5py.Group, name: str, path: Path) -> Session:
         tvl_version=read_str_attr(group, "tvl_version", path),
         episode_table=table,
         minutes=minutes,
-        method=read_json_attr(group, "method", path) if "method" in group.attrs else None,
+        made_by=session_method(recorded, parameters, robot, where),
         **columns,
     )
 

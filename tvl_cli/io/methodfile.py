@@ -1,4 +1,5 @@
-"""Method files (`--method FILE.toml`): a method's fields as TOML keys, those not given ours.
+"""Method files (`--method FILE.toml`): a method's fields as TOML keys, those not given ours;
+and the one resolver of a method as a user names it: a preset, a file, or a Method.
 
 # The paper's method, remembering echoes as patches.
 decel_mps2 = 0.2
@@ -23,14 +24,22 @@ def read_method(path: Path) -> Method:
     return method_from_dict(read_toml(path, "method"), str(path))
 
 
-def chosen_method(text: str) -> Method:
-    """A preset by name (paper, default), else the method file of that name."""
-    if text in PRESETS:
-        return PRESETS[text]
-    path = Path(text)
-    if not path.exists():
+def resolve_method(
+    named: Method | str | Path, folder: Path | None = None, label: str = ""
+) -> Method:
+    """The method a user names, for the command line, a sweep's grid and the Gymnasium
+    environment alike: a Method as given; a preset by name (paper, default); else the method
+    file at that path (relative to `folder` where given: a grid's). BadInput, led by `label`
+    (the option or key that named it), for a name that is neither."""
+    if isinstance(named, Method):
+        return named
+    if isinstance(named, str) and named in PRESETS:
+        return PRESETS[named]
+    path = Path(named) if folder is None else folder / named
+    if not path.is_file():
+        lead = f"{label} {named}" if label else f"method {str(named)!r}"
         raise BadInput(
-            f"--method {text}: neither a preset nor a method file "
-            f"({did_you_mean(text, list(PRESETS))})"
+            f"{lead}: neither a preset ({', '.join(PRESETS)}) nor a method file "
+            f"({did_you_mean(str(named), list(PRESETS))})"
         )
     return read_method(path)

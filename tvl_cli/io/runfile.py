@@ -1,16 +1,17 @@
 """The run trace (`tvl-run`): every control step of one behaviour run, why it was taken,
 and the run's metrics.
 
-Layout (format_version 3; version 2 had no perceived_mm, version 1 only pose, odometry,
-ring_mm, velocities, trajectory, speed_mps and bumped, with velocities facing forward; both
-are still read):
+Layout (format_version 4; version 3 kept the method's reflexes and memory in its parameters
+and some or none of it in `method` (io.method_records reads them), version 2 had no
+perceived_mm, version 1 only pose, odometry, ring_mm, velocities, trajectory, speed_mps and
+bumped, with velocities facing forward; all are still read):
 
     /             format, format_version, tvl_version, created, world_name, world_text,
-                  parameters (JSON: behaviour, threshold, minutes, goal, seed, reflexes, sonar,
-                  echo memory, FAM file (its path relative to the trace's folder) and its
-                  SHA-256, the sonars each trajectory's table reads), robot_config (JSON),
-                  metrics (JSON: what `tvl run --json` prints),
-                  method (JSON, core.method.method_record: the method the run was made by),
+                  method (JSON, core.method.method_record: every choice of the method the run
+                  was made by: its reflexes, its sonar, its echo memory, ...), parameters
+                  (JSON: behaviour, threshold, minutes, goal, seed, FAM file (its path from
+                  the trace's folder) and its SHA-256, the sonars each trajectory's table
+                  reads), robot_config (JSON), metrics (JSON: what `tvl run --json` prints),
                   status ("finished", or "interrupted: SIGINT" for a run Ctrl-C ended early)
     pose          (N, 3) float64  true x, y (m), theta (rad) after each step
     odometry      (N, 3) float64  odometry x, y (m), theta (rad) after each step
@@ -28,10 +29,8 @@ are still read):
     events        (N,) uint8      events the step began, one bit each (attribute `bits`)
     bumped        (N,) bool       bump sensor after the step
 
-`method` and `status` came without a new format version: records of how the run was made
-and ended, they change how nothing else is read, so a reader that ignores them misreads
-nothing. A trace without `method` shows the method as unrecorded; one without `status`
-finished.
+`status` came without a new format version: how the run ended changes how nothing else is
+read. A trace without it finished.
 """
 
 from __future__ import annotations
@@ -47,10 +46,15 @@ import h5py
 import numpy as np
 
 from tvl_cli.core.contacts import EVENTS, steps_beginning
+from tvl_cli.core.errors import BadInput
+from tvl_cli.core.method import Method
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.atomic import atomic_output
 from tvl_cli.io.loglayout import STATUS_FINISHED, ended_status
+from tvl_cli.io.method_records import ReadMethod, current, trace_method
 from tvl_cli.io.schema import (
     LIBVER,
+    METHOD_RECORDED_SINCE,
     RUN_FORMAT,
     FormatError,
     open_for_reading,
@@ -100,10 +104,14 @@ class RunTrace:
     parameters: dict[str, Any]
     metrics: dict[str, Any]
     arrays: dict[str, np.ndarray]  # the datasets above, by name
+    made_by: ReadMethod  # the method the run was made by
     reflex_names: tuple[str, ...] = ()
     robot_config: dict[str, Any] = field(default_factory=dict)  # RobotConfig.to_dict()
-    method: dict[str, Any] | None = None  # method_record; None: unrecorded
     status: str = STATUS_FINISHED  # or "interrupted: SIGINT": a run stopped early
+
+    @property
+    def method(self) -> Method:
+        return self.made_by.method
 
     @property
     def steps(self) -> int:
@@ -177,10 +185,11 @@ def run_trace_output(
     parameters: dict[str, Any],
     robot_config: dict[str, Any],
     reflex_names: tuple[str, ...],
-    method: dict[str, Any] | None = None,
+    method: dict[str, Any],
 ) -> Iterator[RunTraceWriter]:
     """A run trace written while the run goes: yields the writer (a column sink, whose
     `metrics` the caller sets); the file appears at `path` only when the block ends well.
+    `method` is the run's method as core.method.method_record gives it.
 
     Written straight to a temporary file beside `path`, so a run of any length needs no more
     memory than a chunk. HDF5 cannot close a file it failed to write and crashes trying, so
@@ -190,9 +199,8 @@ def run_trace_output(
     with atomic_output(path) as temporary:
         f = h5py.File(temporary, "w", libver=LIBVER)
         try:
-            recorded = {} if method is None else {"method": method}
             write_header(
-                f, RUN_FORMAT, parameters=parameters, robot_config=robot_config, **recorded
+                f, RUN_FORMAT, method=method, parameters=parameters, robot_config=robot_config
             )
             f.attrs.update(world_name=world_name, world_text=world_text)
             writer = RunTraceWriter(f, reflex_names)
@@ -228,7 +236,8 @@ def recorded_paths(recorded: str, recorded_in: Path) -> list[Path]:
 def read_run(path: Path | str) -> RunTrace:
     """Read a run trace; FormatError if it is not a readable tvl-run file."""
     with open_for_reading(path, RUN_FORMAT) as f:
-        names = _datasets_of_version(int(f.attrs["format_version"]))  # checked on opening
+        version = int(f.attrs["format_version"])  # checked on opening
+        names = _datasets_of_version(version)
         # Found missing here, not as a KeyError in whatever reads the trace.
         missing = [name for name in names if name not in f]
         if missing:
@@ -245,17 +254,33 @@ def read_run(path: Path | str) -> RunTrace:
         _check_finite(arrays, path)
         parameters, metrics = (read_json_attr(f, name, path) for name in ("parameters", "metrics"))
         _check_records(parameters, metrics, len(arrays["pose"]), path)
+        robot_config = read_json_attr(f, "robot_config", path)
+        recorded = read_json_attr(f, "method", path) if "method" in f.attrs else None
         return RunTrace(
             world_name=read_str_attr(f, "world_name", path),
             world_text=read_str_attr(f, "world_text", path),
             parameters=parameters,
             metrics=metrics,
             arrays=arrays,
+            made_by=_method(recorded, version, parameters, robot_config, path),
             reflex_names=reflex_names,
-            robot_config=read_json_attr(f, "robot_config", path),
-            method=read_json_attr(f, "method", path) if "method" in f.attrs else None,
+            robot_config=robot_config,
             status=read_str_attr(f, "status", path) if "status" in f.attrs else STATUS_FINISHED,
         )
+
+
+def _method(
+    recorded: Any, version: int, parameters: dict[str, Any], robot_config: Any, path: Path | str
+) -> ReadMethod:
+    """The run's method, from its record or, in a trace of version 3 or older, its pieces."""
+    where = f"{path}: run trace"
+    if version >= METHOD_RECORDED_SINCE[RUN_FORMAT]:
+        return current(recorded, where)
+    try:
+        robot = RobotConfig.from_dict(robot_config)
+    except (BadInput, KeyError, TypeError, ValueError) as error:
+        raise FormatError(f"{where}'s robot_config is malformed ({error})") from None
+    return trace_method(recorded, parameters, robot, where)
 
 
 def _datasets_of_version(version: int) -> list[str]:

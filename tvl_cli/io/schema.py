@@ -29,10 +29,14 @@ RUN_FORMAT = "tvl-run"
 # The newest version of each format this tvl writes and reads.
 # A FAM file of version 2 records the echo memory it reads through, which a reader of
 # version 1 would silently run without; a run trace of version 3 records what the FAM read.
-# The `method` attribute (of a log's sessions, a FAM, a run trace) came without a new version:
-# it records how a file was made and no reader reads anything else by it, so an older tvl that
-# ignores it misreads nothing; files without it show the method as unrecorded.
-FORMAT_VERSIONS: dict[str, int] = {LOG_FORMAT: 1, FAM_FORMAT: 2, RUN_FORMAT: 3}
+# Log 2, FAM 3 and run trace 4 keep the method once, whole, in their `method` attribute, and
+# no longer the pieces older readers read it from (a session's labels, memory and
+# exploration in its parameters, a FAM's labels in its provenance and memory in `memory`, a
+# trace's reflexes and memory in its parameters): an older tvl would read those files as
+# made without the memory. io.method_records reads every version's method.
+FORMAT_VERSIONS: dict[str, int] = {LOG_FORMAT: 2, FAM_FORMAT: 3, RUN_FORMAT: 4}
+# The first version of each format that records its method whole.
+METHOD_RECORDED_SINCE: dict[str, int] = {LOG_FORMAT: 2, FAM_FORMAT: 3, RUN_FORMAT: 4}
 
 # HDF5 1.8 object headers: readable by any HDF5 library since 2008, and they allow attributes
 # over 64 KiB (a large world map's text) in dense storage.

@@ -16,6 +16,7 @@ from matplotlib.ticker import MaxNLocator
 from tvl_cli.analysis.exploration import (
     COVERAGE_GOAL,
     COVERAGE_HEADER,
+    collision_points,
     competence_rows,
     coverage_rows,
     mean_curve,
@@ -609,9 +610,10 @@ def exploration(rows: list[Row]) -> tuple[Figure, str]:
     styles = {"sonar": "-", "bumps": "--"}
     for ax, (title, worlds) in zip(axes, groups, strict=True):
         here = select(learnt, world=worlds)
-        for points in distinct(here, "collision_points", ("sonar", "bumps")):
-            for rule in distinct(here, "explore"):
-                curve_ = mean_curve(select(here, collision_points=points, explore=rule))
+        for near_m in distinct(here, "near_m"):
+            points = collision_points(near_m)
+            for rule in distinct(here, "exploration"):
+                curve_ = mean_curve(select(here, near_m=near_m, exploration=rule))
                 label = rule if points == "sonar" else f"{rule}, bumps only (--near 0)"
                 ax.plot(
                     np.arange(1, len(curve_) + 1),

@@ -12,8 +12,10 @@ it (kinds "dwa" and "qlearn").
     learn_config = "single"              # the FAM the learner explores with; "same": config
     learn_minutes = 15
     minute = { from = 0, to = 15, step = 1 }   # the FAM of the log's first minutes
-    explore = ["novelty", "random"]      # the exploration rule; default the method's
-    collision_points = ["sonar", "bumps"]      # bumps: --near 0; default the method's
+    exploration = ["novelty", "random"]  # a field of the method (default: the method's),
+    near_m = [0.16, 0]                   # for the learning, the training and the run
+    memory = ["none", "patches"]         # alike: the exploration rule, the collision points
+                                         # (0: bumps alone), the echo memory's kind
     threshold = [0.65, 0.8, 0.95]
     goal = ["3.5,2.0"]                   # goal runs only: X,Y, or "all" the world's goals;
                                          # default the world's first
@@ -24,8 +26,15 @@ it (kinds "dwa" and "qlearn").
     method = ["default", "paper"]        # as `--method`: a preset or a method file
     reflexes = ["all", "none"]           # as `--reflex`; default each method's own (TVL runs)
                                          # and none (baselines, as `tvl baseline`)
-    run_memory = ["none"]                # the run reads through this echo memory, as `tvl
-                                         # run --memory`; default the one the FAM learnt with
+    run_memory = ["none"]                # the run alone reads through this echo memory, as
+                                         # `tvl run --memory` does a FAM learnt through another;
+                                         # default the method's
+
+Keys named after a field of the method (core.method.Method) set that field of the cell's
+method, whatever the `method` it starts from; `reflexes` (a run's alone) and `run_memory` are
+the run's, as `tvl run --reflex` and `--memory` set them over a FAM. Beside the paper's method
+chosen by name, a key that sets one of our additions otherwise than the paper is refused, as
+`--paper` refuses such a flag.
 
 A key takes a range of numbers as `{ from = A, to = B, step = S }` (B included). Each kind
 reads only its own keys (`minute` means nothing to DWA), so one list of kinds makes each
@@ -60,23 +69,21 @@ from tvl_cli.core.errors import (
     did_you_mean,
 )
 from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS, SINGLE, FamConfig
-from tvl_cli.core.memory import MEMORY_KINDS, MemoryChoice
+from tvl_cli.core.memory import MEMORY_KINDS, MemoryChoice, MemoryConfig
 from tvl_cli.core.method import (
-    DEFAULT,
     DEFAULT_NAME,
     EXPLORATION_RULES,
-    PAPER_NAME,
-    PRESETS,
     REFLEX_NAMES,
     Method,
     MethodChoice,
+    method_from_dict,
     parse_reflexes,
     reflexes_text,
 )
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.core.trajectory_choice import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD, is_threshold
 from tvl_cli.io.fam_config_file import resolve_fam_config
-from tvl_cli.io.methodfile import read_method
+from tvl_cli.io.methodfile import resolve_method
 from tvl_cli.io.tomlfile import read_toml
 from tvl_cli.sim.worldgen import KINDS, bundled_world_path, generate_world
 from tvl_cli.sim.worldmap import WorldMap, check_goal, load_world, parse_world
@@ -91,8 +98,8 @@ SIZES = (TINY, QUICK, FULL)
 SAME = "same"
 # `goal = "all"`: a goal run to each of the world's goals.
 ALL_GOALS = "all"
-# `collision_points`: by the sonar ahead (the learner's default distance) or by bumps alone.
-COLLISION_POINTS = ("sonar", "bumps")
+# The keys that are fields of the method, each a cell's column of that name.
+METHOD_KEYS = ("exploration", "near_m", "memory")
 # A `[[part]]`: a grid of its own under the file's keys.
 PART = "part"
 
@@ -108,8 +115,11 @@ class Cell:
     seed: int  # of the learning and of the run
     learn_config: str | None  # the FAM configuration the learner explores with
     learn_minutes: float | None
-    explore: str | None  # the exploration rule; None: the method's
-    collision_points: str | None  # "sonar" or "bumps"; None: the method's
+    # The cell's own fields of the method (None: the method's): the exploration rule, where
+    # collision points fall (core.method.Method.near_m), and the echo memory's kind.
+    exploration: str | None
+    near_m: float | None
+    memory: str | None
     config: str | None  # the trained FAM configuration's name
     minute: float | None  # the FAM of the log's first minutes; None: of the whole log
     behaviour: str | None
@@ -132,14 +142,16 @@ class Cell:
         return LearnParams(minutes=self.learn_minutes or LearnParams().minutes)
 
     def learning_method(self, method: Method) -> Method:
-        """The grid's method with the cell's exploration rule and collision points."""
-        if self.explore is not None:
-            method = replace(method, exploration=self.explore)
-        if self.collision_points == "bumps":
-            method = replace(method, near_m=0.0)
-        elif self.collision_points == "sonar" and method.near_m == 0.0:
-            method = replace(method, near_m=DEFAULT.near_m)
-        return method
+        """The grid's method with the cell's own fields of it."""
+        return replace(method, **self.method_fields())
+
+    def method_fields(self) -> dict[str, Any]:
+        """The fields of the method the cell gives, as Method holds them."""
+        given = {name: getattr(self, name) for name in METHOD_KEYS}
+        fields = {name: value for name, value in given.items() if value is not None}
+        if "memory" in fields:
+            fields["memory"] = MemoryConfig(fields["memory"])
+        return fields
 
     def run_method(self, method: Method) -> MethodChoice:
         """The run's method: the cell's, with the cell's reflexes."""
@@ -187,8 +199,9 @@ _KEYS: dict[str, _Key] = {
     "seed": _Key(int, None, _EVERY),
     "learn_config": _Key(str, (SINGLE.name,), _LEARNT),
     "learn_minutes": _Key(float, (LearnParams().minutes,), (TVL, LEARN, QLEARN)),
-    "explore": _Key(str, (None,), _LEARNT),
-    "collision_points": _Key(str, (None,), _LEARNT),
+    "exploration": _Key(str, (None,), _LEARNT),
+    "near_m": _Key(float, (None,), _LEARNT),
+    "memory": _Key(str, (None,), _LEARNT),
     "config": _Key(str, (SINGLE.name,), (TVL,)),
     "minute": _Key(float, (None,), (TVL,)),
     "behaviour": _Key(str, ("avoid",), _BEHAVING),
@@ -368,8 +381,11 @@ def _check_values(where: str, values: dict[str, tuple[Any, ...]]) -> None:
                         f'{where}: learn_config "{SAME}" learns with config {trained!r}, '
                         f"but a learner explores with {', '.join(BUILTIN_FAM_CONFIGS)} only"
                     )
-    _check_words(where, "explore", values["explore"], EXPLORATION_RULES)
-    _check_words(where, "collision_points", values["collision_points"], COLLISION_POINTS)
+    _check_words(where, "exploration", values["exploration"], EXPLORATION_RULES)
+    for near_m in values["near_m"]:
+        if near_m is not None:
+            method_from_dict({"near_m": near_m}, where)  # BadInput naming the file and key
+    _check_words(where, "memory", values["memory"], MEMORY_KINDS)
     for reflexes in values["reflexes"]:
         _check_reflexes(where, reflexes)
     _check_words(where, "run_memory", values["run_memory"], MEMORY_KINDS)
@@ -520,26 +536,28 @@ def _check_reflexes(where: str, text: str) -> None:
 
 def _method(path: Path, entry: str) -> Method:
     """A preset by name, else a method file beside the grid."""
-    return PRESETS[entry] if entry in PRESETS else read_method(path.parent / entry)
+    return resolve_method(entry, path.parent, f"{path}: method")
 
 
 def _check_paper_runs(path: Path, entry: str, method: Method, values: dict[str, Any]) -> None:
-    """The paper's method has no reflex and no echo memory: cells that give it some
-    contradict it, as `--reflex` or `--memory` beside `--paper` does."""
-    if entry != PAPER_NAME:
-        return
-    for text in values["reflexes"]:
-        if parse_reflexes(text) != method.reflexes:
-            raise BadInput(
-                f'{path}: reflexes {text!r} contradicts method "paper", which has none '
-                "(leave reflexes out to run each method with its own)"
-            )
-    for kind in values["run_memory"]:
-        if kind is not None and kind != method.memory.kind:
-            raise BadInput(
-                f'{path}: run_memory {kind!r} contradicts method "paper", which reads the '
-                "live ring (leave run_memory out of the paper's cells)"
-            )
+    """The paper's method chosen by name: a key that sets one of our additions otherwise
+    than the paper (a field of the method, the run's reflexes or memory) contradicts it, as
+    such a flag beside `--paper` does."""
+    for key in (*METHOD_KEYS, "reflexes", "run_memory"):
+        for value in values[key]:
+            if value is not None and _setting(method, entry, key, value).contradictions():
+                raise BadInput(
+                    f'{path}: {key} {value!r} contradicts method "{entry}", which fixes it '
+                    f"(leave {key} out of its cells)"
+                )
+
+
+def _setting(method: Method, entry: str, key: str, value: Any) -> MethodChoice:
+    """One grid key's value chosen over the grid's method, as a command's flag chooses it."""
+    if key in ("memory", "run_memory"):
+        return MethodChoice(method, entry, memory=MemoryChoice(kind=value))
+    field = parse_reflexes(value) if key == "reflexes" else value
+    return MethodChoice(method, entry, ((key, field),))
 
 
 def _goal(path: Path, text: str) -> tuple[float, float]:

@@ -309,8 +309,9 @@ def _recorded(journal: Path) -> dict[tuple[object, ...], Row]:
 # a TVL run of an older sweep had.
 _OLDER_RUNS = {
     "learn_config": SINGLE.name,
-    "explore": None,
-    "collision_points": None,
+    "exploration": None,
+    "near_m": None,
+    "memory": None,
     "minute": None,
     "online": False,
     "competence_every": None,
