@@ -53,7 +53,7 @@ def trained_method(record: dict[str, Any], choice: MethodChoice) -> str:
 
 
 def say_method(record: dict[str, Any] | None) -> None:
-    out.print(f"method: {describe_record(record)}")
+    out.print(f"method: {describe_record(record)}", soft_wrap=True, markup=False)
 
 
 def rules(found: Iterable[Rule]) -> None:
