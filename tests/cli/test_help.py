@@ -141,3 +141,8 @@ def test_a_groups_help_lists_each_commands_first_line_whole(invoke_tvl, group: s
         assert command.help is not None
         first = " ".join(command.help.split("\n\n")[0].split())
         assert first.split(". ")[0] in commands
+
+
+def test_a_subcommands_usage_names_its_argument_not_its_choices(invoke_tvl) -> None:
+    usage = invoke_tvl("world", "new", "-h").stdout.splitlines()[0]
+    assert usage == "Usage: tvl world new [OPTIONS] KIND"

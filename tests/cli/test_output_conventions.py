@@ -132,3 +132,39 @@ def test_a_progress_bar_tells_the_time_left(
     assert done.exit_code == 0, done.stderr
     plain = re.sub(r"\x1b\[[0-9;?]*[A-Za-z]", "", done.stderr)
     assert re.search(r"\d+:\d\d:\d\d elapsed, (\d+:\d\d:\d\d|-:--:--) left", plain), plain[-300:]
+
+
+def test_every_json_document_is_indented_alike(invoke_tvl) -> None:
+    """`tvl schema COMMAND`, `tvl schema --json` and a command's --json, one indentation."""
+    printed = [
+        invoke_tvl("schema", "run").stdout,
+        invoke_tvl("schema", "--json").stdout,
+        invoke_tvl("world", "check", SQUARE, "--json").stdout,
+    ]
+    for text in printed:
+        second = text.splitlines()[1]
+        assert second.startswith(' "') and not second.startswith("  "), second
+
+
+@pytest.mark.slow  # a minute of a run in the lab
+def test_the_events_table_gives_when_each_kind_of_event_began(
+    invoke_tvl, fam: Path, tmp_path: Path
+) -> None:
+    trace = tmp_path / "run.h5"
+    lab = ROOT / "worlds" / "lab.txt"
+    ran = invoke_tvl("run", fam, lab, "--behaviour", "avoid", "--minutes", "1", "--log", trace)
+    assert ran.returncode == 0, ran.stderr
+    shown = invoke_tvl("replay", trace).stdout
+    events = shown.split("\nevents")[1].split("\nsteps")[0]
+    header = [cell.strip() for cell in events.splitlines()[2].split("┃")[1:-1]]
+    assert header == ["event", "times", "began at (s)"]
+    rows = {
+        cells[0]: cells[1:]
+        for line in events.splitlines()
+        if line.startswith("│")
+        for cells in [[cell.strip() for cell in line.split("│")[1:-1]]]
+    }
+    times, began = rows["spin"]
+    assert int(times) > 0 and began != "—"  # spins too say when they began
+    for count, when in rows.values():
+        assert (int(count) == 0) == (when == "—")
