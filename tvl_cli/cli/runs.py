@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING
 
 import click
 
-from tvl_cli.cli import documents, views
+from tvl_cli.cli import documents, replay_views, views
 from tvl_cli.cli.examples import examples
 from tvl_cli.cli.options import (
     GIF,
@@ -266,7 +266,7 @@ def replay(
         pictures = {"png": png, "curves": curves, "animation": moving}
         print_json(documents.replay_json(summary, file, session, pictures))
     else:
-        views.replay(summary)
+        replay_views.replay(summary)
 
 
 @click.command(epilog=examples("demo"))

@@ -18,7 +18,6 @@ from typing import TypeVar
 
 import numpy as np
 from matplotlib.artist import Artist
-from matplotlib.axes import Axes
 from matplotlib.collections import LineCollection
 from matplotlib.figure import Figure
 from matplotlib.patches import Circle
@@ -33,7 +32,7 @@ from tvl_cli.io.logreader import Session
 from tvl_cli.io.moviefile import FrameSink, ffmpeg_path, gif_frames, mp4_frames
 from tvl_cli.io.runfile import RunTrace
 from tvl_cli.render.blit import Blitter, inks
-from tvl_cli.render.plot import ROBOT_COLOUR, draw_world
+from tvl_cli.render.plot import ROBOT_COLOUR, draw_world, velocity_axis
 from tvl_cli.sim.worldmap import WorldMap, parse_world
 
 DPI = 90  # 810 x 405 frames: their text reads at 100 %, and 200 of them are a GIF of a few MB
@@ -200,23 +199,6 @@ class _RobotArtists:
         self.rays.set_segments(segments)
         self.rays.set_color(colours)
         return colours
-
-
-def velocity_axis(ax: Axes, top: np.ndarray, threshold: float) -> LineCollection:
-    """The perceived velocities' axis: each trajectory's threshold share of its top speed
-    dashed over its bar, the scale to just above the fastest. Returns the dashes."""
-    dashes = ax.hlines(
-        threshold * top,
-        np.arange(len(top)) - 0.4,
-        np.arange(len(top)) + 0.4,
-        colors="black",
-        linestyles="dashed",
-        linewidth=1.0,
-        label=f"threshold {threshold:g}",
-    )
-    ax.set_ylim(0.0, 1.05 * top.max())
-    ax.set_ylabel("perceived velocity (m/s)")
-    return dashes
 
 
 class RunFrame:

@@ -28,15 +28,9 @@ from matplotlib.text import Text
 from tvl_cli.core.fired_rules import Explanation, FiredRule
 from tvl_cli.core.ring import beam_lines
 from tvl_cli.core.robot_config import RobotConfig
-from tvl_cli.render.animate import (
-    FAST_COLOUR,
-    NO_ECHO_COLOUR,
-    RAY_COLOUR,
-    SLOW_COLOUR,
-    velocity_axis,
-)
+from tvl_cli.render.animate import FAST_COLOUR, NO_ECHO_COLOUR, RAY_COLOUR, SLOW_COLOUR
 from tvl_cli.render.formats import save_picture
-from tvl_cli.render.plot import ROBOT_COLOUR, draw_world
+from tvl_cli.render.plot import ROBOT_COLOUR, draw_world, velocity_axis
 from tvl_cli.sim.worldmap import WorldMap
 
 PERCEIVED_COLOUR = "#17becf"  # an echo the memory remembered, nearer than the live reading

@@ -234,6 +234,23 @@ def render_path(
     _save(figure, png_path)
 
 
+def velocity_axis(ax: Axes, top: np.ndarray, threshold: float) -> LineCollection:
+    """The perceived velocities' axis: each trajectory's threshold share of its top speed
+    dashed over its bar, the scale to just above the fastest. Returns the dashes."""
+    dashes = ax.hlines(
+        threshold * top,
+        np.arange(len(top)) - 0.4,
+        np.arange(len(top)) + 0.4,
+        colors="black",
+        linestyles="dashed",
+        linewidth=1.0,
+        label=f"threshold {threshold:g}",
+    )
+    ax.set_ylim(0.0, 1.05 * top.max())
+    ax.set_ylabel("perceived velocity (m/s)")
+    return dashes
+
+
 def path_marks(events: np.ndarray) -> dict[str, np.ndarray]:
     """The steps a path picture marks, from per-step event bits."""
     return {event: steps_beginning(events, event) for event in PATH_MARKS}
