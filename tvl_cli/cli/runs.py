@@ -44,7 +44,7 @@ from tvl_cli.core.trajectory_choice import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD
 
 if TYPE_CHECKING:
     from tvl_cli.agent.drive import StepSink
-    from tvl_cli.commands.run import RunRequest
+    from tvl_cli.commands.run import RunRequest, RunResult
 
 
 # Where `tvl run --view` shows the run as it goes.
@@ -148,33 +148,28 @@ def run(
     if learn_log is not None:
         views.warn_of_other_worlds(learn_log, world_file)
     request = RunRequest(
-        fam,
-        world_file,
-        behaviour,
-        threshold,
-        minutes,
-        seed,
-        goal,
-        png,
-        trace,
-        method,
-        learning,
+        fam, world_file, behaviour, threshold, minutes, seed, goal, png, trace, method, learning
     )
     with (
         catching_signals() as interrupted,
         _watching(request, TERMINAL if live else view, pace) as watch,
     ):
         result = run_behaviour(request, watch, interrupted.reason)
-    if as_json:
-        print_json(documents.run_json(request, result))
-    elif as_csv:
-        print_csv([asdict(result.metrics)])
-    else:
-        views.run_metrics(result.metrics, result.method)
-        views.run_learning(result, learning.log if learning else None)
+    _show_run(request, result, "json" if as_json else "csv" if as_csv else None)
     if result.stopped_by is not None:
         views.stopped(result.stopped_by, result.metrics.sim_s, trace)
         sys.exit(STOPPED_EXIT[result.stopped_by])
+
+
+def _show_run(request: RunRequest, result: RunResult, form: str | None) -> None:
+    """The run's results as JSON, as a CSV row or (`form` None) in words."""
+    if form == "json":
+        print_json(documents.run_json(request, result))
+    elif form == "csv":
+        print_csv([asdict(result.metrics)])
+    else:
+        views.run_metrics(result.metrics, result.method)
+        views.run_learning(result, request.learn.log if request.learn else None)
 
 
 # replay's options that shape an animation, and nothing else.

@@ -106,7 +106,8 @@ def moment_figure(
     FigureCanvasAgg(figure)
     grid = figure.add_gridspec(2, 2, width_ratios=(1.1, 1.0), height_ratios=(1.0, 1.2))
     world_ax = figure.add_subplot(grid[:, 0])
-    _draw_robot(world_ax, world, robot, poses, moment, goal)
+    draw_world(world_ax, world, robot_at_start=False, target=goal)
+    _draw_robot(world_ax, world, robot, poses, moment)
     _draw_velocities(figure.add_subplot(grid[0, 1]), robot, threshold, moment)
     rules_ax = figure.add_subplot(grid[1, 1])
     sentences = _draw_rules(rules_ax, moment)
@@ -126,14 +127,9 @@ def moment_figure(
 
 
 def _draw_robot(
-    ax: Axes,
-    world: WorldMap,
-    robot: RobotConfig,
-    poses: np.ndarray,
-    moment: ExplainedStep,
-    goal: Sequence[float] | None,
+    ax: Axes, world: WorldMap, robot: RobotConfig, poses: np.ndarray, moment: ExplainedStep
 ) -> None:
-    draw_world(ax, world, robot_at_start=False, target=goal)
+    """Over the world drawn: the robot, its path, ring and trajectories, near it."""
     ax.plot(poses[:, 0], poses[:, 1], color=ROBOT_COLOUR, linewidth=1.0, alpha=0.5)
     pose = poses[-1]
     x, y, heading = pose
