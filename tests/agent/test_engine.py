@@ -141,7 +141,8 @@ def digest(chunks: list[Columns], metrics: RunMetrics) -> str:
         for key in sorted(chunk):
             h.update(key.encode())
             h.update(np.ascontiguousarray(chunk[key]).tobytes())
-    h.update(repr(asdict(metrics)).encode())
+    # A run that sought no goal now says so (None); it said False when these were recorded.
+    h.update(repr({**asdict(metrics), "goal_reached": bool(metrics.goal_reached)}).encode())
     return h.hexdigest()[:16]
 
 

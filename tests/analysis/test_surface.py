@@ -47,17 +47,40 @@ def test_each_point_is_what_the_fam_perceives_of_such_a_ring() -> None:
     assert surface.velocity_mps[i, j] == pytest.approx(fam.velocities(ring)[3], abs=1e-12)
 
 
-def test_a_multi_fam_draws_the_trajectories_whose_tables_read_both_inputs() -> None:
-    found = surfaces(trained(MULTI), ("S0", "S1"))
-    assert [s.trajectory for s in found] == ["T2L", "T1L", "T0", "T1R"]
+def test_a_multi_fam_draws_every_trajectory_saying_what_its_table_does_not_read() -> None:
+    fam = trained(MULTI)
+    found = surfaces(fam, ("S0", "S1"))
+    assert [s.trajectory for s in found] == NAMES  # none left out
+    unread = {s.trajectory: s.unread for s in found if s.unread}
+    assert unread == {"T3L": ("S1",), "T2R": ("S1",), "T3R": ("S1",)}
+    # Along what a table does not read, its velocity stays the same; along what it reads,
+    # each point is what the FAM perceives of such a ring.
+    t3l = found[0]
+    assert np.ptp(t3l.velocity_mps, axis=0).max() == 0.0  # the same up the S1 axis
+    i, j = 11, 37
+    ring = np.full(16, SONAR.max_range_m)
+    ring[0], ring[1] = t3l.ranges_m[j], t3l.ranges_m[i]
+    assert t3l.velocity_mps[i, j] == pytest.approx(fam.velocities(ring)[0], abs=1e-12)
+    assert t3l.experience[i, j] == pytest.approx(fam.experience(ring)[0], abs=1e-12)
+
+
+def test_where_nothing_was_learnt_is_untrained() -> None:
+    fam = Fam(SINGLE, NAMES)  # nothing learnt anywhere
+    (first, *_) = surfaces(fam, ("front", "front-left"))
+    assert first.untrained.all()
+    assert first.velocity_mps == pytest.approx(np.full((GRID_POINTS,) * 2, fam.init_velocity_mps))
+    # Trained on random rings, a FAM has learnt something over most of every panel.
+    learnt = surfaces(trained(SINGLE), ("front", "front-left"))
+    assert all(s.untrained.mean() < 0.5 for s in learnt)
 
 
 def test_by_default_it_draws_over_the_inputs_most_tables_read() -> None:
     assert shared_inputs(SINGLE) == ("front", "front-left")
-    # Every table of multi but T0's reads S0 and S3: six panels of seven.
+    # Every table of multi but T0's reads S0 and S3: seven panels, T0's along S0 alone.
     assert shared_inputs(MULTI) == ("S0", "S3")
-    assert len(surfaces(trained(MULTI), shared_inputs(MULTI))) == 6
-    assert len(surfaces(trained(DESIGNED), shared_inputs(DESIGNED))) == 3  # the left arcs
+    drawn = surfaces(trained(MULTI), shared_inputs(MULTI))
+    assert [s.unread for s in drawn] == [(), (), (), ("S3",), (), (), ()]
+    assert len(surfaces(trained(DESIGNED), shared_inputs(DESIGNED))) == 7
     lone = FamConfig(
         "lone", tuple(FamTable(t.name, t.inputs[:1], t.trajectories) for t in MULTI.tables)
     )

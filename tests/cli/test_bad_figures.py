@@ -56,7 +56,7 @@ def snapshot(**changes: object) -> dict:
 
 
 def learn_run(**changes: object) -> dict:
-    minute = {"session": "1", "minute": 0.0, "collisions": 1.0, "delta_v": 0.05}
+    minute = {"session": "1", "minute": 1, "collisions": 1.0, "delta_v": 0.05}
     return {"kind": "learn", "world": "square", "seed": 1, "minutes": [minute], **changes}
 
 

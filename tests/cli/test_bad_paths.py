@@ -21,6 +21,7 @@ def test_an_output_named_like_an_input_or_another_output_is_refused(
     from test_bad_numbers import SQUARE
 
     log, fam, out = tmp_path / "log.h5", tmp_path / "fam.h5", tmp_path / "out.png"
+    data = tmp_path / "out.h5"
     assert (
         invoke_tvl("learn", SQUARE, "--log", log, "--minutes", "0.5", "--fam", fam).returncode == 0
     )
@@ -31,16 +32,16 @@ def test_an_output_named_like_an_input_or_another_output_is_refused(
     avoid = ["run", fam, SQUARE, "--behaviour", "avoid"]
     for args, message in (
         (["train", log, "-o", log, "--force"], "given as both -o and LOG 1"),
-        (["learn", SQUARE, "--log", out, "--fam", out], "given as both --fam and --log"),
+        (["learn", SQUARE, "--log", data, "--fam", data], "given as both --fam and --log"),
         ([*avoid, "--log", fam, "--force"], "given as both --log and FAM"),
-        ([*avoid, "--png", out, "--log", out], "given as both --png and --log"),
+        ([*avoid, "--log", data, "--learn-log", data], "given as both --log and --learn-log"),
         (["replay", log, "--png", out, "--curves", out], "given as both --png and --curves"),
         (["world", "render", world, "-o", world, "--force"], "given as both -o and FILE"),
     ):
         result = invoke_tvl(*args)
         assert_one_line_refusal(result, "", message)
     assert {path: path.read_bytes() for path in (log, fam, world)} == kept
-    assert not out.exists()
+    assert not out.exists() and not data.exists()
 
 
 def test_a_special_file_is_never_replaced_even_with_force(invoke_tvl, tmp_path: Path) -> None:

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 import math
+import shutil
 from collections import Counter
 from pathlib import Path
 from typing import Any
@@ -243,9 +244,15 @@ def test_a_file_that_is_no_trace_is_one_line(content: bytes, message: str, tmp_p
     assert not (tmp_path / "out.mcap").exists()
 
 
-def test_the_output_may_not_be_the_trace(run: Path) -> None:
-    code, _, stderr = tvl("export", run, "--mcap", run, "--force")
+def test_the_output_may_not_be_the_trace(run: Path, tmp_path: Path) -> None:
+    # An output named as an MCAP, and a trace named so too: the one file, given as both.
+    named = tmp_path / "run.mcap"
+    shutil.copy(run, named)
+    code, _, stderr = tvl("export", named, "--mcap", named, "--force")
     assert code == 2 and "given as both --mcap and RUN.h5" in stderr
+    assert isinstance(read_run(named), RunTrace)
+    code, _, stderr = tvl("export", run, "--mcap", run, "--force")
+    assert code == 2 and "it is written as MCAP; give it the extension .mcap" in stderr
     assert isinstance(read_run(run), RunTrace)
 
 

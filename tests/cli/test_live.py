@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import subprocess
 from pathlib import Path
 
@@ -9,14 +10,14 @@ import pytest
 from conftest import TVL
 from rich.console import Console
 
-from tvl_cli.cli.live import ARROWS, LiveView
+from tvl_cli.cli.live import ARROWS, LiveView, Sight
 from tvl_cli.commands.run import RunRequest, run_fam
 from tvl_cli.commands.train import train_from_logs
 from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.method import DEFAULT
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.famfile import write_fam
-from tvl_cli.sim.worldmap import WorldMap, load_world
+from tvl_cli.sim.worldmap import load_world
 
 ROOT = Path(__file__).resolve().parents[2]
 LAB = ROOT / "worlds" / "lab.txt"
@@ -37,7 +38,7 @@ def fam(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 
 def test_the_view_fits_a_small_terminal_and_shows_the_run(fam: Path) -> None:
-    view = LiveView(load_world(LAB), RobotConfig(), 0.85, None, pace=None)
+    view = LiveView(Sight(load_world(LAB), RobotConfig(), 0.85))
     metrics = run_fam(RunRequest(fam, LAB, "avoid", 0.85, 0.5, seed=1), view)
     console = Console(record=True, width=80, height=24, color_system=None)
     console.print(view.panel())
@@ -73,7 +74,7 @@ def test_learning_shows_the_trajectory_followed_and_the_last_minute(tmp_path: Pa
     from tvl_cli.agent.explore import LearnParams
     from tvl_cli.commands.learn import LearnRequest, learn_to_log
 
-    view = LiveView(load_world(LAB), RobotConfig(), 0.85, None, pace=None)
+    view = LiveView(Sight(load_world(LAB), RobotConfig(), 0.85))
     view.caption = "minute 1: 3 episodes, 0 collisions"
     request = LearnRequest(LAB, tmp_path / "log.h5", 1, "single", LearnParams(minutes=0.3), DEFAULT)
     learn_to_log(request, watch=view)
@@ -107,11 +108,9 @@ def test_the_view_draws_the_robot_the_run_drives(
     class Shown(LiveView):
         """The terminal view, or the window's stand-in where no display is, telling its robot."""
 
-        def __init__(
-            self, world: WorldMap, robot: RobotConfig, threshold: float, *rest: object
-        ) -> None:
-            shown.append(robot)
-            super().__init__(world, robot, threshold, None, None)
+        def __init__(self, sight: Sight) -> None:
+            shown.append(sight.robot)
+            super().__init__(sight)
 
     monkeypatch.setattr(live, "LiveView", Shown)
     monkeypatch.setattr(live, "WindowView", Shown)
@@ -123,3 +122,35 @@ def test_the_view_draws_the_robot_the_run_drives(
     assert done.exit_code == 0, done.output
     assert [robot.sonar for robot in shown] == [SONAR_MODELS["ideal"]]
     assert SONAR_MODELS["ideal"] != RobotConfig().sonar
+
+
+@pytest.mark.slow  # half a simulated minute through the live view
+def test_the_bars_stay_while_the_robot_spins(fam: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Through `tvl run --live`: on every step that perceives nothing (a spin, a back-off,
+    the steps between two readings) the view still shows the seven bars, as last perceived."""
+    from click.testing import CliRunner
+
+    from tvl_cli.cli import live, views
+    from tvl_cli.cli.main import main
+
+    blind: list[str] = []  # the side panel on each step that perceived no velocities
+
+    class Watched(LiveView):
+        def __call__(self, step) -> None:  # type: ignore[no-untyped-def]
+            super().__call__(step)
+            if step.decision.velocities is None and self.perceived is not None:
+                console = Console(record=True, width=80, color_system=None)
+                console.print(*self._side())
+                blind.append(console.export_text())
+
+    monkeypatch.setattr(live, "LiveView", Watched)
+    monkeypatch.setattr(views, "out", Console(force_terminal=True, width=80, height=24))
+    args = ["run", fam, LAB, "--behaviour", "avoid", "--minutes", "0.5", "--live", "--json"]
+    done = CliRunner().invoke(main, list(map(str, args)))
+    assert done.exit_code == 0, done.output
+    spins = json.loads(done.stdout[done.stdout.index("{") :])["spins"]
+    assert spins > 0 and any("spinning: as perceived at" in side for side in blind)
+    for side in blind:
+        assert "as perceived at" in side
+        assert all(f"{name} " in side for name in ("T3L", "T2L", "T1L", "T0", "T1R", "T2R", "T3R"))
+        assert "no velocities perceived" not in side

@@ -163,7 +163,7 @@ def test_files_from_before_methods_were_recorded_say_so(
     code, out, _ = tvl("inspect", GOLDEN_FAM, "--top", "1")
     unknown = "decel_mps2, margin_m, near_m, exploration unrecorded"
     assert code == 0
-    assert out.splitlines()[0] == f"method: custom: labels bump, memory patches ({unknown})"
+    assert out.splitlines()[0] == f"method: default, except labels bump, memory patches ({unknown})"
     assert read_log(GOLDEN_LOG).sessions[0].made_by.unrecorded
     # A version 1 session without the record read its method from its parameters.
     old = tmp_path / "old.h5"
@@ -176,7 +176,7 @@ def test_files_from_before_methods_were_recorded_say_so(
     (session,) = printed("replay", old)["sessions"]
     assert session["method"]["exploration"] == "random" and session["method"]["near_m"] == 0
     assert session["method"]["unrecorded"] == ["decel_mps2", "margin_m"]
-    assert "session 0000 method: custom: " in tvl("replay", old)[1]
+    assert "session 0000 method: default, except " in tvl("replay", old)[1]
     run = printed("run", GOLDEN_FAM, SQUARE, *RUN, "--paper")["inputs"]["method"]
     assert run["preset"] is None and run["reflexes"] == []
     assert run["unrecorded"] == ["decel_mps2", "margin_m", "near_m", "exploration"]

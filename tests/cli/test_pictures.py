@@ -22,11 +22,11 @@ from PIL import Image
 from rich.console import Console
 
 from tvl_cli.cli import main
-from tvl_cli.cli.live import LiveView
+from tvl_cli.cli.live import LiveView, Sight
 from tvl_cli.commands.run import RunRequest, run_fam
 from tvl_cli.commands.train import train_from_logs
 from tvl_cli.core.fam import Fam
-from tvl_cli.core.fam_config import MULTI, SINGLE
+from tvl_cli.core.fam_config import MULTI, SINGLE, FamConfig
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.famfile import write_fam
 from tvl_cli.io.runfile import read_run
@@ -45,8 +45,12 @@ OBSTACLES = ROOT / "worlds" / "obstacles.txt"
 def ran(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
     """A FAM from the example log's first minutes, and a trace of it avoiding in the
     square: it chooses, spins to face what it chose, and drives."""
-    directory = tmp_path_factory.mktemp("pictures")
-    trained = train_from_logs([ROOT / "logs" / "square-s1.h5"], SINGLE, until_minute=3)
+    return _trained_and_ran(tmp_path_factory.mktemp("pictures"), SINGLE)
+
+
+def _trained_and_ran(directory: Path, config: FamConfig) -> dict[str, Path]:
+    """A FAM of `config` from the example log's first 3 minutes, and 18 s of it avoiding."""
+    trained = train_from_logs([ROOT / "logs" / "square-s1.h5"], config, until_minute=3)
     fam = directory / "fam.h5"
     write_fam(
         fam,
@@ -212,6 +216,25 @@ def test_the_moment_names_each_trajectory_apart_and_writes_each_rule_within_its_
     assert rules and _apart(rules) and _inside(rules, rules_ax)
 
 
+@pytest.fixture(scope="module")
+def ran_multi(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
+    """A multi FAM, whose rules read seven sonars (long sentences), and a trace of it."""
+    return _trained_and_ran(tmp_path_factory.mktemp("multi-pictures"), MULTI)
+
+
+@pytest.mark.slow  # trains a multi FAM and draws three moments
+@pytest.mark.parametrize("step", [0, 60, 170])
+def test_a_multi_fams_long_rules_fold_within_their_panel_as_saved(
+    ran_multi: dict[str, Path], step: int, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    figure = _moment(ran_multi, step, tmp_path, monkeypatch)
+    assert figure.dpi == moment.MOMENT_DPI  # laid out as it is saved
+    rules_ax = figure.axes[2]
+    sentences = [t for t in rules_ax.texts if t.get_text().startswith("IF ")]
+    assert any("\n" in t.get_text() for t in sentences)  # too long for one line
+    assert _inside(_boxes(sentences, figure), rules_ax)
+
+
 def _start_marks(ax: Axes, robot: RobotConfig) -> tuple[int, list[Line2D]]:
     """How many robot-sized circles an axes draws, and the lines marking a start."""
     bodies = [p for p in ax.patches if isinstance(p, Circle) and p.radius == robot.radius_m]
@@ -252,7 +275,7 @@ def test_inspect_draws_a_multi_fam_over_inputs_its_tables_have(tmp_path: Path) -
 
 
 def test_the_live_view_draws_the_walls_around_the_obstacles() -> None:
-    view = LiveView(load_world(OBSTACLES), RobotConfig(), 0.85, None, pace=None)
+    view = LiveView(Sight(load_world(OBSTACLES), RobotConfig(), 0.85))
     console = Console(record=True, width=80, height=24, color_system=None)
     console.print(view.panel())
     lines = console.export_text().splitlines()[: view.rows]

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 import subprocess
 from pathlib import Path
 
@@ -107,7 +108,8 @@ def test_an_animation_named_for_another_format_is_refused(
 ) -> None:
     out = tmp_path / name
     done = tvl("replay", EXAMPLE_LOG, option, out, "--to", "20")
-    assert_one_line_refusal(done, f"{out}: it is written as .{option[2:]}")
+    assert_one_line_refusal(done, f"{out}: it is written as ")
+    assert done.stderr.count(f"give it the extension .{option[2:]}") == 1
     assert not out.exists()
 
 
@@ -136,3 +138,5 @@ def test_a_gif_shows_a_progress_bar_on_a_terminal(tmp_path: Path) -> None:
         assert process.wait(timeout=300) == 0
     os.close(leader)
     assert b"drawing frames" in seen and gif.exists()
+    # The time it has left, beside the time it took.
+    assert re.search(rb"\d:\d\d:\d\d(\x1b\[[0-9;]*m)* left", seen), seen[-400:]

@@ -177,7 +177,7 @@ def test_per_minute_contacts_add_up_to_the_run_s(fam: Path) -> None:
     printed = valid("run", out)
     assert not printed["inputs"]["learn"] and printed["inputs"]["method"]["reflexes"] == []
     minutes = printed["minutes"]
-    assert [m["minute"] for m in minutes] == [0, 1]
+    assert [m["minute"] for m in minutes] == [1, 2]  # counted from 1, as the tables count
     assert [m["sim_s"] for m in minutes] == pytest.approx([60.0, 30.0])
     assert sum(m["contacts"] for m in minutes) == printed["contacts"] > 0
     assert "learnt" not in printed

@@ -105,17 +105,17 @@ RELEASED = {
     "world render": (1, "73701f22a7db6b3d"),
     "world import": (2, "946b4da5d9420c27"),
     "world export": (1, "9e6559936de1d145"),
-    "learn": (2, "6f9670d243c0900b"),
+    "learn": (3, "e2b172a39e67b7e2"),
     "train": (2, "841b73cfe295d28d"),
     "inspect": (3, "0257f1f6b09068e0"),
     "diff": (2, "73af06e71a481611"),
     "design": (1, "8644a5ca5cf08dee"),
-    "run": (2, "5b4f31df168ec682"),
-    "replay": (2, "0dc0951258646610"),
+    "run": (3, "ddb4412089ca3554"),
+    "replay": (3, "2bd2851e234be943"),
     "explain": (2, "1e9b72cd4a2adc0a"),
-    "demo": (1, "8fa5da58374f02e2"),
-    "baseline dwa": (2, "f7a1641f5ef6be1a"),
-    "baseline qlearn": (2, "28d418c9bac4ada4"),
+    "demo": (2, "e70a1078cb6cfd9b"),
+    "baseline dwa": (3, "9a4246dff996a10f"),
+    "baseline qlearn": (3, "768943e9e7463cdc"),
     "sweep": (2, "b7fbe07376b9b2bb"),
     "bench generalization": (1, "1412a2d4dfce20b4"),
     "bench claims": (1, "c574aae6e568d1f9"),
@@ -200,7 +200,7 @@ def test_schema_json_carries_the_schema_in_a_document() -> None:
     assert printed["inputs"] == {"command": "run"}
     assert printed["json_schema"] == command_schema("run")
     assert printed["schemas"] == [
-        {"command": "run", "id": "urn:tvl:schema:run", "schema_version": 2}
+        {"command": "run", "id": "urn:tvl:schema:run", "schema_version": 3}
     ]
 
 

@@ -21,6 +21,7 @@ from tvl_cli.commands.run import RunRequest, run_fam
 
 ROOT = Path(__file__).resolve().parents[2]
 SQUARE = ROOT / "worlds" / "square.txt"
+OBSTACLES = ROOT / "worlds" / "obstacles.txt"
 EXAMPLE_LOG = ROOT / "logs" / "square-s1.h5"
 WIDTH = 80
 ELLIPSIS = "…"
@@ -101,12 +102,28 @@ def test_a_value_is_rounded_and_spelt_for_reading(value: object, shown: str) -> 
 def test_run_metrics_read_in_words(eighty_columns: None, fam: Path) -> None:
     printed = tvl("run", fam, SQUARE, "--behaviour", "wall-left", "--minutes", "0.2")
     assert_fits(printed)
-    assert "mean wall clearance (m)" in printed and "goal reached" in printed
+    assert "mean wall clearance (m)" in printed
     for raw in ("mean_wall_clearance_m", "True", "False", "None"):
         assert raw not in printed
+    # A run that sought no goal says nothing of one.
+    assert "goal" not in printed
     # Rounded: no value with more than two decimals.
     values = cells(printed, 1)
-    assert len(values) == 16 and not [v for v in values if len(v.partition(".")[2]) > 2]
+    assert len(values) == 14 and not [v for v in values if len(v.partition(".")[2]) > 2]
+
+
+def test_a_goal_run_says_whether_it_reached_its_goal(eighty_columns: None, fam: Path) -> None:
+    printed = tvl("run", fam, OBSTACLES, "--behaviour", "goal", "--minutes", "0.2")
+    assert "goal reached" in printed and "time to goal (s)" in printed
+
+
+def test_the_reflexes_line_says_none_and_no_more(eighty_columns: None, fam: Path) -> None:
+    printed = tvl("run", fam, SQUARE, "--behaviour", "avoid", "--minutes", "0.1",
+                  "--reflex", "none")  # fmt: skip
+    assert "\nreflexes: none\n" in printed
+    # The baselines run no reflex by default, and follow no paper.
+    printed = tvl("baseline", "dwa", SQUARE, "--minutes", "0.1")
+    assert "\nreflexes: none\n" in printed and "paper" not in printed
 
 
 def test_a_long_fam_path_folds_whole_in_the_replay_table(
@@ -135,7 +152,14 @@ def test_each_table_of_explain_has_its_title_on_one_line(
         assert top - before == 2, lines[before : top + 1]
 
 
-def test_the_demo_table_folds_its_picture_paths_whole(
+def pictures_listed(printed: str) -> list[str]:
+    """The paths under the demo's `pictures:` line, one a line."""
+    listed = printed.split("\npictures:\n")[1].splitlines()
+    assert all(line.startswith("  ") for line in listed)
+    return [line.strip() for line in listed]
+
+
+def test_the_demo_names_its_pictures_whole_a_line_each(
     eighty_columns: None, fam: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     """The demo's table of runs, of a real learning session and real runs."""
@@ -149,9 +173,11 @@ def test_the_demo_table_folds_its_picture_paths_whole(
         rows.append(DemoRow("single", behaviour, 0.85, fam, metrics, png))
     views.demo(DemoResult(directory, learning, rows))
     printed = capsys.readouterr().out
-    assert_fits(printed)
-    pictures = column(printed.split("behaviours after learning")[1], 6)
-    assert pictures == "".join(str(row.png) for row in rows)
+    tables, _, _ = printed.partition("\npictures:\n")
+    assert_fits(tables)
+    # Longer than the terminal is wide, each path still stands whole on its line.
+    assert len(str(rows[0].png)) > WIDTH
+    assert pictures_listed(printed) == [str(row.png) for row in rows]
 
 
 @pytest.mark.slow
@@ -165,7 +191,9 @@ def test_the_demo_at_80_columns_names_its_pictures_whole(tmp_path: Path) -> None
         env={**os.environ, "COLUMNS": str(WIDTH)},
     )
     assert done.returncode == 0, done.stderr
-    assert_fits(done.stdout)
-    pictures = column(done.stdout.split("behaviours after learning")[1], 6)
-    assert str(directory / "single-avoid.png") in pictures
-    assert str(directory / "multi-wall-left.png") in pictures
+    assert_fits(done.stdout.partition("\npictures:\n")[0])
+    assert pictures_listed(done.stdout) == [
+        str(directory / f"{config}-{behaviour}.png")
+        for config in ("single", "multi")
+        for behaviour in ("avoid", "wall-left")
+    ]

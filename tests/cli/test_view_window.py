@@ -49,7 +49,7 @@ def test_the_window_shows_the_robot_its_rays_and_velocities(fam: Path) -> None:
 from pathlib import Path
 import numpy as np
 from PIL import ImageGrab
-from tvl_cli.cli.live import WindowView
+from tvl_cli.cli.live import Sight, WindowView
 from tvl_cli.commands.run import RunRequest, run_fam
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.render.animate import FAST_COLOUR, RAY_COLOUR
@@ -58,7 +58,7 @@ from tvl_cli.render.plot import ROBOT_COLOUR
 from tvl_cli.sim.worldmap import load_world
 
 square = Path({str(SQUARE)!r})
-view = WindowView(load_world(square), RobotConfig(), 0.85, pace=None)
+view = WindowView(Sight(load_world(square), RobotConfig(), 0.85))
 run_fam(RunRequest(Path({str(fam)!r}), square, "avoid", 0.85, 0.2, seed=1), view)
 view.draw()
 view.window.hold(0.3)

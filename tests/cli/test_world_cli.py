@@ -141,7 +141,8 @@ BAD_WORLDS = {  # name -> (file bytes, the error after the file name)
     "empty file": (b"", ": file is empty (a world needs a map of # walls and a start)"),
     "non-UTF-8 file": (
         ROOM.encode().replace(b"#..>", b"#.\xff>"),
-        ":3:3: not UTF-8 text (byte 0xff)",
+        ":3:3: not a text file (byte 0xff is not UTF-8: a binary file, or text in another "
+        "encoding)",
     ),
 }
 # A machine of 1 MiB, of which a world may take half: 4,369 bytes at 120 bytes a cell.

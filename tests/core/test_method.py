@@ -98,7 +98,9 @@ def test_a_record_names_the_preset_it_equals_on_the_fields_it_keeps() -> None:
     mixed = replace(PAPER, reflexes=REFLEX_NAMES)
     assert preset_name(mixed) is None and preset_name(mixed, LEARNING_FIELDS) == "paper"
     labels = f"decel_mps2 {PAPER.decel_mps2:g}, margin_m {PAPER.margin_m:g}, labels bump"
-    assert describe_record(method_record(mixed)) == f"custom: {labels}, near_m 0, memory none"
+    assert (
+        describe_record(method_record(mixed)) == f"default, except {labels}, near_m 0, memory none"
+    )
     assert describe_record(None) == "unrecorded"
 
 

@@ -118,7 +118,7 @@ class Drive:
         self._dt = engine.robot.control_period_s
         self._left = round(minutes * 60 / self._dt)  # steps
         self._obs = engine.observation
-        self._metrics = MetricsRecorder(engine.sim.pose[:2])
+        self._metrics = MetricsRecorder(engine.sim.pose[:2], engine.goal_xy is not None)
 
     @property
     def over(self) -> bool:

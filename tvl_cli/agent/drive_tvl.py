@@ -3,7 +3,7 @@ world's start for some simulated minutes; or many such runs in one world, driven
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -35,14 +35,15 @@ def behave(
     threshold: float = DEFAULT_THRESHOLD,
     goal_xy: tuple[float, float] | None = None,
     on_step: StepSink | None = None,
+    stop: Callable[[], bool] | None = None,
 ) -> RunMetrics:
     """Perform `behaviour` with a FAM by `method`'s choices of behaving: perceiving through
-    its echo memory, finding walls by its wall rule, inside its reflexes. The simulator's
-    generator is seeded with `seed`."""
+    its echo memory, finding walls by its wall rule, inside its reflexes, until its time is
+    up, its goal reached or `stop()`. The simulator's generator is seeded with `seed`."""
     engine = StepEngine(world, robot, goal_xy=goal_xy, measure=True)
     engine.reset(seed)
     policy = behaving_policy(robot, fam, behaviour, method, threshold)
-    return drive_engine(engine, policy, minutes, on_step=on_step)
+    return drive_engine(engine, policy, minutes, on_step=on_step, stop=stop)
 
 
 @dataclass(frozen=True, slots=True)

@@ -30,11 +30,10 @@ from tvl_cli.agent.policy import LazyRing, Observation, Pose
 from tvl_cli.core.contacts import EventDetector, near_miss_sonars
 from tvl_cli.core.drive_command import Command
 from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.core.trajectory_choice import GOAL_RADIUS_M
 from tvl_cli.sim.batch import BatchRobot
 from tvl_cli.sim.robot import Simulator
 from tvl_cli.sim.worldmap import WorldMap
-
-GOAL_RADIUS_M = 0.3  # a goal counts as reached this near
 
 
 def within_goal(xy: tuple[float, float], goal_xy: tuple[float, float]) -> bool:

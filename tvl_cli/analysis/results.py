@@ -23,6 +23,7 @@ from tvl_cli.core import competence, jsontext
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.method import DEFAULT_NAME, PAPER_NAME
 from tvl_cli.core.metrics import RunMetrics
+from tvl_cli.core.text import decoded
 from tvl_cli.core.trajectory_choice import BEHAVIOUR_NAMES, is_threshold
 
 Row = dict[str, Any]
@@ -65,11 +66,11 @@ def read_results(path: Path) -> dict[int, Row]:
     """The runs of a JSON-lines results file by line number; BadInput naming the line that is
     not one."""
     try:
-        text = path.read_text(encoding="utf-8")
+        text = decoded(path.read_bytes(), str(path))
     except FileNotFoundError:
         raise BadInput(f"{path}: no such results file") from None
-    except (OSError, UnicodeDecodeError) as error:
-        raise BadInput(f"{path}: cannot read ({error})") from None
+    except OSError as error:
+        raise BadInput(f"{path}: cannot read ({error.strerror})") from None
     rows: dict[int, Row] = {}
     for number, line in enumerate(text.splitlines(), start=1):
         if not line.strip():
@@ -134,6 +135,7 @@ _MAYBE_NAMED = (
     "memory", "run_memory",
 )  # fmt: skip
 _FLAGS = ("goal_reached", "online", "trace")
+_MAYBE_FLAGGED = ("goal_reached",)  # null: the run sought no goal
 _LISTS = ("minutes", "competence_checks")
 
 
@@ -156,6 +158,8 @@ def _check_types(row: Row, where: str) -> None:
             raise BadInput(f"{where}: {key!r} is {value!r}, expected a number")
     for key in _FLAGS:
         if key in row and not isinstance(row[key], bool):
+            if row[key] is None and key in _MAYBE_FLAGGED:
+                continue
             raise BadInput(f"{where}: {key!r} is {row[key]!r}, expected true or false")
     if row.get("threshold") is not None and not is_threshold(row["threshold"]):
         raise BadInput(f"{where}: 'threshold' is {row['threshold']!r}, outside (0, 1]")
@@ -390,9 +394,9 @@ def markdown(title: str, header: Sequence[str], body: Iterable[Sequence[str]]) -
 
 def learning_minutes(rows: Iterable[Row]) -> list[Row]:
     """The per-minute rows (minute, delta_v, collisions, ...) of every learn record, with its
-    seed, world and config; `minute` becomes the end of that minute (1 for the first)."""
+    seed and world; `minute` counted from 1, so it is also when that minute ended."""
     return [
-        {**minute, "minute": minute["minute"] + 1, "seed": row["seed"], "world": row["world"]}
+        {**minute, "seed": row["seed"], "world": row["world"]}
         for row in rows
         if row["kind"] == "learn"
         for minute in row.get("minutes", [])

@@ -217,7 +217,7 @@ def _autopsy(
         trajectory_names=tuple(t.name for t in robot.trajectories),
         table_sonars=fam_file.fam.config.sonars_read(),
         goal_xy=plan.goal,
-        goal_reached=metrics.goal_reached,
+        goal_reached=bool(metrics.goal_reached),
         method=method,
         fam=fam_file.fam,
     ).to_dict()

@@ -9,32 +9,34 @@ import click
 from tvl_cli.baselines.dwa import BEHAVIOURS as DWA_BEHAVIOURS
 from tvl_cli.baselines.dwa import SENSORS as DWA_SENSORS
 from tvl_cli.cli import documents, views
+from tvl_cli.cli.examples import examples
+from tvl_cli.cli.groups import Subcommands
 from tvl_cli.cli.options import (
     GOAL,
     PICTURE,
-    SEED,
     memory_options,
     method_options,
     print_json,
     reflex_options,
     refuse_existing,
     refuse_shared_paths,
+    seed_option,
 )
 from tvl_cli.commands.baseline import dwa_session, qlearn_session
 from tvl_cli.core.method import NONE, MethodChoice
 
 
-@click.group()
+@click.group(cls=Subcommands, epilog=examples("baseline"))
 def baseline() -> None:
     """Controllers to measure TVL against: DWA and tabular Q-learning."""
 
 
-@baseline.command("dwa")
+@baseline.command("dwa", epilog=examples("baseline dwa"))
 @click.argument("world_file", metavar="WORLD", type=click.Path(path_type=Path))
 @click.option("--behaviour", type=click.Choice(DWA_BEHAVIOURS), default="avoid", show_default=True)
 @GOAL
 @click.option("--minutes", type=float, default=5.0, show_default=True, help="Simulated minutes.")
-@click.option("--seed", type=SEED, default=1, show_default=True)
+@seed_option("the sonar and odometry noise")
 @click.option("--png", type=PICTURE, default=None, help="Draw the path.")
 @method_options
 @reflex_options(default=NONE)
@@ -87,7 +89,7 @@ def baseline_dwa(
         views.run_metrics(report.metrics, report.method)
 
 
-@baseline.command("qlearn")
+@baseline.command("qlearn", epilog=examples("baseline qlearn"))
 @click.argument("world_file", metavar="WORLD", type=click.Path(path_type=Path))
 @click.option(
     "--learn-minutes", type=float, default=15.0, show_default=True, help="Simulated minutes."
@@ -95,7 +97,7 @@ def baseline_dwa(
 @click.option(
     "--minutes", type=float, default=5.0, show_default=True, help="Greedy run, simulated minutes."
 )
-@click.option("--seed", type=SEED, default=1, show_default=True)
+@seed_option("exploration and the sonar and odometry noise")
 @click.option(
     "--competence-every",
     type=float,

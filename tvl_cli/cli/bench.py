@@ -11,14 +11,17 @@ from typing import Any, TypeVar
 import click
 
 from tvl_cli.cli import bench_view, documents, views
+from tvl_cli.cli.examples import examples
+from tvl_cli.cli.groups import Subcommands
 from tvl_cli.cli.options import print_json
+from tvl_cli.core.trajectory_choice import DEFAULT_THRESHOLD
 from tvl_cli.sweep.executors import DEFAULT_SCHEDULER_TIMEOUT_S
 
 SIZES = ("tiny", "quick", "full")
 Command = TypeVar("Command", bound=Callable[..., Any])
 
 
-@click.group()
+@click.group(cls=Subcommands, epilog=examples("bench"))
 def bench() -> None:
     """Benchmark suites: generalization to worlds nobody tuned on, and the paper's claims."""
 
@@ -100,7 +103,7 @@ def _running(as_json: bool, run: Callable[..., Any]) -> Any:
         sys.exit(130)
 
 
-@bench.command("generalization")
+@bench.command("generalization", epilog=examples("bench generalization"))
 @click.option(
     "--set",
     "world_set",
@@ -155,7 +158,7 @@ def _running(as_json: bool, run: Callable[..., Any]) -> Any:
     help="The reference rows: oracle-velocities, oracle-labels, ideal-sonar, dwa-map, "
     "dwa-ring, q-learning.",
 )
-@click.option("--threshold", type=float, default=0.85, show_default=True)
+@click.option("--threshold", type=float, default=DEFAULT_THRESHOLD, show_default=True)
 @where_options("generalization")
 def generalization(**options: Any) -> None:
     """Learn, train and run in generated rooms worlds nobody tuned on, beside references and
@@ -178,7 +181,7 @@ def generalization(**options: Any) -> None:
         bench_view.show_generalization(result, where, markdown)
 
 
-@bench.command("claims")
+@bench.command("claims", epilog=examples("bench claims"))
 @click.option(
     "--method",
     "methods",

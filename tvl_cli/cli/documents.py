@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any
 from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS
 from tvl_cli.core.method import method_record
 from tvl_cli.io.json_documents import document, input_file, optional_file, output_path
+from tvl_cli.io.loglayout import ended_status
 
 if TYPE_CHECKING:
     # Named for their types only: a command's `--help` imports this module.
@@ -94,7 +95,7 @@ def learning(result: LearnResult) -> dict[str, Any]:
         "coverage": result.coverage,
         "wall_s": result.wall_s,
         "minutes": [
-            {"session": result.session, **asdict(m), "coverage": c}
+            {"session": result.session, **asdict(m), "minute": m.minute + 1, "coverage": c}
             for m, c in zip(s.minutes, result.minute_coverage, strict=True)
         ],
     }
@@ -210,7 +211,8 @@ def run_json(request: RunRequest, result: RunResult) -> dict[str, Any]:
         "trace": output_path(request.trace),
         "log": output_path(request.learn.log if request.learn else None),
     }
-    return document("run", inputs, outputs=outputs, **result.to_dict())
+    status = ended_status(result.stopped_by)
+    return document("run", inputs, outputs=outputs, status=status, **result.to_dict())
 
 
 def replay_json(

@@ -7,16 +7,17 @@ from pathlib import Path
 import click
 
 from tvl_cli.cli import documents
-from tvl_cli.cli.options import print_json, refuse_existing, refuse_shared_paths
+from tvl_cli.cli.examples import examples
+from tvl_cli.cli.options import MCAP, print_json, refuse_existing, refuse_shared_paths
 from tvl_cli.commands.export import export_mcap
 
 
-@click.command()
+@click.command(epilog=examples("export"))
 @click.argument("run", metavar="RUN.h5", type=click.Path(path_type=Path))
 @click.option(
     "--mcap",
     "output",
-    type=click.Path(path_type=Path),
+    type=MCAP,
     required=True,
     metavar="OUT.mcap",
     help="MCAP file for Foxglove.",

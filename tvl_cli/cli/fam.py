@@ -9,9 +9,12 @@ import click
 
 from tvl_cli.analysis.famdiff import DEFAULT_TOLERANCE_MPS
 from tvl_cli.analysis.rules import SORT_KEYS
-from tvl_cli.cli import documents, views
+from tvl_cli.cli import documents, fam_views, views
+from tvl_cli.cli.examples import examples
 from tvl_cli.cli.options import (
+    HDF5,
     PICTURE,
+    given_on_command_line,
     memory_options,
     method_options,
     print_csv,
@@ -26,12 +29,12 @@ from tvl_cli.commands.diff import diff_files
 from tvl_cli.commands.inspect import InspectRequest, inspect_fam
 from tvl_cli.commands.train import TrainRequest
 from tvl_cli.commands.train import train as train_fam
-from tvl_cli.core.method import MethodChoice, describe_record
+from tvl_cli.core.method import MethodChoice
 
 
-@click.command()
+@click.command(epilog=examples("train"))
 @click.argument("logs", nargs=-1, required=True, type=click.Path(path_type=Path))
-@click.option("-o", "--output", type=click.Path(path_type=Path), required=True, help="FAM file.")
+@click.option("-o", "--output", type=HDF5, required=True, help="FAM file (.h5).")
 @method_options
 @training_options
 @click.option(
@@ -65,10 +68,10 @@ def train(
     if as_json:
         print_json(documents.train_json(summary, logs, config, until_minute, output))
     else:
-        views.train_summary(summary, output)
+        fam_views.train_summary(summary, output, method)
 
 
-@click.command()
+@click.command(epilog=examples("inspect"))
 @click.argument("fam", type=click.Path(path_type=Path))
 @click.option(
     "--trajectory",
@@ -158,16 +161,23 @@ def inspect(
             )
         )
     elif found.explanation is not None:
-        views.explanation(found.explanation)
+        fam_views.explanation(found.explanation)
     elif as_csv:
         print_csv([rule.to_row() for rule in found.rules or []])
     else:
-        click.echo(f"method: {describe_record(found.loaded.made_by.record())}")
-        for rule in found.rules or []:
-            click.echo(rule.sentence())
+        fam_views.say_method(found.loaded.made_by.record())
+        if png is not None and found.over is not None:
+            click.echo(f"{png}: the learnt velocity over {' and '.join(found.over)}")
+        # A picture asked for alone is the answer; rules asked for as well come after it.
+        if png is None or given_on_command_line(*RULE_OPTIONS):
+            fam_views.rules(found.rules or [])
 
 
-@click.command()
+# inspect's options that choose rules to print: with --png, the rules print only if one is given.
+RULE_OPTIONS = ("--trajectory", "--top", "--sort", "--untrained")
+
+
+@click.command(epilog=examples("diff"))
 @click.argument("first", type=click.Path(path_type=Path))
 @click.argument("second", type=click.Path(path_type=Path))
 @click.option(
@@ -191,4 +201,4 @@ def diff(first: Path, second: Path, tolerance: float, top: int, as_json: bool) -
     if as_json:
         print_json(documents.diff_json(difference, first, second, top))
     else:
-        views.fam_difference(difference, first, second)
+        fam_views.fam_difference(difference, first, second)

@@ -6,8 +6,10 @@ from pathlib import Path
 
 import click
 
-from tvl_cli.cli import documents
+from tvl_cli.cli import documents, views
+from tvl_cli.cli.examples import examples
 from tvl_cli.cli.options import (
+    MARKDOWN,
     PICTURE,
     PICTURE_HELP,
     print_json,
@@ -18,11 +20,11 @@ from tvl_cli.cli.params import complete_figure
 from tvl_cli.commands.figure import FigureRequest, draw
 
 
-@click.command()
+@click.command(epilog=examples("figure"))
 @click.argument("name", metavar="NAME", shell_complete=complete_figure)
 @click.argument("results", type=click.Path(path_type=Path))
 @click.option("-o", "--output", type=PICTURE, required=True, help=PICTURE_HELP)
-@click.option("--table", type=click.Path(path_type=Path), default=None, help="Markdown file.")
+@click.option("--table", type=MARKDOWN, default=None, help="Markdown file (.md).")
 @click.option("--force", is_flag=True, help="Overwrite the picture and table files.")
 @click.option("--json", "as_json", is_flag=True, help="Print the files and the table as JSON.")
 def figure(
@@ -41,4 +43,5 @@ def figure(
     if as_json:
         print_json(documents.figure_json(name, results, output, table, summary))
     else:
-        click.echo(summary, nl=False)
+        # Its tables and notes laid out for the terminal's width; --table keeps the markdown.
+        views.markdown_summary(summary)

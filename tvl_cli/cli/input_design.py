@@ -8,18 +8,18 @@ import click
 
 from tvl_cli.analysis.input_selection import DEFAULT_BUDGET_RULES
 from tvl_cli.cli import documents
-from tvl_cli.cli.options import SEED, print_json, refuse_existing, refuse_shared_paths
+from tvl_cli.cli.examples import examples
+from tvl_cli.cli.options import JSON_FILE, SEED, print_json, refuse_existing, refuse_shared_paths
 from tvl_cli.cli.tables import table
 from tvl_cli.cli.views import out
 from tvl_cli.commands.design import DesignSummary, design_from_logs
 from tvl_cli.core.fam_config_json import MAX_ENTRIES
+from tvl_cli.core.words import counted
 
 
-@click.command()
+@click.command(epilog=examples("design"))
 @click.argument("logs", nargs=-1, required=True, type=click.Path(path_type=Path))
-@click.option(
-    "-o", "--output", type=click.Path(path_type=Path), required=True, help="CONFIG.json to write."
-)
+@click.option("-o", "--output", type=JSON_FILE, required=True, help="CONFIG.json to write.")
 @click.option(
     "--budget",
     type=click.IntRange(1, MAX_ENTRIES),
@@ -82,7 +82,7 @@ def _show(summary: DesignSummary) -> None:
     columns = ("configuration", "rules", "held-out error (m/s)")
     scores = table(
         *columns,
-        title=f"trained on {summary.design.train_episodes} episodes, "
+        title=f"trained on {counted(summary.design.train_episodes, 'episode')}, "
         f"scored on {summary.design.heldout_episodes} held out",
         right=columns[1:],
     )

@@ -9,32 +9,36 @@ import click
 
 from tvl_cli.agent.explore import LearnParams, MinuteStats
 from tvl_cli.cli import documents, views
+from tvl_cli.cli.examples import examples
 from tvl_cli.cli.options import (
-    SEED,
+    HDF5,
     live_options,
     memory_options,
     method_options,
     print_json,
     refuse_existing,
     refuse_shared_paths,
+    seed_option,
     training_options,
 )
 from tvl_cli.commands.learn import LearnRequest, LearnResult, learn_to_log
 from tvl_cli.core.method import DEFAULT, EXPLORATION_RULES, FIELDS, MethodChoice
 from tvl_cli.core.robot_config import EDGE_ECHO_RANGE_M, FASTEST_MPS, SONAR_MODELS
 from tvl_cli.core.trajectory_choice import DEFAULT_THRESHOLD
+from tvl_cli.core.words import counted
+from tvl_cli.io.interrupts import STOPPED_EXIT
 from tvl_cli.sim.worldmap import load_world
 
 DEFAULT_LEARN = LearnParams()
 
 
-@click.command()
+@click.command(epilog=examples("learn"))
 @click.argument("world_file", metavar="WORLD", type=click.Path(path_type=Path))
 @click.option(
     "--log",
-    type=click.Path(path_type=Path),
+    type=HDF5,
     required=True,
-    help="Learning log to create or add a session to.",
+    help="Learning log (.h5) to create or add a session to.",
 )
 @click.option(
     "--minutes",
@@ -43,15 +47,15 @@ DEFAULT_LEARN = LearnParams()
     show_default=True,
     help="Simulated minutes.",
 )
-@click.option("--seed", type=SEED, default=1, show_default=True)
+@seed_option("every random choice (exploration's ties, sonar and odometry noise)")
 @method_options
 @training_options
 @click.option(
     "--fam",
     "fam_out",
-    type=click.Path(path_type=Path),
+    type=HDF5,
     default=None,
-    help="Also write the online FAM here.",
+    help="Also write the online FAM here (.h5).",
 )
 @click.option(
     "--learn-speed",
@@ -127,6 +131,7 @@ def learn(
         symmetric=symmetric,
         init_velocity_mps=init_velocity_mps,
     )
+    views.warn_of_other_worlds(log, world_file)
     if live and views.out.is_terminal:
         result = _learn_live(request, pace)
     else:
@@ -137,20 +142,20 @@ def learn(
     else:
         views.learn_summary(result, log)
     if result.summary.stopped_by:
-        sys.exit(130 if result.summary.stopped_by == "SIGINT" else 143)
+        sys.exit(STOPPED_EXIT[result.summary.stopped_by])
 
 
 def _learn_live(request: LearnRequest, pace: float | None) -> LearnResult:
     """Learn with the live view: the robot exploring, and the last whole minute's counts."""
-    from tvl_cli.cli.live import LiveView, live_view
+    from tvl_cli.cli.live import LiveView, Sight, live_view
 
-    view = LiveView(
-        load_world(request.world), request.method.robot(), DEFAULT_THRESHOLD, None, pace
-    )
+    robot = request.method.robot()
+    view = LiveView(Sight(load_world(request.world), robot, DEFAULT_THRESHOLD, pace=pace))
 
     def on_minute(stats: MinuteStats) -> None:
         view.caption = (
-            f"minute {stats.minute + 1}: {stats.episodes} episodes, {stats.collisions} collisions"
+            f"minute {stats.minute + 1}: {counted(stats.episodes, 'episode')}, "
+            f"{counted(stats.collisions, 'collision')}"
         )
 
     with live_view(view, views.out) as watch:

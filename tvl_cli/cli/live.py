@@ -12,6 +12,7 @@ import math
 import time
 from collections.abc import Iterator
 from contextlib import contextmanager
+from dataclasses import dataclass
 
 import numpy as np
 from rich.console import Console, Group
@@ -32,18 +33,26 @@ BAR_WIDTH = 16  # characters for a trajectory's top speed
 ARROWS = "→↗↑↖←↙↓↘"
 
 
+@dataclass(frozen=True, slots=True)
+class Sight:
+    """What a view of a run shows it in: the world, the robot, the threshold (a fraction of
+    each trajectory's maximum) its bars mark, the goal sought (None: none), and the pace
+    (simulated seconds a wall second; None: flat out)."""
+
+    world: WorldMap
+    robot: RobotConfig
+    threshold: float
+    goal: tuple[float, float] | None = None
+    pace: float | None = None
+
+
 class LiveView:
     """A step sink that keeps what the view shows and paces the run; `panel()` draws it."""
 
-    def __init__(
-        self,
-        world: WorldMap,
-        robot: RobotConfig,
-        threshold: float,
-        goal: tuple[float, float] | None,
-        pace: float | None,
-    ) -> None:
-        self.robot, self.threshold, self.goal, self.pace = robot, threshold, goal, pace
+    def __init__(self, sight: Sight) -> None:
+        world = sight.world
+        self.robot, self.threshold, self.goal = sight.robot, sight.threshold, sight.goal
+        self.pace = sight.pace
         self.origin = world.origin_m  # the map's frame: where the view's bottom-left lies
         self.scale = max(world.width_m / MAP_COLUMNS, world.height_m / MAP_ROWS)
         self.columns = min(MAP_COLUMNS, math.ceil(world.width_m / self.scale))
@@ -51,6 +60,7 @@ class LiveView:
         self.walls = self._wall_cells(world)
         self.visited: set[tuple[int, int]] = set()
         self.step: Step | None = None
+        self.perceived: Step | None = None  # the last step that perceived velocities
         self.counts = {BUMP: 0, NEAR_MISS: 0}
         self.distance_m = 0.0
         self.caption = ""  # a line of the caller's: while learning, the last minute's counts
@@ -61,6 +71,8 @@ class LiveView:
             (x0, y0, _), (x1, y1, _) = self.step.pose, step.pose
             self.distance_m += math.hypot(x1 - x0, y1 - y0)
         self.step = step
+        if step.decision.velocities is not None:
+            self.perceived = step
         self.visited.add(self._cell(step.pose[0], step.pose[1]))
         for event in step.events:
             if event in self.counts:
@@ -150,13 +162,19 @@ class LiveView:
         return lines
 
     def _bars(self, step: Step) -> list[Text]:
-        """A bar per trajectory: perceived velocity, '|' at the threshold, '*' driven."""
-        velocities, fast = step.decision.velocities, step.decision.fast
-        if velocities is None:  # nothing perceived: exploring, spinning or backing off
+        """A bar per trajectory: perceived velocity, '|' at the threshold, '*' driven. On a
+        step that perceived nothing (a spin, a back-off, an episode of learning), the bars
+        of the last step that did, dimmed, under the time they were perceived at."""
+        shown = step if step.decision.velocities is not None else self.perceived
+        if shown is None:
             followed = step.decision.trajectory
             name = self.robot.trajectories[followed].name if followed >= 0 else "none"
             return [Text(f"following {name}, no velocities perceived")]
+        velocities, fast = shown.decision.velocities, shown.decision.fast
+        assert velocities is not None
         lines = []
+        if shown is not step:
+            lines.append(Text(f"{_doing(step)}: as perceived at {shown.time_s:.1f} s", "dim"))
         for j, trajectory in enumerate(self.robot.trajectories):
             top = trajectory.v_max_mps
             v = 0.0 if np.isnan(velocities[j]) else float(velocities[j])
@@ -167,8 +185,19 @@ class LiveView:
             )
             driven = "*" if j == step.decision.trajectory else " "
             style = "green" if fast is not None and fast[j] else ""
-            lines.append(Text(f"{driven}{trajectory.name:>3} {bar} {v:.2f}", style=style))
+            faded = "" if shown is step else "dim "
+            lines.append(Text(f"{driven}{trajectory.name:>3} {bar} {v:.2f}", f"{faded}{style}"))
         return lines
+
+
+def _doing(step: Step) -> str:
+    """What a step that perceived nothing did, in a word or two."""
+    decision = step.decision
+    if decision.reflex:
+        return decision.reflex
+    if decision.trapped:
+        return "trapped"
+    return "spinning" if decision.trajectory < 0 else "following"
 
 
 def _hold_back(time_s: float, pace: float | None, started: float) -> None:
@@ -184,18 +213,16 @@ class WindowView:
     """A step sink that shows the run in a window as `tvl replay --gif` draws it, a few
     frames a wall second, and paces the run."""
 
-    def __init__(
-        self, world: WorldMap, robot: RobotConfig, threshold: float, pace: float | None
-    ) -> None:
+    def __init__(self, sight: Sight) -> None:
         from tvl_cli.render.animate import FIGURE_SIZE_IN, WINDOW_DPI, RunFrame
         from tvl_cli.render.window import FrameWindow
 
-        self.robot, self.pace = robot, pace
+        self.robot, self.pace = sight.robot, sight.pace
         # Opened first: without a display, the run stops before anything is drawn.
         width_in, height_in = FIGURE_SIZE_IN
         size_px = (round(height_in * WINDOW_DPI), round(width_in * WINDOW_DPI))
-        self.window = FrameWindow(f"tvl run: {world.name}", size_px, WINDOW_DPI)
-        self.frame = RunFrame(world, robot, threshold, WINDOW_DPI)
+        self.window = FrameWindow(f"tvl run: {sight.world.name}", size_px, WINDOW_DPI)
+        self.frame = RunFrame(sight.world, sight.robot, sight.threshold, WINDOW_DPI, sight.goal)
         self.window.show(self.frame.blitter.still())
         self.trail: list[tuple[float, float]] = []
         self.step: Step | None = None

@@ -6,6 +6,7 @@ that `tvl --help` starts without numpy, h5py, pymunk or matplotlib.
 
 from __future__ import annotations
 
+import difflib
 import errno
 import importlib
 import os
@@ -16,7 +17,9 @@ from typing import NoReturn
 import click
 
 from tvl_cli import __version__
+from tvl_cli.cli.examples import examples
 from tvl_cli.core.errors import BadInput, EnvironmentFailure
+from tvl_cli.io.interrupts import STOPPED_EXIT
 
 # name -> (module, attribute, the line `tvl --help` shows for it). The line is kept here so
 # the top-level help needs no import; a test holds it to the command's own first line.
@@ -116,6 +119,18 @@ class TvlGroup(click.Group):
         assert isinstance(command, click.Command)
         return command
 
+    def resolve_command(
+        self, ctx: click.Context, args: list[str]
+    ) -> tuple[str | None, click.Command | None, list[str]]:
+        # click suggests among the commands it holds, and this group holds none until used:
+        # the suggestion a subgroup's mistyped command gets, from the registry.
+        name = args[0]
+        if name not in COMMANDS and not name.startswith("-") and not ctx.resilient_parsing:
+            close = difflib.get_close_matches(name, COMMANDS, n=1)
+            suggestion = f" Did you mean {close[0]!r}?" if close else ""
+            ctx.fail(f"No such command {name!r}.{suggestion}")
+        return super().resolve_command(ctx, args)
+
     def format_commands(self, ctx: click.Context, formatter: click.HelpFormatter) -> None:
         rows = [(name, help_line) for name, (_, _, help_line) in COMMANDS.items()]
         with formatter.section("Commands"):
@@ -153,6 +168,11 @@ class TvlGroup(click.Group):
             sys.exit(1 if error.errno in ENVIRONMENT_ERRNOS else 2)
         except click.UsageError as error:
             _refuse_usage(error)
+        except KeyboardInterrupt:
+            # Ctrl-C where no command catches it (a long command stops at its own pace and
+            # says what it kept): the shell's status for it, and not click's "Aborted!".
+            click.echo("tvl: interrupted", err=True)
+            sys.exit(STOPPED_EXIT["SIGINT"])
 
     def parse_args(self, ctx: click.Context, args: list[str]) -> list[str]:
         # The group's own options are parsed before invoke: their errors too are one line.
@@ -204,7 +224,11 @@ def _file_of(error: BaseException) -> str:
 
 
 # -h as well as --help, for the group and (inherited through the context) every command.
-@click.group(cls=TvlGroup, context_settings={"help_option_names": ["-h", "--help"]})
+@click.group(
+    cls=TvlGroup,
+    context_settings={"help_option_names": ["-h", "--help"]},
+    epilog=examples(""),
+)
 @click.version_option(__version__, prog_name="tvl")
 @click.option("--debug", is_flag=True, help="Show the traceback of an error.")
 @click.pass_context

@@ -43,12 +43,47 @@ from tvl_cli.core.method import (
     parse_reflexes,
 )
 from tvl_cli.core.robot_config import SLOWEST_TOP_MPS
-from tvl_cli.io.atomic import refuse_non_file
+from tvl_cli.io.atomic import refuse_missing_directory, refuse_non_file
 from tvl_cli.io.methodfile import resolve_method
 from tvl_cli.io.table import csv_text
 from tvl_cli.render.formats import picture_format, refuse_other_extension
 
-SEED = click.IntRange(0, MAX_SEED)
+
+class Seed(click.ParamType):
+    """A seed: a whole number a 64-bit file field holds and numpy takes (0 to 2^63 - 1),
+    said so in words rather than as click's range of nineteen digits."""
+
+    name = "seed"
+
+    def get_metavar(self, *args: Any, **kwargs: Any) -> str:
+        return "N"
+
+    def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> Any:
+        if isinstance(value, int) and not isinstance(value, bool):
+            number = value
+        else:
+            try:
+                number = int(str(value).strip())
+            except ValueError:
+                self.fail(f"{value!r} is not a whole number", param, ctx)
+        if not 0 <= number <= MAX_SEED:
+            self.fail(f"{value} is not a seed: a whole number from 0 to 2^63 - 1", param, ctx)
+        return number
+
+
+SEED = Seed()
+
+
+def seed_option(what: str) -> Callable[[Callable[..., None]], Callable[..., None]]:
+    """--seed N, default 1, its help saying `what` it draws: the same seed and inputs give the
+    same outputs."""
+    return click.option(
+        "--seed",
+        type=SEED,
+        default=1,
+        show_default=True,
+        help=f"Seed of {what}; the same seed gives the same result.",
+    )
 
 
 class FormattedPath(click.Path):
@@ -68,11 +103,22 @@ class FormattedPath(click.Path):
         return path
 
 
-# A picture in the format its extension names; an animation named for its one format.
+# A picture in the format its extension names; any other output named for its one format.
 PICTURE = FormattedPath(picture_format)
 PICTURE_HELP = "Picture file: .png, .svg, .pdf or .jpg."
-GIF = FormattedPath(functools.partial(refuse_other_extension, extension=".gif"))
-MP4 = FormattedPath(functools.partial(refuse_other_extension, extension=".mp4"))
+
+
+def named_for(*extensions: str, kind: str = "") -> FormattedPath:
+    """An output of one format, its name ending in one of `extensions`."""
+    return FormattedPath(lambda path: refuse_other_extension(path, *extensions, kind=kind))
+
+
+GIF = named_for(".gif", kind="a GIF")
+MP4 = named_for(".mp4", kind="an MP4 video")
+HDF5 = named_for(".h5", ".hdf5", kind="HDF5")
+MCAP = named_for(".mcap", kind="MCAP")
+JSON_FILE = named_for(".json", kind="JSON")
+MARKDOWN = named_for(".md", kind="Markdown")
 # --goal X,Y, for the commands that seek a goal; checked against the world where it is read.
 GOAL = click.option(
     "--goal",
@@ -89,8 +135,7 @@ def refuse_existing(path: Path, force: bool) -> None:
     refuse_non_file(path)
     if path.exists() and not force:
         raise BadInput(f"{path}: already exists (use --force to overwrite)")
-    if not path.parent.is_dir():
-        raise BadInput(f"{path}: cannot write, directory {path.parent} does not exist")
+    refuse_missing_directory(path)
 
 
 def refuse_shared_paths(

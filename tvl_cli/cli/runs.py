@@ -7,6 +7,7 @@ the options (and loads neither HDF5 nor the physics).
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import asdict
@@ -15,13 +16,14 @@ from typing import TYPE_CHECKING
 
 import click
 
-from tvl_cli.cli import documents, views
+from tvl_cli.cli import documents, replay_views, views
+from tvl_cli.cli.examples import examples
 from tvl_cli.cli.options import (
     GIF,
     GOAL,
+    HDF5,
     MP4,
     PICTURE,
-    SEED,
     given_on_command_line,
     live_options,
     memory_options,
@@ -32,6 +34,7 @@ from tvl_cli.cli.options import (
     refuse_both_formats,
     refuse_existing,
     refuse_shared_paths,
+    seed_option,
 )
 from tvl_cli.core.contacts import EVENT_CHOICES
 from tvl_cli.core.errors import DEFAULT_RUN_MINUTES, BadInput
@@ -41,7 +44,7 @@ from tvl_cli.core.trajectory_choice import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD
 
 if TYPE_CHECKING:
     from tvl_cli.agent.drive import StepSink
-    from tvl_cli.commands.run import RunRequest
+    from tvl_cli.commands.run import RunRequest, RunResult
 
 
 # Where `tvl run --view` shows the run as it goes.
@@ -49,7 +52,7 @@ TERMINAL, WINDOW = "terminal", "window"
 VIEWS = (TERMINAL, WINDOW)
 
 
-@click.command()
+@click.command(epilog=examples("run"))
 @click.argument("fam", type=click.Path(path_type=Path))
 @click.argument("world_file", metavar="WORLD", type=click.Path(path_type=Path))
 @click.option("--behaviour", type=click.Choice(BEHAVIOUR_NAMES), required=True)
@@ -68,11 +71,9 @@ VIEWS = (TERMINAL, WINDOW)
     show_default=True,
     help="Simulated minutes.",
 )
-@click.option("--seed", type=SEED, default=1, show_default=True)
+@seed_option("the sonar and odometry noise")
 @click.option("--png", type=PICTURE, default=None, help="Draw the path.")
-@click.option(
-    "--log", "trace", type=click.Path(path_type=Path), default=None, help="Write a run trace."
-)
+@click.option("--log", "trace", type=HDF5, default=None, help="Write a run trace (.h5).")
 @method_options
 @reflex_options(default=ALL)
 @click.option(
@@ -88,7 +89,7 @@ VIEWS = (TERMINAL, WINDOW)
 )
 @click.option(
     "--learn-log",
-    type=click.Path(path_type=Path),
+    type=HDF5,
     default=None,
     metavar="LOG",
     help="Learn while behaving (as --learn) and append what is learnt to LOG as a behaving "
@@ -131,6 +132,7 @@ def run(
     Every rule beyond the paper's method is a reflex: --reflex none runs the paper's choice
     rule alone, and --paper the paper's whole method (no reflex, no echo memory) on the FAM."""
     from tvl_cli.commands.run import OnlineLearning, RunRequest, run_behaviour
+    from tvl_cli.io.interrupts import STOPPED_EXIT, catching_signals
 
     refuse_both_formats(as_json, as_csv)
     if live and view is not None:
@@ -143,35 +145,38 @@ def run(
     for output in (png, trace):
         if output is not None:
             refuse_existing(output, force)
+    if learn_log is not None:
+        views.warn_of_other_worlds(learn_log, world_file)
     request = RunRequest(
-        fam,
-        world_file,
-        behaviour,
-        threshold,
-        minutes,
-        seed,
-        goal,
-        png,
-        trace,
-        method,
-        learning,
+        fam, world_file, behaviour, threshold, minutes, seed, goal, png, trace, method, learning
     )
-    with _watching(request, TERMINAL if live else view, pace) as watch:
-        result = run_behaviour(request, watch)
-    if as_json:
+    with (
+        catching_signals() as interrupted,
+        _watching(request, TERMINAL if live else view, pace) as watch,
+    ):
+        result = run_behaviour(request, watch, interrupted.reason)
+    _show_run(request, result, "json" if as_json else "csv" if as_csv else None)
+    if result.stopped_by is not None:
+        views.stopped(result.stopped_by, result.metrics.sim_s, trace)
+        sys.exit(STOPPED_EXIT[result.stopped_by])
+
+
+def _show_run(request: RunRequest, result: RunResult, form: str | None) -> None:
+    """The run's results as JSON, as a CSV row or (`form` None) in words."""
+    if form == "json":
         print_json(documents.run_json(request, result))
-    elif as_csv:
+    elif form == "csv":
         print_csv([asdict(result.metrics)])
     else:
         views.run_metrics(result.metrics, result.method)
-        views.run_learning(result, learning.log if learning else None)
+        views.run_learning(result, request.learn.log if request.learn else None)
 
 
 # replay's options that shape an animation, and nothing else.
 ANIMATION_OPTIONS = ("--from", "--to", "--every", "--fps")
 
 
-@click.command()
+@click.command(epilog=examples("replay"))
 @click.argument("file", type=click.Path(path_type=Path))
 @click.option("--png", type=PICTURE, default=None, help="Draw the paths.")
 @click.option(
@@ -256,10 +261,10 @@ def replay(
         pictures = {"png": png, "curves": curves, "animation": moving}
         print_json(documents.replay_json(summary, file, session, pictures))
     else:
-        views.replay(summary)
+        replay_views.replay(summary)
 
 
-@click.command()
+@click.command(epilog=examples("demo"))
 @click.argument("directory", default="tvl-demo", type=click.Path(path_type=Path))
 @click.option("--force", is_flag=True, help="Write into a DIRECTORY that is not empty.")
 @click.option("--json", "as_json", is_flag=True, help="Print the results as JSON.")
@@ -274,7 +279,7 @@ def demo(directory: Path, force: bool, as_json: bool) -> None:
         views.demo(result)
 
 
-@click.command()
+@click.command(epilog=examples("explain"))
 @click.argument("trace", metavar="RUN", type=click.Path(path_type=Path))
 @click.option("--step", type=click.IntRange(min=0), default=None, help="The step, 0 the first.")
 @click.option(
@@ -358,16 +363,17 @@ def _watching(request: RunRequest, view: str | None, pace: float | None) -> Iter
         with views.run_progress(request.minutes) as bar:
             yield bar
         return
-    from tvl_cli.cli.live import LiveView, WindowView, live_view, window_view
+    from tvl_cli.cli.live import LiveView, Sight, WindowView, live_view, window_view
     from tvl_cli.commands.run import request_robot
     from tvl_cli.sim.worldmap import load_world, resolve_goal
 
     world = load_world(request.world)
     robot = request_robot(request)
+    goal = resolve_goal(request.world, world, request.behaviour, request.goal)
+    sight = Sight(world, robot, request.threshold, goal, pace)
     if view == WINDOW:
-        with window_view(WindowView(world, robot, request.threshold, pace)) as shown:
+        with window_view(WindowView(sight)) as shown:
             yield shown
         return
-    goal = resolve_goal(request.world, world, request.behaviour, request.goal)
-    with live_view(LiveView(world, robot, request.threshold, goal, pace), views.out) as watch:
+    with live_view(LiveView(sight), views.out) as watch:
         yield watch

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import click
 
+from tvl_cli.cli.examples import examples
 from tvl_cli.cli.options import print_json
 from tvl_cli.cli.params import complete_schema_command
 from tvl_cli.core.errors import BadInput, did_you_mean
@@ -17,7 +18,7 @@ from tvl_cli.io.json_documents import (
 )
 
 
-@click.command()
+@click.command(epilog=examples("schema"))
 @click.argument("command", nargs=-1, metavar="[COMMAND]", shell_complete=complete_schema_command)
 @click.option("--json", "as_json", is_flag=True, help="Print the list (or the schema) as JSON.")
 def schema(command: tuple[str, ...], as_json: bool) -> None:

@@ -9,6 +9,7 @@ from pathlib import Path
 import click
 
 from tvl_cli.cli import documents, sweep_view, views
+from tvl_cli.cli.examples import examples
 from tvl_cli.cli.options import (
     PICTURE,
     print_csv,
@@ -22,7 +23,7 @@ from tvl_cli.sweep.runner import DEFAULT_MAX_CELLS, SweepRequest, default_out, r
 from tvl_cli.sweep.summary import PLOT_FORM, parse_measures, parse_plot
 
 
-@click.command()
+@click.command(epilog=examples("sweep"))
 @click.argument("grid", type=click.Path(path_type=Path))
 @click.option(
     "--out",

@@ -36,6 +36,8 @@ LABELS = {
     "backoffs": "back-offs",
     "wall_s": "wall-clock time (s)",
 }
+# The metrics of reaching a goal, which a run that sought none does not show.
+GOAL_METRICS = ("goal_reached", "time_to_goal_s")
 # Decimals a rounded number keeps; beyond FIXED_RANGE a number reads better in powers of ten.
 DIGITS = 2
 FIXED_RANGE = (1e-3, 1e6)

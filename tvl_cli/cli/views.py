@@ -8,12 +8,21 @@ from dataclasses import asdict
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from rich.console import Console
-from rich.progress import BarColumn, Progress, TaskProgressColumn, TextColumn, TimeElapsedColumn
+from rich.progress import (
+    BarColumn,
+    Progress,
+    TaskProgressColumn,
+    TextColumn,
+    TimeElapsedColumn,
+    TimeRemainingColumn,
+)
 
-from tvl_cli.cli.tables import NOTHING, cell, facts, label, labelled, number, percent, table
+from tvl_cli.cli.console import err, folded, out, say
+from tvl_cli.cli.fam_views import explanation
+from tvl_cli.cli.tables import GOAL_METRICS, NOTHING, cell, facts, label, labelled, percent, table
 from tvl_cli.core.method import describe_record
 from tvl_cli.core.trajectory_choice import DEFAULT_THRESHOLD
+from tvl_cli.core.words import counted
 
 if TYPE_CHECKING:
     # What is shown, named for its type only: a command's `--help` imports this module, and
@@ -21,22 +30,11 @@ if TYPE_CHECKING:
     from tvl_cli.agent.drive import Step, StepSink
     from tvl_cli.agent.explore import MinuteStats
     from tvl_cli.analysis.autopsy import Autopsy
-    from tvl_cli.analysis.famdiff import FamDifference
     from tvl_cli.commands.demo import DemoResult
     from tvl_cli.commands.explain import StepExplanation
     from tvl_cli.commands.learn import LearnResult
-    from tvl_cli.commands.replay import LogReplay, Replay, RunReplay
     from tvl_cli.commands.run import RunResult
-    from tvl_cli.commands.train import TrainSummary
-    from tvl_cli.core.fired_rules import Explanation
     from tvl_cli.core.metrics import RunMetrics
-
-out = Console(highlight=False)
-err = Console(stderr=True, highlight=False)
-
-
-def say(message: str) -> None:
-    err.print(message)
 
 
 def _bar(description: str) -> Progress:
@@ -45,6 +43,9 @@ def _bar(description: str) -> Progress:
         BarColumn(),
         TaskProgressColumn(),
         TimeElapsedColumn(),
+        TextColumn("elapsed,"),
+        TimeRemainingColumn(),
+        TextColumn("left"),
         console=err,
         transient=True,
         # A bar only for a person watching: scripts and pipes get clean stderr.
@@ -92,8 +93,8 @@ def learning_progress(
             bar.update(
                 task,
                 description=(
-                    f"minute {stats.minute + 1}: {stats.episodes} episodes, "
-                    f"{stats.collisions} collisions, ΔV {stats.delta_v:.2e}"
+                    f"minute {stats.minute + 1}: {counted(stats.episodes, 'episode')}, "
+                    f"{counted(stats.collisions, 'collision')}, ΔV {stats.delta_v:.2e}"
                 ),
             )
 
@@ -126,43 +127,12 @@ def learn_summary(result: LearnResult, log: Path) -> None:
         )
     out.print(minutes)
     out.print(
-        f"{s.episodes} episodes, {s.collisions} collisions, {s.exemplars} exemplars in "
+        f"{counted(s.episodes, 'episode')}, {counted(s.collisions, 'collision')}, "
+        f"{counted(s.exemplars, 'exemplar')} in "
         f"{s.sim_s / 60:.1f} simulated minutes, coverage {percent(result.coverage)} "
         f"({result.wall_s:.1f} s), session {result.session}"
     )
     out.print(f"method: {describe_record(result.method)}")
-
-
-def train_summary(summary: TrainSummary, output: Path) -> None:
-    rows = [
-        ("configuration", summary.fam.config.name),
-        ("method", describe_record(summary.method_record())),
-        ("episodes", summary.episodes),
-        ("exemplars used", summary.exemplars),
-        ("rules touched", f"{summary.rules_touched} of {summary.rules_total}"),
-        ("rules never touched", summary.rules_total - summary.rules_touched),
-        ("time (s)", summary.wall_s),
-        *(("trained once", repeat.text()) for repeat in summary.repeated_sessions),
-    ]
-    out.print(facts(rows, title=f"trained → {output}"))
-
-
-def fam_difference(d: FamDifference, first: Path, second: Path) -> None:
-    columns = ("trajectory", "rules differing", "mean |change| (m/s)")
-    differences = table(
-        *columns,
-        title=f"{first} → {second} ({d.config}, tolerance {d.tolerance_mps:g} m/s)",
-        right=columns[1:],
-    )
-    for t in d.trajectories:
-        differences.add_row(
-            t.trajectory, f"{t.differing} of {t.rules}", number(t.mean_abs_change_mps, 3)
-        )
-    if d.robots:
-        out.print(d.robots_sentence(), highlight=False, markup=False)
-    out.print(differences)
-    for rule in d.largest:
-        out.print(rule.sentence(), highlight=False, markup=False, soft_wrap=True)
 
 
 def step_explanation(e: StepExplanation) -> None:
@@ -199,7 +169,7 @@ def autopsy(a: Autopsy) -> None:
         "obstacle",
         "driven",
         "reflex",
-        title=f"{len(a.contacts)} contacts",
+        title=counted(len(a.contacts), "contact"),
     )
     for c in a.contacts:
         f = c.facts
@@ -226,37 +196,45 @@ def autopsy(a: Autopsy) -> None:
         )
 
 
-def explanation(e: Explanation) -> None:
-    inputs = table("table", "input", "sonars", "range (m)", "memberships", title="inputs")
-    for i in e.inputs:
-        fired = ", ".join(f"{s.name} {s.degree:.2f}" for s in i.fired)
-        sonars = ",".join(f"S{s}" for s in i.sonars)
-        inputs.add_row(i.table, i.name, sonars, f"{i.value_m:.3f}", fired)
-    out.print(inputs)
-    rules = table("table", "IF", "strength", "THEN (m/s, experience)", title="rules that fire")
-    for r in e.rules:
-        then = ", ".join(
-            f"{t} = {v:.2f} ({x:.1f})"
-            for t, v, x in zip(r.trajectories, r.velocities_mps, r.experience, strict=True)
-        )
-        rules.add_row(r.table, " AND ".join(r.set_names), f"{r.strength:.3f}", then)
-    out.print(rules)
-    # What each row holds is said beside it: a title that said it would wrap over the
-    # narrow table of one or two trajectories.
-    perceived = table("", *e.trajectories, title="perceived", right=e.trajectories)
-    perceived.add_row("velocity (m/s)", *(f"{v:.2f}" for v in e.velocities_mps))
-    perceived.add_row("experience", *(f"{x:.1f}" for x in e.experience))
-    out.print(perceived)
-
-
 def run_metrics(metrics: RunMetrics, method: dict[str, Any] | None = None) -> None:
-    """The metrics of a run (what --json prints, in words), and the method it ran by (its
-    record)."""
-    out.print(labelled(asdict(metrics)))
+    """The metrics of a run (what --json prints, in words; a goal's only if it sought one),
+    and the method it ran by (its record)."""
+    shown = asdict(metrics)
+    if metrics.goal_reached is None:
+        for key in GOAL_METRICS:
+            del shown[key]
+    out.print(labelled(shown))
     if method is not None:
-        reflexes = method.get("reflexes") or []
-        out.print(f"reflexes: {', '.join(reflexes) or 'none (the paper method)'}")
+        out.print(f"reflexes: {', '.join(method.get('reflexes') or []) or 'none'}")
         out.print(f"method: {describe_record(method)}")
+
+
+def warn_of_other_worlds(log: Path, world: Path) -> None:
+    """One line on stderr when a session of `world` goes into a log whose sessions learnt in
+    another world: a FAM trained from the log learns from both, which may be meant (a
+    general FAM) or a log named by mistake."""
+    from tvl_cli.core.errors import BadInput
+    from tvl_cli.io.logreader import session_worlds
+    from tvl_cli.sim.worldmap import load_world
+
+    if not log.exists():
+        return
+    try:
+        earlier, adding = session_worlds(log), load_world(world)
+    except BadInput:
+        return  # the command refuses it in its own words, in one line
+    others = sorted({name for text, name in earlier.items() if text != adding.text})
+    if others:
+        say(
+            f"tvl: warning: {log}: adding a session in {adding.name} ({world}) to sessions "
+            f"in {', '.join(others)}: a FAM trained from this log learns from every world in it"
+        )
+
+
+def stopped(signal_name: str, sim_s: float, trace: Path | None) -> None:
+    """Why a run ended before its time, and what it kept."""
+    kept = f"; {trace} keeps it" if trace is not None else ""
+    say(f"stopped by {signal_name} after {sim_s:.1f} simulated seconds{kept}")
 
 
 def run_learning(result: RunResult, log: Path | None) -> None:
@@ -272,104 +250,6 @@ def run_learning(result: RunResult, log: Path | None) -> None:
     )
 
 
-def replay(summary: Replay) -> None:
-    from tvl_cli.commands.replay import RunReplay  # loaded already: it made the summary
-
-    if isinstance(summary, RunReplay):
-        _run_replay(summary)
-    else:
-        _log_replay(summary)
-    if summary.animation_frames is not None:
-        out.print(f"animation: {summary.animation_frames} frames")
-
-
-LEARNT_COLUMNS = (
-    "session",
-    "episodes",
-    "collisions",
-    "exemplars",
-    "simulated minutes",
-    "coverage",
-)
-
-
-def _count(n: int, thing: str) -> str:
-    return f"{n} {thing}" if n == 1 else f"{n} {thing}s"
-
-
-def _log_replay(summary: LogReplay) -> None:
-    # Two tables of a row a session, each narrow enough for 80 columns.
-    sessions = table(
-        "session",
-        "kind",
-        "world",
-        "seed",
-        "explore",
-        "status",
-        title=f"learning log: {_count(len(summary.sessions), 'session')}, "
-        f"{summary.exemplars} exemplars",
-        right=("seed",),
-    )
-    learnt = table(*LEARNT_COLUMNS, title="what each session learnt", right=LEARNT_COLUMNS[1:])
-    for s in summary.sessions:
-        sessions.add_row(s.session, s.kind, s.world, str(s.seed), cell(s.explore), s.status)
-        learnt.add_row(
-            s.session,
-            str(s.episodes),
-            str(s.collisions),
-            str(s.exemplars),
-            f"{s.sim_minutes:.1f}",
-            percent(s.coverage),
-        )
-    out.print(sessions)
-    out.print(learnt)
-    for s in summary.sessions:
-        out.print(f"session {s.session} method: {describe_record(s.method)}")
-    if summary.sessions_drawn is not None:
-        out.print(f"sessions drawn: {', '.join(summary.sessions_drawn)}")
-
-
-# A run's events table lists when each event began, the first few of them: a run of spins
-# has hundreds, and a row must stay one line.
-LISTED_TIMES = 5
-
-
-def _first_times(at_s: list[float]) -> str:
-    """When an event began, the first LISTED_TIMES times and how many more."""
-    if not at_s:
-        return NOTHING
-    shown = ", ".join(f"{t:.1f}" for t in at_s[:LISTED_TIMES])
-    more = len(at_s) - LISTED_TIMES
-    return f"{shown} … +{more}" if more > 0 else shown
-
-
-def _run_replay(summary: RunReplay) -> None:
-    parameters = {**summary.parameters}
-    fam = parameters.pop("fam", None)
-    shown = [
-        ("world", summary.world),
-        ("method", describe_record(summary.method)),
-        ("steps", summary.steps),
-    ]
-    if fam is not None:
-        shown.append(("FAM", fam["path"]))
-    out.print(facts([*shown, *((label(k), v) for k, v in parameters.items())], title="run trace"))
-    out.print(labelled(summary.metrics, title="metrics"))
-    if summary.events is None:
-        out.print("decisions: not recorded (a format_version 1 trace)")
-        return
-    events = table("event", "times", "began at (s)", title="events", right=("times",))
-    for e in summary.events:
-        events.add_row(e.name, str(e.steps), _first_times(e.at_s or []))
-    out.print(events)
-    steps = table("taken by", "steps", title="steps", right=("steps",))
-    for r in summary.reflexes or []:
-        steps.add_row(f"reflex {r.name}", str(r.steps))
-    for t in summary.trajectories or []:
-        steps.add_row(f"driving {t.name}", str(t.steps))
-    out.print(steps)
-
-
 def demo(result: DemoResult) -> None:
     learn_summary(result.learning, result.directory / "learn.h5")
     columns = (
@@ -379,12 +259,11 @@ def demo(result: DemoResult) -> None:
         "near misses",
         "speed (m/s)",
         "clearance (m)",
-        "picture",
     )
     runs = table(
         *columns,
         title=f"behaviours after learning (threshold {DEFAULT_THRESHOLD:g})",
-        right=columns[2:6],
+        right=columns[2:],
     )
     for row in result.rows:
         m = row.metrics
@@ -395,6 +274,30 @@ def demo(result: DemoResult) -> None:
             str(m.near_misses),
             f"{m.mean_speed_mps:.2f}",
             f"{m.mean_wall_clearance_m or m.mean_clearance_m:.2f}",
-            str(row.png),
         )
     out.print(runs)
+    # A line a picture, whole: in a table's column a path folds into pieces.
+    out.print("pictures:", *(f"  {row.png}" for row in result.rows), sep="\n", soft_wrap=True)
+
+
+def markdown_summary(text: str) -> None:
+    """A figure's summary (markdown: `### title`, pipe tables and notes) laid out for the
+    terminal: each table as a table of the terminal's, each note folded at its width."""
+    title: str | None = None
+    rows: list[list[str]] = []
+    for line in [*text.splitlines(), ""]:
+        if line.startswith("|"):
+            cells = [c.strip().replace("`", "") for c in line.strip().strip("|").split("|")]
+            if not all(set(c) <= {"-", ":"} for c in cells):  # not the header's rule
+                rows.append(cells)
+            continue
+        if rows:
+            shown = table(*rows[0], title=title, right=rows[0][2:])
+            for cells in rows[1:]:
+                shown.add_row(*cells)
+            out.print(shown)
+            rows, title = [], None
+        if line.startswith("### "):
+            title = line.removeprefix("### ")
+        elif line.strip():
+            out.print(folded(line.replace("`", "")), soft_wrap=True, markup=False)

@@ -8,6 +8,8 @@ from pathlib import Path
 import click
 
 from tvl_cli.cli import documents
+from tvl_cli.cli.examples import examples
+from tvl_cli.cli.groups import Subcommands
 from tvl_cli.cli.options import (
     PICTURE,
     PICTURE_HELP,
@@ -32,17 +34,22 @@ from tvl_cli.commands.world_import import (
     parse_start,
 )
 from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.core.words import counted
 from tvl_cli.io.occupancy_map import SAVED_FREE_THRESH, UNKNOWN_PIXEL
 from tvl_cli.sim.worldgen import KINDS, SMOOTH, Materials
 from tvl_cli.sim.worldmap import describe, world_to_dict
 
 
-@click.group()
+@click.group(cls=Subcommands, epilog=examples("world"))
 def world() -> None:
     """Make, check, show and draw text-map worlds; import and export occupancy grids."""
 
 
-@world.command("new", help=f"Write a generated world of KIND: {', '.join(KINDS)}.")
+@world.command(
+    "new",
+    help=f"Write a generated world of KIND: {', '.join(KINDS)}.",
+    epilog=examples("world new"),
+)
 @click.argument("kind", metavar="KIND", type=click.Choice(list(KINDS)))
 @click.option("-o", "--output", type=click.Path(path_type=Path), required=True, help="World file.")
 @click.option("--size", type=(float, float), default=None, metavar="W H", help="Metres.")
@@ -88,9 +95,11 @@ def world_new(
         given = {"kind": kind, "width_m": width_m, "height_m": height_m, "seed": seed}
         options = {**given, "rough_share": rough_share, "roughness": roughness}
         print_json(documents.world_new_json(options, output, made))
+    else:
+        click.echo(f"{output}: a {kind} world ({counts_text(made)})")
 
 
-@world.command("show")
+@world.command("show", epilog=examples("world show"))
 @click.argument("file", type=click.Path(path_type=Path))
 @click.option("--json", "as_json", is_flag=True, help="Print the geometry as JSON.")
 def world_show(file: Path, as_json: bool) -> None:
@@ -103,7 +112,7 @@ def world_show(file: Path, as_json: bool) -> None:
         click.echo(describe(loaded))
 
 
-@world.command("check")
+@world.command("check", epilog=examples("world check"))
 @click.argument("file", type=click.Path(path_type=Path))
 @click.option("--json", "as_json", is_flag=True, help="Print the counts as JSON.")
 def world_check(file: Path, as_json: bool) -> None:
@@ -112,10 +121,10 @@ def world_check(file: Path, as_json: bool) -> None:
     if as_json:
         print_json(documents.world_check_json(file, found))
     else:
-        click.echo(f"{file}: ok ({', '.join(f'{n} {what}' for what, n in found.items())})")
+        click.echo(f"{file}: ok ({counts_text(found)})")
 
 
-@world.command("render")
+@world.command("render", epilog=examples("world render"))
 @click.argument("file", type=click.Path(path_type=Path))
 @click.option("-o", "--output", type=PICTURE, required=True, help=PICTURE_HELP)
 @click.option("--force", is_flag=True, help="Overwrite OUTPUT.")
@@ -127,9 +136,16 @@ def world_render(file: Path, output: Path, force: bool, as_json: bool) -> None:
     drawn = render_world(file, output)
     if as_json:
         print_json(documents.world_render_json(file, output, drawn))
+    else:
+        click.echo(f"{output}: {file} drawn ({counts_text(drawn)})")
 
 
-@world.command("import")
+def counts_text(counts: dict[str, int]) -> str:
+    """A world's counts in words: `4 segments, 1 disc, 0 rings, 0 goals`."""
+    return ", ".join(counted(n, what.removesuffix("s")) for what, n in counts.items())
+
+
+@world.command("import", epilog=examples("world import"))
 @click.argument("map_yaml", metavar="MAP.yaml", type=click.Path(path_type=Path))
 @click.option("-o", "--output", type=click.Path(path_type=Path), required=True, help="World file.")
 @click.option(
@@ -231,7 +247,7 @@ def _import_summary(output: Path, imported: Imported) -> str:
     )
 
 
-@world.command("export")
+@world.command("export", epilog=examples("world export"))
 @click.argument("file", type=click.Path(path_type=Path))
 @click.option(
     "-o", "--output", type=click.Path(path_type=Path), required=True, help="MAP.yaml file."

@@ -23,6 +23,7 @@ from tvl_cli.core.method import (
 )
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.core.words import counted
 from tvl_cli.sim.worldmap import WorldMap, load_world, resolve_goal
 
 # What a baseline takes of a method: the reflexes around it, and the DWA by the ring its echo
@@ -134,7 +135,7 @@ class QLearnReport:
         result = self.result
         text = (
             f"learnt {result.learn_minutes:g} simulated minutes "
-            f"with {result.learn_collisions} collisions"
+            f"with {counted(result.learn_collisions, 'collision')}"
         )
         if self.checked_competence:
             reached = result.time_to_competence_min

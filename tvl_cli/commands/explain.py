@@ -14,9 +14,10 @@ from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fired_rules import Explanation, restricted
 from tvl_cli.core.ring import mm_to_ring
 from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.core.words import counted
 from tvl_cli.io.famfile import read_fam
 from tvl_cli.io.logreader import file_sha256
-from tvl_cli.io.runfile import RunTrace, read_run
+from tvl_cli.io.runfile import RunTrace, read_run, recorded_paths
 from tvl_cli.sim.worldmap import parse_world
 
 
@@ -121,6 +122,7 @@ def explain_run(
             float(trace.parameters.get("threshold", 0.0)),
             found,
             png,
+            trace.parameters.get("goal"),
         )
     return found
 
@@ -182,7 +184,8 @@ def _step(trace: RunTrace, path: Path, moment: Moment) -> int:
     steps = trace.event_steps(event)
     if not 1 <= moment.index <= len(steps):
         raise BadInput(
-            f"{path}: --index {moment.index}: the run has {len(steps)} {moment.event} events"
+            f"{path}: --index {moment.index}: the run has "
+            f"{counted(len(steps), f'{moment.event} event')}"
         )
     return int(steps[moment.index - 1])
 
@@ -192,15 +195,17 @@ def _fam_of(trace: RunTrace, path: Path, fam_path: Path | None) -> Path:
     if fam_path is not None:
         _refuse_another_fam(trace, path, fam_path)
         return fam_path
-    named = Path(str(trace.parameters.get("fam", "")))
-    if not named.is_file():
-        raise BadInput(f"{path}: the run's FAM {named} is not there; give it with --fam")
-    if file_sha256(named) != trace.parameters.get("fam_sha256"):
-        raise BadInput(
-            f"{path}: {named} has changed since the run (another SHA-256); give the FAM "
-            "the run used with --fam"
-        )
-    return named
+    places = recorded_paths(str(trace.parameters.get("fam", "")), path)
+    found = [place for place in places if place.is_file()]
+    if not found:
+        raise BadInput(f"{path}: the run's FAM {places[0]} is not there; give it with --fam")
+    for named in found:
+        if file_sha256(named) == trace.parameters.get("fam_sha256"):
+            return named
+    raise BadInput(
+        f"{path}: {found[0]} has changed since the run (another SHA-256); give the FAM "
+        "the run used with --fam"
+    )
 
 
 def _refuse_another_fam(trace: RunTrace, path: Path, fam_path: Path) -> None:

@@ -3,14 +3,10 @@ surviving Ctrl-C and SIGTERM with every finished episode kept."""
 
 from __future__ import annotations
 
-import signal
-import threading
 import time
-from collections.abc import Callable, Iterator
-from contextlib import contextmanager
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from types import FrameType
 from typing import Any
 
 from tvl_cli.agent.drive import StepSink
@@ -28,9 +24,10 @@ from tvl_cli.core.training import SessionEpisodes, TrainParams, train_params, tr
 from tvl_cli.io.atomic import check_writable
 from tvl_cli.io.fam_config_file import resolve_fam_config
 from tvl_cli.io.famfile import check_storable, read_fam, write_fam
+from tvl_cli.io.interrupts import catching_signals
 from tvl_cli.io.log_sessions import distinct_sessions, provenance
 from tvl_cli.io.logfile import LogWriter
-from tvl_cli.io.loglayout import KIND_LEARNING, STATUS_FINISHED
+from tvl_cli.io.loglayout import KIND_LEARNING, ended_status
 from tvl_cli.io.logreader import file_sha256, read_log
 from tvl_cli.sim.worldmap import load_world
 
@@ -69,35 +66,6 @@ class LearnResult:
     status: str
     minute_coverage: list[float]  # at the end of each of summary.minutes
     coverage: float  # after every episode of the session
-
-
-class _Interrupted:
-    """Remembers the first SIGINT/SIGTERM so the loop stops after the episode under way."""
-
-    def __init__(self) -> None:
-        self.signal_name: str | None = None
-
-    def __call__(self, signum: int, frame: FrameType | None) -> None:
-        self.signal_name = self.signal_name or signal.Signals(signum).name
-
-    def reason(self) -> str | None:
-        return self.signal_name
-
-
-@contextmanager
-def _catching_signals() -> Iterator[_Interrupted]:
-    interrupted = _Interrupted()
-    if threading.current_thread() is not threading.main_thread():
-        # Only the main thread may set handlers (a Dask worker learns in a thread of its
-        # own); there the process's own handling of signals stands.
-        yield interrupted
-        return
-    previous = {s: signal.signal(s, interrupted) for s in (signal.SIGINT, signal.SIGTERM)}
-    try:
-        yield interrupted
-    finally:
-        for s, handler in previous.items():
-            signal.signal(s, handler)
 
 
 def learn_to_log(
@@ -170,7 +138,7 @@ def learn_to_log(
             write_every_s=LOG_WRITE_EVERY_S,
             method=method,
         ) as writer,
-        _catching_signals() as interrupted,
+        catching_signals() as interrupted,
     ):
         if writer.session != f"{len(earlier):04d}":
             raise BadInput(f"{request.log}: another process added a session meanwhile")
@@ -195,7 +163,7 @@ def learn_to_log(
             on_minute(stats)
 
         summary = learner.run(record, minute, interrupted.reason, watch)
-        status = f"interrupted: {summary.stopped_by}" if summary.stopped_by else STATUS_FINISHED
+        status = ended_status(summary.stopped_by)
         session = writer.session
         writer.close(status)
     if request.fam_out is not None and summary.episodes == 0:

@@ -12,9 +12,9 @@ import numpy as np
 from tvl_cli.analysis.coverage import coverage_by_minute, coverage_of, world_floor
 from tvl_cli.core.contacts import EVENTS
 from tvl_cli.core.errors import BadInput
-from tvl_cli.io.loglayout import KIND_LEARNING, MINUTE_COLUMNS
+from tvl_cli.io.loglayout import KIND_LEARNING, MINUTE_COLUMNS, STATUS_FINISHED
 from tvl_cli.io.logreader import LearningLog, Session, read_log
-from tvl_cli.io.runfile import RunTrace, read_run
+from tvl_cli.io.runfile import RunTrace, read_run, recorded_paths
 from tvl_cli.io.schema import LOG_FORMAT, RUN_FORMAT, file_format
 from tvl_cli.sim.worldmap import parse_world
 
@@ -83,6 +83,7 @@ class RunReplay:
     reflexes: list[StepCount] | None
     trajectories: list[StepCount] | None
     method: dict[str, Any] | None  # core.method.method_record; None: unrecorded
+    status: str = STATUS_FINISHED  # or "interrupted: SIGINT": the run was stopped early
     animation_frames: int | None = None
 
     kind = RUN_FORMAT
@@ -99,6 +100,7 @@ class RunReplay:
         return {
             "format": self.kind,
             "world": self.world,
+            "status": self.status,
             "parameters": self.parameters,
             "method": self.method,
             "steps": self.steps,
@@ -120,7 +122,6 @@ def _learning(
     minutes: list[dict[str, str | int | float]] = []
     coverage: dict[str, list[float]] = {}  # by session: at the end of each whole minute
     for s in log.sessions:
-        sim_s = float(s.episode_table["end_time_s"][-1]) if len(s.episode_table) else 0.0
         floor = world_floor(
             parse_world(s.world_text, f"{log.path} session {s.name}"), s.robot_config
         )
@@ -137,7 +138,7 @@ def _learning(
                 episodes=len(s.episode_table),
                 collisions=int(s.episode_table["bumped"].sum()),
                 exemplars=s.exemplar_count,
-                sim_minutes=sim_s / 60.0,
+                sim_minutes=_simulated_minutes(s),
                 coverage=coverage_of(floor, s.pose),
                 method=s.made_by.record(),
             )
@@ -176,13 +177,25 @@ def _learning(
     return LogReplay(sessions, log.exemplar_count, minutes, drawn_names)
 
 
+def _simulated_minutes(session: Session) -> float:
+    """How long a session learnt: a learning session that finished, the minutes it was asked
+    for (it drove them all; the episode under way when time ran out is not kept); any other,
+    to the end of its last episode kept."""
+    asked = session.parameters.get("minutes")
+    if session.kind == KIND_LEARNING and session.status == STATUS_FINISHED and asked:
+        return float(asked)
+    table = session.episode_table
+    return float(table["end_time_s"][-1]) / 60.0 if len(table) else 0.0
+
+
 def _minute_row(row: np.ndarray) -> dict[str, int | float]:
-    """A log's minute row (stored as floats) with the types `tvl learn` gives it: counts
-    as whole numbers, ΔV as a float."""
-    return {
+    """A log's minute row (stored as floats, the minute as its start, 0 for the first) as
+    `tvl learn` gives it: counts as whole numbers, the minute counted from 1, ΔV a float."""
+    values = {
         name: float(value) if name == "delta_v" else int(value)
         for name, value in zip(MINUTE_COLUMNS, row, strict=True)
     }
+    return {**values, "minute": int(values["minute"]) + 1}
 
 
 def _session(log: LearningLog, name: str | None) -> Session:
@@ -224,7 +237,7 @@ def _step_counts(
     return events, reflexes, trajectories
 
 
-def _run(trace: RunTrace, png: Path | None) -> RunReplay:
+def _run(trace: RunTrace, path: Path, png: Path | None) -> RunReplay:
     if png is not None:
         from tvl_cli.render import plot
 
@@ -244,27 +257,30 @@ def _run(trace: RunTrace, png: Path | None) -> RunReplay:
     events, reflexes, trajectories = _step_counts(trace)
     return RunReplay(
         trace.world_name,
-        _parameters(trace),
+        _parameters(trace, path),
         trace.steps,
         trace.metrics,
         events,
         reflexes,
         trajectories,
         trace.made_by.record(),
+        trace.status,
     )
 
 
-def _parameters(trace: RunTrace) -> dict[str, Any]:
-    """The run's parameters as its trace keeps them, the FAM as a file read (path and
-    SHA-256); the sonars each table reads, which only the autopsy needs, left out."""
+def _parameters(trace: RunTrace, path: Path) -> dict[str, Any]:
+    """The run's parameters as its trace keeps them, the FAM as a file (its path from here:
+    where it is, else where the trace says it was; and its SHA-256); the sonars each table
+    reads, which only the autopsy needs, left out."""
     parameters = {
         key: value
         for key, value in trace.parameters.items()
         if key not in ("sonars_read", "fam", "fam_sha256")
     }
     if "fam" in trace.parameters:
+        places = recorded_paths(str(trace.parameters["fam"]), path)
         parameters["fam"] = {
-            "path": trace.parameters["fam"],
+            "path": str(next((p for p in places if p.is_file()), places[0])),
             "sha256": trace.parameters.get("fam_sha256"),
         }
     return parameters
@@ -300,7 +316,7 @@ def replay(
         if session is not None:
             raise BadInput(f"{path}: a run trace has no sessions (--session is for logs)")
         trace = read_run(path)
-        run = _run(trace, png)
+        run = _run(trace, path, png)
         if animation is not None:
             from tvl_cli.render.animate import Window, animate_run  # matplotlib: only here
 

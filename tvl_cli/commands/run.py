@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from contextlib import AbstractContextManager, ExitStack
 from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
@@ -31,7 +32,7 @@ from tvl_cli.io.famfile import FamFile, read_fam
 from tvl_cli.io.logfile import LogWriter
 from tvl_cli.io.loglayout import KIND_BEHAVING
 from tvl_cli.io.logreader import file_sha256
-from tvl_cli.io.runfile import RunTraceWriter, run_trace_output
+from tvl_cli.io.runfile import RunTraceWriter, path_beside, run_trace_output
 from tvl_cli.sim.worldmap import WorldMap, load_world, resolve_goal
 
 
@@ -71,6 +72,7 @@ class RunResult:
     # The options the run was made with, as resolved (the FAM's sonar and memory, the
     # world's goal): the run's inputs beside its FAM and world files
     options: dict[str, Any] = field(default_factory=dict)
+    stopped_by: str | None = None  # the signal that ended the run early ("SIGINT"), if one did
 
     def to_dict(self) -> dict[str, Any]:
         """What `tvl run --json` found: the metrics, the contacts of each simulated minute,
@@ -146,10 +148,15 @@ def run_fam(request: RunRequest, watch: StepSink | None = None) -> RunMetrics:
     return run_behaviour(request, watch).metrics
 
 
-def run_behaviour(request: RunRequest, watch: StepSink | None = None) -> RunResult:
+def run_behaviour(
+    request: RunRequest,
+    watch: StepSink | None = None,
+    stop: Callable[[], str | None] = lambda: None,
+) -> RunResult:
     """Run one behaviour with a learnt FAM; write the trace and picture if asked, show each
     step to `watch` (a progress bar, a live view) as the run goes, and with `request.learn`
-    train the FAM on what the run meets."""
+    train the FAM on what the run meets. A run that `stop()` names a reason for (a signal)
+    ends at that step, and its trace and picture keep what it did."""
     if request.behaviour not in BEHAVIOUR_NAMES:
         raise BadInput(f"unknown behaviour {request.behaviour!r}")
     check_threshold(request.threshold)
@@ -191,28 +198,43 @@ def run_behaviour(request: RunRequest, watch: StepSink | None = None) -> RunResu
             goal_xy=goal,
             on_step=on_step,
             method=method,
+            stop=lambda: stop() is not None,
         )
         if learner is not None:
             learner.finish(metrics.sim_s)
         recorder.close()
+        stopped_by = stop()
         if trace is not None:
             trace.metrics = asdict(metrics)
+            trace.stopped_by = stopped_by
     if request.png is not None:
-        # matplotlib only when a picture is wanted
-        from tvl_cli.render.plot import path_marks, render_path
-
-        render_path(
-            world,
-            path.column("pose"),
-            path.column("speed_mps"),
-            path_marks(path.column("events")),
-            request.png,
-            title=f"{request.behaviour} in {world.name}, threshold {request.threshold:g}",
-            goal=goal,
-        )
+        _draw_path(request, request.png, world, path, goal)
     learnt = learner.summary() if learner is not None else None
     options = run_options(request, goal)
-    return RunResult(metrics, tally.minutes(metrics), learnt, session, recorded, options)
+    return RunResult(
+        metrics, tally.minutes(metrics), learnt, session, recorded, options, stopped_by
+    )
+
+
+def _draw_path(
+    request: RunRequest,
+    png: Path,
+    world: WorldMap,
+    path: PathRecorder,
+    goal: tuple[float, float] | None,
+) -> None:
+    """The run's path picture, coloured by speed, its events marked, the goal it sought."""
+    from tvl_cli.render.plot import path_marks, render_path  # matplotlib only for a picture
+
+    render_path(
+        world,
+        path.column("pose"),
+        path.column("speed_mps"),
+        path_marks(path.column("events")),
+        png,
+        title=f"{request.behaviour} in {world.name}, threshold {request.threshold:g}",
+        goal=goal,
+    )
 
 
 def training_params(fam_file: FamFile, fam_path: Path) -> TrainParams:
@@ -244,12 +266,14 @@ def run_options(request: RunRequest, goal: tuple[float, float] | None) -> dict[s
     }
 
 
-def _run_parameters(request: RunRequest, goal: tuple[float, float] | None) -> dict[str, Any]:
-    """The run's parameters beside its method, as its trace and a behaving log session keep
-    them."""
+def _run_parameters(
+    request: RunRequest, goal: tuple[float, float] | None, recorded_in: Path
+) -> dict[str, Any]:
+    """The run's parameters beside its method, as its trace and a behaving log session (the
+    file `recorded_in`) keep them: the FAM by its path from that file's folder."""
     return {
         **run_options(request, goal),
-        "fam": str(request.fam),
+        "fam": path_beside(request.fam, recorded_in),
         "fam_sha256": file_sha256(request.fam),
     }
 
@@ -278,7 +302,7 @@ def _online_learner(
             world_text=world.text,
             seed=request.seed,
             parameters={
-                **_run_parameters(request, goal),
+                **_run_parameters(request, goal, request.learn.log),
                 "config": fam_file.fam.config.name,
                 **params.settings(),
                 "echo_before_s": ECHO_BEFORE_S,
@@ -313,7 +337,7 @@ def _trace_output(
         world_name=world.name,
         world_text=world.text,
         parameters={
-            **_run_parameters(request, goal),
+            **_run_parameters(request, goal, request.trace),
             # Which sonars each trajectory's table reads, for the contact autopsy.
             "sonars_read": fam_file.fam.config.sonars_read(),
             # A run that learns drives with a FAM that changes: the file is where it started.

@@ -20,4 +20,4 @@ def is_competent(avoid_run: RunMetrics) -> bool:
 def is_competent_run(run: RunMetrics, behaviour: str) -> bool:
     """A run of any behaviour judged as an avoid run is, and a goal run must also reach its
     goal: how the generalization benchmark counts its runs competent."""
-    return is_competent(run) and (behaviour != "goal" or run.goal_reached)
+    return is_competent(run) and (behaviour != "goal" or bool(run.goal_reached))

@@ -239,8 +239,9 @@ def method_record(
 
 
 def describe_record(record: Mapping[str, Any] | None) -> str:
-    """One line for people: the preset, or how the method differs from ours (and, for an
-    older file, which of its choices it did not record)."""
+    """One line for people: the preset, or how the method differs from ours
+    (`default, except memory none`; and, for an older file, which of its choices it did not
+    record)."""
     if record is None:
         return "unrecorded"
     preset = record.get("preset")
@@ -253,7 +254,7 @@ def describe_record(record: Mapping[str, Any] | None) -> str:
         for n in FIELDS
         if n in record and n not in unknown and record[n] != ours[n]
     ]
-    text = "custom: " + (", ".join(changed) or "as default")
+    text = f"default, except {', '.join(changed)}" if changed else "as default"
     return text + (f" ({', '.join(unknown)} unrecorded)" if unknown else "")
 
 

@@ -28,14 +28,15 @@ class RunMetrics:
     trapped: int
     mean_clearance_m: float
     mean_wall_clearance_m: float | None  # None unless a wall was being followed
-    goal_reached: bool
+    goal_reached: bool | None  # None for a run that sought no goal
     time_to_goal_s: float | None
 
 
 class MetricsRecorder:
     """Fed once per control step (of a fixed period) with the true state after the step."""
 
-    def __init__(self, start_xy: tuple[float, float]) -> None:
+    def __init__(self, start_xy: tuple[float, float], seeks_goal: bool = False) -> None:
+        self._seeks_goal = seeks_goal
         self._last_xy = start_xy
         self._sim_s = 0.0
         self._distance_m = 0.0
@@ -104,7 +105,7 @@ class MetricsRecorder:
             mean_wall_clearance_m=(
                 self._wall_clearance_sum / self._wall_steps if self._wall_steps else None
             ),
-            goal_reached=self._time_to_goal_s is not None,
+            goal_reached=self._time_to_goal_s is not None if self._seeks_goal else None,
             time_to_goal_s=self._time_to_goal_s,
         )
 
@@ -113,7 +114,7 @@ class MetricsRecorder:
 class MinuteContacts:
     """A run's contacts in one simulated minute (`tvl run --json`'s `minutes`)."""
 
-    minute: int  # from 0
+    minute: int  # counted from 1, as every table and figure counts minutes
     sim_s: float  # simulated seconds of it the run lasted (a last minute may be partial)
     collisions: int
     near_misses: int
@@ -149,7 +150,7 @@ class MinuteTally:
             near_misses[-1] += run.near_misses - sum(near_misses)
         return [
             MinuteContacts(
-                minute=k,
+                minute=k + 1,
                 sim_s=min(self._per_minute, self._steps - k * self._per_minute) * self._dt_s,
                 collisions=c,
                 near_misses=n,

@@ -21,6 +21,7 @@ from tvl_cli.core.angles import wrap_rad
 LOOKAHEAD_M = 0.5
 # The paper's default: fast means at least 85 % of a trajectory's maximum velocity.
 DEFAULT_THRESHOLD = 0.85
+GOAL_RADIUS_M = 0.3  # a goal counts as reached this near (goal seeking stops there)
 
 
 def is_threshold(value: float) -> bool:

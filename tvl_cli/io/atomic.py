@@ -55,8 +55,7 @@ def check_writable(path: Path | str) -> None:
 def _temporary_beside(path: Path) -> Path:
     """A new empty temporary file in `path`'s folder, named for `path` and this process;
     BadInput naming `path` if there is no such folder or it takes no new file."""
-    if not path.parent.is_dir():
-        raise BadInput(f"{path}: cannot write, directory {path.parent} does not exist")
+    refuse_missing_directory(path)
     refuse_non_file(path)
     temporary = path.with_name(f".{path.name}.{_HOST}.{os.getpid()}.{secrets.token_hex(4)}.tmp")
     try:
@@ -67,6 +66,17 @@ def _temporary_beside(path: Path) -> Path:
     except OSError as error:
         raise BadInput(f"{path}: cannot write ({error.strerror})") from None
     return temporary
+
+
+def refuse_missing_directory(path: Path) -> None:
+    """BadInput unless the directory to write `path` in is there: one that does not exist,
+    or a file named where a directory should be."""
+    folder = path.parent
+    if folder.is_dir():
+        return
+    if folder.exists():
+        raise BadInput(f"{path}: cannot write, {folder} is a file, not a directory")
+    raise BadInput(f"{path}: cannot write, directory {folder} does not exist")
 
 
 def refuse_non_file(path: Path) -> None:

@@ -57,7 +57,7 @@ from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.method import Method, method_record
 from tvl_cli.core.robot_config import RobotConfig
-from tvl_cli.io.atomic import atomic_output
+from tvl_cli.io.atomic import atomic_output, refuse_missing_directory
 from tvl_cli.io.lock import WriterLock
 from tvl_cli.io.loglayout import (
     COMMITTED_EPISODES,
@@ -134,8 +134,7 @@ class LogWriter:
         if kind not in SESSION_KINDS:
             raise ValueError(f"session kind {kind!r} is none of {', '.join(SESSION_KINDS)}")
         path = Path(path)
-        if not path.parent.is_dir():
-            raise BadInput(f"{path}: cannot write, directory {path.parent} does not exist")
+        refuse_missing_directory(path)
         lock = WriterLock.acquire(path)
         created = not path.exists()
         f: h5py.File | None = None

@@ -44,6 +44,11 @@ STATUS_FINISHED = "finished"
 STATUS_NOT_CLOSED = "interrupted: not closed"  # the writer died without closing the session
 
 
+def ended_status(stopped_by: str | None) -> str:
+    """How a session or a run ended: finished, or stopped early by a signal ("SIGINT")."""
+    return STATUS_FINISHED if stopped_by is None else f"interrupted: {stopped_by}"
+
+
 # name -> (dtype, units, description) of the per-exemplar datasets, in writing order.
 EXEMPLAR_DATASETS: dict[str, tuple[str, str, str]] = {
     "ring_mm": ("<u2", "mm", "sonar ranges S0..S15, S0 forward, numbered counter-clockwise"),

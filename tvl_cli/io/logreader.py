@@ -157,6 +157,21 @@ def read_log(path: Path | str, empty_allowed: bool = False) -> LearningLog:
     return log
 
 
+def session_worlds(path: Path | str) -> dict[str, str]:
+    """The world each session of a log learnt in, by its text, with its name: read from the
+    sessions' attributes alone, quick beside reading their exemplars."""
+    path = Path(path)
+    with open_for_reading(path, LOG_FORMAT) as f:
+        check_log_structure(f, path)
+        try:
+            return {
+                read_str_attr(group, "world_text", path): read_str_attr(group, "world_name", path)
+                for _, group in sorted(f.get(SESSIONS, {}).items())
+            }
+        except (OSError, KeyError, ValueError, TypeError) as error:
+            raise FormatError(f"{path}: corrupt tvl-log ({error})") from None
+
+
 def _read_session(group: h5py.Group, name: str, path: Path) -> Session:
     where = f"{path}: session {name}"
     try:

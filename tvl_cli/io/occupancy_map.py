@@ -33,6 +33,7 @@ import numpy as np
 import yaml
 
 from tvl_cli.core.errors import BadInput
+from tvl_cli.core.text import decoded
 from tvl_cli.io.atomic import atomic_output
 from tvl_cli.io.pgm import decode_pgm, encode_pgm, over_pixels
 
@@ -108,9 +109,7 @@ def read_map_yaml(path: Path) -> MapYaml:
     """The YAML file's keys, checked as map_server checks them."""
     text = _read_bytes(path, MAX_YAML_BYTES, "a map's YAML is a few lines")
     try:
-        doc = yaml.load(text.decode("utf-8-sig"), Loader=_MapYamlLoader)
-    except UnicodeDecodeError:
-        raise BadInput(f"{path}: not UTF-8 text") from None
+        doc = yaml.load(decoded(text, str(path)), Loader=_MapYamlLoader)
     except yaml.YAMLError as error:
         mark = getattr(error, "problem_mark", None)
         where = f":{mark.line + 1}:{mark.column + 1}" if mark is not None else ""

@@ -9,9 +9,10 @@ bumped, with velocities facing forward; all are still read):
     /             format, format_version, tvl_version, created, world_name, world_text,
                   method (JSON, core.method.method_record: every choice of the method the run
                   was made by: its reflexes, its sonar, its echo memory, ...), parameters
-                  (JSON: behaviour, threshold, minutes, goal, seed, FAM file and its SHA-256,
-                  the sonars each trajectory's table reads), robot_config (JSON), metrics
-                  (JSON: what `tvl run --json` prints)
+                  (JSON: behaviour, threshold, minutes, goal, seed, FAM file (its path from
+                  the trace's folder) and its SHA-256, the sonars each trajectory's table
+                  reads), robot_config (JSON), metrics (JSON: what `tvl run --json` prints),
+                  status ("finished", or "interrupted: SIGINT" for a run Ctrl-C ended early)
     pose          (N, 3) float64  true x, y (m), theta (rad) after each step
     odometry      (N, 3) float64  odometry x, y (m), theta (rad) after each step
     ring_mm       (N, 16) uint16  sonar ranges read before the step, mm; 0 if not read
@@ -27,10 +28,14 @@ bumped, with velocities facing forward; all are still read):
     reflex        (N,) int8       the reflex that overrode the policy (attribute `names`), -1
     events        (N,) uint8      events the step began, one bit each (attribute `bits`)
     bumped        (N,) bool       bump sensor after the step
+
+`status` came without a new format version: how the run ended changes how nothing else is
+read. A trace without it finished.
 """
 
 from __future__ import annotations
 
+import os
 from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field
@@ -45,6 +50,7 @@ from tvl_cli.core.errors import BadInput
 from tvl_cli.core.method import Method
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.atomic import atomic_output
+from tvl_cli.io.loglayout import STATUS_FINISHED, ended_status
 from tvl_cli.io.method_records import ReadMethod, current, trace_method
 from tvl_cli.io.schema import (
     LIBVER,
@@ -101,6 +107,7 @@ class RunTrace:
     made_by: ReadMethod  # the method the run was made by
     reflex_names: tuple[str, ...] = ()
     robot_config: dict[str, Any] = field(default_factory=dict)  # RobotConfig.to_dict()
+    status: str = STATUS_FINISHED  # or "interrupted: SIGINT": a run stopped early
 
     @property
     def method(self) -> Method:
@@ -139,6 +146,7 @@ class RunTraceWriter:
         # deallocator, where a failed write can only be printed, not raised.
         self._datasets: dict[str, h5py.Dataset] = {}
         self.metrics: dict[str, Any] = {}  # what `tvl run --json` prints, set when the run ends
+        self.stopped_by: str | None = None  # the signal that ended the run early, if one did
 
     def __call__(self, columns: dict[str, np.ndarray]) -> None:
         """Append the columns (every dataset above, by name, one row per step)."""
@@ -198,6 +206,7 @@ def run_trace_output(
             writer = RunTraceWriter(f, reflex_names)
             yield writer
             f.attrs["metrics"] = to_json(writer.metrics)
+            f.attrs["status"] = ended_status(writer.stopped_by)
             f.flush()
         except (OSError, RuntimeError):
             raise  # possibly a failed write: closing could crash
@@ -205,6 +214,23 @@ def run_trace_output(
             f.close()
             raise
         f.close()
+
+
+def path_beside(file: Path, recorded_in: Path) -> str:
+    """`file`'s path as a file written at `recorded_in` records it: relative to that file's
+    folder, so that the two moved or shared together still find each other."""
+    return os.path.relpath(os.path.abspath(file), os.path.abspath(recorded_in.parent))
+
+
+def recorded_paths(recorded: str, recorded_in: Path) -> list[Path]:
+    """Where a file a trace (or a log) names may be from here, likeliest first: relative to
+    that file's folder, as tvl records it; else as written, relative to where the run was
+    made, as traces written before recorded it. An absolute path is itself."""
+    named = Path(recorded)
+    if named.is_absolute():
+        return [named]
+    beside = Path(os.path.normpath(recorded_in.parent / named))
+    return [beside] if beside == named else [beside, named]
 
 
 def read_run(path: Path | str) -> RunTrace:
@@ -239,6 +265,7 @@ def read_run(path: Path | str) -> RunTrace:
             made_by=_method(recorded, version, parameters, robot_config, path),
             reflex_names=reflex_names,
             robot_config=robot_config,
+            status=read_str_attr(f, "status", path) if "status" in f.attrs else STATUS_FINISHED,
         )
 
 

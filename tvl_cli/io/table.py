@@ -17,23 +17,58 @@ from tvl_cli.io.atomic import atomic_output
 Row = dict[str, Any]
 
 
+# Significant digits of a number in CSV: a measure's noise is far above the sixth digit, and
+# the JSON lines (and Parquet) beside a CSV keep every digit.
+CSV_DIGITS = 6
+# Joins the items of a list of names or numbers in one CSV cell (`near-miss;bump`): a comma
+# would need quoting, and the cell is one split away from the list.
+CSV_LIST_SEPARATOR = ";"
+
+
 def csv_text(rows: Sequence[Row]) -> str:
-    """Rows as CSV under a header of every key, in the order keys first appear; a key a row
-    lacks (another table's input) and None are left empty, and a list or an object (a run's
-    `minutes`) is one cell of JSON. No rows, no text."""
+    """Rows as CSV under a header of every column, in the order they first appear: a value
+    as a spreadsheet or a CSV reader takes it (`true`/`false`, numbers to CSV_DIGITS
+    significant digits, a list of names or numbers joined by CSV_LIST_SEPARATOR), a record
+    (`memory`) as a column per field (`memory.kind`), and a list of records (a run's
+    `minutes`), a table of its own, left to the JSON. A key a row lacks (another table's
+    input) and None are left empty. No rows, no text."""
     if not rows:
         return ""
+    flat = [_flat(row) for row in rows]
+    records = {key for row in flat for key, value in row.items() if _holds_records(value)}
     out = io.StringIO()
-    columns = list(dict.fromkeys(key for row in rows for key in row))
-    writer = csv.DictWriter(out, fieldnames=columns, lineterminator="\n")
+    columns = [key for key in dict.fromkeys(k for row in flat for k in row) if key not in records]
+    writer = csv.DictWriter(out, fieldnames=columns, lineterminator="\n", extrasaction="ignore")
     writer.writeheader()
-    for row in rows:
-        writer.writerow({key: _cell(value) for key, value in row.items()})
+    writer.writerows({key: _cell(value) for key, value in row.items()} for row in flat)
     return out.getvalue()
 
 
-def _cell(value: Any) -> Any:
-    return json.dumps(value, allow_nan=False) if isinstance(value, list | dict) else value
+def _flat(row: Row, prefix: str = "") -> Row:
+    """A row with each record's fields as values of their own (`memory.kind`)."""
+    flat: Row = {}
+    for key, value in row.items():
+        if isinstance(value, dict):
+            flat.update(_flat(value, f"{prefix}{key}."))
+        else:
+            flat[f"{prefix}{key}"] = value
+    return flat
+
+
+def _holds_records(value: Any) -> bool:
+    return isinstance(value, list) and any(isinstance(v, list | dict) for v in value)
+
+
+def _cell(value: Any) -> str:
+    if value is None:
+        return ""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, float):
+        return f"{value:.{CSV_DIGITS}g}"
+    if isinstance(value, list | tuple):
+        return CSV_LIST_SEPARATOR.join(_cell(v) for v in value)
+    return str(value)
 
 
 def append_row(path: Path, row: Row) -> None:

@@ -6,6 +6,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from tvl_cli.core.errors import BadInput
+from tvl_cli.core.text import decoded
 
 # A settings file is a few kilobytes (a designed FAM configuration, the largest, about 20):
 # a megabyte is far beyond any written by hand or by tvl, and small enough to read at once.
@@ -30,7 +31,4 @@ def read_settings_text(path: Path, what: str) -> str:
             f"{path}: over {MAX_SETTINGS_BYTES // (1 << 20)} MiB; not a {what} file written "
             "by hand or by tvl"
         )
-    try:
-        return data.decode("utf-8")
-    except UnicodeDecodeError as error:
-        raise BadInput(f"{path}: not UTF-8 text ({error.reason})") from None
+    return decoded(data, str(path))

@@ -18,7 +18,6 @@ from typing import TypeVar
 
 import numpy as np
 from matplotlib.artist import Artist
-from matplotlib.axes import Axes
 from matplotlib.collections import LineCollection
 from matplotlib.figure import Figure
 from matplotlib.patches import Circle
@@ -33,10 +32,10 @@ from tvl_cli.io.logreader import Session
 from tvl_cli.io.moviefile import FrameSink, ffmpeg_path, gif_frames, mp4_frames
 from tvl_cli.io.runfile import RunTrace
 from tvl_cli.render.blit import Blitter, inks
-from tvl_cli.render.plot import ROBOT_COLOUR, draw_world
+from tvl_cli.render.plot import ROBOT_COLOUR, draw_world, velocity_axis
 from tvl_cli.sim.worldmap import WorldMap, parse_world
 
-DPI = 60  # small frames: a minute of replay stays a GIF of a few MB
+DPI = 90  # 810 x 405 frames: their text reads at 100 %, and 200 of them are a GIF of a few MB
 WINDOW_DPI = 100  # the frames of a window on screen
 FIGURE_SIZE_IN = (9.0, 4.5)
 DEFAULT_FPS = 10
@@ -162,12 +161,18 @@ def _rays(ring_mm: np.ndarray, pose: np.ndarray, robot: RobotConfig) -> tuple[li
 class _RobotArtists:
     """The world on the left axes, with the robot's body, heading, trail and rays over it."""
 
-    def __init__(self, figure: Figure, world: WorldMap, robot: RobotConfig) -> None:
+    def __init__(
+        self,
+        figure: Figure,
+        world: WorldMap,
+        robot: RobotConfig,
+        target: Sequence[float] | None = None,
+    ) -> None:
         self.robot = robot
         self.world_ax, self.side_ax = figure.subplots(
             1, 2, gridspec_kw={"width_ratios": (1.6, 1.0)}
         )
-        draw_world(self.world_ax, world, robot_at_start=False)
+        draw_world(self.world_ax, world, robot_at_start=False, target=target)
         (self.trail,) = self.world_ax.plot(
             [], [], color=ROBOT_COLOUR, linewidth=1.0, alpha=TRAIL_ALPHA
         )
@@ -196,33 +201,22 @@ class _RobotArtists:
         return colours
 
 
-def velocity_axis(ax: Axes, top: np.ndarray, threshold: float) -> LineCollection:
-    """The perceived velocities' axis: each trajectory's threshold share of its top speed
-    dashed over its bar, the scale to just above the fastest. Returns the dashes."""
-    dashes = ax.hlines(
-        threshold * top,
-        np.arange(len(top)) - 0.4,
-        np.arange(len(top)) + 0.4,
-        colors="black",
-        linestyles="dashed",
-        linewidth=1.0,
-        label=f"threshold {threshold:g}",
-    )
-    ax.set_ylim(0.0, 1.05 * top.max())
-    ax.set_ylabel("perceived velocity (m/s)")
-    return dashes
-
-
 class RunFrame:
-    """A run's frame: world and robot left; right, the seven perceived velocities of the
-    view the robot chose in against the threshold, fast ones green, the one driven framed."""
+    """A run's frame: world and robot left, the goal it seeks (if it seeks one) ringed;
+    right, the seven perceived velocities of the view the robot chose in against the
+    threshold, fast ones green, the one driven framed."""
 
     def __init__(
-        self, world: WorldMap, robot: RobotConfig, threshold: float, dpi: float = DPI
+        self,
+        world: WorldMap,
+        robot: RobotConfig,
+        threshold: float,
+        dpi: float = DPI,
+        goal: Sequence[float] | None = None,
     ) -> None:
         figure = Figure(figsize=FIGURE_SIZE_IN, dpi=dpi)
         self.robot = robot
-        self.artists = _RobotArtists(figure, world, robot)
+        self.artists = _RobotArtists(figure, world, robot, goal)
         bars_ax = self.artists.side_ax
         names = [t.name for t in robot.trajectories]
         top = np.array(robot.v_max_mps)
@@ -280,7 +274,8 @@ class _TraceFrame:
     def __init__(self, trace: RunTrace, robot: RobotConfig) -> None:
         self.trace = trace
         world = parse_world(trace.world_text, trace.world_name)
-        self.frame = RunFrame(world, robot, float(trace.parameters.get("threshold", 0.0)))
+        threshold = float(trace.parameters.get("threshold", 0.0))
+        self.frame = RunFrame(world, robot, threshold, goal=trace.parameters.get("goal"))
         self.blitter = self.frame.blitter
 
     def draw(self, step: int) -> np.ndarray:

@@ -36,11 +36,14 @@ def picture_format(path: Path | str) -> str:
     return PICTURE_FORMATS[extension]
 
 
-def refuse_other_extension(path: Path | str, extension: str) -> None:
-    """An output of one fixed format (an animation: a GIF or an MP4) is named for it, so
-    that its name does not promise another."""
-    if Path(path).suffix.lower() != extension:
-        raise BadInput(f"{path}: it is written as {extension}; give it that extension")
+def refuse_other_extension(path: Path | str, *extensions: str, kind: str = "") -> None:
+    """An output of one fixed format (an animation, a log, a trace) is named for it by one
+    of `extensions` (the first the usual one), so that its name does not promise another.
+    `kind` names the format where its extension does not (HDF5 for .h5)."""
+    if Path(path).suffix.lower() not in extensions:
+        written = kind or extensions[0]
+        named = " or ".join(extensions)
+        raise BadInput(f"{path}: it is written as {written}; give it the extension {named}")
 
 
 def save_picture(figure: Figure, path: Path | str, **savefig_options: Any) -> None:

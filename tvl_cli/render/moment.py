@@ -28,15 +28,9 @@ from matplotlib.text import Text
 from tvl_cli.core.fired_rules import Explanation, FiredRule
 from tvl_cli.core.ring import beam_lines
 from tvl_cli.core.robot_config import RobotConfig
-from tvl_cli.render.animate import (
-    FAST_COLOUR,
-    NO_ECHO_COLOUR,
-    RAY_COLOUR,
-    SLOW_COLOUR,
-    velocity_axis,
-)
+from tvl_cli.render.animate import FAST_COLOUR, NO_ECHO_COLOUR, RAY_COLOUR, SLOW_COLOUR
 from tvl_cli.render.formats import save_picture
-from tvl_cli.render.plot import ROBOT_COLOUR, draw_world
+from tvl_cli.render.plot import ROBOT_COLOUR, draw_world, velocity_axis
 from tvl_cli.sim.worldmap import WorldMap
 
 PERCEIVED_COLOUR = "#17becf"  # an echo the memory remembered, nearer than the live reading
@@ -49,6 +43,7 @@ NAME_ROOM_M = 0.3  # the view reaches this far beyond a name, for the width of i
 NEAR_M = 3.0  # the world is shown this far around the robot (less where it ends)
 MOST_RULES = 10  # the strongest rules listed
 RULE_FONT_PT = 7.0
+MOMENT_DPI = 110
 
 
 class ExplainedStep(Protocol):
@@ -89,11 +84,12 @@ def render_moment(
     threshold: float,
     moment: ExplainedStep,
     path: Path,
+    goal: Sequence[float] | None = None,
 ) -> None:
     """Draw the moment: the robot at the last of `poses` (N, 3) after the others, the run's
-    `threshold` (a fraction of each trajectory's maximum)."""
-    figure = moment_figure(world, robot, poses, threshold, moment)
-    save_picture(figure, path, dpi=110)
+    `threshold` (a fraction of each trajectory's maximum), the `goal` it sought if any."""
+    figure = moment_figure(world, robot, poses, threshold, moment, goal)
+    save_picture(figure, path, dpi=MOMENT_DPI)
 
 
 def moment_figure(
@@ -102,12 +98,15 @@ def moment_figure(
     poses: np.ndarray,
     threshold: float,
     moment: ExplainedStep,
+    goal: Sequence[float] | None = None,
 ) -> Figure:
     """The picture `render_moment` saves."""
-    figure = Figure(figsize=(13.0, 7.0), layout="constrained")
+    # At the dpi it is saved at: the rules are folded to the panel's width as laid out here.
+    figure = Figure(figsize=(13.0, 7.0), dpi=MOMENT_DPI, layout="constrained")
     FigureCanvasAgg(figure)
     grid = figure.add_gridspec(2, 2, width_ratios=(1.1, 1.0), height_ratios=(1.0, 1.2))
     world_ax = figure.add_subplot(grid[:, 0])
+    draw_world(world_ax, world, robot_at_start=False, target=goal)
     _draw_robot(world_ax, world, robot, poses, moment)
     _draw_velocities(figure.add_subplot(grid[0, 1]), robot, threshold, moment)
     rules_ax = figure.add_subplot(grid[1, 1])
@@ -130,7 +129,7 @@ def moment_figure(
 def _draw_robot(
     ax: Axes, world: WorldMap, robot: RobotConfig, poses: np.ndarray, moment: ExplainedStep
 ) -> None:
-    draw_world(ax, world, robot_at_start=False)
+    """Over the world drawn: the robot, its path, ring and trajectories, near it."""
     ax.plot(poses[:, 0], poses[:, 1], color=ROBOT_COLOUR, linewidth=1.0, alpha=0.5)
     pose = poses[-1]
     x, y, heading = pose
@@ -294,7 +293,7 @@ def _wrap_within(ax: Axes, sentences: Sequence[Text]) -> None:
     """Each of the `sentences` folded at spaces onto as many lines as keep it within the
     axes, as they are laid out now."""
     renderer = ax.figure.canvas.get_renderer()  # type: ignore[attr-defined]
-    pad_px = 1.5 * RULE_FONT_PT * ax.figure.dpi / 72.0  # clear of the frame at any dpi
+    pad_px = 2.0 * RULE_FONT_PT * ax.figure.dpi / 72.0  # clear of the frame at any dpi
     for sentence in sentences:
         words = sentence.get_text()
         room_px = ax.bbox.x1 - sentence.get_window_extent(renderer).x0 - pad_px

@@ -17,6 +17,8 @@ from matplotlib.path import Path as DrawPath
 from tvl_cli.analysis.surface import Surface
 from tvl_cli.core.contacts import BACKOFF, BUMP, NEAR_MISS, steps_beginning
 from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.core.trajectory_choice import GOAL_RADIUS_M
+from tvl_cli.core.words import counted
 from tvl_cli.render.formats import save_picture
 from tvl_cli.sim.worldmap import WorldMap
 
@@ -25,19 +27,28 @@ SOLID_COLOUR = "#c8c8c8"  # wall and furniture material behind the outlines
 PILLAR_COLOUR = "#8c8c8c"
 ROBOT_COLOUR = "#1f77b4"
 GOAL_COLOUR = "#f2b701"
+TARGET_COLOUR = "crimson"  # the goal a run seeks, and how near counts as reached
+OTHER_GOAL_COLOUR = "#8c8c8c"  # the world's goals a run does not seek
 START_COLOUR = "#555555"  # where a picture of the robot itself marks the start
 WALL_WIDTH_PT = 3.0
+UNTRAINED_HATCH = "////"  # over a velocity no exemplar taught
 FIGURE_WIDTH_IN = 7.0
 MARGIN_M = 0.25  # room around the world for the scale bar and the wall line width
 
 
-def draw_world(ax: Axes, world: WorldMap, robot_at_start: bool = True) -> None:
+def draw_world(
+    ax: Axes,
+    world: WorldMap,
+    robot_at_start: bool = True,
+    target: Sequence[float] | None = None,
+) -> None:
     """Walls, pillars, ring walls, the start pose and the goals, in metres on equal axes.
 
     The start is drawn as the robot standing there; where the picture draws the robot
     itself (a moment of a run, a replay's frames), `robot_at_start` False marks it instead
     with a small open triangle pointing the way the robot started, so that only the robot
-    looks like one."""
+    looks like one. A run that seeks the goal `target` (X, Y) draws it ringed at the distance
+    that counts as reached, and the world's other goals hollow."""
     x0, y0 = world.origin_m  # the map's frame: the axes read its coordinates
     ax.add_patch(Rectangle((x0, y0), world.width_m, world.height_m, color=SOLID_COLOUR, lw=0))
     ax.add_patch(PathPatch(_floor(world), facecolor="white", lw=0))
@@ -54,18 +65,21 @@ def draw_world(ax: Axes, world: WorldMap, robot_at_start: bool = True) -> None:
         _draw_robot_at_start(ax, world.start)
     else:
         _mark_start(ax, world.start)
-    if world.goals:
-        gx, gy = zip(*world.goals, strict=True)
+    others = [goal for goal in world.goals if target is None or tuple(goal) != tuple(target)]
+    if others:
+        gx, gy = zip(*others, strict=True)
         ax.plot(
             gx,
             gy,
             linestyle="none",
             marker="*",
             markersize=14,
-            color=GOAL_COLOUR,
-            markeredgecolor="black",
-            markeredgewidth=0.6,
+            color=GOAL_COLOUR if target is None else "none",
+            markeredgecolor="black" if target is None else OTHER_GOAL_COLOUR,
+            markeredgewidth=0.6 if target is None else 1.0,
         )
+    if target is not None:
+        _mark_target(ax, (float(target[0]), float(target[1])))
 
     # A 1 m scale bar under the bottom-left corner.
     bar_y = y0 - 0.6 * MARGIN_M
@@ -90,6 +104,23 @@ def _draw_robot_at_start(ax: Axes, start: tuple[float, float, float]) -> None:
         xy=(x + 2 * radius * math.cos(heading), y + 2 * radius * math.sin(heading)),
         xytext=(x, y),
         arrowprops={"arrowstyle": "-|>", "color": ROBOT_COLOUR, "lw": 2, "mutation_scale": 15},
+    )
+
+
+def _mark_target(ax: Axes, goal: tuple[float, float]) -> None:
+    """The goal a run seeks: a star ringed at the distance that counts as reached."""
+    ax.add_patch(
+        Circle(goal, GOAL_RADIUS_M, fill=False, edgecolor=TARGET_COLOUR, lw=1.5, ls="--", zorder=3)
+    )
+    ax.plot(
+        *goal,
+        linestyle="none",
+        marker="*",
+        markersize=16,
+        color=GOAL_COLOUR,
+        markeredgecolor=TARGET_COLOUR,
+        markeredgewidth=1.2,
+        zorder=6,
     )
 
 
@@ -134,12 +165,14 @@ def _floor(world: WorldMap) -> DrawPath:
     return DrawPath(vertices, codes)
 
 
-def _world_figure(world: WorldMap, extra_width_in: float = 0.0) -> tuple[Figure, Axes]:
+def _world_figure(
+    world: WorldMap, extra_width_in: float = 0.0, target: Sequence[float] | None = None
+) -> tuple[Figure, Axes]:
     aspect = (world.height_m + 3.5 * MARGIN_M) / (world.width_m + 2 * MARGIN_M)
     figure = Figure(figsize=(FIGURE_WIDTH_IN + extra_width_in, FIGURE_WIDTH_IN * aspect + 0.8))
     FigureCanvasAgg(figure)
     ax = figure.add_subplot()
-    draw_world(ax, world)
+    draw_world(ax, world, target=target)
     return figure, ax
 
 
@@ -156,9 +189,9 @@ def render_world(world: WorldMap, png_path: str | Path) -> None:
 
 # How each event a path marks is drawn: (matplotlib marker, colour, size, legend noun).
 PATH_MARKS: dict[str, tuple[str, str, float, str]] = {
-    BUMP: ("x", "red", 8, "collisions"),
-    NEAR_MISS: ("^", "darkorange", 6, "near misses"),
-    BACKOFF: (".", "purple", 5, "back-offs"),
+    BUMP: ("x", "red", 8, "collision"),
+    NEAR_MISS: ("^", "darkorange", 6, "near miss"),
+    BACKOFF: (".", "purple", 5, "back-off"),
 }
 
 
@@ -173,7 +206,7 @@ def render_path(
 ) -> None:
     """The world with a path coloured by speed, and the steps where events began (`marks`:
     step indices by event, of PATH_MARKS) marked where the robot then was."""
-    figure, ax = _world_figure(world, extra_width_in=1.2)
+    figure, ax = _world_figure(world, extra_width_in=1.2, target=goal)
     xy = np.asarray(poses, dtype=np.float64).reshape(-1, 3)[:, :2]  # (N, 2) metres
     speed = np.abs(np.asarray(speeds_mps, dtype=np.float64))
     if len(xy) > 1:
@@ -194,14 +227,29 @@ def render_path(
                 color=colour,
                 markersize=size,
                 zorder=5,
-                label=f"{len(steps)} {noun}",
+                label=counted(len(steps), noun),
             )
     if any(len(steps) for steps in marks.values()):
         ax.legend(loc="upper right", fontsize=8)
-    if goal is not None:
-        ax.plot(*goal, marker="*", color="crimson", markersize=16, zorder=6)
     ax.set_title(title)
     _save(figure, png_path)
+
+
+def velocity_axis(ax: Axes, top: np.ndarray, threshold: float) -> LineCollection:
+    """The perceived velocities' axis: each trajectory's threshold share of its top speed
+    dashed over its bar, the scale to just above the fastest. Returns the dashes."""
+    dashes = ax.hlines(
+        threshold * top,
+        np.arange(len(top)) - 0.4,
+        np.arange(len(top)) + 0.4,
+        colors="black",
+        linestyles="dashed",
+        linewidth=1.0,
+        label=f"threshold {threshold:g}",
+    )
+    ax.set_ylim(0.0, 1.05 * top.max())
+    ax.set_ylabel("perceived velocity (m/s)")
+    return dashes
 
 
 def path_marks(events: np.ndarray) -> dict[str, np.ndarray]:
@@ -258,10 +306,12 @@ def render_learning_curves(
 
 
 def render_surfaces(surfaces: Sequence[Surface], png_path: str | Path, title: str) -> None:
-    """One panel per trajectory: its learnt velocity over two inputs, on one colour scale."""
+    """One panel per trajectory: its learnt velocity over two inputs, on one colour scale,
+    hatched where it learnt nothing; a trajectory whose table does not read an input says so
+    over its panel."""
     columns = min(len(surfaces), 4)
     rows = math.ceil(len(surfaces) / columns)
-    figure = Figure(figsize=(3.0 * columns + 1.0, 2.8 * rows + 0.6), layout="constrained")
+    figure = Figure(figsize=(3.0 * columns + 1.0, 2.8 * rows + 0.9), layout="constrained")
     FigureCanvasAgg(figure)
     axes = figure.subplots(rows, columns, squeeze=False)
     top = max(float(s.velocity_mps.max()) for s in surfaces) or 1.0
@@ -271,7 +321,17 @@ def render_surfaces(surfaces: Sequence[Surface], png_path: str | Path, title: st
         mesh = ax.pcolormesh(
             ranges, ranges, surface.velocity_mps, vmin=0.0, vmax=top, cmap="viridis"
         )
-        ax.set_title(surface.trajectory, fontsize=10)
+        if surface.untrained.any():
+            ax.contourf(
+                ranges,
+                ranges,
+                surface.untrained.astype(float),
+                levels=[0.5, 1.5],
+                colors="none",
+                hatches=[UNTRAINED_HATCH],
+            )
+        unread = f" (reads no {' or '.join(surface.unread)})" if surface.unread else ""
+        ax.set_title(f"{surface.trajectory}{unread}", fontsize=9 if unread else 10)
         ax.set_xlabel(f"{surface.over[0]} (m)", fontsize=8)
         ax.set_ylabel(f"{surface.over[1]} (m)", fontsize=8)
         ax.set_aspect("equal")
@@ -279,5 +339,7 @@ def render_surfaces(surfaces: Sequence[Surface], png_path: str | Path, title: st
         ax.set_visible(False)
     assert mesh is not None
     figure.colorbar(mesh, ax=axes, label="learnt velocity (m/s)", shrink=0.8)
-    figure.suptitle(title, fontsize=10)
+    figure.suptitle(
+        f"{title}\nhatched: untrained, at the velocity every entry started at", fontsize=10
+    )
     _save(figure, png_path)

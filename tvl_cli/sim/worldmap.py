@@ -10,6 +10,8 @@ from typing import Any
 import numpy as np
 
 from tvl_cli.core.errors import BadInput
+from tvl_cli.core.text import decoded
+from tvl_cli.core.words import counted
 from tvl_cli.sim.maps.cells import OUTSIDE, char_codes, first_where, outline_runs, reaches_outside
 from tvl_cli.sim.maps.text_grid import (
     GOAL,
@@ -78,15 +80,7 @@ def load_world(path: str | Path) -> WorldMap:
             f"{path}: file is over {limit:,} bytes, more cells than this machine can simulate "
             f"(a world may take half its memory, {BYTES_PER_CELL} bytes a cell)"
         )
-    try:
-        text = data.decode("utf-8-sig")  # tolerate the byte-order mark some editors write
-    except UnicodeDecodeError as error:
-        line = data.count(b"\n", 0, error.start) + 1
-        col = error.start - (data.rfind(b"\n", 0, error.start) + 1) + 1
-        raise WorldMapError(
-            f"{path}:{line}:{col}: not UTF-8 text (byte 0x{data[error.start]:02x})"
-        ) from None
-    return parse_world(text, str(path))
+    return parse_world(decoded(data, str(path), WorldMapError), str(path))
 
 
 def parse_world(text: str, source: str) -> WorldMap:
@@ -316,7 +310,8 @@ def describe(world: WorldMap) -> str:
             f"name      {world.name}",
             f"size      {world.width_m:g} x {world.height_m:g} m (cell {world.cell_m:g} m)",
             f"extent    x {x0:g} to {x0 + world.width_m:g}, y {y0:g} to {y0 + world.height_m:g} m",
-            f"walls     {len(world.segments)} segments, {len(world.rings)} rings",
+            f"walls     {counted(len(world.segments), 'segment')}, "
+            f"{counted(len(world.rings), 'ring')}",
             f"discs     {len(world.discs)}",
             f"start     x {x:g} y {y:g}, heading {math.degrees(heading):g}°",
             f"goals     {goals}",

@@ -109,7 +109,7 @@ def named(path: Path, key: str, by_entry: dict[str, Any]) -> dict[str, Any]:
         if name in entries:
             raise BadInput(
                 f"{path}: {key}s {entries[name]!r} and {entry!r} are both named {name!r}; "
-                "a sweep knows each by its name, so give one of them another"
+                "a sweep knows each by its name, so give one of them another name"
             )
         entries[name] = entry
     return by_entry
