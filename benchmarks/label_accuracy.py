@@ -23,6 +23,7 @@ from typing import Any
 import numpy as np
 
 from tvl_cli.agent.explore import Learner, LearnParams
+from tvl_cli.bench.generalization import WORLD_SETS
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.heard import DEFAULT_WINDOW_S, heard_episodes
@@ -32,8 +33,6 @@ from tvl_cli.core.trajectory_choice import DEFAULT_THRESHOLD
 from tvl_cli.sim.true_arcs import TrueArcs
 from tvl_cli.sim.worldgen import generate_world
 from tvl_cli.sim.worldmap import parse_world
-
-WORLD_SETS = {"tuning": range(1, 21), "test": range(1001, 1021)}
 
 
 def world_labels(job: tuple[int, float, tuple[float, ...]]) -> dict[str, Any]:

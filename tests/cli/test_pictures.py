@@ -223,7 +223,7 @@ def ran_multi(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
 
 
 @pytest.mark.slow  # trains a multi FAM and draws three moments
-@pytest.mark.parametrize("step", [0, 60, 170])
+@pytest.mark.parametrize("step", [0, 60, 150])
 def test_a_multi_fams_long_rules_fold_within_their_panel_as_saved(
     ran_multi: dict[str, Path], step: int, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:

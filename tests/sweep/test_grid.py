@@ -348,7 +348,7 @@ def test_a_learner_exploring_with_the_trained_configuration(tmp_path: Path) -> N
             'learn_config = "mine.json"',
             r"learn_config 'mine.json' is not one of single, multi, designed, same",
         ),
-        ('world = "lab:x"', r"world 'lab:x': KIND:SEED needs a whole-number seed"),
+        ('world = "lab:x"', r"world 'lab:x': KIND:SEED or KIND:FIRST-LAST needs whole-number"),
         ('world = "labs:7"', r"no world kind 'labs' \(did you mean 'lab'\?\)"),
         (
             'behaviour = "goal"\ngoal = ["all", "1,1"]',

@@ -7,6 +7,7 @@ traced to the run that made it.
 
 from __future__ import annotations
 
+import hashlib
 from dataclasses import asdict
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -40,6 +41,7 @@ if TYPE_CHECKING:
     from tvl_cli.core.fired_rules import Explanation
     from tvl_cli.io.famfile import FamFile
     from tvl_cli.io.log_sessions import RepeatedSession
+    from tvl_cli.sim.worldmap import WorldMap
     from tvl_cli.sweep.runner import SweepRequest, SweepResult
 
 
@@ -104,7 +106,7 @@ def learning(result: LearnResult) -> dict[str, Any]:
 def learn_json(result: LearnResult) -> dict[str, Any]:
     r = result.request
     inputs = {
-        "world": input_file(r.world),
+        "world": _world_input(r.world),
         "seed": r.seed,
         **_config(r.config),
         **r.learn.to_dict(),
@@ -114,6 +116,13 @@ def learn_json(result: LearnResult) -> dict[str, Any]:
     }
     outputs = {"log": str(r.log), "fam": output_path(r.fam_out)}
     return document("learn", inputs, outputs=outputs, **learning(result))
+
+
+def _world_input(world: Path | WorldMap) -> dict[str, str]:
+    """A world file as read; a generated world by its name, and the digest of its text."""
+    if isinstance(world, Path):
+        return input_file(world)
+    return {"path": world.name, "sha256": hashlib.sha256(world.text.encode()).hexdigest()}
 
 
 def _config(spec: str) -> dict[str, Any]:
@@ -276,7 +285,7 @@ def demo_json(result: DemoResult) -> dict[str, Any]:
 
     learnt = result.learning.request
     inputs = {
-        "world": input_file(learnt.world),
+        "world": _world_input(learnt.world),
         "seed": DEMO_SEED,
         "learn_minutes": learnt.learn.minutes,
         "run_minutes": RUN_MINUTES,

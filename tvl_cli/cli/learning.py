@@ -22,18 +22,19 @@ from tvl_cli.cli.options import (
     training_options,
 )
 from tvl_cli.commands.learn import LearnRequest, LearnResult, learn_to_log
+from tvl_cli.core.errors import BadInput
 from tvl_cli.core.method import DEFAULT, EXPLORATION_RULES, FIELDS, MethodChoice
 from tvl_cli.core.robot_config import EDGE_ECHO_RANGE_M, FASTEST_MPS, SONAR_MODELS
 from tvl_cli.core.trajectory_choice import DEFAULT_THRESHOLD
 from tvl_cli.core.words import counted
 from tvl_cli.io.interrupts import STOPPED_EXIT
-from tvl_cli.sim.worldmap import load_world
+from tvl_cli.sim.world_entries import NamedWorld, named_worlds
 
 DEFAULT_LEARN = LearnParams()
 
 
 @click.command(epilog=examples("learn"))
-@click.argument("world_file", metavar="WORLD", type=click.Path(path_type=Path))
+@click.argument("world_entries", metavar="WORLD...", nargs=-1, required=True)
 @click.option(
     "--log",
     type=HDF5,
@@ -45,7 +46,7 @@ DEFAULT_LEARN = LearnParams()
     type=float,
     default=DEFAULT_LEARN.minutes,
     show_default=True,
-    help="Simulated minutes.",
+    help="Simulated minutes (in each world).",
 )
 @seed_option("every random choice (exploration's ties, sonar and odometry noise)")
 @method_options
@@ -97,7 +98,7 @@ DEFAULT_LEARN = LearnParams()
 @click.option("--json", "as_json", is_flag=True, help="Print a JSON summary.")
 @live_options("learning")
 def learn(
-    world_file: Path,
+    world_entries: tuple[str, ...],
     log: Path,
     minutes: float,
     seed: int,
@@ -113,36 +114,56 @@ def learn(
     live: bool,
     pace: float | None,
 ) -> None:
-    """Explore WORLD and learn trajectory velocities, recording every episode in a log."""
-    refuse_shared_paths(
-        {"--fam": fam_out}, {"--log": log, "WORLD": world_file, "--from-fam": from_fam}
-    )
+    """Explore WORLD and learn trajectory velocities, recording every episode in a log.
+
+    Several worlds (files, generated worlds as KIND:SEED or KIND:FIRST-LAST, bundled names)
+    are learnt one after another, a session each in the same log, each going on from what
+    the sessions before it learnt: experience from many worlds in one log and one FAM."""
+    worlds = [found for entry in world_entries for found in _named_worlds(entry)]
+    files = {f"WORLD {w.entry}": w.path for w in worlds}
+    refuse_shared_paths({"--fam": fam_out}, {"--log": log, **files, "--from-fam": from_fam})
     if fam_out is not None:
         refuse_existing(fam_out, force)
-    request = LearnRequest(
-        world_file,
-        log,
-        seed,
-        config,
-        LearnParams(minutes=minutes, learn_speed_mps=learn_speed),
-        method.over(DEFAULT, FIELDS),
-        fam_out,
-        from_fam=from_fam,
-        symmetric=symmetric,
-        init_velocity_mps=init_velocity_mps,
-    )
-    views.warn_of_other_worlds(log, world_file)
+    if from_fam is not None and len(worlds) > 1:
+        raise BadInput("--from-fam starts a new log: give it one world, then add the others")
+    for index, named in enumerate(worlds):
+        last = index == len(worlds) - 1
+        request = LearnRequest(
+            named.world if named.path is None else named.path,
+            log,
+            seed,
+            config,
+            LearnParams(minutes=minutes, learn_speed_mps=learn_speed),
+            method.over(DEFAULT, FIELDS),
+            fam_out if last else None,  # the online FAM after every world
+            from_fam=from_fam,
+            symmetric=symmetric,
+            init_velocity_mps=init_velocity_mps,
+        )
+        if index == 0:
+            views.warn_of_other_worlds(log, named.path or named.world, named.entry)
+        result = _learn_one(request, live, pace, quiet=as_json)
+        if as_json:
+            # One document a world, a line each (JSON Lines) when there are several.
+            print_json(documents.learn_json(result), compact=len(worlds) > 1)
+        else:
+            views.learn_summary(result, log)
+        if result.summary.stopped_by:
+            sys.exit(STOPPED_EXIT[result.summary.stopped_by])
+
+
+def _named_worlds(entry: str) -> list[NamedWorld]:
+    try:
+        return named_worlds(entry)
+    except BadInput as problem:
+        raise BadInput(f"WORLD: {problem}") from None
+
+
+def _learn_one(request: LearnRequest, live: bool, pace: float | None, quiet: bool) -> LearnResult:
     if live and views.out.is_terminal:
-        result = _learn_live(request, pace)
-    else:
-        with views.learning_progress(minutes, quiet=as_json) as (on_minute, on_progress):
-            result = learn_to_log(request, on_minute, on_progress)
-    if as_json:
-        print_json(documents.learn_json(result))
-    else:
-        views.learn_summary(result, log)
-    if result.summary.stopped_by:
-        sys.exit(STOPPED_EXIT[result.summary.stopped_by])
+        return _learn_live(request, pace)
+    with views.learning_progress(request.learn.minutes, quiet=quiet) as (on_minute, progress):
+        return learn_to_log(request, on_minute, progress)
 
 
 def _learn_live(request: LearnRequest, pace: float | None) -> LearnResult:
@@ -150,7 +171,7 @@ def _learn_live(request: LearnRequest, pace: float | None) -> LearnResult:
     from tvl_cli.cli.live import LiveView, Sight, live_view
 
     robot = request.method.robot()
-    view = LiveView(Sight(load_world(request.world), robot, DEFAULT_THRESHOLD, pace=pace))
+    view = LiveView(Sight(request.world_map(), robot, DEFAULT_THRESHOLD, pace=pace))
 
     def on_minute(stats: MinuteStats) -> None:
         view.caption = (

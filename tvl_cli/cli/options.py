@@ -344,8 +344,9 @@ def memory_options(base: str) -> Callable[[Callable[..., None]], Callable[..., N
     return decorate
 
 
-def print_json(value: object) -> None:
-    click.echo(json.dumps(value, indent=1, allow_nan=False))
+def print_json(value: object, compact: bool = False) -> None:
+    """A JSON document on stdout, indented, or on one line (`compact`: one of several)."""
+    click.echo(json.dumps(value, indent=None if compact else 1, allow_nan=False))
 
 
 def print_csv(rows: list[dict[str, object]]) -> None:

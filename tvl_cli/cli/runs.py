@@ -146,7 +146,7 @@ def run(
         if output is not None:
             refuse_existing(output, force)
     if learn_log is not None:
-        views.warn_of_other_worlds(learn_log, world_file)
+        views.warn_of_other_worlds(learn_log, world_file, str(world_file))
     request = RunRequest(
         fam, world_file, behaviour, threshold, minutes, seed, goal, png, trace, method, learning
     )

@@ -35,6 +35,7 @@ if TYPE_CHECKING:
     from tvl_cli.commands.learn import LearnResult
     from tvl_cli.commands.run import RunResult
     from tvl_cli.core.metrics import RunMetrics
+    from tvl_cli.sim.worldmap import WorldMap
 
 
 def _bar(description: str) -> Progress:
@@ -209,10 +210,11 @@ def run_metrics(metrics: RunMetrics, method: dict[str, Any] | None = None) -> No
         out.print(f"method: {describe_record(method)}")
 
 
-def warn_of_other_worlds(log: Path, world: Path) -> None:
-    """One line on stderr when a session of `world` goes into a log whose sessions learnt in
-    another world: a FAM trained from the log learns from both, which may be meant (a
-    general FAM) or a log named by mistake."""
+def warn_of_other_worlds(log: Path, world: Path | WorldMap, given: str) -> None:
+    """One line on stderr when a session of `world` (a file, or a world made here, as the
+    user named it: `given`) goes into a log whose sessions learnt in another world: a FAM
+    trained from the log learns from both, which may be meant (a general FAM) or a log named
+    by mistake."""
     from tvl_cli.core.errors import BadInput
     from tvl_cli.io.logreader import session_worlds
     from tvl_cli.sim.worldmap import load_world
@@ -220,13 +222,14 @@ def warn_of_other_worlds(log: Path, world: Path) -> None:
     if not log.exists():
         return
     try:
-        earlier, adding = session_worlds(log), load_world(world)
+        earlier = session_worlds(log)
+        adding = load_world(world) if isinstance(world, Path) else world
     except BadInput:
         return  # the command refuses it in its own words, in one line
     others = sorted({name for text, name in earlier.items() if text != adding.text})
     if others:
         say(
-            f"tvl: warning: {log}: adding a session in {adding.name} ({world}) to sessions "
+            f"tvl: warning: {log}: adding a session in {adding.name} ({given}) to sessions "
             f"in {', '.join(others)}: a FAM trained from this log learns from every world in it"
         )
 

@@ -29,7 +29,7 @@ from tvl_cli.io.log_sessions import distinct_sessions, provenance
 from tvl_cli.io.logfile import LogWriter
 from tvl_cli.io.loglayout import KIND_LEARNING, ended_status
 from tvl_cli.io.logreader import file_sha256, read_log
-from tvl_cli.sim.worldmap import load_world
+from tvl_cli.sim.worldmap import WorldMap, load_world
 
 # Learning writes its episodes to the log a few at a time, once those held span this many
 # simulated seconds (and at every minute's row, and when it stops): one write instead of
@@ -39,7 +39,7 @@ LOG_WRITE_EVERY_S = 30.0
 
 @dataclass(frozen=True, slots=True)
 class LearnRequest:
-    world: Path
+    world: Path | WorldMap  # a world file, or a world made here (a generated one)
     log: Path
     seed: int
     config: str
@@ -54,6 +54,13 @@ class LearnRequest:
     @property
     def train(self) -> TrainParams:
         return train_params(self.method, self.symmetric, self.init_velocity_mps)
+
+    def world_map(self) -> WorldMap:
+        return self.world if isinstance(self.world, WorldMap) else load_world(self.world)
+
+    @property
+    def world_name(self) -> str:
+        return self.world.name if isinstance(self.world, WorldMap) else self.world.stem
 
 
 @dataclass(frozen=True, slots=True)
@@ -76,7 +83,7 @@ def learn_to_log(
 ) -> LearnResult:
     """Explore the world, appending each whole episode to a new session of the log; each
     step shown to `watch` if given (a live view)."""
-    world = load_world(request.world)
+    world = request.world_map()
     method = request.method
     robot = method.robot()
     config = resolve_fam_config(request.config, robot)

@@ -9,15 +9,15 @@ from pathlib import Path
 from typing import Any
 
 from tvl_cli.commands.run import parse_goal
-from tvl_cli.core.errors import MAX_SEED, BadInput, did_you_mean
+from tvl_cli.core.errors import BadInput, did_you_mean
 from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS, FamConfig
 from tvl_cli.core.memory import MemoryChoice
 from tvl_cli.core.method import Method, MethodChoice, parse_reflexes
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.fam_config_file import resolve_fam_config
 from tvl_cli.io.methodfile import resolve_method
-from tvl_cli.sim.worldgen import KINDS, bundled_world_path, generate_world
-from tvl_cli.sim.worldmap import WorldMap, check_goal, load_world, parse_world
+from tvl_cli.sim.world_entries import named_worlds
+from tvl_cli.sim.worldmap import WorldMap, check_goal
 from tvl_cli.sweep.cell import METHOD_KEYS
 from tvl_cli.sweep.grid_keys import ALL_GOALS
 
@@ -63,23 +63,15 @@ def _goal(path: Path, text: str) -> tuple[float, float]:
 def world_entry(path: Path, entry: str) -> WorldMap:
     """A world file beside the grid, else a generated world (KIND:SEED), else the bundled
     world of that name."""
-    file = path.parent / entry
-    if file.is_file():
-        return load_world(file)
-    kind, colon, seed = entry.partition(":")
-    if colon:
-        if kind not in KINDS:
-            known = did_you_mean(kind, list(KINDS))
-            raise BadInput(f"{path}: world {entry!r}: no world kind {kind!r} ({known})")
-        if not seed.isdigit() or int(seed) > MAX_SEED:
-            raise BadInput(f"{path}: world {entry!r}: KIND:SEED needs a whole-number seed")
-        return parse_world(generate_world(kind, None, None, int(seed)), entry)
     try:
-        return load_world(bundled_world_path(entry))
-    except BadInput:
+        found = named_worlds(entry, path.parent)
+    except BadInput as problem:
+        raise BadInput(f"{path}: {problem}") from None
+    if len(found) > 1:
         raise BadInput(
-            f"{path}: world {entry!r}: no such world file {file}, nor a bundled world"
-        ) from None
+            f"{path}: world {entry!r} names {len(found)} worlds; a grid names each world alone"
+        )
+    return found[0].world
 
 
 def config_entry(path: Path, entry: str) -> FamConfig:

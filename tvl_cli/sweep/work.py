@@ -81,7 +81,7 @@ def learn_log(request: LogRequest) -> None:
             raise KeyboardInterrupt  # a signal stopped the learning: it stops the sweep too
         if result.summary.episodes == 0:
             raise BadInput(
-                f"{request.minutes_key}: learning in world {learn.world.stem!r} (seed "
+                f"{request.minutes_key}: learning in world {learn.world_name!r} (seed "
                 f"{learn.seed}) finished no episode, so there is nothing to train; give "
                 "more learn_minutes"
             )
