@@ -48,6 +48,7 @@ def test_every_grid_file_is_an_experiment_here() -> None:
     assert {path.stem for path in GRIDS.glob("*.toml")} == set(EXPERIMENTS)
 
 
+@pytest.mark.slow  # over a second
 @pytest.mark.parametrize("name", sorted(EXPERIMENTS))
 def test_each_grid_is_smaller_at_each_smaller_size(name: str) -> None:
     cells = {size: read_grid(GRIDS / f"{name}.toml", None, size).cells for size in SIZES}

@@ -187,6 +187,7 @@ def test_a_run_gives_the_trace_it_gave_before_the_engine(
     assert digest(chunks, metrics) == expected
 
 
+@pytest.mark.slow  # over a second
 def test_q_learning_learns_and_runs_as_before_the_engine() -> None:
     chunks: list[Columns] = []
     recorder = TraceRecorder(("bump",), ROBOT.sonar.count, [chunks.append])

@@ -51,6 +51,7 @@ def test_random_pairs_are_drawn_from_the_generator_alone() -> None:
     assert len(set(draws(5))) > 80  # spread over the 112 pairs, not stuck on a few
 
 
+@pytest.mark.slow  # over a second
 @pytest.mark.parametrize("rule", ["novelty", "random"])
 def test_learning_with_a_rule_repeats_for_a_seed(rule: str) -> None:
     first = _choices(rule, seed=3)

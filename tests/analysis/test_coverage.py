@@ -104,6 +104,7 @@ def test_the_floor_of_a_world_of_many_walls_takes_memory_for_its_cells_not_their
     assert floor.cells > 0
 
 
+@pytest.mark.slow  # over a second
 @pytest.mark.parametrize("walls", [0, 40, 600])
 def test_the_floor_is_the_one_all_points_against_all_obstacles_at_once_give(walls: int) -> None:
     world = parse_world(cluttered_hall(walls, seed=2), "hall")

@@ -146,6 +146,7 @@ def test_a_budget_too_small_for_one_input_per_table_is_refused() -> None:
         design_inputs(synthetic(), ROBOT, TrainParams(), 13)
 
 
+@pytest.mark.slow  # over a second
 def test_the_same_seed_chooses_the_same_and_another_holds_out_other_episodes() -> None:
     episodes = synthetic(per_trajectory=4)
     first, again, other = (

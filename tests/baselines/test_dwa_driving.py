@@ -42,6 +42,7 @@ def test_a_wall_ahead_makes_it_slow_down_and_turn() -> None:
     assert near_wall.angular_radps != 0.0
 
 
+@pytest.mark.slow  # over a second
 def test_it_avoids_for_a_minute_in_the_square_without_a_collision() -> None:
     metrics = run_dwa(SQUARE, ROBOT, 1.0, seed=1)
     # It never touches; it does pass walls inside the sonars' blind zone (near misses).
@@ -56,6 +57,7 @@ def test_it_reaches_a_goal_behind_an_obstacle() -> None:
     assert metrics.goal_reached and metrics.collisions == 0
 
 
+@pytest.mark.slow  # over a second
 def test_driven_by_the_ring_alone_it_avoids_the_square_by_what_it_hears() -> None:
     metrics = run_dwa(SQUARE, ROBOT, 1.0, seed=1, sensor=RING)
     assert metrics.collisions == 0

@@ -34,6 +34,7 @@ def test_the_summary_describes_the_file_written(designed: tuple[Path, dict]) -> 
     assert sum(t["rules"] for t in printed["tables"]) == printed["rules"]
 
 
+@pytest.mark.slow  # over a second
 def test_train_and_learn_take_the_file_as_config(
     designed: tuple[Path, dict], tmp_path: Path
 ) -> None:

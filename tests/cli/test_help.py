@@ -43,6 +43,7 @@ def test_the_top_level_help_loads_no_heavy_library() -> None:
     assert loaded == "[]"
 
 
+@pytest.mark.slow  # over a second
 def test_no_commands_help_loads_the_compiler() -> None:
     # Kernels compile (or load from numba's cache) when first used, never for a --help.
     helps = "[[name, '--help'] for name in COMMANDS]"

@@ -137,6 +137,7 @@ def test_at_a_step_that_decided_nothing_explains_the_nearest_that_did(
     assert code == 0 and json.loads(out)["step"]["step"] == spin and err == ""
 
 
+@pytest.mark.slow  # over a second
 def test_explain_draws_the_moment(ran: dict[str, Path], tmp_path: Path) -> None:
     png = tmp_path / "moment.png"
     code, out, err = tvl("explain", ran["trace"], "--step", "20", "--png", png)
@@ -201,6 +202,7 @@ def _inside(boxes: list[Bbox], ax: Axes) -> bool:
     )
 
 
+@pytest.mark.slow  # over a second
 @pytest.mark.parametrize("step", [0, 20, 60, 120, 170])
 def test_the_moment_names_each_trajectory_apart_and_writes_each_rule_within_its_panel(
     ran: dict[str, Path], step: int, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
@@ -241,6 +243,7 @@ def _start_marks(ax: Axes, robot: RobotConfig) -> tuple[int, list[Line2D]]:
     return len(bodies), [line for line in ax.lines if line.get_label() == "start"]
 
 
+@pytest.mark.slow  # over a second
 def test_the_start_is_a_small_mark_and_the_robot_is_drawn_once_in_a_moment_and_a_replay(
     ran: dict[str, Path], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
@@ -262,6 +265,7 @@ def test_the_start_is_a_small_mark_and_the_robot_is_drawn_once_in_a_moment_and_a
     assert marks[0] == marks[1]  # drawn alike in both
 
 
+@pytest.mark.slow  # over a second
 def test_inspect_draws_a_multi_fam_over_inputs_its_tables_have(tmp_path: Path) -> None:
     fam = tmp_path / "multi.h5"
     robot = RobotConfig()

@@ -214,6 +214,7 @@ def test_an_ideal_sonar_fam_runs_with_the_ideal_sonar(invoke_tvl, tmp_path):
     assert real.returncode == 0, real.stderr
 
 
+@pytest.mark.slow  # over a second
 def test_an_edges_sonar_fam_runs_with_edge_echoes_and_keeps_them_in_its_robot(invoke_tvl, tmp_path):
     log, fam = tmp_path / "log.h5", tmp_path / "fam.h5"
     learn = invoke_tvl("learn", SQUARE, "--log", log, "--minutes", "1", "--sonar", "edges")
@@ -265,6 +266,7 @@ def test_learning_again_on_a_log_adds_a_session(invoke_tvl, tmp_path):
     assert [s.seed for s in read_log(log).sessions] == [1, 2]
 
 
+@pytest.mark.slow  # over a second
 def test_replay_of_a_learning_log_draws_paths_and_curves(invoke_tvl, learnt, tmp_path):
     png, curves = tmp_path / "paths.png", tmp_path / "curves.png"
     result = invoke_tvl("replay", learnt["log"], "--png", png, "--curves", curves, "--json")

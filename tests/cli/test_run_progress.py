@@ -15,6 +15,7 @@ from tvl_cli.io.famfile import write_fam
 EXAMPLE_LOG = Path(__file__).resolve().parents[2] / "logs" / "square-s1.h5"
 
 
+@pytest.mark.slow  # over a second
 def test_a_watcher_sees_every_step_in_order_beside_the_trace(tmp_path: Path) -> None:
     trained = train_from_logs([EXAMPLE_LOG], SINGLE)
     fam = tmp_path / "fam.h5"

@@ -276,6 +276,7 @@ def test_learn_and_replay_give_a_minute_of_learning_the_same_types(tmp_path: Pat
     assert (session["session"], session["episodes"]) == (learnt["session"], learnt["episodes"])
 
 
+@pytest.mark.slow  # over a second
 def test_fam_documents_follow_their_schemas(made: dict[str, Path]) -> None:
     trained = tvl_json("train", EXAMPLE_LOG, "-o", made["directory"] / "again.h5")
     assert trained["inputs"]["logs"][0]["path"] == str(EXAMPLE_LOG)
@@ -305,6 +306,7 @@ def test_inspect_records_the_inputs_its_picture_was_drawn_over(
     assert (listed["inputs"]["over"], listed["inputs"]["fix"]) == (None, {})
 
 
+@pytest.mark.slow  # over a second
 def test_design_document_follows_its_schema(tmp_path: Path) -> None:
     designed = tvl_json("design", EXAMPLE_LOG, "-o", tmp_path / "d.json", "--budget", "200")
     assert designed["outputs"]["config"] == str(tmp_path / "d.json")

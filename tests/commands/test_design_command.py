@@ -31,6 +31,7 @@ def test_the_file_written_is_the_configuration_chosen(designed: DesignSummary) -
     assert config.design.seed == 1
 
 
+@pytest.mark.slow  # over a second
 def test_the_configuration_trains_on_every_exemplar_of_the_log(designed: DesignSummary) -> None:
     config = resolve_fam_config(str(designed.output), RobotConfig())
     summary = train_from_logs([EXAMPLE_LOG], config)

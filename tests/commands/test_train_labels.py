@@ -39,6 +39,7 @@ def test_the_papers_method_trains_bit_for_bit_as_before(config: FamConfig) -> No
     assert digest(fam, config) == PAPER_DIGESTS[config.name]
 
 
+@pytest.mark.slow  # over a second
 def test_heard_labels_train_every_trajectory_from_a_log_learnt_by_the_papers_rule() -> None:
     # The example log was learnt labelling the driven trajectory alone; heard, its points
     # label the others too, and give every trajectory's rules far more experience.

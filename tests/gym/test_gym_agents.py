@@ -134,6 +134,7 @@ def test_q_learning_through_the_env_is_deterministic() -> None:
     assert not np.array_equal(tables[0], tables[2])
 
 
+@pytest.mark.slow  # over a second
 @pytest.mark.parametrize("seed", [1, 2])
 def test_q_learning_through_the_env_is_competent_in_the_circle_as_the_baselines(
     seed: int,

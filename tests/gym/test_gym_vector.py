@@ -121,6 +121,7 @@ def test_the_same_seed_gives_the_same_steps_and_copies_differ() -> None:
     assert not np.array_equal(first[0][0], first[0][1])  # each copy its own noise
 
 
+@pytest.mark.slow  # over a second
 def test_episodes_are_truncated_at_the_registered_length() -> None:
     envs = gymnasium.make_vec(ENV_ID, num_envs=2, world="square")
     envs.reset(seed=1)

@@ -128,12 +128,14 @@ def read_or_refuse(folder: Path, text: str) -> None:
     assert found.free.shape == room_pixels().shape
 
 
+@pytest.mark.slow  # over a second
 @fuzzing(FAST_MUTATED)
 @given(st.data())
 def test_a_mutated_map_yaml_is_read_or_refused_in_one_line(folder: Path, data) -> None:
     read_or_refuse(folder, mutated(data))
 
 
+@pytest.mark.slow  # over a second
 @fuzzing(FAST_RANDOM)
 @given(st.data())
 def test_any_values_under_the_map_keys_are_read_or_refused_in_one_line(folder, data) -> None:

@@ -8,6 +8,7 @@ import math
 import os
 from pathlib import Path
 
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -37,6 +38,7 @@ HEADER = st.builds(
 SCRAP = st.text(alphabet="#.><^vGo :-0123456789e\n;", max_size=24)
 
 
+@pytest.mark.slow  # over a second
 @FUZZ
 @given(st.data())
 def test_a_mutated_map_parses_or_is_refused(data: st.DataObject) -> None:
@@ -63,6 +65,7 @@ JSON = st.recursive(
 CONFIG_KEYS = st.sampled_from(["name", "tables", "inputs", "trajectories", "sonars", "partition"])
 
 
+@pytest.mark.slow  # over a second
 @FUZZ
 @given(st.one_of(JSON, st.dictionaries(CONFIG_KEYS, JSON, max_size=4)))
 def test_any_json_is_a_fam_configuration_or_refused(value: object) -> None:

@@ -408,6 +408,7 @@ def test_new_writer_after_a_killed_one_takes_the_lock(tmp_path: Path) -> None:
     assert [len(s.episode_table) for s in read_log(path).sessions] == [2, 1]
 
 
+@pytest.mark.slow  # over a second
 @pytest.mark.parametrize("written", [1, 30, 150])
 def test_writer_killed_mid_write_leaves_only_whole_episodes(tmp_path: Path, written: int) -> None:
     path = tmp_path / "x.h5"

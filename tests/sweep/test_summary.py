@@ -186,6 +186,7 @@ def test_the_plot_is_named_for_what_it_shows_beside_the_table() -> None:
 @pytest.mark.parametrize(
     "name, starts", [("p.svg", b"<?xml"), ("p.pdf", b"%PDF"), ("p.png", b"\x89PNG")]
 )
+@pytest.mark.slow  # over a second
 def test_the_plot_is_drawn_in_the_format_its_name_gives(
     tmp_path: Path, name: str, starts: bytes
 ) -> None:
