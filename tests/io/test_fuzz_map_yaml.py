@@ -22,8 +22,8 @@ from tvl_cli.io.occupancy_map import MAX_IMAGE_NAME, read_occupancy_map
 MAX_PIXELS = 1 << 20
 FAST_MUTATED = int(os.environ.get("TVL_FUZZ_EXAMPLES", "150"))
 FAST_RANDOM = int(os.environ.get("TVL_FUZZ_EXAMPLES", "40"))
-# The slow tier draws a thousand; TVL_FUZZ_LONG_EXAMPLES=10000 for a long search.
-SLOW = int(os.environ.get("TVL_FUZZ_LONG_EXAMPLES", "1000"))
+# Ten thousand in the slow tier (TVL_FUZZ_LONG_EXAMPLES sets another count).
+SLOW = int(os.environ.get("TVL_FUZZ_LONG_EXAMPLES", "10000"))
 # A message quotes what it refuses cut short: one line a person reads, beside the name of the
 # file (an image's name may be long: up to 1,024 characters).
 MAX_MESSAGE_CHARS = 400 + MAX_IMAGE_NAME

@@ -5,7 +5,7 @@ strings, many keys), is read or refused as bad input naming the file: never anot
 exception, nor a hang.
 
 The fast tier runs TVL_FUZZ_EXAMPLES examples of each (50 unless set); the slow tier runs each
-again at TVL_FUZZ_LONG_EXAMPLES (1,000 unless set). A reader of another format (a map's
+again at TVL_FUZZ_LONG_EXAMPLES (10,000 unless set). A reader of another format (a map's
 YAML) is fuzzed the same way by giving `deeply_nested` its own brackets.
 """
 
@@ -47,8 +47,8 @@ def fuzz(examples: int) -> Callable[[Callable[..., None]], Callable[..., None]]:
 
 
 FAST = fuzz(int(os.environ.get("TVL_FUZZ_EXAMPLES", "50")))
-# The slow tier draws a thousand of each; TVL_FUZZ_LONG_EXAMPLES=10000 for a long search.
-LONG = fuzz(int(os.environ.get("TVL_FUZZ_LONG_EXAMPLES", "1000")))
+# Ten thousand of each in the slow tier (TVL_FUZZ_LONG_EXAMPLES sets another count).
+LONG = fuzz(int(os.environ.get("TVL_FUZZ_LONG_EXAMPLES", "10000")))
 # Depths about the cap (core.nesting.MAX_NESTING, 32), and far beyond any parser's recursion.
 DEPTH = st.one_of(st.integers(0, 40), st.sampled_from([31, 32, 33, 1_000, 5_000, 100_000]))
 
