@@ -24,6 +24,7 @@ import numpy as np
 
 from tvl_cli.agent.explore import Learner, LearnParams
 from tvl_cli.bench.generalization import WORLD_SETS
+from tvl_cli.core.arcs import collision_clearance_m
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.heard import DEFAULT_WINDOW_S, heard_episodes
@@ -48,7 +49,7 @@ def world_labels(job: tuple[int, float, tuple[float, ...]]) -> dict[str, Any]:
     v_max = np.array(robot.v_max_mps)
     decel, margin = method.decel_mps2, method.margin_m
     poses = np.concatenate([e.pose for e in episodes])
-    arcs = TrueArcs(world, robot)
+    arcs = TrueArcs(world, robot, collision_clearance_m(robot))
     truth = arcs.velocities_mps(arcs.distances_m(poses, arcs.reach_m(decel, margin)), decel, margin)
     driven = np.concatenate([np.full(e.exemplar_count, e.trajectory) for e in episodes])
     rows = np.arange(len(poses))

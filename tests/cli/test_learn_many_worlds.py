@@ -49,7 +49,7 @@ def test_world_entries_that_name_no_world_are_refused_in_one_line(invoke_tvl, tm
         done = invoke_tvl("learn", entry, "--log", log, "--minutes", "0.1")
         assert done.returncode == 2, entry
         assert done.stderr.count("\n") == 1, done.stderr
-        assert done.stderr.startswith(f"tvl: error: WORLD: world {entry!r}: {phrase}")
+        assert done.stderr.startswith(f"tvl: error: world {entry!r}: {phrase}")
     assert not log.exists()
 
 

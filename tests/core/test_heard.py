@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from tvl_cli.core.arcs import first_contacts_m
+from tvl_cli.core.arcs import collision_clearance_m, first_contacts_m
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.heard import HeardLabeller, heard_episodes
 from tvl_cli.core.labels import DEFAULT_DECEL_MPS2, DEFAULT_MARGIN_M, velocity_labels
@@ -63,13 +63,15 @@ def toward_and_away() -> tuple[Episode, Episode]:
     return first, episode(1, away, first.end_time_s, math.inf)
 
 
+REACH_M = ROBOT.radius_m + collision_clearance_m(ROBOT)
+
+
 def wall_distances(odometry: np.ndarray) -> np.ndarray:
-    """(n, 7) metres along each trajectory from each pose to where the body meets the wall:
-    the arc clearance, from the wall itself as points a millimetre apart."""
+    """(n, 7) metres along each trajectory from each pose to where the body comes within the
+    collision clearance of the wall: the arc clearance, from the wall itself as points a
+    millimetre apart."""
     wall = np.stack([np.full(20_001, WALL_X), np.linspace(-10.0, 10.0, 20_001)], axis=1)
-    return np.array(
-        [first_contacts_m(tuple(p), CURVATURES, wall, ROBOT.radius_m) for p in odometry]
-    )
+    return np.array([first_contacts_m(tuple(p), CURVATURES, wall, REACH_M) for p in odometry])
 
 
 def test_the_heard_labels_of_all_seven_arcs_are_the_arc_clearance_to_a_known_wall() -> None:

@@ -22,6 +22,7 @@ from tvl_cli.agent.perception import Perception
 from tvl_cli.agent.policy import Pose
 from tvl_cli.agent.reflexes import wrap
 from tvl_cli.agent.tvl import TvlPolicy
+from tvl_cli.core.arcs import collision_clearance_m
 from tvl_cli.core.method import Method
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.core.robot_config import RobotConfig
@@ -36,7 +37,7 @@ class TrueVelocities:
     def __init__(
         self, world: WorldMap, robot: RobotConfig, method: Method, true_pose: Callable[[], Pose]
     ) -> None:
-        self._arcs = TrueArcs(world, robot, robot.sonar.min_range_m)
+        self._arcs = TrueArcs(world, robot, collision_clearance_m(robot))
         self._labels = (method.decel_mps2, method.margin_m)
         self._reach_m = self._arcs.reach_m(*self._labels)
         self._true_pose = true_pose

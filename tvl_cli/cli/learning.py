@@ -28,7 +28,7 @@ from tvl_cli.core.robot_config import EDGE_ECHO_RANGE_M, FASTEST_MPS, SONAR_MODE
 from tvl_cli.core.trajectory_choice import DEFAULT_THRESHOLD
 from tvl_cli.core.words import counted
 from tvl_cli.io.interrupts import STOPPED_EXIT
-from tvl_cli.sim.world_entries import NamedWorld, named_worlds
+from tvl_cli.sim.world_entries import named_worlds
 
 DEFAULT_LEARN = LearnParams()
 
@@ -119,7 +119,7 @@ def learn(
     Several worlds (files, generated worlds as KIND:SEED or KIND:FIRST-LAST, bundled names)
     are learnt one after another, a session each in the same log, each going on from what
     the sessions before it learnt: experience from many worlds in one log and one FAM."""
-    worlds = [found for entry in world_entries for found in _named_worlds(entry)]
+    worlds = [found for entry in world_entries for found in named_worlds(entry)]
     files = {f"WORLD {w.entry}": w.path for w in worlds}
     refuse_shared_paths({"--fam": fam_out}, {"--log": log, **files, "--from-fam": from_fam})
     if fam_out is not None:
@@ -150,13 +150,6 @@ def learn(
             views.learn_summary(result, log)
         if result.summary.stopped_by:
             sys.exit(STOPPED_EXIT[result.summary.stopped_by])
-
-
-def _named_worlds(entry: str) -> list[NamedWorld]:
-    try:
-        return named_worlds(entry)
-    except BadInput as problem:
-        raise BadInput(f"WORLD: {problem}") from None
 
 
 def _learn_one(request: LearnRequest, live: bool, pace: float | None, quiet: bool) -> LearnResult:

@@ -12,6 +12,7 @@ from typing import Any
 import numpy as np
 
 from tvl_cli.agent.perception import perceived_episodes
+from tvl_cli.core.arcs import collision_clearance_m
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS, Fam
@@ -172,7 +173,8 @@ def _train_true(
     total = sum(e.exemplar_count for episodes, _ in chosen for e in episodes)
     done = 0
     for episodes, session in chosen:
-        arcs = TrueArcs(parse_world(session.world_text, session.world_name), robot)
+        world = parse_world(session.world_text, session.world_name)
+        arcs = TrueArcs(world, robot, collision_clearance_m(robot))
         reach = arcs.reach_m(params.decel_mps2, params.margin_m)
         for episode in episodes:
             heard = HeardEpisode(episode, arcs.distances_m(episode.pose, reach))

@@ -12,7 +12,16 @@ import math
 
 import numpy as np
 
+from tvl_cli.core.robot_config import RobotConfig
+
 Pose = tuple[float, float, float]
+
+
+def collision_clearance_m(robot: RobotConfig) -> float:
+    """How near the body may come to an obstacle before a way counts as blocked there, heard
+    or true: the sonar's minimum range. Nearer, the ring cannot tell near from touching, and
+    an arc that passes an echo closer than that grazes it once odometry has drifted."""
+    return robot.sonar.min_range_m
 
 
 def arc_points(pose: Pose, curvature_per_m: float, along_m: np.ndarray) -> np.ndarray:

@@ -6,11 +6,12 @@ it drove, from the bump that ended it.
 An echo is placed where the reading's transducer faced, at its range from the body's edge:
 a point on the transducer's axis in the odometry frame. Each recorded point's collision
 point on a trajectory is where the body, driven along it from the odometry pose of that
-point, would first meet one of the echoes read from `window_s` before the point to
-`window_s` after it: the readings of every episode of the session in that time, the echoes
-of walls the ring heard square on only from elsewhere among them. The driven trajectory
-keeps the collision point its episode found (a bump, a sonar's collision point, or none
-after a full circle), which it met rather than heard.
+point, would first come within the sonar's minimum range (core.arcs.collision_clearance_m)
+of one of the echoes read from `window_s` before the point to `window_s` after it: the
+readings of every episode of the session in that time, the echoes of walls the ring heard
+square on only from elsewhere among them. The driven trajectory keeps the collision point
+its episode found (a bump, a sonar's collision point, or none after a full circle), which
+it met rather than heard.
 
 The evidence supports a label when the point's window was heard whole after it: the
 session went on for `window_s` after the point. A point nearer the session's end labels its
@@ -31,6 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from tvl_cli.core.arcs import collision_clearance_m
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.ring import mm_to_ring
 from tvl_cli.core.robot_config import RobotConfig
@@ -150,7 +152,7 @@ class HeardLabeller:
                 echoes,
                 first,
                 stop,
-                self._robot.radius_m,
+                self._robot.radius_m + collision_clearance_m(self._robot),
                 found,
             )
             distances[heard] = found

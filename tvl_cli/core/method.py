@@ -403,7 +403,8 @@ ADDITIONS: tuple[Addition, ...] = (
         "--labels",
         HEARD_LABELS,
         "Every recorded point labels all seven trajectories, each from where the body would "
-        "meet the echoes heard from 10 s before the point to 10 s after it, placed by "
+        "come within 0.15 m of the echoes heard from 10 s before the point to 10 s after "
+        "it, placed by "
         "odometry (the paper's §2 'accumulated sensor data and odometry'); the driven one "
         "keeps the collision point it met.",
         BUMP_LABELS,
