@@ -140,22 +140,22 @@ def test_at_a_step_that_decided_nothing_explains_the_nearest_that_did(
 @pytest.mark.slow  # over a second
 def test_explain_draws_the_moment(ran: dict[str, Path], tmp_path: Path) -> None:
     png = tmp_path / "moment.png"
-    code, out, err = tvl("explain", ran["trace"], "--step", "20", "--png", png)
+    code, out, err = tvl("explain", ran["trace"], "--step", "24", "--png", png)
     assert code == 0, err
     assert "rules that fire" in out
     with Image.open(png) as image:
         assert image.format == "PNG" and image.width > image.height > 500
         colours = {rgb for _, rgb in image.convert("RGB").getcolors(1 << 20)}
     assert tuple(inks(RAY_COLOUR)[0]) in colours  # the rays
-    code, _, err = tvl("explain", ran["trace"], "--step", "20", "--png", png)
+    code, _, err = tvl("explain", ran["trace"], "--step", "24", "--png", png)
     assert code == 2 and "already exists" in err
     code, _, err = tvl("explain", ran["trace"], "--contacts", "--png", tmp_path / "c.png")
     assert code == 2 and "--png draws one moment" in err
     # In the format its name's extension says.
     svg = tmp_path / "moment.svg"
-    assert tvl("explain", ran["trace"], "--step", "20", "--png", svg)[0] == 0
+    assert tvl("explain", ran["trace"], "--step", "24", "--png", svg)[0] == 0
     assert b"<svg" in svg.read_bytes()[:400]
-    code, _, err = tvl("explain", ran["trace"], "--step", "20", "--png", tmp_path / "m.bmp")
+    code, _, err = tvl("explain", ran["trace"], "--step", "24", "--png", tmp_path / "m.bmp")
     assert code == 2 and ".bmp is no picture format tvl writes" in err
 
 
@@ -203,7 +203,7 @@ def _inside(boxes: list[Bbox], ax: Axes) -> bool:
 
 
 @pytest.mark.slow  # over a second
-@pytest.mark.parametrize("step", [0, 20, 60, 120, 170])
+@pytest.mark.parametrize("step", [0, 24, 60, 120, 170])
 def test_the_moment_names_each_trajectory_apart_and_writes_each_rule_within_its_panel(
     ran: dict[str, Path], step: int, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
@@ -225,7 +225,7 @@ def ran_multi(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
 
 
 @pytest.mark.slow  # trains a multi FAM and draws three moments
-@pytest.mark.parametrize("step", [0, 60, 150])
+@pytest.mark.parametrize("step", [0, 100, 160])
 def test_a_multi_fams_long_rules_fold_within_their_panel_as_saved(
     ran_multi: dict[str, Path], step: int, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
