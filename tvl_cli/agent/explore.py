@@ -303,9 +303,10 @@ class Learner:
             return summary.stopped_by is not None
 
         drive(self.sim, policy, self.params.minutes, on_step=on_step, stop=stop, measure=False)
-        # The session has ended, however it was stopped: what waits for its labels is trained.
-        trained(trainer.finish())
         if summary.stopped_by is None:
+            # The session has ended: what waits for its labels is trained. A session stopped
+            # by a signal leaves it to `tvl train` (the log keeps it), so that it stops at once.
+            trained(trainer.finish())
             # The last minute is whole only when time ran out; a cut-short one is partial.
             while minute.minute < last:
                 on_minute(minute)
