@@ -33,33 +33,20 @@ DWA_FIELDS = ("reflexes", "memory")
 ALONE = replace(DEFAULT, reflexes=(), memory=NO_MEMORY)
 
 
+def _draw(
+    world: WorldMap, path: PathRecorder, png: Path, title: str, goal: tuple[float, float] | None
+) -> None:
+    from tvl_cli.render.plot import render_recorded_path  # matplotlib only for a picture
+
+    render_recorded_path(world, path.column, png, title, goal)
+
+
 def _goal(
     world_path: Path, world: WorldMap, behaviour: str, goal: tuple[float, float] | None
 ) -> tuple[float, float] | None:
     if behaviour not in BEHAVIOURS:
         raise BadInput(f"unknown behaviour {behaviour!r} (choose from {', '.join(BEHAVIOURS)})")
     return resolve_goal(world_path, world, behaviour, goal)
-
-
-def _draw(
-    world: WorldMap,
-    path: PathRecorder,
-    png: Path,
-    title: str,
-    goal: tuple[float, float] | None,
-) -> None:
-    # matplotlib only when a picture is wanted
-    from tvl_cli.render.plot import path_marks, render_path
-
-    render_path(
-        world,
-        path.column("pose"),
-        path.column("speed_mps"),
-        path_marks(path.column("events")),
-        png,
-        title=title,
-        goal=goal,
-    )
 
 
 def dwa_session(

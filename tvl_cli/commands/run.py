@@ -208,32 +208,14 @@ def run_behaviour(
             trace.metrics = asdict(metrics)
             trace.stopped_by = stopped_by
     if request.png is not None:
-        _draw_path(request, request.png, world, path, goal)
+        title = f"{request.behaviour} in {world.name}, threshold {request.threshold:g}"
+        from tvl_cli.render.plot import render_recorded_path  # matplotlib only for a picture
+
+        render_recorded_path(world, path.column, request.png, title, goal)
     learnt = learner.summary() if learner is not None else None
     options = run_options(request, goal)
     return RunResult(
         metrics, tally.minutes(metrics), learnt, session, recorded, options, stopped_by
-    )
-
-
-def _draw_path(
-    request: RunRequest,
-    png: Path,
-    world: WorldMap,
-    path: PathRecorder,
-    goal: tuple[float, float] | None,
-) -> None:
-    """The run's path picture, coloured by speed, its events marked, the goal it sought."""
-    from tvl_cli.render.plot import path_marks, render_path  # matplotlib only for a picture
-
-    render_path(
-        world,
-        path.column("pose"),
-        path.column("speed_mps"),
-        path_marks(path.column("events")),
-        png,
-        title=f"{request.behaviour} in {world.name}, threshold {request.threshold:g}",
-        goal=goal,
     )
 
 

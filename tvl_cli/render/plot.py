@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 import numpy as np
@@ -193,6 +193,20 @@ PATH_MARKS: dict[str, tuple[str, str, float, str]] = {
     NEAR_MISS: ("^", "darkorange", 6, "near miss"),
     BACKOFF: (".", "purple", 5, "back-off"),
 }
+
+
+def render_recorded_path(
+    world: WorldMap,
+    column: Callable[[str], np.ndarray],
+    png: Path,
+    title: str,
+    goal: tuple[float, float] | None,
+) -> None:
+    """The picture of a driven path from its recorded columns (`column(name)`: `pose`,
+    `speed_mps`, `events`), coloured by speed, its events marked, the goal it sought: the
+    `--png` of `tvl run` and `tvl baseline`."""
+    marks = path_marks(column("events"))
+    render_path(world, column("pose"), column("speed_mps"), marks, png, title=title, goal=goal)
 
 
 def render_path(
