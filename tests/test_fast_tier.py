@@ -68,6 +68,7 @@ def test_a_test_asking_for_run_tvl_is_marked_slow(inner: pytest.Pytester) -> Non
     ]
 
 
+@pytest.mark.slow
 def test_an_unmarked_test_that_starts_tvl_fails_naming_itself(inner: pytest.Pytester) -> None:
     result = inner.runpytest_inprocess("-m", "not slow", plugins=[tiers])
     result.assert_outcomes(passed=1, failed=3, errors=1, deselected=2)

@@ -7,6 +7,7 @@ from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from tvl_cli.agent.explore import Learner, LearnParams, spin_commands
 from tvl_cli.agent.explore_rules import least_experienced
@@ -64,6 +65,7 @@ def test_the_first_episodes_try_pairs_not_tried_before() -> None:
     assert len(set(tried)) == len(tried)
 
 
+@pytest.mark.slow
 def test_labels_along_a_collision_episode_brake_to_the_collision_point() -> None:
     learner = _learner(SQUARE, minutes=3)
     episode = next(e for e in _episodes(learner) if e.collided and e.exemplar_count > 10)
@@ -99,6 +101,7 @@ def test_spinning_to_a_rotation_turns_the_shorter_way_exactly() -> None:
         assert all(abs(c.angular_radps) <= ROBOT.spin_rate_radps + 1e-12 for c in commands)
 
 
+@pytest.mark.slow
 def test_minute_statistics_add_up_to_the_summary() -> None:
     learner = _learner(SQUARE, minutes=3)
     minutes: list = []

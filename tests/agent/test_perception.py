@@ -149,6 +149,7 @@ def _session_steps(minutes: float, memory: MemoryConfig) -> tuple[list[Episode],
     return episodes, steps
 
 
+@pytest.mark.slow
 def test_learning_trains_on_virtual_rings_that_replaying_its_exemplars_rebuilds() -> None:
     episodes, _ = _session_steps(2.0, PATCH_MEMORY)
     assert all(e.fam_ring_m is not None for e in episodes)
@@ -217,6 +218,7 @@ def test_a_choice_replaces_only_the_settings_given() -> None:
     assert MemoryChoice(kind="none").over(base) == NO_MEMORY
 
 
+@pytest.mark.slow
 def test_replaying_a_log_session_gives_each_episode_its_virtual_rings(tmp_path: Path) -> None:
     from tvl_cli.commands.learn import LearnRequest, learn_to_log
     from tvl_cli.io.log_sessions import finished_episodes

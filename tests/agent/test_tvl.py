@@ -73,6 +73,7 @@ def run(
     return metrics, steps
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("behaviour", ["avoid", "wall-left", "goal"])
 @pytest.mark.parametrize("reflexes", [(), ("blocked-ways", "near-miss", "bump", "tie")])
 def test_the_same_world_seed_and_options_give_the_same_run(behaviour, reflexes) -> None:
@@ -85,6 +86,7 @@ def test_the_same_world_seed_and_options_give_the_same_run(behaviour, reflexes) 
     assert first.distance_m > 1.0  # the robot went somewhere
 
 
+@pytest.mark.slow
 def test_another_seed_gives_another_run() -> None:
     fam = learnt_fam(HALL)
     _, first = run(HALL, fam, "avoid", 0.5, 5)
@@ -106,6 +108,7 @@ def test_the_paper_policy_alone_drives_on_into_what_it_perceives_as_fast() -> No
     assert steps[-1].decision.trajectory == 3 and steps[-1].bumped
 
 
+@pytest.mark.slow
 def test_every_step_records_the_view_the_choice_was_made_in() -> None:
     _, steps = run(HALL, learnt_fam(HALL), "avoid", 0.5, reflexes=())
     chosen = [s.decision for s in steps if s.decision.choice >= 0]
@@ -117,6 +120,7 @@ def test_every_step_records_the_view_the_choice_was_made_in() -> None:
         assert d.velocities[d.choice] >= 0.85 * ROBOT.v_max_mps[d.choice] - 1e-12
 
 
+@pytest.mark.slow
 def test_a_rotated_choice_spins_before_it_follows() -> None:
     _, steps = run(HALL, learnt_fam(HALL), "wall-left", 1.0, reflexes=())
     rotated = [i for i, s in enumerate(steps) if s.decision.rotation != 0]

@@ -122,6 +122,7 @@ def test_the_chosen_tables_score_as_the_whole_fam_trained_as_tvl_train_does(desi
     assert ours.error_mps < designed.scores[1].error_mps
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("budget", [30, 200])
 def test_the_budget_is_respected(budget: int) -> None:
     config = design_inputs(synthetic(), ROBOT, TrainParams(), budget, seed=1).config

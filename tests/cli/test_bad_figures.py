@@ -86,6 +86,7 @@ GOOD = {
 }
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", sorted(GOOD))
 def test_the_synthetic_runs_are_drawn(invoke_tvl, tmp_path, name):
     """The runs the refusals below spoil are ones the figure draws."""

@@ -260,6 +260,7 @@ def test_learn_refuses_bad_labels_before_touching_the_log(
     assert not log.exists()
 
 
+@pytest.mark.slow
 def test_train_refuses_a_log_with_corrupt_data(invoke_tvl, tmp_path):
     log = tmp_path / "log.h5"
     assert invoke_tvl("learn", SQUARE, "--log", log, "--minutes", "2").returncode == 0

@@ -122,6 +122,7 @@ def test_fams_of_different_robots_say_so_in_the_table_and_the_json(
     assert printed["differing"] == 0
 
 
+@pytest.mark.slow
 def test_fams_learnt_through_different_sonar_models_say_so(
     fams: dict[str, Path], tmp_path: Path
 ) -> None:

@@ -87,6 +87,7 @@ def test_demo_prints_learning_and_every_run(tmp_path: Path) -> None:
         assert Path(run["png"]).exists()
 
 
+@pytest.mark.slow
 def test_csv_rows_of_rules_and_of_run_metrics(learnt: Path, tmp_path: Path) -> None:
     import csv
     import io

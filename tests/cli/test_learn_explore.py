@@ -24,6 +24,7 @@ def novelty_log(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, dict]:
     return log, valid("learn", done.stdout)
 
 
+@pytest.mark.slow
 def test_the_session_records_its_rule_and_trains(novelty_log, invoke_tvl, tmp_path) -> None:
     log, _ = novelty_log
     assert read_log(log).sessions[0].method.exploration == "novelty"

@@ -81,6 +81,7 @@ def test_a_log_learnt_with_a_memory_trains_a_fam_without_one_and_back(
     assert read_fam(remembering).method.memory == PATCHES_20
 
 
+@pytest.mark.slow
 def test_a_run_reads_through_its_fams_memory_unless_told(
     learnt: tuple[Path, Path], tmp_path: Path
 ) -> None:
@@ -130,6 +131,7 @@ def test_bad_memory_settings_are_one_line(tmp_path: Path) -> None:
     assert not (tmp_path / "l.h5").exists()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     "appended",
     [[], ["--memory", "points"], ["--memory-window", "60"]],

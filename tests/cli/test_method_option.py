@@ -85,6 +85,7 @@ def test_learn_by_the_paper_named_three_ways_records_one_method(
     assert ours["inputs"]["method"] == method_record(DEFAULT)
 
 
+@pytest.mark.slow
 def test_train_run_and_the_baselines_by_the_paper_named_three_ways_agree(
     learnt: dict[str, Path], tmp_path: Path
 ) -> None:

@@ -82,6 +82,7 @@ def test_a_blitted_frame_is_the_whole_figure_drawn(ran: dict[str, Path]) -> None
     assert differs.mean() < 1e-3
 
 
+@pytest.mark.slow
 def test_a_gif_keeps_its_inks_and_tells_its_progress(ran: dict[str, Path], tmp_path: Path):
     gif, told = tmp_path / "run.gif", []
     frames = animate_run(
@@ -100,6 +101,7 @@ def test_a_gif_keeps_its_inks_and_tells_its_progress(ran: dict[str, Path], tmp_p
     assert tuple(inks(RAY_COLOUR)[0]) in colours
 
 
+@pytest.mark.slow
 def test_replay_draws_a_gif_in_process(ran: dict[str, Path], tmp_path: Path) -> None:
     gif = tmp_path / "r.gif"
     code, _, err = tvl("replay", ran["trace"], "--gif", gif, "--to", "6", "--every", "4")

@@ -33,6 +33,7 @@ def learnt(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
     return {"log": log, "online": online, "dir": directory}
 
 
+@pytest.mark.slow
 def test_train_rebuilds_the_online_fam_exactly(invoke_tvl, learnt, tmp_path):
     rebuilt = tmp_path / "rebuilt.h5"
     result = invoke_tvl("train", learnt["log"], "-o", rebuilt)
@@ -52,6 +53,7 @@ def test_training_twice_gives_byte_identicaldatasets(invoke_tvl, learnt, tmp_pat
     assert datasets(first)  # there is something to compare
 
 
+@pytest.mark.slow
 def test_train_summary_counts_exemplars_and_rules(invoke_tvl, learnt, tmp_path):
     result = invoke_tvl("train", learnt["log"], "-o", tmp_path / "f.h5")
     exemplars = read_log(learnt["log"]).exemplar_count
@@ -200,6 +202,7 @@ def test_an_unknown_reflex_is_refused_by_name(invoke_tvl, learnt):
     assert result.returncode == 2 and "unknown reflex typo" in result.stderr
 
 
+@pytest.mark.slow
 def test_an_ideal_sonar_fam_runs_with_the_ideal_sonar(invoke_tvl, tmp_path):
     log, fam, trace = tmp_path / "log.h5", tmp_path / "fam.h5", tmp_path / "run.h5"
     learn = invoke_tvl("learn", SQUARE, "--log", log, "--minutes", "1", "--sonar", "ideal")
@@ -256,6 +259,7 @@ def test_learn_json_summary(invoke_tvl, tmp_path):
     assert summary["exemplars"] == read_log(tmp_path / "l.h5").exemplar_count
 
 
+@pytest.mark.slow
 def test_learning_again_on_a_log_adds_a_session(invoke_tvl, tmp_path):
     log = tmp_path / "l.h5"
     for seed in ("1", "2"):
@@ -298,6 +302,7 @@ def test_world_of_the_log_travels_with_it(learnt, tmp_path):
     assert read_log(moved).sessions[0].world_text == SQUARE.read_text(encoding="utf-8")
 
 
+@pytest.mark.slow
 def test_train_until_a_minute_uses_only_the_episodes_finished_by_then(invoke_tvl, learnt, tmp_path):
     snapshot, whole = tmp_path / "snapshot.h5", tmp_path / "whole.h5"
     assert invoke_tvl("train", learnt["log"], "-o", snapshot, "--until-minute", "1").returncode == 0

@@ -32,6 +32,7 @@ def test_a_log_picture_draws_every_session_of_its_world(two_sessions: Path, tmp_
     assert png.read_bytes().startswith(PNG_MAGIC)
 
 
+@pytest.mark.slow
 def test_a_log_picture_of_one_session(two_sessions: Path, tmp_path: Path) -> None:
     png, curves = tmp_path / "one.png", tmp_path / "curves.png"
     done = tvl("replay", two_sessions, "--png", png, "--session", "0", "--curves", curves, "--json")

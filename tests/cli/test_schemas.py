@@ -338,6 +338,7 @@ def test_baseline_documents_follow_their_schemas() -> None:
     assert qlearn["learn_minutes"] == qlearn["inputs"]["learn_minutes"] == 0.1
 
 
+@pytest.mark.slow
 def test_a_figure_document_follows_its_schema(made: dict[str, Path]) -> None:
     """A results file as the experiment scripts make one: each run's parameters, then what
     `tvl run --json` printed."""

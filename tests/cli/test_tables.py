@@ -159,6 +159,7 @@ def pictures_listed(printed: str) -> list[str]:
     return [line.strip() for line in listed]
 
 
+@pytest.mark.slow
 def test_the_demo_names_its_pictures_whole_a_line_each(
     eighty_columns: None, fam: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

@@ -269,6 +269,7 @@ def test_render_writes_a_png(invoke_tvl: RunTvl, tmp_path: Path) -> None:
     assert invoke_tvl("world", "render", ROOT / "worlds" / "lab.txt", "-o", png).returncode == 2
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     "name, starts",
     [

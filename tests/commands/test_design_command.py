@@ -47,6 +47,7 @@ def test_every_episode_is_either_trained_on_or_held_out(designed: DesignSummary)
     assert design.heldout_episodes == pytest.approx(episodes / 4, abs=4)
 
 
+@pytest.mark.slow
 def test_a_small_budget_is_kept(tmp_path: Path) -> None:
     summary = design_from_logs([EXAMPLE_LOG], tmp_path / "small.json", budget_rules=40)
     assert summary.design.config.rule_count <= 40

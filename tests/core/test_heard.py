@@ -74,6 +74,7 @@ def wall_distances(odometry: np.ndarray) -> np.ndarray:
     return np.array([first_contacts_m(tuple(p), CURVATURES, wall, REACH_M) for p in odometry])
 
 
+@pytest.mark.slow
 def test_the_heard_labels_of_all_seven_arcs_are_the_arc_clearance_to_a_known_wall() -> None:
     first, second = toward_and_away()
     heard = heard_episodes([first, second], ROBOT, ended=True, window_s=10.0)[0].distances_m

@@ -41,6 +41,7 @@ def square_fam() -> Fam:
     return train_from_logs([ROOT / "logs" / "square-s1.h5"], SINGLE, live_ring).fam
 
 
+@pytest.mark.slow
 def test_the_tvl_policy_is_competent_in_the_square(square_fam: Fam) -> None:
     env = gymnasium.make(ENV_ID, world="square", method="paper")
     policy = TvlGymPolicy(square_fam, behaviour="avoid", threshold=0.85)

@@ -28,6 +28,7 @@ def make(**kwargs: object) -> gymnasium.Env:
     return gymnasium.make(ENV_ID, **{"world": "square", **kwargs})
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("action_type", ["discrete", "continuous", "normalised"])
 @pytest.mark.parametrize(
     "kwargs",

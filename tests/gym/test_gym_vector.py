@@ -50,6 +50,7 @@ def test_make_vec_makes_it_with_the_single_envs_spaces() -> None:
     assert info["pose"].shape == (COPIES, 3)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     "kwargs",
     [{}, {"world": "obstacles", "task": "goal"}, {"world": "lab", "method": "paper"}],
@@ -68,6 +69,7 @@ def test_each_copy_steps_as_a_single_env_through_autoresets(kwargs: dict[str, st
     assert ended >= 2  # bumps ended episodes, and the copies were reset on their next step
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("world", ["square", "obstacles"])
 def test_continue_goes_on_in_each_copy_as_in_single_envs(world: str) -> None:
     # Whenever a copy's episode ends, every copy goes on from where it is: the bumped ones

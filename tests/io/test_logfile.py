@@ -428,6 +428,7 @@ def test_writer_killed_mid_write_leaves_only_whole_episodes(tmp_path: Path, writ
         assert_same_episode(episode, sample_episode(index))
 
 
+@pytest.mark.slow
 def test_killed_session_is_compressed_when_the_next_session_closes(tmp_path: Path) -> None:
     path = tmp_path / "x.h5"
     kill_child(start_child(path, episodes=2))

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import asyncio
 import importlib.util
+import logging
 import multiprocessing
 import multiprocessing.connection
 import os
@@ -103,7 +104,13 @@ def local_cluster(workers: int, on_dashboard: OnDashboard) -> Iterator[Executor]
             # one on another port, which the link given to on_dashboard names.
             warnings.filterwarnings("ignore", "Port .* is already in use", UserWarning)
             cluster = distributed.LocalCluster(
-                n_workers=workers, threads_per_worker=1, processes=True
+                n_workers=workers,
+                threads_per_worker=1,
+                processes=True,
+                # Each cell's failure reaches the sweep as its call's error. What dask would
+                # log besides is its own noise, such as the traceback of a restarted worker
+                # whose heartbeat finds the scheduler already closed at the sweep's end.
+                silence_logs=logging.CRITICAL,
             )
     except Exception as error:  # whatever stopped it, the sweep cannot run
         raise EnvironmentFailure(

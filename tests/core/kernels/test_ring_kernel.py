@@ -48,6 +48,7 @@ def cast(
     return cast_with_sources(ranges, ring, geometry, poses, noise)[0]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("model", sorted(SONAR_MODELS))
 @pytest.mark.parametrize("name", sorted(WORLDS))
 def test_the_kernel_reads_as_the_reference_at_random_poses(name: str, model: str) -> None:

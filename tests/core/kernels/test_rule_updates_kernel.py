@@ -24,6 +24,7 @@ def exemplars(count: int, seed: int) -> tuple[np.ndarray, np.ndarray, np.ndarray
     return rings, rng.integers(0, 7, count), rng.uniform(0.0, 0.6, count)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("symmetric", [True, False])
 @pytest.mark.parametrize("name", sorted(CONFIGS))
 def test_a_batch_trains_the_fam_as_the_reference_does(name: str, symmetric: bool) -> None:

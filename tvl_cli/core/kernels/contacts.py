@@ -11,6 +11,11 @@ import math
 
 from tvl_cli.core.kernels import kernel
 
+# The squared-distance screen's margins: far wider than the rounding of either test, so that it
+# leaves out only echoes the exact test would leave out too.
+_SLACK_OUT = 1.0 + 1e-9
+_SLACK_IN = 1.0 - 1e-9
+
 
 @kernel
 def first_contacts_in_windows(
@@ -42,6 +47,13 @@ def first_contacts_in_windows(
                     continue
                 radius = 1.0 / abs(k_t)
                 across = (1.0 if k_t > 0.0 else -1.0) * left - radius
+                # Most echoes lie far off the swept band: ruled out by their squared distance
+                # from the arc's centre, with room for rounding, before the exact test below.
+                rho_squared = ahead * ahead + across * across
+                if rho_squared > (radius + r) * (radius + r) * _SLACK_OUT:
+                    continue
+                if radius > r and rho_squared < (radius - r) * (radius - r) * _SLACK_IN:
+                    continue
                 rho = math.hypot(ahead, across)
                 if abs(rho - radius) > r:
                     continue
