@@ -164,8 +164,8 @@ def test_run_refuses_a_goal_inside_a_wall(invoke_tvl, fam_file):
     _assert_refused(result, "inside a wall")
 
 
-def test_run_refuses_a_fam_of_another_robot(invoke_tvl, tmp_path):
-    other = RobotConfig(radius_m=0.3)
+def test_run_refuses_a_fam_of_another_robot_than_the_one_asked_for(invoke_tvl, tmp_path):
+    other = RobotConfig(radius_m=0.15)
     path = tmp_path / "other.h5"
     write_fam(
         path,
@@ -174,8 +174,16 @@ def test_run_refuses_a_fam_of_another_robot(invoke_tvl, tmp_path):
         method=LIVE_RING,
         provenance={},
     )
-    result = invoke_tvl("run", path, SQUARE, "--behaviour", "avoid")
-    _assert_refused(result, "another robot configuration", "radius_m")
+    result = invoke_tvl("run", path, SQUARE, "--behaviour", "avoid", "--robot", "yamabico")
+    assert result.returncode == 2
+    assert result.stderr == (
+        f"tvl: error: {path}: FAM was learnt on a robot of its own (0.3 m across), not on the "
+        "yamabico robot (radius_m 0.15 → 0.2); learn one with that --robot\n"
+    )
+    # Not asked for a robot, the run drives the FAM's own.
+    assert (
+        invoke_tvl("run", path, SQUARE, "--behaviour", "avoid", "--minutes", "0.1").returncode == 0
+    )
 
 
 def test_run_refuses_an_existing_png_without_force(invoke_tvl, fam_file, tmp_path):

@@ -6,6 +6,7 @@ import pytest
 
 from tvl_cli.core.competence import is_competent
 from tvl_cli.core.metrics import RunMetrics
+from tvl_cli.core.robot_profiles import TURTLEBOT3
 
 
 def avoid_run(collisions: int, near_misses: int, mean_speed_mps: float) -> RunMetrics:
@@ -46,3 +47,10 @@ def test_competence_needs_few_contacts_and_enough_speed(
     collisions: int, near_misses: int, mean_speed_mps: float, competent: bool
 ) -> None:
     assert is_competent(avoid_run(collisions, near_misses, mean_speed_mps)) is competent
+
+
+def test_the_speed_asked_is_half_the_robots_top_speed() -> None:
+    fastest = max(TURTLEBOT3.v_max_mps)  # 0.22 m/s
+    assert is_competent(avoid_run(0, 0, 0.11), fastest)
+    assert not is_competent(avoid_run(0, 0, 0.109), fastest)
+    assert not is_competent(avoid_run(0, 0, 0.29))  # the paper's robot's, by default

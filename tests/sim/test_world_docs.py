@@ -38,5 +38,5 @@ def test_the_yaml_limits_and_the_robots_size_are_quoted_as_they_are() -> None:
     assert f"at most {MAX_YAML_BYTES // 1024} kB" in MAPS
     assert f"nesting deeper than {MAX_YAML_DEPTH} levels" in MAPS
     radius = RobotConfig().radius_m
-    assert f"narrower than the robot ({2 * radius:g} m across)" in MAPS
+    assert f"narrower than the robot ({2 * radius:g} m across;" in MAPS
     assert f"footprint (π · {radius:g}² m²)" in MAPS

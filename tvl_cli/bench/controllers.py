@@ -18,6 +18,7 @@ from pathlib import Path
 from tvl_cli.commands.run import run_robot
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.method import PRESETS, Method
+from tvl_cli.core.robot_profiles import DEFAULT_ROBOT
 from tvl_cli.io.famfile import read_fam
 from tvl_cli.io.methodfile import resolve_method
 
@@ -56,7 +57,7 @@ def parse_controller(text: str) -> Controller:
     if spec.endswith(".h5"):
         path = Path(spec).absolute()
         fam_file = read_fam(path)  # FormatError naming the file
-        run_robot(fam_file.robot_config, None, path)  # BadInput for another robot's
+        run_robot(fam_file.robot_config, None, path, DEFAULT_ROBOT)  # the benchmark robot only
         return Controller(name or path.stem, FAM, str(path))
     if ":" in spec:
         return _gym(name, spec)

@@ -40,6 +40,7 @@ from tvl_cli.commands.train import train_from_logs, write_trained
 from tvl_cli.core.competence import is_competent_run
 from tvl_cli.core.method import NOT_GIVEN, Method, MethodChoice, describe_record
 from tvl_cli.core.metrics import RunMetrics
+from tvl_cli.core.robot_profiles import DEFAULT_ROBOT
 from tvl_cli.core.trajectory_choice import DEFAULT_THRESHOLD
 from tvl_cli.io.famfile import FamFile, read_fam
 from tvl_cli.sim.worldmap import WorldMap, load_world
@@ -169,7 +170,7 @@ def _drive_fams(
     rows: list[Row | None] = [None] * len(driven)
     batches: dict[tuple[Any, Method], list[int]] = {}
     for i, (_, path, fam_file) in enumerate(driven):
-        robot = run_robot(fam_file.robot_config, None, path)
+        robot = run_robot(fam_file.robot_config, None, path, DEFAULT_ROBOT)
         batches.setdefault((robot, run_method(fam_file, choice)), []).append(i)
     for (robot, method), members in batches.items():
         chunks: list[list[Columns]] = [[] for _ in members]

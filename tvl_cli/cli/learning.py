@@ -18,13 +18,20 @@ from tvl_cli.cli.options import (
     print_json,
     refuse_existing,
     refuse_shared_paths,
+    robot_option,
     seed_option,
     training_options,
 )
 from tvl_cli.commands.learn import LearnRequest, LearnResult, learn_to_log
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.method import DEFAULT, EXPLORATION_RULES, FIELDS, MethodChoice
-from tvl_cli.core.robot_config import EDGE_ECHO_RANGE_M, FASTEST_MPS, SONAR_MODELS
+from tvl_cli.core.robot_config import (
+    EDGE_ECHO_RANGE_M,
+    FASTEST_MPS,
+    SONAR_MODEL_NAMES,
+    RobotConfig,
+)
+from tvl_cli.core.robot_profiles import DEFAULT_ROBOT_NAME
 from tvl_cli.core.trajectory_choice import DEFAULT_THRESHOLD
 from tvl_cli.core.words import counted
 from tvl_cli.io.interrupts import STOPPED_EXIT
@@ -82,10 +89,11 @@ DEFAULT_LEARN = LearnParams()
 )
 @click.option(
     "--sonar",
-    type=click.Choice(list(SONAR_MODELS)),
+    type=click.Choice(SONAR_MODEL_NAMES),
     default=None,
-    help=f"edges: convex edges echo within {EDGE_ECHO_RANGE_M:g} m; ideal: nearest hit at "
-    f"any angle, no noise (default: the method's, ours {DEFAULT.sonar}).",
+    help=f"edges: convex edges echo within a quarter of the ring's range ({EDGE_ECHO_RANGE_M:g} m "
+    f"on the yamabico); ideal: nearest hit at any angle, no noise (default: the method's, ours "
+    f"{DEFAULT.sonar}).",
 )
 @click.option(
     "--from-fam",
@@ -93,6 +101,7 @@ DEFAULT_LEARN = LearnParams()
     default=None,
     help="Start a new log from this trained FAM (of the same --config).",
 )
+@robot_option("The robot that learns: its body, trajectories and sonar ring.", DEFAULT_ROBOT_NAME)
 @memory_options(base=DEFAULT.memory.kind)
 @click.option("--force", is_flag=True, help="Overwrite the --fam file.")
 @click.option("--json", "as_json", is_flag=True, help="Print a JSON summary.")
@@ -109,6 +118,7 @@ def learn(
     fam_out: Path | None,
     learn_speed: float,
     from_fam: Path | None,
+    robot: RobotConfig,
     force: bool,
     as_json: bool,
     live: bool,
@@ -139,6 +149,7 @@ def learn(
             from_fam=from_fam,
             symmetric=symmetric,
             init_velocity_mps=init_velocity_mps,
+            body=robot,
         )
         if index == 0:
             views.warn_of_other_worlds(log, named.path or named.world, named.entry)
@@ -163,7 +174,7 @@ def _learn_live(request: LearnRequest, pace: float | None) -> LearnResult:
     """Learn with the live view: the robot exploring, and the last whole minute's counts."""
     from tvl_cli.cli.live import LiveView, Sight, live_view
 
-    robot = request.method.robot()
+    robot = request.robot
     view = LiveView(Sight(request.world_map(), robot, DEFAULT_THRESHOLD, pace=pace))
 
     def on_minute(stats: MinuteStats) -> None:

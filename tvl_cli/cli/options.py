@@ -42,9 +42,11 @@ from tvl_cli.core.method import (
     MethodChoice,
     parse_reflexes,
 )
-from tvl_cli.core.robot_config import SLOWEST_TOP_MPS
+from tvl_cli.core.robot_config import SLOWEST_TOP_MPS, RobotConfig
+from tvl_cli.core.robot_profiles import ROBOT_PROFILES
 from tvl_cli.io.atomic import refuse_missing_directory, refuse_non_file
 from tvl_cli.io.methodfile import resolve_method
+from tvl_cli.io.robotfile import resolve_robot
 from tvl_cli.io.table import csv_text
 from tvl_cli.render.formats import picture_format, refuse_other_extension
 
@@ -83,6 +85,32 @@ def seed_option(what: str) -> Callable[[Callable[..., None]], Callable[..., None
         default=1,
         show_default=True,
         help=f"Seed of {what}; the same seed gives the same result.",
+    )
+
+
+class Robot(click.ParamType):
+    """`--robot NAME|FILE.toml`: a shipped robot by name, or a robot file (io.robotfile)."""
+
+    name = "NAME|FILE.toml"
+
+    def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> Any:
+        if isinstance(value, RobotConfig):
+            return value
+        try:
+            return resolve_robot(value, label="")
+        except BadInput as error:
+            self.fail(str(error), param, ctx)
+
+
+def robot_option(help_text: str, default: str | None = None) -> Callable[..., Any]:
+    """--robot NAME|FILE.toml: the robots named (or any robot file), with `help_text`."""
+    return click.option(
+        "--robot",
+        type=Robot(),
+        metavar="NAME|FILE.toml",
+        default=default,
+        show_default=default is not None,
+        help=f"{help_text} Robots: {', '.join(ROBOT_PROFILES)}, or a robot file (TOML).",
     )
 
 

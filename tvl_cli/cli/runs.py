@@ -34,12 +34,13 @@ from tvl_cli.cli.options import (
     refuse_both_formats,
     refuse_existing,
     refuse_shared_paths,
+    robot_option,
     seed_option,
 )
 from tvl_cli.core.contacts import EVENT_CHOICES
 from tvl_cli.core.errors import DEFAULT_RUN_MINUTES, BadInput
 from tvl_cli.core.method import ALL, MethodChoice
-from tvl_cli.core.robot_config import SONAR_MODELS
+from tvl_cli.core.robot_config import SONAR_MODEL_NAMES, RobotConfig
 from tvl_cli.core.trajectory_choice import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD
 
 if TYPE_CHECKING:
@@ -78,10 +79,11 @@ VIEWS = (TERMINAL, WINDOW)
 @reflex_options(default=ALL)
 @click.option(
     "--sonar",
-    type=click.Choice(list(SONAR_MODELS)),
+    type=click.Choice(SONAR_MODEL_NAMES),
     default=None,
     help="The sonar model to drive with (default: the one the FAM was learnt with).",
 )
+@robot_option("The robot to drive, refused unless the FAM was learnt on it (default: the FAM's).")
 @click.option(
     "--learn",
     is_flag=True,
@@ -120,6 +122,7 @@ def run(
     method: MethodChoice,
     learn: bool,
     learn_log: Path | None,
+    robot: RobotConfig | None,
     force: bool,
     as_json: bool,
     as_csv: bool,
@@ -148,7 +151,18 @@ def run(
     if learn_log is not None:
         views.warn_of_other_worlds(learn_log, world_file, str(world_file))
     request = RunRequest(
-        fam, world_file, behaviour, threshold, minutes, seed, goal, png, trace, method, learning
+        fam,
+        world_file,
+        behaviour,
+        threshold,
+        minutes,
+        seed,
+        goal,
+        png,
+        trace,
+        method,
+        learning,
+        robot,
     )
     with (
         catching_signals() as interrupted,

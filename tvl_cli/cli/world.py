@@ -17,6 +17,7 @@ from tvl_cli.cli.options import (
     print_json,
     refuse_existing,
     refuse_shared_paths,
+    robot_option,
 )
 from tvl_cli.commands.world import (
     NewWorldRequest,
@@ -34,6 +35,7 @@ from tvl_cli.commands.world_import import (
     parse_start,
 )
 from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.core.robot_profiles import DEFAULT_ROBOT_NAME
 from tvl_cli.core.words import counted
 from tvl_cli.io.occupancy_map import SAVED_FREE_THRESH, UNKNOWN_PIXEL
 from tvl_cli.sim.worldgen import KINDS, SMOOTH, Materials
@@ -169,6 +171,7 @@ def counts_text(counts: dict[str, int]) -> str:
     help="Keep only this rectangle of the map (its frame, metres).",
 )
 @click.option("--name", default=None, help="The world's name (default: the map's file name).")
+@robot_option("The robot the start and the narrow passages are judged for.", DEFAULT_ROBOT_NAME)
 @click.option("--force", is_flag=True, help="Overwrite OUTPUT.")
 @click.option("--json", "as_json", is_flag=True, help="Print what was written as JSON.")
 def world_import(
@@ -178,6 +181,7 @@ def world_import(
     cell: float | None,
     crop: str | None,
     name: str | None,
+    robot: RobotConfig,
     force: bool,
     as_json: bool,
 ) -> None:
@@ -195,11 +199,12 @@ def world_import(
         cell,
         None if crop is None else parse_box(crop),
         force,
+        robot,
     )
     refuse_shared_paths({"-o": output}, {"MAP.yaml": map_yaml})
     refuse_existing(output, force)
     imported = import_map(request)
-    for warning in _import_warnings(imported):
+    for warning in _import_warnings(imported, robot):
         click.echo(f"tvl: warning: {map_yaml}: {warning}", err=True)
     if as_json:
         print_json(documents.world_import_json(request, imported))
@@ -207,7 +212,7 @@ def world_import(
         click.echo(_import_summary(output, imported))
 
 
-def _import_warnings(imported: Imported) -> list[str]:
+def _import_warnings(imported: Imported, robot: RobotConfig) -> list[str]:
     """What the user may not expect of the world made: unknown grey read as free, and floor
     the robot fits on but cannot reach."""
     warnings = []
@@ -223,7 +228,7 @@ def _import_warnings(imported: Imported) -> list[str]:
         narrowest = imported.passages[0]
         warnings.append(
             f"{count} passage{'s' if count > 1 else ''} narrower than the robot "
-            f"({2 * RobotConfig().radius_m:g} m across) lead{'' if count > 1 else 's'} to floor "
+            f"({2 * robot.radius_m:g} m across) lead{'' if count > 1 else 's'} to floor "
             f"it fits on but cannot reach; the narrowest is {narrowest.width_m:.3g} m wide "
             f"at x {narrowest.x_m:g} y {narrowest.y_m:g}, with {narrowest.beyond_m2:.3g} m² "
             "beyond it"

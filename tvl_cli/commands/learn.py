@@ -20,6 +20,7 @@ from tvl_cli.core.fam_config import FamConfig
 from tvl_cli.core.memory import MemoryConfig
 from tvl_cli.core.method import DEFAULT, Method, method_record
 from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.core.robot_profiles import DEFAULT_ROBOT
 from tvl_cli.core.training import SessionEpisodes, TrainParams, train_params, train_sessions
 from tvl_cli.io.atomic import check_writable
 from tvl_cli.io.fam_config_file import resolve_fam_config
@@ -50,6 +51,12 @@ class LearnRequest:
     from_fam: Path | None = None  # start from this trained FAM (a new log only)
     symmetric: bool = True  # train each trajectory on its mirror image too (`--no-symmetric`)
     init_velocity_mps: float = DEFAULT_INIT_VELOCITY_MPS  # every entry before training
+    body: RobotConfig = DEFAULT_ROBOT  # the robot learning (`--robot`); the method's sonar
+    # model hears its ring
+
+    @property
+    def robot(self) -> RobotConfig:
+        return self.method.robot(self.body)
 
     @property
     def train(self) -> TrainParams:
@@ -85,7 +92,7 @@ def learn_to_log(
     step shown to `watch` if given (a live view)."""
     world = request.world_map()
     method = request.method
-    robot = method.robot()
+    robot = request.robot
     config = resolve_fam_config(request.config, robot)
     if request.fam_out is not None:  # refused now, not once the log has been learnt
         check_storable(config, request.config)

@@ -12,6 +12,7 @@ import numpy as np
 from tvl_cli.analysis.coverage import coverage_by_minute, coverage_of, world_floor
 from tvl_cli.core.contacts import EVENTS
 from tvl_cli.core.errors import BadInput
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.loglayout import KIND_LEARNING, MINUTE_COLUMNS, STATUS_FINISHED
 from tvl_cli.io.logreader import LearningLog, Session, read_log
 from tvl_cli.io.runfile import RunTrace, read_run, recorded_paths
@@ -253,6 +254,7 @@ def _run(trace: RunTrace, path: Path, png: Path | None) -> RunReplay:
             png,
             title=f"{trace.parameters.get('behaviour')} in {trace.world_name}",
             goal=tuple(goal) if goal else None,
+            robot=RobotConfig.from_dict(trace.robot_config),
         )
     events, reflexes, trajectories = _step_counts(trace)
     return RunReplay(

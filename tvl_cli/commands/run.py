@@ -13,6 +13,7 @@ from tvl_cli.agent.drive import Step, StepSink
 from tvl_cli.agent.drive_tvl import behave
 from tvl_cli.agent.online import ECHO_AFTER_S, ECHO_BEFORE_S, OnlineLearner, OnlineSummary
 from tvl_cli.agent.trace import ColumnSink, PathRecorder, TraceRecorder
+from tvl_cli.analysis.robotdiff import robot_differences
 from tvl_cli.core.errors import BadInput, check_run_minutes
 from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS
 from tvl_cli.core.method import (
@@ -25,7 +26,8 @@ from tvl_cli.core.method import (
     method_record,
 )
 from tvl_cli.core.metrics import MinuteContacts, MinuteTally, RunMetrics
-from tvl_cli.core.robot_config import SONAR_MODELS, RobotConfig, sonar_model_name
+from tvl_cli.core.robot_config import RobotConfig, sonar_model
+from tvl_cli.core.robot_profiles import body_of, robot_name
 from tvl_cli.core.training import TrainParams, train_params
 from tvl_cli.core.trajectory_choice import BEHAVIOUR_NAMES, is_threshold
 from tvl_cli.io.famfile import FamFile, read_fam
@@ -60,6 +62,7 @@ class RunRequest:
     # was learnt with. The rest of the method is the FAM's.
     method: Method | MethodChoice = NOT_GIVEN
     learn: OnlineLearning | None = None  # learn while behaving (`--learn`)
+    robot: RobotConfig | None = None  # the robot asked for (`--robot`); the FAM's if None
 
 
 @dataclass(frozen=True, slots=True)
@@ -101,31 +104,37 @@ def parse_goal(text: str) -> tuple[float, float]:
     return x, y
 
 
-def run_robot(learnt_by: RobotConfig, sonar: str | None, fam_path: Path) -> RobotConfig:
-    """The robot a FAM drives: this simulator's, with the sonar model the FAM was learnt with
-    (or the one asked for). Refused if the FAM's robot differs in anything else: other
-    sonars or trajectories mean other rules."""
-    name = sonar_model_name(learnt_by.sonar) if sonar is None else sonar
-    robot = RobotConfig(sonar=SONAR_MODELS[name or "real"])
-    # A FAM learnt with a sonar of no known model differs in its sonar.
-    theirs_robot = learnt_by if name is None else replace(learnt_by, sonar=robot.sonar)
-    ours, theirs = robot.to_dict(), theirs_robot.to_dict()
-    differences = sorted(key for key in ours if ours[key] != theirs.get(key))
-    if differences:
-        raise BadInput(
-            f"{fam_path}: FAM was learnt by another robot configuration than this "
-            f"simulator's (differs in {', '.join(differences)})"
-        )
+def run_robot(
+    learnt_by: RobotConfig, sonar: str | None, fam_path: Path, asked: RobotConfig | None = None
+) -> RobotConfig:
+    """The robot a FAM drives: the one it was learnt on, its ring heard by the sonar model
+    asked for (or as it was learnt). A FAM's velocities are what its robot could drive, so
+    a robot asked for (`--robot`) that differs from it in anything but the sonar model is
+    refused, naming how they differ."""
+    robot = (
+        learnt_by
+        if sonar is None
+        else replace(learnt_by, sonar=sonar_model(learnt_by.sonar, sonar))
+    )
+    if asked is not None:
+        differences = robot_differences(body_of(learnt_by), body_of(asked))
+        if differences:
+            shown = "; ".join(d.text() for d in differences[:3])
+            more = f"; and {len(differences) - 3} more" if len(differences) > 3 else ""
+            raise BadInput(
+                f"{fam_path}: FAM was learnt on {robot_name(learnt_by)}, not on "
+                f"{robot_name(asked)} ({shown}{more}); learn one with that --robot"
+            )
     return robot
 
 
 def request_robot(request: RunRequest, fam_file: FamFile | None = None) -> RobotConfig:
     """The robot the run drives: its FAM's (`fam_file`, else read from `request.fam`), with
-    the sonar model asked for (`--sonar`)."""
+    the sonar model asked for (`--sonar`), refused if it is not the robot asked for."""
     if fam_file is None:
         fam_file = read_fam(request.fam)
     sonar = dict(as_choice(request.method).settings).get("sonar")
-    return run_robot(fam_file.robot_config, sonar, request.fam)
+    return run_robot(fam_file.robot_config, sonar, request.fam, request.robot)
 
 
 def run_method(fam_file: FamFile, choice: MethodChoice) -> Method:
@@ -211,7 +220,7 @@ def run_behaviour(
         title = f"{request.behaviour} in {world.name}, threshold {request.threshold:g}"
         from tvl_cli.render.plot import render_recorded_path  # matplotlib only for a picture
 
-        render_recorded_path(world, path.column, request.png, title, goal)
+        render_recorded_path(world, path.column, request.png, title, goal, robot)
     learnt = learner.summary() if learner is not None else None
     options = run_options(request, goal)
     return RunResult(

@@ -11,6 +11,7 @@ import numpy as np
 
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.core.robot_profiles import DEFAULT_ROBOT
 from tvl_cli.io.atomic import atomic_output
 from tvl_cli.io.occupancy_map import OccupancyMap, read_occupancy_map
 from tvl_cli.io.paths import refuse_output_among_inputs
@@ -48,6 +49,7 @@ class ImportRequest:
     cell_m: float | None = None  # coarser cells than the map's (`--cell`); None: the map's
     crop: Box | None = None  # the part of the map to keep (`--crop`); None: all of it
     force: bool = False  # replace an output that appeared while the world was made
+    robot: RobotConfig = DEFAULT_ROBOT  # the robot the start and the passages are judged for
 
 
 @dataclass(frozen=True, slots=True)
@@ -124,14 +126,14 @@ def import_map(request: ImportRequest) -> Imported:
     occupancy = read_occupancy_map(request.map_yaml, max_image_pixels())
     refuse_output_among_inputs(request.output, {"the map's image": occupancy.meta.image})
     floor, place = floor_of(*_grid(occupancy, request))  # the world's grid
-    robot = RobotConfig()
+    robot = request.robot
     space = free_space(floor, place.cell_m)
     start, chosen = _start(request, space, place, robot.radius_m)
     made = grid_world(floor, place, start, _name(request), _comments(occupancy, request))
     _refuse_too_large(made, occupancy.meta.path)
     parse_world(made.text, str(request.output))  # held to `tvl world check` before writing
     start_cell = place.cell(made.rows, start[0], start[1])
-    passages = _in_map_frame(narrow_passages(space, start_cell, robot.radius_m), made)
+    passages = _in_map_frame(narrow_passages(space, start_cell, robot.radius_m), made, robot)
     with atomic_output(request.output, overwrite=request.force) as temporary:
         temporary.write_text(made.text, encoding="utf-8")
     clearance = float(space.clearance_m[start_cell])
@@ -178,7 +180,7 @@ def _start(
     """The start asked for, checked, or the widest free place facing +x; and whether it
     was chosen here."""
     rows = space.free.shape[0]
-    widest = _widest(space, place)
+    widest = _widest(space, place, radius_m)
     if request.start is None:
         if widest is None:
             raise BadInput(
@@ -211,17 +213,20 @@ def _start(
     return (x, y, heading), False
 
 
-def _widest(space: FreeSpace, place: GridPlace) -> tuple[float, float] | None:
-    """The map-frame centre of the widest free place the robot can roam, or None."""
-    cell = widest_place(space, RobotConfig().radius_m)
+def _widest(space: FreeSpace, place: GridPlace, radius_m: float) -> tuple[float, float] | None:
+    """The map-frame centre of the widest free place a robot of `radius_m` can roam, or
+    None."""
+    cell = widest_place(space, radius_m)
     return None if cell is None else place.centre(space.free.shape[0], *cell)
 
 
-def _in_map_frame(passages: list[Passage], made: GridWorld) -> list[NarrowPassage]:
+def _in_map_frame(
+    passages: list[Passage], made: GridWorld, robot: RobotConfig
+) -> list[NarrowPassage]:
     """The passages that lead to at least the robot's footprint of floor, placed in the
     map's frame."""
     cell_area_m2 = made.place.cell_m**2
-    footprint_m2 = math.pi * RobotConfig().radius_m ** 2
+    footprint_m2 = math.pi * robot.radius_m**2
     return [
         NarrowPassage(
             metres(p.width_m),

@@ -38,7 +38,8 @@ from tvl_cli.core.memory import (
     MemoryChoice,
     MemoryConfig,
 )
-from tvl_cli.core.robot_config import SONAR_MODELS, RobotConfig, SonarConfig
+from tvl_cli.core.robot_config import SONAR_MODEL_NAMES, RobotConfig, SonarConfig, sonar_model
+from tvl_cli.core.robot_profiles import DEFAULT_ROBOT
 from tvl_cli.core.wall_rules import FIRST_SEEN, WALL_RULES
 
 # How exploration chooses the next (rotation, trajectory) pair to learn (agent.explore_rules).
@@ -112,7 +113,7 @@ class Method:
     exploration: str = LEAST_EXPERIENCE  # one of EXPLORATION_RULES
     reflexes: tuple[str, ...] = REFLEX_NAMES  # in stacking order
     wall_rule: str = FIRST_SEEN  # one of core.wall_rules.WALL_RULES
-    sonar: str = "real"  # one of core.robot_config.SONAR_MODELS
+    sonar: str = "real"  # one of core.robot_config.SONAR_MODEL_NAMES
     memory: MemoryConfig = DEFAULT_MEMORY  # what the FAM reads through
 
     def __post_init__(self) -> None:
@@ -128,9 +129,10 @@ class Method:
             "memory": self.memory.to_dict(),
         }
 
-    def robot(self) -> RobotConfig:
-        """The simulated robot, with this method's sonar model."""
-        return RobotConfig(sonar=SONAR_MODELS[self.sonar])
+    def robot(self, body: RobotConfig = DEFAULT_ROBOT) -> RobotConfig:
+        """The simulated robot (`body`, by default the paper's), its ring heard by this
+        method's sonar model."""
+        return replace(body, sonar=sonar_model(body.sonar, self.sonar))
 
     def differs(self, other: Method, names: Iterable[str] = ()) -> list[str]:
         """The fields (of `names`, or all) on which the two methods differ."""
@@ -176,7 +178,7 @@ def _check(name: str, value: Any, label: str) -> None:
         "labels": LABEL_RULES,
         "exploration": EXPLORATION_RULES,
         "wall_rule": WALL_RULES,
-        "sonar": SONAR_MODELS,
+        "sonar": SONAR_MODEL_NAMES,
     }
     if name in choices:
         if not isinstance(value, str) or value not in choices[name]:

@@ -8,7 +8,7 @@ robot that made it. Units are in the field names.
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from typing import TYPE_CHECKING, Any, TypeVar
 
 if TYPE_CHECKING:
@@ -32,20 +32,21 @@ class Trajectory:
         return float("inf") if self.curvature_per_m == 0 else 1.0 / abs(self.curvature_per_m)
 
 
-def _arc(name: str, radius_m: float, left: bool, v_max_mps: float) -> Trajectory:
-    return Trajectory(name, (1.0 if left else -1.0) / radius_m, v_max_mps)
+def seven_trajectories(
+    radii_m: tuple[float, float, float], v_max_mps: tuple[float, float, float, float]
+) -> tuple[Trajectory, ...]:
+    """The seven trajectories, left to right as in the paper's Figure 8(b): arcs of the
+    three radii (tightest first) each way around the straight T0; `v_max_mps` are the top
+    speeds of the tightest arcs, the middle ones, the widest and T0. Index 3 is straight
+    ahead and index j mirrors index 6 - j."""
+    arcs = [(f"T{3 - i}", radius, v_max_mps[i]) for i, radius in enumerate(radii_m)]
+    left = [Trajectory(f"{name}L", 1.0 / radius, v) for name, radius, v in arcs]
+    right = [Trajectory(f"{name}R", -1.0 / radius, v) for name, radius, v in reversed(arcs)]
+    return (*left, Trajectory("T0", 0.0, v_max_mps[3]), *right)
 
 
-# Left to right, as in the paper's Figure 8(b); index 3 is straight ahead and index j
-# mirrors index 6 - j.
-DEFAULT_TRAJECTORIES: tuple[Trajectory, ...] = (
-    _arc("T3L", 0.5, True, 0.35),
-    _arc("T2L", 1.0, True, 0.45),
-    _arc("T1L", 2.0, True, 0.55),
-    Trajectory("T0", 0.0, 0.60),
-    _arc("T1R", 2.0, False, 0.55),
-    _arc("T2R", 1.0, False, 0.45),
-    _arc("T3R", 0.5, False, 0.35),
+DEFAULT_TRAJECTORIES = seven_trajectories(
+    radii_m=(0.5, 1.0, 2.0), v_max_mps=(0.35, 0.45, 0.55, 0.60)
 )
 # The speeds a user may give lie within these: the robot drives no faster than its fastest
 # trajectory (learning's speed), and a FAM's initial velocity is below its slowest's top.
@@ -73,18 +74,33 @@ class SonarConfig:
 
 # Diffraction from an edge returns far less sound than a wall square on, heard out to about a
 # quarter of the ring's maximum range (the `edges` sonar model).
-EDGE_ECHO_RANGE_M = 1.0
-# The sonar models a robot can learn and run with, by the name `--sonar` takes.
+EDGE_ECHO_FRACTION = 0.25
+EDGE_ECHO_RANGE_M = EDGE_ECHO_FRACTION * SonarConfig().max_range_m  # the paper's robot's
+# The sonar models a robot can learn and run with, by the name `--sonar` takes: each is its
+# ring as built, heard another way.
+SONAR_MODEL_NAMES = ("real", "edges", "ideal")
+
+
+def sonar_model(ring: SonarConfig, name: str) -> SonarConfig:
+    """A robot's ring as the named model hears: `real` (specular, noisy), `edges` (convex
+    edges diffract back, within a quarter of its range) or `ideal` (the nearest hit at any
+    angle, no noise)."""
+    real = replace(ring, edge_echo_range_m=0.0, ideal=False)
+    if name == "edges":
+        return replace(real, edge_echo_range_m=EDGE_ECHO_FRACTION * ring.max_range_m)
+    return replace(real, ideal=True) if name == "ideal" else real
+
+
+# The paper's robot's ring in each model.
 SONAR_MODELS: dict[str, SonarConfig] = {
-    "real": SonarConfig(),
-    "edges": SonarConfig(edge_echo_range_m=EDGE_ECHO_RANGE_M),
-    "ideal": SonarConfig(ideal=True),
+    name: sonar_model(SonarConfig(), name) for name in SONAR_MODEL_NAMES
 }
 
 
 def sonar_model_name(sonar: SonarConfig) -> str | None:
-    """The name of one of SONAR_MODELS, or None for a ring this simulator has no name for."""
-    return next((name for name, model in SONAR_MODELS.items() if model == sonar), None)
+    """The model a ring is heard by, or None for one heard otherwise (an edge range of its
+    own, say)."""
+    return next((name for name in SONAR_MODEL_NAMES if sonar_model(sonar, name) == sonar), None)
 
 
 @dataclass(frozen=True, slots=True)

@@ -8,7 +8,7 @@ so both follow the same rules.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -25,7 +25,7 @@ from tvl_cli.core.drive_command import STOP, Command
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.memory import MemoryConfig
 from tvl_cli.core.method import DEFAULT, Method
-from tvl_cli.core.robot_config import SONAR_MODELS, RobotConfig
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.gym.actions import DISCRETE, ROBOT, Actions, is_real
 from tvl_cli.io.methodfile import resolve_method as resolve_named_method
 from tvl_cli.sim.motion import Pose
@@ -78,7 +78,7 @@ def resolve_robot(robot: RobotConfig | None, method: Method) -> RobotConfig:
         robot = ROBOT
     elif not isinstance(robot, RobotConfig):
         raise TypeError(f"robot {robot!r} is not a RobotConfig")
-    return replace(robot, sonar=SONAR_MODELS[method.sonar])
+    return method.robot(robot)
 
 
 def _pair(goal: object) -> tuple[float, float]:

@@ -17,6 +17,7 @@ from matplotlib.path import Path as DrawPath
 from tvl_cli.analysis.surface import Surface
 from tvl_cli.core.contacts import BACKOFF, BUMP, NEAR_MISS, steps_beginning
 from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.core.robot_profiles import DEFAULT_ROBOT
 from tvl_cli.core.trajectory_choice import GOAL_RADIUS_M
 from tvl_cli.core.words import counted
 from tvl_cli.render.formats import save_picture
@@ -41,6 +42,7 @@ def draw_world(
     world: WorldMap,
     robot_at_start: bool = True,
     target: Sequence[float] | None = None,
+    robot_radius_m: float = DEFAULT_ROBOT.radius_m,
 ) -> None:
     """Walls, pillars, ring walls, the start pose and the goals, in metres on equal axes.
 
@@ -62,7 +64,7 @@ def draw_world(
         ax.add_patch(Circle((x, y), r, fill=False, edgecolor=WALL_COLOUR, lw=WALL_WIDTH_PT))
 
     if robot_at_start:
-        _draw_robot_at_start(ax, world.start)
+        _draw_robot_at_start(ax, world.start, robot_radius_m)
     else:
         _mark_start(ax, world.start)
     others = [goal for goal in world.goals if target is None or tuple(goal) != tuple(target)]
@@ -94,9 +96,8 @@ def draw_world(
     ax.set_title(world.name)
 
 
-def _draw_robot_at_start(ax: Axes, start: tuple[float, float, float]) -> None:
+def _draw_robot_at_start(ax: Axes, start: tuple[float, float, float], radius: float) -> None:
     x, y, heading = start
-    radius = RobotConfig().radius_m
     ax.add_patch(Circle((x, y), radius, facecolor=ROBOT_COLOUR, alpha=0.25, lw=0))
     ax.add_patch(Circle((x, y), radius, fill=False, edgecolor=ROBOT_COLOUR, lw=1.5))
     ax.annotate(
@@ -166,13 +167,16 @@ def _floor(world: WorldMap) -> DrawPath:
 
 
 def _world_figure(
-    world: WorldMap, extra_width_in: float = 0.0, target: Sequence[float] | None = None
+    world: WorldMap,
+    extra_width_in: float = 0.0,
+    target: Sequence[float] | None = None,
+    robot: RobotConfig = DEFAULT_ROBOT,
 ) -> tuple[Figure, Axes]:
     aspect = (world.height_m + 3.5 * MARGIN_M) / (world.width_m + 2 * MARGIN_M)
     figure = Figure(figsize=(FIGURE_WIDTH_IN + extra_width_in, FIGURE_WIDTH_IN * aspect + 0.8))
     FigureCanvasAgg(figure)
     ax = figure.add_subplot()
-    draw_world(ax, world, target=target)
+    draw_world(ax, world, target=target, robot_radius_m=robot.radius_m)
     return figure, ax
 
 
@@ -201,12 +205,14 @@ def render_recorded_path(
     png: Path,
     title: str,
     goal: tuple[float, float] | None,
+    robot: RobotConfig = DEFAULT_ROBOT,
 ) -> None:
     """The picture of a driven path from its recorded columns (`column(name)`: `pose`,
     `speed_mps`, `events`), coloured by speed, its events marked, the goal it sought: the
     `--png` of `tvl run` and `tvl baseline`."""
     marks = path_marks(column("events"))
-    render_path(world, column("pose"), column("speed_mps"), marks, png, title=title, goal=goal)
+    poses, speeds = column("pose"), column("speed_mps")
+    render_path(world, poses, speeds, marks, png, title=title, goal=goal, robot=robot)
 
 
 def render_path(
@@ -217,17 +223,19 @@ def render_path(
     png_path: str | Path,
     title: str,
     goal: tuple[float, float] | None = None,
+    robot: RobotConfig = DEFAULT_ROBOT,
 ) -> None:
-    """The world with a path coloured by speed, and the steps where events began (`marks`:
-    step indices by event, of PATH_MARKS) marked where the robot then was."""
-    figure, ax = _world_figure(world, extra_width_in=1.2, target=goal)
+    """The world with a path coloured by speed (from stopped to `robot`'s top speed), and the
+    steps where events began (`marks`: step indices by event, of PATH_MARKS) marked where the
+    robot then was."""
+    figure, ax = _world_figure(world, extra_width_in=1.2, target=goal, robot=robot)
     xy = np.asarray(poses, dtype=np.float64).reshape(-1, 3)[:, :2]  # (N, 2) metres
     speed = np.abs(np.asarray(speeds_mps, dtype=np.float64))
     if len(xy) > 1:
         segments = np.stack([xy[:-1], xy[1:]], axis=1)  # (N-1, 2, 2)
         lines = LineCollection(list(segments), cmap="viridis", linewidths=1.6, zorder=4)
         lines.set_array(speed[1:])
-        lines.set_clim(0.0, max(RobotConfig().v_max_mps))
+        lines.set_clim(0.0, max(robot.v_max_mps))
         ax.add_collection(lines)
         figure.colorbar(lines, ax=ax, label="speed (m/s)", shrink=0.8)
     for event, steps in marks.items():
