@@ -1,8 +1,8 @@
-"""Fuzzing the settings files users write by hand or by script: method TOML, sweep grids and
-FAM configuration JSON. Any text, nested to any depth (lists, tables, dotted keys, JSON arrays
-and objects, from a few levels to 100,000) or blown up (numbers of thousands of digits, long
-strings, many keys), is read or refused as bad input naming the file: never another
-exception, nor a hang.
+"""Fuzzing the settings files users write by hand or by script: method TOML, robot TOML, sweep
+grids and FAM configuration JSON. Any text, nested to any depth (lists, tables, dotted keys,
+JSON arrays and objects, from a few levels to 100,000) or blown up (numbers of thousands of
+digits, long strings, many keys), is read or refused as bad input naming the file: never
+another exception, nor a hang.
 
 The fast tier runs TVL_FUZZ_EXAMPLES examples of each (50 unless set); the slow tier runs each
 again at TVL_FUZZ_LONG_EXAMPLES (10,000 unless set). A reader of another format (a map's
@@ -30,6 +30,7 @@ from tvl_cli.core.labels import velocity_labels
 from tvl_cli.core.method import FIELDS, method_from_dict
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.core.trajectory_choice import is_threshold
+from tvl_cli.io.robotfile import robot_from_table
 from tvl_cli.io.tomlfile import loads_toml
 from tvl_cli.sweep.grid import read_grid
 from tvl_cli.sweep.runner import DEFAULT_MAX_CELLS
@@ -157,6 +158,52 @@ def test_a_method_file_is_read_or_refused(text: str) -> None:
 @given(METHOD_TOML)
 def test_a_method_file_is_read_or_refused_at_length(text: str) -> None:
     method_is_read_or_refused(text)
+
+
+# --- robot files -------------------------------------------------------------------------
+
+
+def inline_table(keys: tuple[str, ...]) -> st.SearchStrategy[str]:
+    return st.fixed_dictionaries({}, optional={key: TOML_VALUE for key in keys}).map(
+        lambda table: "{" + ", ".join(f"{k} = {v}" for k, v in table.items()) + "}"
+    )
+
+
+ROBOT_VALUES = {
+    "base": st.sampled_from(['"yamabico"', '"turtlebot3"', '"burger"', "1"]),
+    "radius_m": TOML_VALUE,
+    "spin_rate_radps": TOML_VALUE,
+    "odometry_noise_fraction": TOML_VALUE,
+    "trajectories": st.one_of(
+        inline_table(("radii_m", "v_max_mps", "count")),
+        st.sampled_from(["{ radii_m = [0.3, 0.6, 1.2] }", "{ v_max_mps = [0.1, 0.2, 0.3, 0.4] }"]),
+    ),
+    "sonar": inline_table(("min_range_m", "max_range_m", "cone_deg", "noise_sigma_m", "count")),
+}
+ROBOT_TOML = toml_document(list(ROBOT_VALUES), ROBOT_VALUES)
+
+
+def robot_is_read_or_refused(text: str) -> None:
+    try:
+        robot = robot_from_table(loads_toml(text, "fuzz.toml"), "fuzz.toml")
+    except BadInput as refusal:
+        assert str(refusal).startswith("fuzz.toml"), refusal  # the refusal names the file
+        return
+    # What is read is a robot a log can record and read back as one that moves and senses.
+    assert RobotConfig.from_dict(robot.to_dict()) == robot
+
+
+@FAST
+@given(ROBOT_TOML)
+def test_a_robot_file_is_read_or_refused(text: str) -> None:
+    robot_is_read_or_refused(text)
+
+
+@pytest.mark.slow
+@LONG
+@given(ROBOT_TOML)
+def test_a_robot_file_is_read_or_refused_at_length(text: str) -> None:
+    robot_is_read_or_refused(text)
 
 
 # --- sweep grids -------------------------------------------------------------------------
