@@ -15,6 +15,7 @@ from gymnasium.utils.env_checker import check_env
 from tvl_cli.baselines.qlearning import forward_travel_m
 from tvl_cli.core.method import DEFAULT
 from tvl_cli.core.robot_config import SONAR_MODELS, RobotConfig
+from tvl_cli.core.robot_profiles import TURTLEBOT3
 from tvl_cli.gym import ENV_ID, SonarRingEnv
 from tvl_cli.gym.env import ROBOT, STOP_ACTION
 from tvl_cli.gym.episode import WALL_DISTANCE_M, WALL_ERROR_WEIGHT
@@ -244,8 +245,11 @@ def test_the_env_takes_any_robot_and_sonar_model() -> None:
     assert env.step(STOP_ACTION - 2)[4]["pose"][2] == pytest.approx(0.05)  # spins at 0.5 rad/s
     continuous = SonarRingEnv("square", robot=small, action_type="continuous")
     assert continuous.action_space.high[1] == 0.5
-    with pytest.raises(TypeError, match="robot 'big' is not a RobotConfig"):
-        SonarRingEnv("square", robot="big")  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match=r"robot big: neither a robot \(yamabico, turtlebot3\)"):
+        SonarRingEnv("square", robot="big")
+    with pytest.raises(TypeError, match="robot 3 is not a RobotConfig, a robot's name"):
+        SonarRingEnv("square", robot=3)  # type: ignore[arg-type]
+    assert SonarRingEnv("square", robot="turtlebot3").robot == TURTLEBOT3
     with pytest.raises(TypeError, match="world 3 is not a world's name"):
         SonarRingEnv(3)  # type: ignore[arg-type]
 

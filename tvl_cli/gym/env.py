@@ -87,7 +87,7 @@ class SonarRingEnv(gymnasium.Env[np.ndarray, Any]):
         action_type: str = DISCRETE,
         speed_fraction: float | None = None,
         method: Method | str | Path | None = None,
-        robot: RobotConfig | None = None,
+        robot: RobotConfig | str | Path | None = None,
         render_mode: str | None = None,
         max_episode_steps: int | None = None,
     ) -> None:
@@ -98,9 +98,10 @@ class SonarRingEnv(gymnasium.Env[np.ndarray, Any]):
         `method` (a Method, a preset's name `paper` or `default`, or a method file's path; by
         default ours, as `tvl run`'s) gives the robot its sonar model and makes the observed
         ring its echo memory's virtual ring, as a FAM trained by that method reads (the live
-        ring for a method without one); `robot` (a RobotConfig, by default `tvl run`'s) is
-        the body that carries that sonar; `max_episode_steps`, after which the environment
-        truncates an episode itself (none by default: `gymnasium.make` adds its TimeLimit)."""
+        ring for a method without one); `robot` (a RobotConfig, a profile's name such as
+        `turtlebot3`, or a robot file; by default `tvl run`'s) is the body that carries that
+        sonar; `max_episode_steps`, after which the environment truncates an episode itself
+        (none by default: `gymnasium.make` adds its TimeLimit)."""
         self.metadata = {**self.metadata, "render_modes": _render_modes(render_mode)}
         self.max_episode_steps = step_limit(max_episode_steps)
         self.robot_task = RobotTask.of(

@@ -28,6 +28,7 @@ from tvl_cli.core.method import DEFAULT, Method
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.gym.actions import DISCRETE, ROBOT, Actions, is_real
 from tvl_cli.io.methodfile import resolve_method as resolve_named_method
+from tvl_cli.io.robotfile import resolve_robot as resolve_named_robot
 from tvl_cli.sim.motion import Pose
 from tvl_cli.sim.worldgen import bundled_world_path
 from tvl_cli.sim.worldmap import WorldMap, check_goal, load_world
@@ -71,13 +72,20 @@ def resolve_method(method: object) -> Method:
         raise ValueError(str(problem)) from None
 
 
-def resolve_robot(robot: RobotConfig | None, method: Method) -> RobotConfig:
-    """The robot's body (by default `tvl run`'s) with the method's sonar model, as `tvl run`
-    gives a robot its method's sonar."""
+def resolve_robot(robot: RobotConfig | str | Path | None, method: Method) -> RobotConfig:
+    """The robot's body (by default `tvl run`'s; a profile's name, `yamabico` or
+    `turtlebot3`, or a robot file's path) with the method's sonar model, as `tvl run` gives a
+    robot its method's sonar. ValueError naming what is wrong (TypeError for a value of the
+    wrong kind)."""
     if robot is None:
         robot = ROBOT
+    elif isinstance(robot, str | Path):
+        try:
+            robot = resolve_named_robot(robot, label="robot")
+        except BadInput as problem:
+            raise ValueError(str(problem)) from None
     elif not isinstance(robot, RobotConfig):
-        raise TypeError(f"robot {robot!r} is not a RobotConfig")
+        raise TypeError(f"robot {robot!r} is not a RobotConfig, a robot's name or a robot file")
     return method.robot(robot)
 
 
@@ -118,7 +126,7 @@ class RobotTask:
         speed_fraction: object = None,
         method: object = None,
         action_type: object = DISCRETE,
-        robot: RobotConfig | None = None,
+        robot: RobotConfig | str | Path | None = None,
     ) -> RobotTask:
         """The task from the environments' arguments (SonarRingEnv documents them); a
         ValueError (a TypeError for a value of the wrong kind) names what is wrong."""

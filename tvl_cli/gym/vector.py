@@ -62,7 +62,7 @@ class SonarRingVectorEnv(VectorEnv[np.ndarray, np.ndarray, np.ndarray]):
         action_type: str = DISCRETE,
         speed_fraction: float | None = None,
         method: Method | str | Path | None = None,
-        robot: RobotConfig | None = None,
+        robot: RobotConfig | str | Path | None = None,
         max_episode_steps: int | None = None,
     ) -> None:
         """The single environment's arguments (SonarRingEnv), and `max_episode_steps`, after
