@@ -91,8 +91,9 @@ def test_a_robot_file_learns_and_one_log_keeps_one_robot(made, tmp_path: Path) -
     robot_file.write_text('base = "turtlebot3"\nradius_m = 0.12\n', encoding="utf-8")
     log = tmp_path / "log.h5"
     learnt = ("learn", made["arena.txt"], "--log", log, "--minutes", "0.5")
-    done = invoke(*learnt, "--robot", robot_file)
+    done = invoke(*learnt, "--robot", robot_file, "--json")
     assert done.returncode == 0, done.stderr
+    assert json.loads(done.stdout)["inputs"]["robot"] is None  # a robot of its own
     assert read_log(log).sessions[0].robot_config == replace(TURTLEBOT3, radius_m=0.12)
     other = invoke(*learnt, "--robot", "turtlebot3")
     assert other.returncode == 2

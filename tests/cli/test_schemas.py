@@ -105,7 +105,7 @@ RELEASED = {
     "world render": (1, "73701f22a7db6b3d"),
     "world import": (2, "946b4da5d9420c27"),
     "world export": (1, "9e6559936de1d145"),
-    "learn": (3, "e2b172a39e67b7e2"),
+    "learn": (4, "511c3400106162e5"),
     "train": (2, "841b73cfe295d28d"),
     "inspect": (3, "0257f1f6b09068e0"),
     "diff": (2, "73af06e71a481611"),
@@ -266,6 +266,7 @@ def test_learn_and_replay_give_a_minute_of_learning_the_same_types(tmp_path: Pat
     learnt = tvl_json("learn", WORLDS / "square.txt", "--log", log, "--minutes", "1")
     assert learnt["inputs"]["world"]["path"] == str(WORLDS / "square.txt")
     assert (learnt["inputs"]["seed"], learnt["inputs"]["minutes"]) == (1, 1.0)
+    assert learnt["inputs"]["robot"] == "yamabico"
     replayed = tvl_json("replay", log)
     assert replayed["minutes"] == learnt["minutes"] and len(learnt["minutes"]) == 1
     row = replayed["minutes"][0]

@@ -20,6 +20,7 @@ from tvl_cli.core.robot_profiles import (
     ROBOT_PROFILES,
     TURTLEBOT3,
     body_of,
+    profile_name,
     robot_name,
 )
 
@@ -87,3 +88,4 @@ def test_a_robot_is_named_by_its_profile_whatever_its_sonar_model() -> None:
     assert robot_name(ideal) == "the turtlebot3 robot"
     assert robot_name(DEFAULT_ROBOT) == "the yamabico robot"
     assert robot_name(RobotConfig(radius_m=0.3)) == "a robot of its own (0.6 m across)"
+    assert profile_name(ideal) == "turtlebot3" and profile_name(RobotConfig(radius_m=0.3)) is None

@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any
 
 from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS
 from tvl_cli.core.method import method_record
+from tvl_cli.core.robot_profiles import profile_name
 from tvl_cli.io.json_documents import document, input_file, optional_file, output_path
 from tvl_cli.io.loglayout import ended_status
 
@@ -113,6 +114,7 @@ def learn_json(result: LearnResult) -> dict[str, Any]:
         "training": r.train.settings(),
         "from_fam": optional_file(r.from_fam),
         "method": result.method,
+        "robot": profile_name(r.body),
     }
     outputs = {"log": str(r.log), "fam": output_path(r.fam_out)}
     return document("learn", inputs, outputs=outputs, **learning(result))

@@ -36,10 +36,15 @@ def body_of(robot: RobotConfig) -> RobotConfig:
     return replace(robot, sonar=sonar_model(robot.sonar, "real"))
 
 
+def profile_name(robot: RobotConfig) -> str | None:
+    """The profile a robot is, whatever its sonar model; None for a robot of its own."""
+    body = body_of(robot)
+    return next((name for name, profile in ROBOT_PROFILES.items() if profile == body), None)
+
+
 def robot_name(robot: RobotConfig) -> str:
     """The profile a robot is (whatever its sonar model), or its size for one of its own."""
-    body = body_of(robot)
-    named = next((name for name, profile in ROBOT_PROFILES.items() if profile == body), None)
+    named = profile_name(robot)
     if named is not None:
         return f"the {named} robot"
     return f"a robot of its own ({2 * robot.radius_m:g} m across)"
