@@ -111,3 +111,21 @@ def test_a_faulty_robot_file_is_one_line(made, tmp_path: Path) -> None:
     assert len(done.stderr.splitlines()) == 1
     assert f"{robot_file}: radius_m -1 must be 0.03 or more and at most 1 m" in done.stderr
     assert not (tmp_path / "log.h5").exists()
+
+
+def test_learning_goes_on_from_a_fam_of_its_own_robot_only(made, tmp_path: Path) -> None:
+    learnt = ("learn", made["arena.txt"], "--minutes", "0.2", "--from-fam", made["fam.h5"])
+    other = invoke(*learnt, "--log", tmp_path / "a.h5")
+    assert other.returncode == 2
+    assert other.stderr == (
+        f"tvl: error: {made['fam.h5']}: FAM was learnt on the turtlebot3 robot, not on the "
+        "yamabico robot; give --robot to match it\n"
+    )
+    heard = invoke(*learnt, "--log", tmp_path / "b.h5", "--robot", "turtlebot3", "--sonar", "ideal")
+    assert heard.returncode == 2
+    assert heard.stderr == (
+        f"tvl: error: {made['fam.h5']}: FAM was learnt hearing by the real sonar model, not the "
+        "ideal; give --sonar to match it\n"
+    )
+    same = invoke(*learnt, "--log", tmp_path / "c.h5", "--robot", "turtlebot3")
+    assert same.returncode == 0, same.stderr

@@ -19,8 +19,8 @@ from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS, Fam
 from tvl_cli.core.fam_config import FamConfig
 from tvl_cli.core.memory import MemoryConfig
 from tvl_cli.core.method import DEFAULT, Method, method_record
-from tvl_cli.core.robot_config import RobotConfig
-from tvl_cli.core.robot_profiles import DEFAULT_ROBOT
+from tvl_cli.core.robot_config import RobotConfig, sonar_model_name
+from tvl_cli.core.robot_profiles import DEFAULT_ROBOT, body_of, robot_name
 from tvl_cli.core.training import SessionEpisodes, TrainParams, train_params, train_sessions
 from tvl_cli.io.atomic import check_writable
 from tvl_cli.io.fam_config_file import resolve_fam_config
@@ -216,8 +216,17 @@ def _fam_to_start_from(
 ) -> Fam:
     """A trained FAM to go on learning into: of this robot and of the configuration asked for."""
     found = read_fam(path)
-    if found.robot_config != robot:
-        raise BadInput(f"{path}: FAM was learnt by another robot configuration than this one")
+    theirs = found.robot_config
+    if body_of(theirs) != body_of(robot):
+        raise BadInput(
+            f"{path}: FAM was learnt on {robot_name(theirs)}, not on {robot_name(robot)}; "
+            "give --robot to match it"
+        )
+    if theirs != robot:
+        raise BadInput(
+            f"{path}: FAM was learnt hearing by the {sonar_model_name(theirs.sonar) or 'unnamed'} "
+            f"sonar model, not the {sonar_model_name(robot.sonar)}; give --sonar to match it"
+        )
     if found.fam.config != config:
         raise BadInput(
             f"{path}: FAM has configuration {found.fam.config.name!r}, not {config.name!r} "
