@@ -42,7 +42,7 @@ from tvl_cli.core.method import (
     MethodChoice,
     parse_reflexes,
 )
-from tvl_cli.core.robot_config import SLOWEST_TOP_MPS, RobotConfig
+from tvl_cli.core.robot_config import SLOWEST_TOP_MPS
 from tvl_cli.core.robot_profiles import ROBOT_PROFILES
 from tvl_cli.io.atomic import refuse_missing_directory, refuse_non_file
 from tvl_cli.io.methodfile import resolve_method
@@ -88,26 +88,16 @@ def seed_option(what: str) -> Callable[[Callable[..., None]], Callable[..., None
     )
 
 
-class Robot(click.ParamType):
-    """`--robot NAME|FILE.toml`: a shipped robot by name, or a robot file (io.robotfile)."""
-
-    name = "NAME|FILE.toml"
-
-    def convert(self, value: Any, param: click.Parameter | None, ctx: click.Context | None) -> Any:
-        if isinstance(value, RobotConfig):
-            return value
-        try:
-            return resolve_robot(value, label="")
-        except BadInput as error:
-            self.fail(str(error), param, ctx)
+# `--robot NAME|FILE.toml`: a shipped robot by name, or a robot file (io.robotfile).
+ROBOT = Parsed("NAME|FILE.toml", functools.partial(resolve_robot, label=""))
 
 
 def robot_option(help_text: str, default: str | None = None) -> Callable[..., Any]:
     """--robot NAME|FILE.toml: the robots named (or any robot file), with `help_text`."""
     return click.option(
         "--robot",
-        type=Robot(),
-        metavar="NAME|FILE.toml",
+        type=ROBOT,
+        metavar=ROBOT.name,
         default=default,
         show_default=default is not None,
         help=f"{help_text} Robots: {', '.join(ROBOT_PROFILES)}, or a robot file (TOML).",
