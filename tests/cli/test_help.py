@@ -43,6 +43,16 @@ def test_the_top_level_help_loads_no_heavy_library() -> None:
     assert loaded == "[]"
 
 
+@pytest.mark.slow  # about half a second
+def test_the_run_commands_help_loads_neither_hdf5_nor_the_physics() -> None:
+    # What `tvl run --help` prints needs the options alone (cli.runs says so); the JSON
+    # documents and the replay's tables load h5py, so they load when a command runs.
+    helps = "[[name, '--help'] for name in ('run', 'replay', 'explain', 'demo')]"
+    printed, loaded = helps_in_a_fresh_interpreter(helps, "('h5py', 'pymunk', 'matplotlib')")
+    assert "Perform a behaviour in WORLD" in printed
+    assert loaded == "[]"
+
+
 @pytest.mark.slow  # over a second
 def test_no_commands_help_loads_the_compiler() -> None:
     # Kernels compile (or load from numba's cache) when first used, never for a --help.

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING
 
 import click
 
-from tvl_cli.cli import documents, replay_views, views
+from tvl_cli.cli import views
 from tvl_cli.cli.examples import examples
 from tvl_cli.cli.options import (
     GIF,
@@ -177,6 +177,8 @@ def run(
 
 def _show_run(request: RunRequest, result: RunResult, form: str | None) -> None:
     """The run's results as JSON, as a CSV row or (`form` None) in words."""
+    from tvl_cli.cli import documents
+
     if form == "json":
         print_json(documents.run_json(request, result))
     elif form == "csv":
@@ -249,6 +251,7 @@ def replay(
     as_json: bool,
 ) -> None:
     """Summarise a learning log or a run trace, and draw it."""
+    from tvl_cli.cli import documents, replay_views
     from tvl_cli.commands.replay import Animation
     from tvl_cli.commands.replay import replay as replay_file
 
@@ -284,6 +287,7 @@ def replay(
 @click.option("--json", "as_json", is_flag=True, help="Print the results as JSON.")
 def demo(directory: Path, force: bool, as_json: bool) -> None:
     """Learn, train, run and draw on a bundled world, in seconds."""
+    from tvl_cli.cli import documents
     from tvl_cli.commands.demo import run_demo
 
     result = run_demo(directory, force, views.say)
@@ -341,6 +345,8 @@ def explain(
 
     What the robot read and perceived, what it chose and why; or, with --contacts, why each
     contact of the run happened."""
+    from tvl_cli.cli import documents
+
     if contacts:
         if any(x is not None for x in (step, at_s, event)):
             raise BadInput("--contacts explains the whole run: give no --step, --at or --event")
