@@ -63,6 +63,8 @@ def test_the_log_and_the_fam_record_the_robot_that_learnt(made) -> None:
     log = read_log(made["log.h5"])
     assert {s.robot_config for s in log.sessions} == {TURTLEBOT3}
     assert read_fam(made["fam.h5"]).robot_config == TURTLEBOT3
+    inspected = invoke("inspect", made["fam.h5"], "--top", "1")
+    assert inspected.stdout.splitlines()[:2] == ["method: default", "robot: turtlebot3"]
 
 
 def test_a_fam_drives_its_own_robot_and_refuses_another(made, tmp_path: Path) -> None:

@@ -166,6 +166,7 @@ def inspect(
         print_csv([rule.to_row() for rule in found.rules or []])
     else:
         fam_views.say_method(found.loaded.made_by.record())
+        fam_views.say_robot(found.loaded.robot_config)
         if png is not None and found.over is not None:
             click.echo(f"{png}: the learnt velocity over {' and '.join(found.over)}")
         # A picture asked for alone is the answer; rules asked for as well come after it.

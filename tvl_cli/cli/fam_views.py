@@ -10,6 +10,8 @@ from tvl_cli.cli.console import folded, out
 from tvl_cli.cli.tables import facts, number, table
 from tvl_cli.core.memory import NOT_CHOSEN
 from tvl_cli.core.method import DEFAULT, FIELDS, describe_record
+from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.core.robot_profiles import DEFAULT_ROBOT_NAME, profile_name
 
 if TYPE_CHECKING:
     # Named for their types only: a command's `--help` imports this module.
@@ -54,6 +56,13 @@ def trained_method(record: dict[str, Any], choice: MethodChoice) -> str:
 
 def say_method(record: dict[str, Any] | None) -> None:
     out.print(f"method: {describe_record(record)}", soft_wrap=True, markup=False)
+
+
+def say_robot(robot: RobotConfig) -> None:
+    """The robot a FAM was learnt on, where it is not the paper's (every command's default)."""
+    name = profile_name(robot)
+    if name != DEFAULT_ROBOT_NAME:
+        out.print(f"robot: {name or f'one of its own, {2 * robot.radius_m:g} m across'}")
 
 
 def rules(found: Iterable[Rule]) -> None:
