@@ -86,6 +86,7 @@ def test_a_fam_drives_its_own_robot_and_refuses_another(made, tmp_path: Path) ->
     steps = np.hypot(*np.diff(poses[:, :2], axis=0).T)
     assert steps.max() <= max(TURTLEBOT3.v_max_mps) * 0.1 * 1.05
     assert json.loads(done.stdout)["distance_m"] > 1.0
+    assert json.loads(done.stdout)["inputs"]["robot"] == "turtlebot3"
 
 
 def test_a_robot_file_learns_and_one_log_keeps_one_robot(made, tmp_path: Path) -> None:

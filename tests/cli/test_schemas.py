@@ -110,7 +110,7 @@ RELEASED = {
     "inspect": (3, "0257f1f6b09068e0"),
     "diff": (2, "73af06e71a481611"),
     "design": (1, "8644a5ca5cf08dee"),
-    "run": (3, "ddb4412089ca3554"),
+    "run": (4, "f5254ff2680b58c0"),
     "replay": (3, "2bd2851e234be943"),
     "explain": (2, "1e9b72cd4a2adc0a"),
     "demo": (2, "e70a1078cb6cfd9b"),
@@ -200,7 +200,7 @@ def test_schema_json_carries_the_schema_in_a_document() -> None:
     assert printed["inputs"] == {"command": "run"}
     assert printed["json_schema"] == command_schema("run")
     assert printed["schemas"] == [
-        {"command": "run", "id": "urn:tvl:schema:run", "schema_version": 3}
+        {"command": "run", "id": "urn:tvl:schema:run", "schema_version": 4}
     ]
 
 

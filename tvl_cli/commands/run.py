@@ -27,7 +27,7 @@ from tvl_cli.core.method import (
 )
 from tvl_cli.core.metrics import MinuteContacts, MinuteTally, RunMetrics
 from tvl_cli.core.robot_config import RobotConfig, sonar_model
-from tvl_cli.core.robot_profiles import body_of, robot_name
+from tvl_cli.core.robot_profiles import body_of, profile_name, robot_name
 from tvl_cli.core.training import TrainParams, train_params
 from tvl_cli.core.trajectory_choice import BEHAVIOUR_NAMES, is_threshold
 from tvl_cli.io.famfile import FamFile, read_fam
@@ -222,7 +222,7 @@ def run_behaviour(
 
         render_recorded_path(world, path.column, request.png, title, goal, robot)
     learnt = learner.summary() if learner is not None else None
-    options = run_options(request, goal)
+    options = {**run_options(request, goal), "robot": profile_name(robot)}
     return RunResult(
         metrics, tally.minutes(metrics), learnt, session, recorded, options, stopped_by
     )
