@@ -132,3 +132,21 @@ def test_learning_goes_on_from_a_fam_of_its_own_robot_only(made, tmp_path: Path)
     )
     same = invoke(*learnt, "--log", tmp_path / "c.h5", "--robot", "turtlebot3")
     assert same.returncode == 0, same.stderr
+
+
+def test_an_untrained_entry_reads_slower_than_the_robots_slowest_trajectory(
+    made, tmp_path: Path
+) -> None:
+    # 0.2 m/s is below the paper's robot's slowest top speed (0.35), not the turtlebot3's (0.15).
+    refusal = (
+        "--init-velocity 0.2 must be below the slowest trajectory's maximum of the turtlebot3 "
+        "robot (0.15 m/s)"
+    )
+    learnt = invoke("learn", made["arena.txt"], "--log", tmp_path / "log.h5", "--robot",
+                    "turtlebot3", "--init-velocity", "0.2")  # fmt: skip
+    assert (learnt.returncode, learnt.stderr) == (2, f"tvl: error: {refusal}\n")
+    assert not (tmp_path / "log.h5").exists()
+    trained = invoke("train", made["log.h5"], "-o", tmp_path / "f.h5", "--init-velocity", "0.2")
+    assert (trained.returncode, trained.stderr) == (2, f"tvl: error: {refusal}\n")
+    kept = invoke("train", made["log.h5"], "-o", tmp_path / "f.h5", "--init-velocity", "0.1")
+    assert kept.returncode == 0, kept.stderr

@@ -21,7 +21,13 @@ from tvl_cli.core.memory import MemoryConfig
 from tvl_cli.core.method import DEFAULT, Method, method_record
 from tvl_cli.core.robot_config import RobotConfig, sonar_model_name
 from tvl_cli.core.robot_profiles import DEFAULT_ROBOT, body_of, robot_name
-from tvl_cli.core.training import SessionEpisodes, TrainParams, train_params, train_sessions
+from tvl_cli.core.training import (
+    SessionEpisodes,
+    TrainParams,
+    check_init_velocity,
+    train_params,
+    train_sessions,
+)
 from tvl_cli.io.atomic import check_writable
 from tvl_cli.io.fam_config_file import resolve_fam_config
 from tvl_cli.io.famfile import check_storable, read_fam, write_fam
@@ -93,6 +99,7 @@ def learn_to_log(
     world = request.world_map()
     method = request.method
     robot = request.robot
+    check_init_velocity(request.train, robot)
     config = resolve_fam_config(request.config, robot)
     if request.fam_out is not None:  # refused now, not once the log has been learnt
         check_storable(config, request.config)

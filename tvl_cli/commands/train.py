@@ -30,6 +30,7 @@ from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.core.training import (
     SessionEpisodes,
     TrainParams,
+    check_init_velocity,
     train_heard,
     train_params,
     train_sessions,
@@ -112,6 +113,7 @@ def train_from_logs(
     made_by, differing = training_method(logs, as_choice(method))
     memory_read = made_by.memory
     params = train_params(made_by, symmetric, init_velocity_mps)
+    check_init_velocity(params, robot)
     fam = Fam(config, [t.name for t in robot.trajectories], params.init_velocity_mps)
     sessions, repeats = distinct_sessions(logs)
     until_s = None if until_minute is None else until_minute * 60.0

@@ -27,6 +27,7 @@ from tvl_cli.core.labels import (
 )
 from tvl_cli.core.method import Method
 from tvl_cli.core.robot_config import SLOWEST_TOP_MPS, RobotConfig
+from tvl_cli.core.robot_profiles import robot_name
 
 
 @dataclass(frozen=True, slots=True)
@@ -57,6 +58,17 @@ class TrainParams:
         """What a FAM's provenance records of its training: the settings that are not the
         method's (whose labels the FAM's method records)."""
         return {"symmetric": self.symmetric, "init_velocity_mps": self.init_velocity_mps}
+
+
+def check_init_velocity(params: TrainParams, robot: RobotConfig) -> None:
+    """An entry never trained must read slower than every trajectory of the robot trained
+    for (paper §3.1), whose slowest top speed may be below the paper's robot's."""
+    slowest = min(robot.v_max_mps)
+    if params.init_velocity_mps >= slowest:
+        raise BadInput(
+            f"--init-velocity {params.init_velocity_mps:g} must be below the slowest "
+            f"trajectory's maximum of {robot_name(robot)} ({slowest:g} m/s)"
+        )
 
 
 def train_params(
