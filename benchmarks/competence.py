@@ -258,8 +258,8 @@ def table(summary: dict[str, Any]) -> str:
     return "\n".join(lines)
 
 
-def _seeds(text: str) -> list[int]:
-    """The seeds of "1-5" or "1,3,4"."""
+def seed_list(text: str) -> list[int]:
+    """The seeds (or world seeds) of "1-5" or "1,3,4"."""
     seeds: list[int] = []
     for part in text.split(","):
         first, _, last = part.partition("-")
@@ -269,7 +269,7 @@ def _seeds(text: str) -> list[int]:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--seeds", type=_seeds, default=_seeds("1-5"), help="e.g. 1-5 or 1,2")
+    parser.add_argument("--seeds", type=seed_list, default=seed_list("1-5"), help="e.g. 1-5 or 1,2")
     parser.add_argument("--learn-minutes", type=float, default=15.0)
     parser.add_argument("--run-minutes", type=float, default=10.0)
     parser.add_argument("--workers", type=int, default=2, help="parallel processes")

@@ -25,6 +25,7 @@ from dataclasses import replace
 from typing import Any
 
 import numpy as np
+from competence import seed_list
 
 from tvl_cli.agent.drive_tvl import behave
 from tvl_cli.agent.explore import Learner, LearnParams
@@ -128,11 +129,6 @@ def summarise(trials: list[dict[str, Any]]) -> dict[str, Any]:
     }
 
 
-def seeds(text: str) -> list[int]:
-    first, _, last = text.partition("-")
-    return list(range(int(first), int(last or first) + 1))
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--worlds", default="1001-1005", help="rooms seeds, e.g. 1001-1005")
@@ -146,7 +142,7 @@ def main() -> None:
     started = time.perf_counter()
     jobs = [
         (world, seed, args.minutes, args.before, args.after)
-        for world in seeds(args.worlds)
+        for world in seed_list(args.worlds)
         for seed in range(1, args.trials + 1)
     ]
     with ProcessPoolExecutor(args.workers) as pool:

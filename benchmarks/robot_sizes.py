@@ -30,6 +30,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from competence import seed_list
 
 from tvl_cli.agent.drive_tvl import behave
 from tvl_cli.agent.explore import Learner, LearnParams
@@ -43,11 +44,6 @@ from tvl_cli.sim.worldmap import load_world
 
 ROOT = Path(__file__).resolve().parent.parent
 SANDBOX = ROOT.parent / "shared" / "maps" / "nav2" / "tb3_sandbox.yaml"
-
-
-def parse_seeds(text: str) -> list[int]:
-    first, _, last = text.partition("-")
-    return list(range(int(first), int(last or first) + 1))
 
 
 def one_run(world_file: str, robot_name: str, seed: int, learn_minutes: float) -> dict[str, Any]:
@@ -77,7 +73,7 @@ def main() -> None:
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--json", action="store_true")
     args = parser.parse_args()
-    seeds = parse_seeds(args.seeds)
+    seeds = seed_list(args.seeds)
     with tempfile.TemporaryDirectory() as folder:
         imported = Path(folder) / f"{args.map.stem}.txt"
         robot = ROBOT_PROFILES[TURTLEBOT3_NAME]

@@ -17,6 +17,7 @@ import os
 import tempfile
 from collections.abc import Callable
 from pathlib import Path
+from typing import Any, TypeVar
 
 import numpy as np
 import pytest
@@ -117,12 +118,22 @@ def toml_document(draw: st.DrawFn, keys: list[str], valued: dict[str, st.SearchS
     return "\n".join(draw(st.permutations(lines))) + "\n"
 
 
+def inline_table(
+    optional: tuple[str, ...], required: dict[str, st.SearchStrategy[str]] | None = None
+) -> st.SearchStrategy[str]:
+    """An inline table (`{ a = 1, b = "x" }`) of the `required` keys' values and some of the
+    `optional` keys, each any TOML value."""
+    return st.fixed_dictionaries(
+        required or {}, optional={key: TOML_VALUE for key in optional}
+    ).map(lambda table: "{" + ", ".join(f"{k} = {v}" for k, v in table.items()) + "}")
+
+
 # --- method files ------------------------------------------------------------------------
 
-MEMORY = st.fixed_dictionaries(
+MEMORY = inline_table(
+    ("window_s", "range_m", "patch_m"),
     {"kind": st.sampled_from(['"none"', '"points"', '"patches"', "1"])},
-    optional={key: TOML_VALUE for key in ("window_s", "range_m", "patch_m")},
-).map(lambda table: "{" + ", ".join(f"{k} = {v}" for k, v in table.items()) + "}")
+)
 METHOD_VALUES = {
     "decel_mps2": TOML_VALUE,
     "margin_m": TOML_VALUE,
@@ -135,11 +146,22 @@ METHOD_VALUES = {
 METHOD_TOML = toml_document(list(FIELDS), METHOD_VALUES)
 
 
-def method_is_read_or_refused(text: str) -> None:
+T = TypeVar("T")
+
+
+def read_unless_refused(text: str, read: Callable[[dict[str, Any], str], T]) -> T | None:
+    """What `read` makes of the TOML text, or None where it is refused: as bad input naming
+    the file, and never otherwise."""
     try:
-        method = method_from_dict(loads_toml(text, "fuzz.toml"), "fuzz.toml")
+        return read(loads_toml(text, "fuzz.toml"), "fuzz.toml")
     except BadInput as refusal:
         assert str(refusal).startswith("fuzz.toml"), refusal  # the refusal names the file
+        return None
+
+
+def method_is_read_or_refused(text: str) -> None:
+    method = read_unless_refused(text, method_from_dict)
+    if method is None:
         return
     # What is read, training can label with: finite speeds, as the labels say.
     labels = velocity_labels(np.array([0.0, 0.5, 3.0, np.inf]), 0.6, method.decel_mps2,
@@ -163,12 +185,6 @@ def test_a_method_file_is_read_or_refused_at_length(text: str) -> None:
 # --- robot files -------------------------------------------------------------------------
 
 
-def inline_table(keys: tuple[str, ...]) -> st.SearchStrategy[str]:
-    return st.fixed_dictionaries({}, optional={key: TOML_VALUE for key in keys}).map(
-        lambda table: "{" + ", ".join(f"{k} = {v}" for k, v in table.items()) + "}"
-    )
-
-
 ROBOT_VALUES = {
     "base": st.sampled_from(['"yamabico"', '"turtlebot3"', '"burger"', "1"]),
     "radius_m": TOML_VALUE,
@@ -184,10 +200,8 @@ ROBOT_TOML = toml_document(list(ROBOT_VALUES), ROBOT_VALUES)
 
 
 def robot_is_read_or_refused(text: str) -> None:
-    try:
-        robot = robot_from_table(loads_toml(text, "fuzz.toml"), "fuzz.toml")
-    except BadInput as refusal:
-        assert str(refusal).startswith("fuzz.toml"), refusal  # the refusal names the file
+    robot = read_unless_refused(text, robot_from_table)
+    if robot is None:
         return
     # What is read is a robot a log can record and read back as one that moves and senses.
     assert RobotConfig.from_dict(robot.to_dict()) == robot

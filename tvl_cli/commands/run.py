@@ -26,7 +26,7 @@ from tvl_cli.core.method import (
     method_record,
 )
 from tvl_cli.core.metrics import MinuteContacts, MinuteTally, RunMetrics
-from tvl_cli.core.robot_config import RobotConfig, sonar_model
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.core.robot_profiles import body_of, profile_name, robot_name
 from tvl_cli.core.training import TrainParams, train_params
 from tvl_cli.core.trajectory_choice import BEHAVIOUR_NAMES, is_threshold
@@ -111,11 +111,7 @@ def run_robot(
     asked for (or as it was learnt). A FAM's velocities are what its robot could drive, so
     a robot asked for (`--robot`) that differs from it in anything but the sonar model is
     refused, naming how they differ."""
-    robot = (
-        learnt_by
-        if sonar is None
-        else replace(learnt_by, sonar=sonar_model(learnt_by.sonar, sonar))
-    )
+    robot = learnt_by if sonar is None else learnt_by.heard_by(sonar)
     if asked is not None:
         differences = robot_differences(body_of(learnt_by), body_of(asked))
         if differences:

@@ -38,7 +38,7 @@ from tvl_cli.core.memory import (
     MemoryChoice,
     MemoryConfig,
 )
-from tvl_cli.core.robot_config import SONAR_MODEL_NAMES, RobotConfig, SonarConfig, sonar_model
+from tvl_cli.core.robot_config import SONAR_MODEL_NAMES, RobotConfig, SonarConfig
 from tvl_cli.core.robot_profiles import DEFAULT_ROBOT
 from tvl_cli.core.wall_rules import FIRST_SEEN, WALL_RULES
 
@@ -132,7 +132,7 @@ class Method:
     def robot(self, body: RobotConfig = DEFAULT_ROBOT) -> RobotConfig:
         """The simulated robot (`body`, by default the paper's), its ring heard by this
         method's sonar model."""
-        return replace(body, sonar=sonar_model(body.sonar, self.sonar))
+        return body.heard_by(self.sonar)
 
     def differs(self, other: Method, names: Iterable[str] = ()) -> list[str]:
         """The fields (of `names`, or all) on which the two methods differ."""

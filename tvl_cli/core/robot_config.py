@@ -126,6 +126,10 @@ class RobotConfig:
     def v_max_mps(self) -> tuple[float, ...]:
         return tuple(t.v_max_mps for t in self.trajectories)
 
+    def heard_by(self, model: str) -> RobotConfig:
+        """This robot, its ring heard by the named sonar model (SONAR_MODEL_NAMES)."""
+        return replace(self, sonar=sonar_model(self.sonar, model))
+
     def to_dict(self) -> dict[str, Any]:
         return asdict(self)
 

@@ -9,9 +9,7 @@ that hears from 0.1 m to 3.5 m.
 
 from __future__ import annotations
 
-from dataclasses import replace
-
-from tvl_cli.core.robot_config import RobotConfig, SonarConfig, seven_trajectories, sonar_model
+from tvl_cli.core.robot_config import RobotConfig, SonarConfig, seven_trajectories
 
 DEFAULT_ROBOT_NAME = "yamabico"  # the paper's robot (its Figure 8)
 DEFAULT_ROBOT = RobotConfig()
@@ -33,7 +31,7 @@ ROBOT_PROFILES: dict[str, RobotConfig] = {
 def body_of(robot: RobotConfig) -> RobotConfig:
     """The robot apart from the model its ring is heard by (`--sonar`, the method's choice):
     what a FAM's velocities belong to."""
-    return replace(robot, sonar=sonar_model(robot.sonar, "real"))
+    return robot.heard_by("real")
 
 
 def profile_name(robot: RobotConfig) -> str | None:
