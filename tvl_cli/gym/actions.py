@@ -19,10 +19,11 @@ from gymnasium import spaces
 
 from tvl_cli.core.drive_command import STOP, Command
 from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.core.robot_profiles import DEFAULT_ROBOT
 
 DISCRETE, CONTINUOUS, NORMALISED = "discrete", "continuous", "normalised"
 ACTION_TYPES = (DISCRETE, CONTINUOUS, NORMALISED)
-ROBOT = RobotConfig()  # the robot of `tvl run`, with the real (noisy, specular) sonar ring
+ROBOT = DEFAULT_ROBOT  # the robot of `tvl run`, with the real (noisy, specular) sonar ring
 # Discrete actions 0-6 are the trajectories T3L..T3R; then a spin on the spot each way, and a
 # stop. (Numbered for the default robot; another robot's trajectories come first the same way.)
 SPIN_LEFT = len(ROBOT.trajectories)
