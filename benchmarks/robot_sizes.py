@@ -2,9 +2,11 @@
 competence the paper's robot reaches in the bundled worlds?
 
     python benchmarks/robot_sizes.py [--map ../shared/maps/nav2/tb3_sandbox.yaml]
-                                     [--seeds 1-5] [--learn-minutes 15] [--workers 2] [--json]
+                                     [--seeds 1-5] [--learn-minutes 15] [--workers 2]
+                                     [--paper] [--json]
 
-For each seed and each row: learn --learn-minutes simulated minutes by our method (the
+For each seed and each row: learn --learn-minutes simulated minutes by our method, or the
+paper's with --paper (the
 online FAM, single configuration, as `tvl learn --fam` writes it), then run avoid for the
 competence run's 5 simulated minutes from the world's start and judge it as every benchmark
 does (core.competence: at most 0.2 contacts a minute at a mean speed of at least half the
@@ -38,7 +40,7 @@ from tvl_cli.commands.world_import import ImportRequest, import_map
 from tvl_cli.core.competence import COMPETENCE_RUN_MINUTES, is_competent
 from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS, Fam
 from tvl_cli.core.fam_config import SINGLE
-from tvl_cli.core.method import DEFAULT
+from tvl_cli.core.method import DEFAULT, PAPER, PAPER_NAME, Method
 from tvl_cli.core.robot_profiles import DEFAULT_ROBOT_NAME, ROBOT_PROFILES, TURTLEBOT3_NAME
 from tvl_cli.sim.worldmap import load_world
 
@@ -46,14 +48,16 @@ ROOT = Path(__file__).resolve().parent.parent
 SANDBOX = ROOT.parent / "shared" / "maps" / "nav2" / "tb3_sandbox.yaml"
 
 
-def one_run(world_file: str, robot_name: str, seed: int, learn_minutes: float) -> dict[str, Any]:
-    """Learn in the world, then judge the avoid run from its start."""
-    world, robot = load_world(Path(world_file)), DEFAULT.robot(ROBOT_PROFILES[robot_name])
+def one_run(
+    world_file: str, robot_name: str, seed: int, learn_minutes: float, method: Method
+) -> dict[str, Any]:
+    """Learn in the world by `method`, then judge its avoid run from the world's start."""
+    world, robot = load_world(Path(world_file)), method.robot(ROBOT_PROFILES[robot_name])
     fam = Fam(SINGLE, [t.name for t in robot.trajectories], DEFAULT_INIT_VELOCITY_MPS)
     params = replace(LearnParams(), minutes=learn_minutes)
-    Learner(world, robot, fam, params, DEFAULT, seed).run(lambda e: None, lambda m: None)
+    Learner(world, robot, fam, params, method, seed).run(lambda e: None, lambda m: None)
     metrics = behave(
-        world, robot, fam, "avoid", minutes=COMPETENCE_RUN_MINUTES, seed=seed, method=DEFAULT
+        world, robot, fam, "avoid", minutes=COMPETENCE_RUN_MINUTES, seed=seed, method=method
     )
     fastest = max(robot.v_max_mps)
     return {
@@ -71,9 +75,11 @@ def main() -> None:
     parser.add_argument("--seeds", default="1-5")
     parser.add_argument("--learn-minutes", type=float, default=15.0)
     parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--paper", action="store_true", help="the paper's method, not ours")
     parser.add_argument("--json", action="store_true")
     args = parser.parse_args()
     seeds = seed_list(args.seeds)
+    method = PAPER if args.paper else DEFAULT
     with tempfile.TemporaryDirectory() as folder:
         imported = Path(folder) / f"{args.map.stem}.txt"
         robot = ROBOT_PROFILES[TURTLEBOT3_NAME]
@@ -87,7 +93,7 @@ def main() -> None:
         with ProcessPoolExecutor(args.workers) as pool:
             futures = {
                 (world, name): [
-                    pool.submit(one_run, str(path), name, seed, args.learn_minutes)
+                    pool.submit(one_run, str(path), name, seed, args.learn_minutes, method)
                     for seed in seeds
                 ]
                 for world, name, path in rows
@@ -99,6 +105,7 @@ def main() -> None:
         )
         return
     print(
+        f"{PAPER_NAME if args.paper else 'our'} method, "
         f"{len(seeds)} seeds, {args.learn_minutes:g} simulated minutes of learning, "
         f"{COMPETENCE_RUN_MINUTES:g}-minute avoid runs\n"
     )
