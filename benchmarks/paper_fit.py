@@ -34,7 +34,7 @@ from typing import Any
 
 from timing import TVL
 
-from tvl_cli.analysis.results import PAPER_FIG21
+from tvl_cli.analysis.wall_threshold import PAPER_FIG21
 from tvl_cli.sim.worldgen import bundled_world_path
 
 WORLDS = ("square", "circle")

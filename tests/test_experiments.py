@@ -15,7 +15,7 @@ from click.testing import CliRunner
 from conftest import TVL
 from json_schemas import valid
 
-from tvl_cli.analysis.results import is_competent, time_to_competence
+from tvl_cli.analysis.time_to_competence import is_competent, time_to_competence
 from tvl_cli.cli.main import main
 from tvl_cli.core.competence import COMPETENCE_RUN_MINUTES
 from tvl_cli.core.metrics import RunMetrics

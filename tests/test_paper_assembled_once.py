@@ -25,7 +25,7 @@ NOT_THE_METHOD = {
 # Package modules where the word itself stands as a value: the ablation figure labels the runs
 # of the paper's method with it (experiments/grids/ablation.toml). (Benchmarks label their
 # columns and settings with it freely.)
-PAPER_AS_A_LABEL = {"tvl_cli/analysis/results.py"}
+PAPER_AS_A_LABEL = {"tvl_cli/analysis/ablation_table.py"}
 
 
 def _sources() -> list[Path]:

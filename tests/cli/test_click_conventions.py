@@ -24,7 +24,7 @@ from tvl_cli.core.robot_config import FASTEST_MPS, RobotConfig
 from tvl_cli.io.famfile import write_fam
 from tvl_cli.io.json_documents import SCHEMA_COMMANDS
 from tvl_cli.io.logreader import read_log
-from tvl_cli.render.figures import FIGURES
+from tvl_cli.render.experiment_figures import FIGURES
 
 ROOT = Path(__file__).resolve().parents[2]
 SQUARE = ROOT / "worlds" / "square.txt"

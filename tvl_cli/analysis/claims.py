@@ -14,7 +14,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from tvl_cli.analysis.intervals import Interval, interval
-from tvl_cli.analysis.results import PAPER_FIG21
+from tvl_cli.analysis.wall_threshold import PAPER_FIG21
 from tvl_cli.core.competence import MAX_CONTACTS_PER_MIN
 
 Row = dict[str, Any]

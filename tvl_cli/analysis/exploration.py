@@ -12,13 +12,9 @@ from collections.abc import Iterable
 
 import numpy as np
 
-from tvl_cli.analysis.results import (
-    Row,
-    competence_times,
-    describe_competence,
-    distinct,
-    select,
-)
+from tvl_cli.analysis.aggregation import distinct, select
+from tvl_cli.analysis.result_rows import Row
+from tvl_cli.analysis.time_to_competence import competence_times, describe_competence
 
 # The coverage asked of 45 minutes' learning in the lab.
 COVERAGE_GOAL = 0.9

@@ -7,7 +7,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 
 from tvl_cli.analysis.intervals import Bounds
-from tvl_cli.analysis.results import WALL_BEHAVIOURS
+from tvl_cli.analysis.wall_threshold import WALL_BEHAVIOURS
 
 
 @dataclass(frozen=True, slots=True)

@@ -19,7 +19,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from tvl_cli.analysis.claims import CLAIMS, ClaimRow, judge
-from tvl_cli.analysis.results import PAPER_FIG21
+from tvl_cli.analysis.wall_threshold import PAPER_FIG21
 from tvl_cli.bench.cells import Cell, FamPlan, LearntCell, RunPlan
 from tvl_cli.bench.generalization import FULL, QUICK, TINY
 from tvl_cli.bench.runner import BenchRun, Where, run_cells

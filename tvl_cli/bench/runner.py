@@ -15,7 +15,7 @@ from concurrent.futures import FIRST_COMPLETED, Executor, Future, wait
 from dataclasses import dataclass
 from pathlib import Path
 
-from tvl_cli.analysis.results import read_results
+from tvl_cli.analysis.result_rows import read_results
 from tvl_cli.bench.cells import Cell, cell_id
 from tvl_cli.bench.work import CELL, CELL_ROWS, FAMS, LOGS, WORLDS, Row, do_cell
 from tvl_cli.core.errors import BadInput

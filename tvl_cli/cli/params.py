@@ -133,6 +133,7 @@ def complete_figure(
     ctx: click.Context, param: click.Parameter, incomplete: str
 ) -> list[CompletionItem]:
     """figure NAME: the figures `tvl figure` draws."""
-    from tvl_cli.render.figures import FIGURES  # matplotlib: in a completion request only
+    # matplotlib: in a completion request only
+    from tvl_cli.render.experiment_figures import FIGURES
 
     return _starting(incomplete, list(FIGURES))

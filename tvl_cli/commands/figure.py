@@ -7,7 +7,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-from tvl_cli.analysis.results import Row, check_needs, read_results
+from tvl_cli.analysis.figure_needs import check_needs
+from tvl_cli.analysis.result_rows import Row, read_results
 from tvl_cli.core.errors import BadInput
 from tvl_cli.io.atomic import atomic_output
 from tvl_cli.io.runfile import read_run
@@ -17,7 +18,7 @@ DPI = 120  # of a raster picture
 
 @dataclass(frozen=True, slots=True)
 class FigureRequest:
-    name: str  # one of render.figures.FIGURES
+    name: str  # one of render.experiment_figures.FIGURES
     results: Path  # a sweep's results.jsonl
     picture: Path  # in the format its extension names
     table: Path | None = None  # the summary table as markdown
@@ -26,7 +27,7 @@ class FigureRequest:
 def draw(request: FigureRequest) -> str:
     """Draw the figure and write its table; return the table."""
     # matplotlib is slow to import: only drawing needs it.
-    from tvl_cli.render.figures import FIGURES
+    from tvl_cli.render.experiment_figures import FIGURES
     from tvl_cli.render.formats import save_picture
 
     name, results = request.name, request.results

@@ -16,7 +16,7 @@ from contextlib import AbstractContextManager
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
-from tvl_cli.analysis.results import read_results
+from tvl_cli.analysis.result_rows import read_results
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.method import DEFAULT_NAME, PAPER_NAME
