@@ -205,10 +205,22 @@ def test_memory_settings_are_checked() -> None:
         MemoryConfig(PATCHES, range_m=-1.0)
     with pytest.raises(BadInput, match="unknown echo memory setting 'depth'"):
         MemoryConfig.from_dict({"kind": "points", "depth": 3})
+    with pytest.raises(BadInput, match="--memory-clearing sometimes: choose never, goal, always"):
+        MemoryConfig(PATCHES, clearing="sometimes")
+    with pytest.raises(BadInput, match="clearing 1: choose never, goal, always"):
+        MemoryConfig.from_dict({"kind": "patches", "clearing": 1})
+
+
+def test_a_memory_recorded_before_clearing_was_a_choice_never_clears() -> None:
+    recorded = {"kind": "patches", "window_s": 20.0, "range_m": 4.0, "patch_m": 0.3}
+    assert MemoryConfig.from_dict(recorded).clearing == "never"
+    assert DEFAULT.memory.clearing == "goal"
+    assert MemoryConfig.from_dict(DEFAULT.memory.to_dict()) == DEFAULT.memory
 
 
 def test_no_memory_is_one_memory_whatever_its_settings() -> None:
     assert MemoryConfig("none", window_s=30.0) == NO_MEMORY
+    assert MemoryConfig("none", clearing="always") == NO_MEMORY
 
 
 def test_a_choice_replaces_only_the_settings_given() -> None:
@@ -216,6 +228,7 @@ def test_a_choice_replaces_only_the_settings_given() -> None:
     assert NOT_CHOSEN.over(base) == base
     assert MemoryChoice(window_s=7.0).over(base) == MemoryConfig(PATCHES, 7.0, 3.0)
     assert MemoryChoice(kind="none").over(base) == NO_MEMORY
+    assert MemoryChoice(clearing="always").over(base) == replace(base, clearing="always")
 
 
 @pytest.mark.slow
@@ -250,3 +263,72 @@ def test_replaying_a_log_session_gives_each_episode_its_virtual_rings(tmp_path: 
     assert all(e.end_time_s <= cut_s for e in snapshot)
     for mine, whole in zip(snapshot, replayed, strict=False):
         np.testing.assert_array_equal(mine.fam_rings(), whole.fam_rings())
+
+
+def _pillar_heard_from(distance_m: float, memory: EchoMemory) -> None:
+    """S0 hears a pillar `distance_m` ahead of the body's edge, from the origin facing +x."""
+    heard = silent()
+    heard[0] = distance_m
+    memory.remember(0, (0.0, 0.0, 0.0), heard)
+
+
+@pytest.mark.parametrize("clears", [False, True])
+def test_a_beam_that_hears_farther_clears_a_wide_patch_only_when_clearing(clears: bool) -> None:
+    # A pillar heard 2 m ahead is remembered as a patch as wide as the beam there (0.89 m).
+    # Turned 20° to the left, S0's cone still holds the patch's right end, though the live
+    # beam hears a wall 3 m away: the patch closes that way, unless a live echo clears it.
+    memory = EchoMemory(PATCH_MEMORY, ROBOT, clears=clears)
+    _pillar_heard_from(2.0, memory)
+    live = silent()
+    live[0] = 3.0
+    virtual = memory.virtual(1, (0.0, 0.0, math.radians(20.0)), live)
+    if clears:
+        assert virtual[0] == 3.0
+    else:
+        assert 2.0 < virtual[0] < 2.6  # the patch's end, nearer than the live echo
+
+
+def test_clearing_keeps_a_patch_heard_from_near_and_every_patch_in_a_silent_beam() -> None:
+    # Heard from 0.5 m, the patch is no wider than the beam was there (0.3 m, the floor): it
+    # stays in a beam that hears farther. A wide patch stays in a beam that hears nothing,
+    # since a slanted wall is silent.
+    near = EchoMemory(PATCH_MEMORY, ROBOT, clears=True)
+    _pillar_heard_from(0.5, near)
+    live = silent()
+    live[0] = 3.0
+    assert near.virtual(1, (0.0, 0.0, 0.0), live)[0] == pytest.approx(0.5)
+    far = EchoMemory(PATCH_MEMORY, ROBOT, clears=True)
+    _pillar_heard_from(2.0, far)
+    assert far.virtual(1, (0.0, 0.0, math.radians(20.0)), silent())[0] < 2.6
+
+
+@pytest.mark.parametrize(
+    ("clearing", "seeking_goal", "clears"),
+    [("never", True, False), ("goal", False, False), ("goal", True, True), ("always", False, True)],
+)
+def test_perception_clears_as_the_memory_says_for_its_behaviour(
+    clearing: str, seeking_goal: bool, clears: bool
+) -> None:
+    config = replace(PATCH_MEMORY, clearing=clearing)
+    perception = Perception(config, ROBOT, seeking_goal=seeking_goal)
+    ring = silent()
+    ring[0] = 2.0
+    perception.sense(0.0, (0.0, 0.0, 0.0), ring)
+    live = silent()
+    live[0] = 3.0
+    virtual = perception.peek(0.1, (0.0, 0.0, math.radians(20.0)), live)
+    assert (virtual[0] == 3.0) == clears
+
+
+def test_a_learner_replays_its_rings_cleared_only_when_the_memory_always_clears() -> None:
+    rng = np.random.default_rng(7)
+    steps = np.arange(60)
+    odometry = np.cumsum(rng.normal(0.0, [0.05, 0.05, 0.2], (60, 3)), axis=0)
+    rings = np.where(rng.random((60, 16)) < 0.6, rng.uniform(0.3, 3.5, (60, 16)), MAX)
+    replayed = {
+        c: replayed_rings(replace(PATCH_MEMORY, clearing=c), ROBOT, steps, odometry, rings)
+        for c in ("never", "goal", "always")
+    }
+    np.testing.assert_array_equal(replayed["never"], replayed["goal"])
+    assert (replayed["always"] != replayed["never"]).any()
+    assert np.all(replayed["always"] >= replayed["never"])  # clearing only lets farther in

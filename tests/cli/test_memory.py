@@ -123,6 +123,32 @@ def test_the_paper_refuses_a_memory_beside_it(tmp_path: Path) -> None:
     assert "--memory cannot be given with --paper" in output
 
 
+def test_the_paper_refuses_clearing_and_a_bad_clearing_is_one_line(tmp_path: Path) -> None:
+    output = refused("learn", SQUARE, "--log", tmp_path / "l.h5", "--paper",
+                     "--memory-clearing", "goal")  # fmt: skip
+    assert "--memory-clearing cannot be given with --paper" in output
+    output = refused("learn", SQUARE, "--log", tmp_path / "l.h5", "--memory-clearing", "often")
+    assert "'often' is not one of 'never', 'goal', 'always'" in output
+    assert not (tmp_path / "l.h5").exists()
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("clearing", ["never", "always"])
+def test_a_fam_records_its_clearing_and_a_run_keeps_it_unless_told(
+    clearing: str, tmp_path: Path
+) -> None:
+    fam = tmp_path / "fam.h5"
+    clearing_options = ("--memory", "patches", "--memory-clearing", clearing)
+    tvl("train", ROOT / "logs" / "square-s1.h5", "-o", fam, *clearing_options)
+    assert read_fam(fam).method.memory.clearing == clearing
+    kept, told = tmp_path / "kept.h5", tmp_path / "told.h5"
+    run = ("run", fam, ROOT / "worlds" / "obstacles.txt", "--behaviour", "goal", "--minutes", 0.2)
+    tvl(*run, "--log", kept)
+    tvl(*run, "--log", told, "--memory-clearing", "goal")
+    assert read_run(kept).method.memory.clearing == clearing
+    assert read_run(told).method.memory.clearing == "goal"
+
+
 def test_bad_memory_settings_are_one_line(tmp_path: Path) -> None:
     output = refused(
         "learn", SQUARE, "--log", tmp_path / "l.h5", "--memory", "patches", "--memory-window", 0

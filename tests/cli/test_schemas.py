@@ -105,19 +105,19 @@ RELEASED = {
     "world render": (1, "73701f22a7db6b3d"),
     "world import": (2, "946b4da5d9420c27"),
     "world export": (1, "9e6559936de1d145"),
-    "learn": (4, "511c3400106162e5"),
-    "train": (2, "841b73cfe295d28d"),
-    "inspect": (3, "0257f1f6b09068e0"),
+    "learn": (5, "733d592b0f9bf71f"),
+    "train": (3, "8910d5f6dbbb6699"),
+    "inspect": (4, "b322b47dabef7451"),
     "diff": (2, "73af06e71a481611"),
     "design": (1, "8644a5ca5cf08dee"),
-    "run": (4, "f5254ff2680b58c0"),
-    "replay": (3, "2bd2851e234be943"),
+    "run": (5, "33ec7a8cae7f521e"),
+    "replay": (4, "2c7fe7226357bf28"),
     "explain": (2, "1e9b72cd4a2adc0a"),
     "demo": (2, "e70a1078cb6cfd9b"),
-    "baseline dwa": (3, "9a4246dff996a10f"),
-    "baseline qlearn": (3, "768943e9e7463cdc"),
+    "baseline dwa": (4, "1fd204220a12375f"),
+    "baseline qlearn": (4, "7514df4e5fd1c6e2"),
     "sweep": (2, "b7fbe07376b9b2bb"),
-    "bench generalization": (1, "1412a2d4dfce20b4"),
+    "bench generalization": (2, "2ee4a862d8093e5d"),
     "bench claims": (1, "c574aae6e568d1f9"),
     "export": (1, "4a3407f1771e4ec1"),
     "figure": (1, "beee1067ca60bd82"),
@@ -200,7 +200,7 @@ def test_schema_json_carries_the_schema_in_a_document() -> None:
     assert printed["inputs"] == {"command": "run"}
     assert printed["json_schema"] == command_schema("run")
     assert printed["schemas"] == [
-        {"command": "run", "id": "urn:tvl:schema:run", "schema_version": 4}
+        {"command": "run", "id": "urn:tvl:schema:run", "schema_version": 5}
     ]
 
 

@@ -33,10 +33,12 @@ GOLDEN_FAM = HERE / "golden-fam-v1.h5"
 # Version 2 of the FAM file adds the echo memory it reads through.
 GOLDEN_FAM_V2 = HERE / "golden-fam-v2.h5"
 MEMORY = {"kind": "patches", "window_s": 12.5, "range_m": 1.75, "patch_m": 0.4}
+# The files were written before clearing was a choice: read back, their memory never clears.
+READ_MEMORY = MemoryConfig(**MEMORY, clearing="never")
 # Log version 2 and FAM version 3 keep their method whole, once: one of no preset's.
 GOLDEN_LOG_V2 = HERE / "golden-log-v2.h5"
 GOLDEN_FAM_V3 = HERE / "golden-fam-v3.h5"
-METHOD = replace(PAPER, near_m=0.2, reflexes=("bump", "tie"), memory=MemoryConfig(**MEMORY))
+METHOD = replace(PAPER, near_m=0.2, reflexes=("bump", "tie"), memory=READ_MEMORY)
 PROVENANCE_V3 = {
     "logs": [{"path": "golden-log-v2.h5", "sha256": "1" * 64, "sessions": ["0000", "0001"]}],
     "sessions_differ_in": [],

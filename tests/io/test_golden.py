@@ -13,7 +13,7 @@ import numpy as np
 from log_samples import assert_same_episode
 
 from tvl_cli.core.fam_config import SINGLE
-from tvl_cli.core.memory import NO_MEMORY, MemoryConfig
+from tvl_cli.core.memory import NO_MEMORY
 from tvl_cli.io.famfile import read_fam
 from tvl_cli.io.logreader import read_log
 
@@ -84,7 +84,7 @@ def test_golden_fam_of_version_1_reads_the_live_ring() -> None:
 
 def test_golden_fam_of_version_2_reads_back_its_memory_and_tables() -> None:
     read = read_fam(GOLDEN.GOLDEN_FAM_V2)
-    assert read.method.memory == MemoryConfig(**GOLDEN.MEMORY)
+    assert read.method.memory == GOLDEN.READ_MEMORY
     velocity, experience = GOLDEN.golden_tables()
     np.testing.assert_array_equal(read.fam.velocity_table(0), velocity)
     np.testing.assert_array_equal(read.fam.experience_table(0), experience)

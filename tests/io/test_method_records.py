@@ -48,7 +48,7 @@ def test_a_sessions_parameters_give_its_rule_and_memory() -> None:
     parameters = {"explore": NOVELTY, "memory": {"kind": "points", "window_s": 30.0}}
     read = session_method(None, parameters, ROBOT, "log")
     assert read.method.exploration == NOVELTY
-    assert read.method.memory == MemoryConfig("points", window_s=30.0)
+    assert read.method.memory == MemoryConfig("points", window_s=30.0, clearing="never")
 
 
 def test_a_sessions_partial_record_lays_over_its_parameters() -> None:

@@ -85,6 +85,6 @@ def behaving_policy(
 ) -> Policy:
     """The TVL policy over `fam`, perceiving through the method's echo memory and finding
     walls by its wall rule, inside its reflexes."""
-    perception = Perception(method.memory, robot)
+    perception = Perception(method.memory, robot, seeking_goal=behaviour == "goal")
     tvl = TvlPolicy(fam, robot, behaviour, threshold, perception, method.wall_rule)
     return wrap(tvl, method.reflexes, robot, behaviour)

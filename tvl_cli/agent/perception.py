@@ -16,16 +16,17 @@ import numpy as np
 
 from tvl_cli.agent.policy import Pose
 from tvl_cli.core.episode import Episode
-from tvl_cli.core.memory import POINTS, MemoryConfig
+from tvl_cli.core.memory import CLEARED_ABOVE_M, POINTS, MemoryConfig
 from tvl_cli.core.ring import mm_to_ring
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.sonar import SonarRing
 
 
 class EchoMemory:
-    """The echoes of the last `config.window_s`, in the odometry frame."""
+    """The echoes of the last `config.window_s`, in the odometry frame; with `clears`, a beam
+    that hears an echo meets only the patches narrow enough (core.memory, *clearing*)."""
 
-    def __init__(self, config: MemoryConfig, robot: RobotConfig) -> None:
+    def __init__(self, config: MemoryConfig, robot: RobotConfig, clears: bool = False) -> None:
         # The compiled kernels are loaded with the first memory, so that a command's help, or
         # a run without a memory, never loads the compiler.
         from tvl_cli.core.kernels.memory import remember_echoes, remembered_ranges
@@ -33,6 +34,7 @@ class EchoMemory:
         self._keep = remember_echoes
         self._cast = remembered_ranges
         self.config = config
+        self.clears = clears
         sonar = robot.sonar
         self._sonar = sonar
         self._ring = SonarRing(sonar, robot.radius_m)
@@ -84,6 +86,7 @@ class EchoMemory:
     def _virtual(
         self, step: int, origins: np.ndarray, directions: np.ndarray, ring_m: np.ndarray
     ) -> np.ndarray:
+        sonar = self._sonar
         remembered = self._cast(
             self.config.kind,
             origins,
@@ -96,8 +99,9 @@ class EchoMemory:
             self._steps,
             step - self._window_steps + 1,
             ring_m,  # a surface no nearer than the live reading changes nothing below
+            ring_m < sonar.max_range_m if self.clears else None,  # the beams that heard one
+            CLEARED_ABOVE_M,
         )
-        sonar = self._sonar
         return np.minimum(ring_m, np.clip(remembered, sonar.min_range_m, sonar.max_range_m))
 
     def surfaces(
@@ -123,12 +127,16 @@ class EchoMemory:
 
 
 class Perception:
-    """The stage between the ring and the FAM: the live ring itself without a memory."""
+    """The stage between the ring and the FAM: the live ring itself without a memory. The
+    memory clears as its `clearing` says for a robot `seeking_goal` or not."""
 
-    def __init__(self, config: MemoryConfig, robot: RobotConfig) -> None:
+    def __init__(
+        self, config: MemoryConfig, robot: RobotConfig, seeking_goal: bool = False
+    ) -> None:
         self.config = config
         self._dt_s = robot.control_period_s
-        self._memory = EchoMemory(config, robot) if config.remembers else None
+        clears = config.clears(seeking_goal)
+        self._memory = EchoMemory(config, robot, clears) if config.remembers else None
 
     @property
     def remembers(self) -> bool:
@@ -159,10 +167,10 @@ def replayed_rings(
 ) -> np.ndarray:
     """(N, 16) metres: the virtual rings of readings (N, 16) taken in order at `odometry`
     (N, 3) on control `steps` (N,), each remembered before its own is made, as a learner
-    perceived them."""
+    (who seeks no goal) perceived them."""
     if not config.remembers:
         return rings_m
-    memory = EchoMemory(config, robot)
+    memory = EchoMemory(config, robot, config.clears(seeking_goal=False))
     virtual = np.empty_like(rings_m)
     for i, (step, pose, ring) in enumerate(zip(steps, odometry, rings_m, strict=True)):
         virtual[i] = memory.sense(int(step), (pose[0], pose[1], pose[2]), ring)

@@ -69,7 +69,7 @@ def behave_with_true_velocities(
     engine = StepEngine(world, robot, goal_xy=goal_xy, measure=True)
     engine.reset(seed)
     velocities = TrueVelocities(world, robot, method, lambda: engine.sim.pose)
-    perception = Perception(method.memory, robot)
+    perception = Perception(method.memory, robot, seeking_goal=behaviour == "goal")
     tvl = TvlPolicy(velocities, robot, behaviour, threshold, perception, method.wall_rule)
     policy = wrap(tvl, method.reflexes, robot, behaviour)
     return drive_engine(engine, policy, minutes, on_step=on_step)

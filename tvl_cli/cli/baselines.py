@@ -11,10 +11,10 @@ from tvl_cli.baselines.dwa import SENSORS as DWA_SENSORS
 from tvl_cli.cli import documents, views
 from tvl_cli.cli.examples import examples
 from tvl_cli.cli.groups import Subcommands
+from tvl_cli.cli.memory_options import memory_options
 from tvl_cli.cli.options import (
     GOAL,
     PICTURE,
-    memory_options,
     method_options,
     print_json,
     reflex_options,

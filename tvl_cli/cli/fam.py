@@ -11,11 +11,11 @@ from tvl_cli.analysis.famdiff import DEFAULT_TOLERANCE_MPS
 from tvl_cli.analysis.rules import SORT_KEYS
 from tvl_cli.cli import documents, fam_views, views
 from tvl_cli.cli.examples import examples
+from tvl_cli.cli.memory_options import memory_options
 from tvl_cli.cli.options import (
     HDF5,
     PICTURE,
     given_on_command_line,
-    memory_options,
     method_options,
     print_csv,
     print_json,

@@ -10,10 +10,10 @@ import click
 from tvl_cli.agent.explore import LearnParams, MinuteStats
 from tvl_cli.cli import documents, views
 from tvl_cli.cli.examples import examples
+from tvl_cli.cli.memory_options import memory_options
 from tvl_cli.cli.options import (
     HDF5,
     live_options,
-    memory_options,
     method_options,
     print_json,
     refuse_existing,

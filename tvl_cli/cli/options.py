@@ -25,10 +25,6 @@ from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS
 from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS
 from tvl_cli.core.labels import LABEL_RULES
 from tvl_cli.core.memory import (
-    DEFAULT_PATCH_M,
-    DEFAULT_RANGE_M,
-    DEFAULT_WINDOW_S,
-    MEMORY_KINDS,
     NOT_CHOSEN,
     MemoryChoice,
 )
@@ -247,7 +243,7 @@ _SETTINGS: dict[str, tuple[str, Callable[[Any], Any]]] = {
     "sonar": ("sonar", str),
     "reflex": ("reflexes", parse_reflexes),
 }
-_MEMORY_SETTINGS = ("memory", "memory_window", "memory_range", "memory_patch")
+_MEMORY_SETTINGS = ("memory", "memory_window", "memory_range", "memory_patch", "memory_clearing")
 # The flag of each setting of the memory, as a method choice names it.
 _MEMORY_FLAGS = {
     f"memory.{key}": f"--{keyword.replace('_', '-')}"
@@ -317,47 +313,6 @@ def reflex_options(default: str) -> Callable[[Callable[..., None]], Callable[...
             help=f"Reflexes beyond the paper, comma-separated: {', '.join(REFLEX_NAMES)}; "
             f"or all, or none (default: the method's; without one, {default}).",
         )(command)
-
-    return decorate
-
-
-def memory_options(base: str) -> Callable[[Callable[..., None]], Callable[..., None]]:
-    """--memory, --memory-window, --memory-range and --memory-patch, settings of the method's
-    echo memory (method_options) over `base` (said in the help). The paper's method keeps no
-    memory."""
-
-    def decorate(command: Callable[..., None]) -> Callable[..., None]:
-        options = (
-            click.option(
-                "--memory",
-                type=click.Choice(MEMORY_KINDS),
-                default=None,
-                help=f"What the FAM reads: the live ring (none), or with echoes remembered as "
-                f"points or patches (default: the method's; without one, {base}).",
-            ),
-            click.option(
-                "--memory-window",
-                type=float,
-                default=None,
-                help=f"Seconds of echoes remembered (default {DEFAULT_WINDOW_S:g} with a memory).",
-            ),
-            click.option(
-                "--memory-range",
-                type=float,
-                default=None,
-                help=f"Echoes farther than this are not remembered, m (default "
-                f"{DEFAULT_RANGE_M:g}).",
-            ),
-            click.option(
-                "--memory-patch",
-                type=float,
-                default=None,
-                help=f"Patches are at least this wide, m (default {DEFAULT_PATCH_M:g}).",
-            ),
-        )
-        for option in reversed(options):
-            command = option(command)
-        return command
 
     return decorate
 

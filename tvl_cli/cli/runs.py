@@ -18,6 +18,7 @@ import click
 
 from tvl_cli.cli import views
 from tvl_cli.cli.examples import examples
+from tvl_cli.cli.memory_options import memory_options
 from tvl_cli.cli.options import (
     GIF,
     GOAL,
@@ -26,7 +27,6 @@ from tvl_cli.cli.options import (
     PICTURE,
     given_on_command_line,
     live_options,
-    memory_options,
     method_options,
     print_csv,
     print_json,

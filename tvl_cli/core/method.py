@@ -31,6 +31,7 @@ from tvl_cli.core.labels import (
     MAX_MARGIN_M,
 )
 from tvl_cli.core.memory import (
+    CLEARED_ABOVE_M,
     DEFAULT_MEMORY,
     MEMORY_KINDS,
     NO_MEMORY,
@@ -347,7 +348,7 @@ class MethodChoice:
 
 
 # The settings of the echo memory a choice may give one by one (core.memory.MemoryChoice).
-MEMORY_SETTINGS = ("kind", "window_s", "range_m", "patch_m")
+MEMORY_SETTINGS = ("kind", "window_s", "range_m", "patch_m", "clearing")
 
 
 NOT_GIVEN = MethodChoice()
@@ -484,7 +485,9 @@ ADDITIONS: tuple[Addition, ...] = (
         "patches",
         "The FAM reads a virtual ring: the live ranges, or nearer surfaces heard in the last "
         f"{DEFAULT_MEMORY.window_s:g} s placed by odometry, since a specular ring hears a "
-        "slanted wall only square on.",
+        "slanted wall only square on. While seeking a goal, a beam that hears an echo leaves "
+        f"out the remembered patches wider than {2 * CLEARED_ABOVE_M:g} m in it "
+        "(`--memory-clearing`): heard from afar, they close gaps between pillars and doors.",
         NO_MEMORY,
     ),
 )

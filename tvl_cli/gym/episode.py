@@ -254,8 +254,13 @@ class RobotEpisode:
         self.last: tuple[object, float, tuple[str, ...]] | None = None  # action, reward, events
         self.last_command = STOP  # the last step's
         self.trail: list[tuple[float, float]] = []  # true positions this episode, metres
-        self._perception = Perception(task.memory, task.robot)
+        self._perception = self._fresh_perception()
         self._odometry: Pose = task.world.start
+
+    def _fresh_perception(self) -> Perception:
+        """A memory that has heard nothing, clearing as the task's method says for its task."""
+        task = self.task
+        return Perception(task.memory, task.robot, seeking_goal=task.goal_xy is not None)
 
     def begin(
         self, ring: np.ndarray, now: RobotNow, remember: bool = False
@@ -263,7 +268,7 @@ class RobotEpisode:
         """A new episode from where the robot is: the observation and info. `remember`: a
         robot going on keeps what it heard; one starting afresh has heard nothing."""
         if not remember:
-            self._perception = Perception(self.task.memory, self.task.robot)
+            self._perception = self._fresh_perception()
         perceived = self._sense(ring, now)
         self.last = None
         self.trail = [now.pose[:2]]

@@ -135,7 +135,9 @@ class ControllerPolicy:
             for kind in (DISCRETE, CONTINUOUS)
         }
         self._act = act
-        self._perception = Perception(observe.memory, self._tasks[DISCRETE].robot)
+        self._perception = Perception(
+            observe.memory, self._tasks[DISCRETE].robot, seeking_goal=goal_xy is not None
+        )
 
     @property
     def task(self) -> RobotTask:

@@ -12,7 +12,7 @@ from itertools import takewhile
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam_config import FamConfig
-from tvl_cli.core.memory import NO_MEMORY, PATCHES, MemoryConfig
+from tvl_cli.core.memory import DEFAULT_MEMORY, NO_MEMORY, PATCHES, MemoryConfig
 from tvl_cli.core.method import DEFAULT, FIELDS, SESSIONS_DIFFER_IN, Method, MethodChoice
 from tvl_cli.core.robot_config import RobotConfig, sonar_model_name
 from tvl_cli.core.training import TrainParams
@@ -95,7 +95,7 @@ def common_memory(logs: Sequence[LearningLog]) -> MemoryConfig:
         raise BadInput(
             f"{logs[0].path}: sessions learnt through different echo memories ({mixed}), and "
             "a FAM reads through one: give --memory and its settings (--memory-window, "
-            "--memory-range, --memory-patch) to train every session through it"
+            "--memory-range, --memory-patch, --memory-clearing) to train every session through it"
         )
     return next(iter(first_with), NO_MEMORY)
 
@@ -105,7 +105,11 @@ def memory_text(memory: MemoryConfig) -> str:
     if not memory.remembers:
         return "none (the live ring)"
     patch = f", patch {memory.patch_m:g} m" if memory.kind == PATCHES else ""
-    return f"{memory.kind}, window {memory.window_s:g} s, range {memory.range_m:g} m{patch}"
+    # Said when not ours, as a setting left at its default goes unsaid.
+    clearing = f", clearing {memory.clearing}" if memory.clearing != DEFAULT_MEMORY.clearing else ""
+    return (
+        f"{memory.kind}, window {memory.window_s:g} s, range {memory.range_m:g} m{patch}{clearing}"
+    )
 
 
 # The learning choices of a session that a FAM trained on it keeps as they were: where the

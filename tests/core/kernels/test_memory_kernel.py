@@ -22,11 +22,14 @@ RING = SonarRing(ROBOT.sonar, ROBOT.radius_m)
 HALF_CONE = math.radians(ROBOT.sonar.cone_deg) / 2.0
 
 
+@pytest.mark.parametrize("clearing", [False, True])
 @pytest.mark.parametrize("within_m", [None, 2.0, "live"])
 @pytest.mark.parametrize("kind", [POINTS, PATCHES])
-def test_the_kernel_casts_as_the_reference_does(kind: str, within_m: object) -> None:
+def test_the_kernel_casts_as_the_reference_does(
+    kind: str, within_m: object, clearing: bool
+) -> None:
     rng = np.random.default_rng(5)
-    met = unmet = 0
+    met = unmet = differs = 0
     for _ in range(150):
         origins, directions = RING.rays(tuple(rng.uniform((-1, -1, -4), (1, 1, 4))))
         echoes = int(rng.integers(0, 400))
@@ -44,15 +47,21 @@ def test_the_kernel_casts_as_the_reference_does(kind: str, within_m: object) -> 
             if within_m == 2.0
             else rng.uniform(0.15, 4.0, 16)
         )
-        memory = (centres, axes, half_widths, heard, 50, within)
+        # Half the beams cleared of the echoes wider than 0.2 m either side, or none.
+        cleared = (rng.random(16) < 0.5) if clearing else None
+        memory = (centres, axes, half_widths, heard, 50, within, cleared, 0.2)
         compiled = remembered_ranges(*args, *memory)
         reference = remembered_ranges_reference(*args, *memory)
         np.testing.assert_allclose(compiled, reference, rtol=0, atol=1e-12)
         met += int(np.isfinite(reference).sum())
         unmet += int(np.isinf(reference).sum())
+        whole = remembered_ranges_reference(*args, *memory[:-2])
+        differs += int((reference != whole).sum())
     assert met > 500  # most casts met something: the comparison was not of empty memories
     # Looking no farther than given left some beams with nothing, as the reference.
     assert within_m is None or unmet > 100
+    # Clearing changed what some beams met; without it, nothing changed.
+    assert (differs > 50) if clearing else differs == 0
 
 
 def test_the_kernel_keeps_echoes_as_the_reference_does() -> None:

@@ -12,9 +12,10 @@ echoes:
         along; half_widths (K,) metres: the half width of its patch;
     heard (K,): the control step each was heard on.
 The cast's `since` is the oldest step remembered, and `within_m` (B,) metres how far to look
-in each beam (its live reading: nothing farther changes what the robot perceives); it
-returns (B,) metres from each transducer to the nearest remembered surface in the beam
-nearer than that, inf where there is none.
+in each beam (its live reading: nothing farther changes what the robot perceives); in the
+beams `cleared` (B,) marks, only echoes no wider than `cleared_above_m` either side are met
+(core.memory, *clearing*). It returns (B,) metres from each transducer to the nearest
+remembered surface in the beam nearer than that, inf where there is none.
 
 A point is met by a beam when it lies inside the cone about the beam's middle ray. A patch is
 the segment centre +/- w * (-ay, ax): a ray O + tD meets its line where
@@ -80,12 +81,17 @@ def remembered_ranges(
     heard: np.ndarray,
     since: int,
     within_m: np.ndarray | None = None,
+    cleared: np.ndarray | None = None,
+    cleared_above_m: float = math.inf,
 ) -> np.ndarray:
     """(B,) metres: the nearest remembered point (kind `points`) or patch in each beam
-    nearer than within_m (B,) (None: at any range); inf where there is none."""
+    nearer than within_m (B,) (None: at any range), of those no wider than cleared_above_m
+    either side in the beams `cleared` (B,) marks (None: none); inf where there is none."""
     beams = len(origins) // rays_per_beam
     if within_m is None:
         within_m = np.full(beams, np.inf)
+    if cleared is None:
+        cleared = np.zeros(beams, dtype=np.bool_)
     out = np.empty(beams)  # (B,) metres
     if kind == POINTS:
         _points_in_cones(
@@ -94,9 +100,12 @@ def remembered_ranges(
             rays_per_beam,
             math.cos(half_cone_rad),
             centres,
+            half_widths,
             heard,
             since,
             within_m,
+            cleared,
+            cleared_above_m,
             out,
         )
     else:
@@ -110,6 +119,8 @@ def remembered_ranges(
             heard,
             since,
             within_m,
+            cleared,
+            cleared_above_m,
             out,
         )
     return out
@@ -117,7 +128,8 @@ def remembered_ranges(
 
 @kernel
 def _points_in_cones(
-    origins, directions, rays_per_beam, cos_half_cone, centres, heard, since, within_m, out
+    origins, directions, rays_per_beam, cos_half_cone, centres, half_widths, heard, since,
+    within_m, cleared, cleared_above_m, out,
 ):  # fmt: skip
     middle = rays_per_beam // 2
     for b in range(out.shape[0]):
@@ -126,7 +138,7 @@ def _points_in_cones(
         ax, ay = directions[ray, 0], directions[ray, 1]
         best = within_m[b]
         for k in range(centres.shape[0]):
-            if heard[k] < since:
+            if heard[k] < since or (cleared[b] and half_widths[k] > cleared_above_m):
                 continue
             dx, dy = centres[k, 0] - ox, centres[k, 1] - oy
             distance = math.sqrt(dx * dx + dy * dy)
@@ -137,7 +149,8 @@ def _points_in_cones(
 
 @kernel
 def _patches_met(
-    origins, directions, rays_per_beam, centres, axes, half_widths, heard, since, within_m, out
+    origins, directions, rays_per_beam, centres, axes, half_widths, heard, since, within_m,
+    cleared, cleared_above_m, out,
 ):  # fmt: skip
     beams = out.shape[0]
     middle = rays_per_beam // 2
@@ -171,6 +184,7 @@ def _patches_met(
         half_width = half_widths[k]
         reach = half_width + WEDGE_SLACK_M
         ax, ay = axes[k, 0], axes[k, 1]
+        wide = half_width > cleared_above_m
         for b in range(beams):
             best = out[b]
             vx, vy = cx - ox[b], cy - oy[b]
@@ -185,7 +199,8 @@ def _patches_met(
             # transducer, only a patch reaching it; ahead, one outside the wedge, or no
             # nearer than what the beam already met, is skipped.
             skipped[b] = (
-                (ahead < 0.0)
+                (wide & cleared[b])
+                | (ahead < 0.0)
                 | (ahead >= best * FACING_MAX)
                 | (behind & (vx * vx + vy * vy > reach * reach))
                 | (

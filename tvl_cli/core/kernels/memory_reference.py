@@ -52,11 +52,25 @@ def remembered_ranges_reference(
     heard: np.ndarray,
     since: int,
     within_m: np.ndarray | None = None,
+    cleared: np.ndarray | None = None,
+    cleared_above_m: float = math.inf,
 ) -> np.ndarray:
     """remembered_ranges in numpy: every ray against every echo at once."""
+    beams = len(origins) // rays_per_beam
+    if cleared is not None and cleared.any():
+        # Cast twice, once against every echo and once against those narrow enough for a
+        # cleared beam (the rest as if forgotten), and each beam takes its own.
+        narrow_heard = np.where(half_widths <= cleared_above_m, heard, since - 1)
+        cast = [
+            remembered_ranges_reference(
+                kind, origins, directions, rays_per_beam, half_cone_rad, centres, axes,
+                half_widths, remembered, since, within_m,
+            )
+            for remembered in (heard, narrow_heard)
+        ]  # fmt: skip
+        return np.where(cleared, cast[1], cast[0])
     live = heard >= since
     centres, axes, half_widths = centres[live], axes[live], half_widths[live]
-    beams = len(origins) // rays_per_beam
     if len(centres) == 0:
         return np.full(beams, np.inf)
     if kind == POINTS:
