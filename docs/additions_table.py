@@ -1,5 +1,5 @@
 """Rewrites the table of additions in docs/method.md, between its markers, from
-tvl_cli.core.method.ADDITIONS: `python docs/additions_table.py` (or `--check`: exit 1 when
+tvl_cli.core.additions.ADDITIONS: `python docs/additions_table.py` (or `--check`: exit 1 when
 the page's table is not the registry's)."""
 
 from __future__ import annotations
@@ -8,7 +8,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from tvl_cli.core.method import additions_table
+from tvl_cli.core.additions import additions_table
 
 PAGE = Path(__file__).resolve().parent / "method.md"
 START, END = "<!-- additions:start -->", "<!-- additions:end -->"

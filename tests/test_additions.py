@@ -1,4 +1,4 @@
-"""Every addition to the paper's method is an entry of core.method.ADDITIONS: its field is a
+"""Every addition to the paper's method is an entry of core.additions.ADDITIONS: its field is a
 Method's, the paper's method has it off, ours differs (or the entry says why not), its flag is
 on the command line, and the documentation's table is the registry's."""
 
@@ -11,15 +11,13 @@ import click
 import pytest
 
 from tvl_cli.cli.main import main
+from tvl_cli.core.additions import ADDITIONS, Addition, additions_table
 from tvl_cli.core.method import (
-    ADDITIONS,
     DEFAULT,
     FIELDS,
     FLAGS,
     PAPER,
     REFLEX_NAMES,
-    Addition,
-    additions_table,
     method_from_dict,
 )
 from tvl_cli.sweep.grid import read_grid

@@ -60,7 +60,7 @@ def test_no_module_but_core_method_names_a_piece_of_the_papers_method(path: Path
         for line, name in _names(tree)
         if "paper" in name.lower() and name not in NOT_THE_METHOD
     }
-    assert not named, "say it in core/method.py (PAPER, ADDITIONS)"
+    assert not named, "say it in core/method.py (PAPER), or name PAPER's field"
     literal = [
         node.lineno
         for node in ast.walk(tree)

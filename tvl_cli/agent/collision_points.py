@@ -1,5 +1,5 @@
 """Where exploratory learning places a collision point besides at a bump, by a method's
-`near_m` (core.method.ADDITIONS, "sonar collision points"): the paper's learner waits for
+`near_m` (core.additions.ADDITIONS, "sonar collision points"): the paper's learner waits for
 bumps alone (`near_m` 0)."""
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """How exploratory learning chooses the next (rotation, trajectory) pair to follow, by a
 method's `exploration`: the paper's least experienced pair (Fig. 14), and the rules beyond
-it, each an entry of core.method.ADDITIONS or the paper's own alternative.
+it, each an entry of core.additions.ADDITIONS or the paper's own alternative.
 
 A rule sees every step's odometry (`visit`) and, when an episode is to start, the experience
 of the 112 pairs as the FAM perceives the ring now (`choose`).

@@ -1,5 +1,5 @@
 """Every rule beyond the paper around the choice rule, each a named wrapper around any policy
-and an entry of core.method.ADDITIONS.
+and an entry of core.additions.ADDITIONS.
 
 A reflex sees each observation before the policy it wraps. It may pass the policy advice
 (ways to keep out of the choice, the side a tie goes to) and may take over the command

@@ -1,13 +1,11 @@
-"""The method as one value: every choice that makes "the method", the two presets, and the
-registry of what we added to the paper's.
+"""The method as one value: every choice that makes "the method", and the two presets.
 
 A `Method` holds the labels (deceleration and margin), where learning places collision
 points (bumps, or a sonar reading near), how exploration chooses where to learn next, the
 reflexes around the choice rule, the wall rule, the sonar model and the echo memory. The
 paper's is `PAPER`; ours, every command's default, is `DEFAULT`. Each difference between the
-two is an entry of `ADDITIONS`, which names the field it changes, the flag that sets it, its
-row of the documentation's table, and its ablation setting (the paper's value, which turns it
-off). This module is the one place that says what the paper's method is.
+two is an entry of core.additions.ADDITIONS. This module is the one place that says what the
+paper's method is.
 
 A command takes from a method only the choices it makes (`tvl learn` the learning's, `tvl run`
 the behaving's); the rest are in its inputs (a run's labels are those its FAM was trained
@@ -31,7 +29,6 @@ from tvl_cli.core.labels import (
     MAX_MARGIN_M,
 )
 from tvl_cli.core.memory import (
-    CLEARED_ABOVE_M,
     DEFAULT_MEMORY,
     MEMORY_KINDS,
     NO_MEMORY,
@@ -253,7 +250,7 @@ def describe_record(record: Mapping[str, Any] | None) -> str:
     ours = DEFAULT.to_dict()
     unknown = record.get(UNRECORDED) or []
     changed = [
-        f"{n} {_shown(record[n])}"
+        f"{n} {shown_setting(record[n])}"
         for n in FIELDS
         if n in record and n not in unknown and record[n] != ours[n]
     ]
@@ -261,7 +258,8 @@ def describe_record(record: Mapping[str, Any] | None) -> str:
     return text + (f" ({', '.join(unknown)} unrecorded)" if unknown else "")
 
 
-def _shown(value: Any) -> str:
+def shown_setting(value: Any) -> str:
+    """A method's field as the documentation and records show it."""
     if isinstance(value, list):
         return reflexes_text(tuple(value))
     if isinstance(value, dict):
@@ -337,6 +335,9 @@ class MethodChoice:
         than the paper's. The command line names them by flag, a grid by key."""
         if self.name != PAPER_NAME:
             return []
+        # The registry builds on this module, so it is read when asked, not at import.
+        from tvl_cli.core.additions import ADDITIONS
+
         additions = {a.field for a in ADDITIONS}
         found = [n for n, v in self.settings if n in additions and v != getattr(PAPER, n)]
         paper_memory = PAPER.memory.to_dict()
@@ -357,154 +358,3 @@ NOT_GIVEN = MethodChoice()
 def as_choice(method: Method | MethodChoice) -> MethodChoice:
     """A method given whole (the Python API), or as a command's options chose it."""
     return method if isinstance(method, MethodChoice) else MethodChoice(method)
-
-
-@dataclass(frozen=True, slots=True)
-class Addition:
-    """One thing we added to the paper's method, or changed in it."""
-
-    name: str
-    field: str  # the Method field it changes
-    flag: str  # the option that sets that field
-    on: str  # how to turn it on, as the flag's value
-    row: str  # what it does and why: its row of the documentation's table
-    off: Any  # its ablation setting: the field's value that turns it off, the paper's
-    # Why DEFAULT leaves it off, when it does: offered as a choice, not made ours.
-    not_default: str = ""
-
-    def is_on(self, method: Method) -> bool:
-        value = getattr(method, self.field)
-        if self.field == "reflexes":
-            return self.on in value
-        return bool(value != self.off)
-
-
-ADDITIONS: tuple[Addition, ...] = (
-    Addition(
-        "gentle labels",
-        "decel_mps2",
-        "--decel",
-        f"{DEFAULT_DECEL_MPS2:g}",
-        f"Labels brake at {DEFAULT_DECEL_MPS2:g} m/s², more gently than the rate read off "
-        "the paper's Figure 21: a horizon long enough to turn away within (T0 stays fast "
-        "until 1.45 m from a wall at threshold 0.85) for a robot that also remembers echoes "
-        "and backs off.",
-        PAPER_DECEL_MPS2,
-    ),
-    Addition(
-        "blind-zone margin",
-        "margin_m",
-        "--margin",
-        f"{DEFAULT_MARGIN_M:g}",
-        f"Labels stop {DEFAULT_MARGIN_M:g} m short of the collision point, the sonar's minimum "
-        "range: no speed is learnt for the stretch the ring cannot tell from touching.",
-        PAPER_MARGIN_M,
-    ),
-    Addition(
-        "heard labels",
-        "labels",
-        "--labels",
-        HEARD_LABELS,
-        "Every recorded point labels all seven trajectories, each from where the body would "
-        "come within 0.15 m of the echoes heard from 10 s before the point to 10 s after "
-        "it, placed by "
-        "odometry (the paper's §2 'accumulated sensor data and odometry'); the driven one "
-        "keeps the collision point it met.",
-        BUMP_LABELS,
-    ),
-    Addition(
-        "sonar collision points",
-        "near_m",
-        "--near",
-        f"{DEFAULT_NEAR_M:g}",
-        "Learning marks a collision point where a sonar facing ahead, having closed in, reads "
-        f"{DEFAULT_NEAR_M:g} m, before any bump: a wall the arc meets alongside, unseen by the "
-        "specular ring, counts too (the paper's §5.1 note: collision points further from "
-        "objects).",
-        0.0,
-    ),
-    Addition(
-        "novelty exploration",
-        "exploration",
-        "--explore",
-        NOVELTY,
-        "Learning follows the least experienced of the pairs leading where odometry has not "
-        "been, where the paper (§5.2) saw its rule keep to small parts of cluttered worlds.",
-        LEAST_EXPERIENCE,
-        not_default="it covers more of generated worlds but made no FAM competent sooner",
-    ),
-    Addition(
-        "blocked ways",
-        "reflexes",
-        "--reflex",
-        BLOCKED_WAYS,
-        "After a bump or a near miss, the way the robot drove stays out of every choice for "
-        "2 s after backing off: what it cannot see (a convex corner) is still there.",
-        (),
-    ),
-    Addition(
-        "near-miss back-off",
-        "reflexes",
-        "--reflex",
-        NEAR_MISS,
-        "An object inside the ring's 0.15 m blind zone ahead: reverse 0.15 m along the arc, "
-        "as after a bump, before touching it.",
-        (),
-    ),
-    Addition(
-        "bump back-off",
-        "reflexes",
-        "--reflex",
-        BUMP,
-        "A bump while driving forward: reverse 0.15 m along the arc, as learning does; "
-        "without it a policy still rating the way fast pushes on.",
-        (),
-    ),
-    Addition(
-        "ties to the last turn",
-        "reflexes",
-        "--reflex",
-        TIE,
-        "Equally good trajectories go to the side the robot last turned to, where the paper "
-        "is silent: a robot just turned from a wall does not turn back into it.",
-        (),
-    ),
-    Addition(
-        "wall start",
-        "reflexes",
-        "--reflex",
-        WALL_START,
-        "Until wall following has found its wall, ties turn away from that side, so the first "
-        "wall met ahead is left on the side to follow.",
-        (),
-    ),
-    Addition(
-        "echo memory",
-        "memory",
-        "--memory",
-        "patches",
-        "The FAM reads a virtual ring: the live ranges, or nearer surfaces heard in the last "
-        f"{DEFAULT_MEMORY.window_s:g} s placed by odometry, since a specular ring hears a "
-        "slanted wall only square on. While seeking a goal, a beam that hears an echo leaves "
-        f"out the remembered patches wider than {2 * CLEARED_ABOVE_M:g} m in it "
-        "(`--memory-clearing`): heard from afar, they close gaps between pillars and doors.",
-        NO_MEMORY,
-    ),
-)
-
-
-def additions_table() -> str:
-    """The documentation's table of ADDITIONS (Markdown), as docs/method.md holds it between
-    its markers."""
-    lines = [
-        "| addition | turned on by | ours | the paper's | what it does |",
-        "| --- | --- | --- | --- | --- |",
-    ]
-    for a in ADDITIONS:
-        if a.field == "reflexes":
-            ours, paper = ("on" if a.is_on(DEFAULT) else "off"), "off"
-        else:
-            ours, paper = (_shown(m.to_dict()[a.field]) for m in (DEFAULT, PAPER))
-        why = f" Not ours by default: {a.not_default}." if a.not_default else ""
-        lines.append(f"| {a.name} | `{a.flag} {a.on}` | {ours} | {paper} | {a.row}{why} |")
-    return "\n".join(lines) + "\n"
