@@ -13,7 +13,7 @@ from tvl_cli.agent.engine import StepEngine
 from tvl_cli.agent.perception import Perception
 from tvl_cli.agent.policy import Policy
 from tvl_cli.agent.reflexes import wrap
-from tvl_cli.agent.tvl import TvlPolicy
+from tvl_cli.agent.tvl import TvlPolicy, VelocityPerception
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.method import Method
 from tvl_cli.core.metrics import RunMetrics
@@ -81,10 +81,14 @@ def behave_together(
 
 
 def behaving_policy(
-    robot: RobotConfig, fam: Fam, behaviour: str, method: Method, threshold: float
+    robot: RobotConfig,
+    fam: VelocityPerception,
+    behaviour: str,
+    method: Method,
+    threshold: float,
 ) -> Policy:
-    """The TVL policy over `fam`, perceiving through the method's echo memory and finding
-    walls by its wall rule, inside its reflexes."""
+    """The TVL policy over `fam` (or a reference that perceives as one), perceiving through
+    the method's echo memory and finding walls by its wall rule, inside its reflexes."""
     perception = Perception(method.memory, robot, seeking_goal=behaviour == "goal")
     tvl = TvlPolicy(fam, robot, behaviour, threshold, perception, method.wall_rule)
     return wrap(tvl, method.reflexes, robot, behaviour)

@@ -17,11 +17,9 @@ from collections.abc import Callable
 import numpy as np
 
 from tvl_cli.agent.drive import StepSink, drive_engine
+from tvl_cli.agent.drive_tvl import behaving_policy
 from tvl_cli.agent.engine import StepEngine
-from tvl_cli.agent.perception import Perception
 from tvl_cli.agent.policy import Pose
-from tvl_cli.agent.reflexes import wrap
-from tvl_cli.agent.tvl import TvlPolicy
 from tvl_cli.core.arcs import collision_clearance_m
 from tvl_cli.core.method import Method
 from tvl_cli.core.metrics import RunMetrics
@@ -69,7 +67,5 @@ def behave_with_true_velocities(
     engine = StepEngine(world, robot, goal_xy=goal_xy, measure=True)
     engine.reset(seed)
     velocities = TrueVelocities(world, robot, method, lambda: engine.sim.pose)
-    perception = Perception(method.memory, robot, seeking_goal=behaviour == "goal")
-    tvl = TvlPolicy(velocities, robot, behaviour, threshold, perception, method.wall_rule)
-    policy = wrap(tvl, method.reflexes, robot, behaviour)
+    policy = behaving_policy(robot, velocities, behaviour, method, threshold)
     return drive_engine(engine, policy, minutes, on_step=on_step)
