@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import difflib
 import errno
+import gc
 import importlib
 import os
 import re
@@ -138,7 +139,13 @@ class TvlGroup(click.Group):
 
     def invoke(self, ctx: click.Context) -> object:
         try:
-            return super().invoke(ctx)
+            try:
+                return super().invoke(ctx)
+            finally:
+                # The work is done and its files closed: the collector's last pass at exit
+                # would only walk every object left (in a large world's physics, most of a
+                # second after Ctrl-C) to free memory the process gives back anyway.
+                gc.freeze()
         except BadInput as error:
             if ctx.obj and ctx.obj.get("debug"):
                 raise
