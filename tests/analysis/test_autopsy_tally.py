@@ -6,10 +6,13 @@ from tvl_cli.analysis.autopsy import (
     CAUSES,
     DRIVE_FAST,
     GOAL_FAILURES,
+    MEMORY,
     RATED_FAST,
     REFLEX,
+    SLOW_CAUSES,
     STALLED,
     TIME_CLASSES,
+    TURNING,
     Autopsy,
     Contact,
     ContactFacts,
@@ -27,20 +30,28 @@ def _contact(
     return Contact(facts, cause)
 
 
-def test_tally_sums_contacts_time_and_goal_failures_over_the_runs_records() -> None:
+def test_tally_sums_contacts_time_slow_time_and_goal_failures_over_the_runs_records() -> None:
     first = Autopsy(
         (_contact(RATED_FAST, experience=0.5), _contact(REFLEX, NEAR_MISS)),
         {name: 1.0 for name in TIME_CLASSES},
+        slow_time_s={**dict.fromkeys(SLOW_CAUSES, 0.0), MEMORY: 1.5, TURNING: 0.5},
     )
     second = Autopsy(
         (_contact(RATED_FAST, true_mps=0.2),),
         {**{name: 0.0 for name in TIME_CLASSES}, DRIVE_FAST: 2.5},
         goal_failure=STALLED,
+        slow_time_s={**dict.fromkeys(SLOW_CAUSES, 0.0), MEMORY: 2.0},
     )
-    summed = tally([first.to_dict(), second.to_dict()])
+    # A run's record made before slow time was told, which a resumed bench may still hold.
+    earlier = {**second.to_dict(), "contacts": [], "causes": [], "time": []}
+    del earlier["slow_time"]
+    summed = tally([first.to_dict(), second.to_dict(), earlier])
     assert summed["causes"] == {c: {RATED_FAST: 2, REFLEX: 1}.get(c, 0) for c in CAUSES}
     assert summed["time_s"] == {n: 3.5 if n == DRIVE_FAST else 1.0 for n in TIME_CLASSES}
-    assert summed["goal_failures"] == {r: int(r == STALLED) for r in GOAL_FAILURES}
+    assert summed["slow_time_s"] == {
+        c: {MEMORY: 3.5, TURNING: 0.5}.get(c, 0.0) for c in SLOW_CAUSES
+    }
+    assert summed["goal_failures"] == {r: 2 * int(r == STALLED) for r in GOAL_FAILURES}
     # The rated-fast contacts: the truth under their ratings, and one in two barely trained.
     assert summed["rated_fast"] == {
         "contacts": 2,

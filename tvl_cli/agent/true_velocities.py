@@ -44,10 +44,18 @@ class TrueVelocities:
 
     def perceive(self, ring_m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(16, 7) m/s, view k facing sonar k, and the experience (all ones: known)."""
-        x, y, theta = self._true_pose()
-        found = self._arcs.view_distances_m(x, y, theta + self._views, self._reach_m)
-        velocities = self._arcs.velocities_mps(found, *self._labels)
+        velocities = self._velocities(self._true_pose(), self._views)
         return velocities, np.ones_like(velocities)
+
+    def in_view(self, pose: Pose, view: int) -> np.ndarray:
+        """(7,) m/s: the true velocities of one view's trajectories (facing sonar `view`),
+        from a pose of the caller's."""
+        return self._velocities(pose, self._views[view : view + 1])[0]
+
+    def _velocities(self, pose: Pose, views_rad: np.ndarray) -> np.ndarray:
+        x, y, theta = pose
+        found = self._arcs.view_distances_m(x, y, theta + views_rad, self._reach_m)
+        return self._arcs.velocities_mps(found, *self._labels)
 
 
 def behave_with_true_velocities(

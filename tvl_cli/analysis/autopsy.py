@@ -16,6 +16,19 @@ A contact (a collision or a near miss, core.contacts) gets one cause, the first 
   drive into it: what was learnt is at fault;
 - `other`: none of these.
 
+A step the policy drove slower than competence asks (FAST_DRIVE_MPS), spins included, gets
+one cause too, judged in the view its choice was made in (SLOW_CAUSES, slow_cause):
+- `tight`: no trajectory there was truly fast (its true velocity, from the map, under
+  threshold x its maximum): slow was right;
+- `turning`: spinning to face that view, where a way truly fast was rated fast (the paper's
+  rotation of perception, paid for in time);
+- `rule`: a way truly fast was rated fast on what the FAM read, and the behaviour's rule
+  (the goal's bearing, the wall's side) took a slower one;
+- `memory`: every way truly fast was rated slow on what the FAM read, and one of them fast
+  on the live ring alone: remembered echoes closed it;
+- `learnt`: every way truly fast was rated slow on the live ring too: what was learnt;
+- `unrated`: no FAM at hand to tell the last two apart.
+
 The facts come from the simulator's ground truth (commands.autopsy); the rules are here.
 """
 
@@ -59,6 +72,11 @@ TIME_CLASSES = (DRIVE_FAST, DRIVE_MEDIUM, DRIVE_SLOW, "spin", "trapped", "backof
 # The speed competence asks of a run (core.competence) splits the driving.
 FAST_DRIVE_MPS = 0.3
 MEDIUM_DRIVE_MPS = 0.2
+
+# Why the policy drove slowly (the module's docstring says what each means).
+TIGHT, TURNING, RULE = "tight", "turning", "rule"
+MEMORY, LEARNT, UNRATED = "memory", "learnt", "unrated"
+SLOW_CAUSES = (TIGHT, TURNING, RULE, MEMORY, LEARNT, UNRATED)
 
 # Why a goal run ended without its goal.
 DRIFT, TRAPPED_GOAL, STALLED, WANDERED = "drift", "trapped", "stalled", "wandered"
@@ -125,6 +143,8 @@ class Autopsy:
     time_s: dict[str, float]  # TIME_CLASSES -> simulated seconds
     goal_failure: str | None = None  # one of GOAL_FAILURES; None if no goal was missed
     goal_closest_m: float | None = None  # the truth's closest approach to the goal
+    # SLOW_CAUSES -> simulated seconds the policy drove slowly for it
+    slow_time_s: dict[str, float] = field(default_factory=lambda: dict.fromkeys(SLOW_CAUSES, 0.0))
     causes: dict[str, int] = field(init=False)
 
     def __post_init__(self) -> None:
@@ -139,7 +159,30 @@ class Autopsy:
             "time": [{"class": c, "time_s": t} for c, t in self.time_s.items()],
             "goal_failure": self.goal_failure,
             "goal_closest_m": self.goal_closest_m,
+            "slow_time": [{"cause": c, "time_s": t} for c, t in self.slow_time_s.items()],
         }
+
+
+def slow_cause(
+    truly_fast: np.ndarray, read_fast: np.ndarray, live_fast: np.ndarray | None, spinning: bool
+) -> str:
+    """Why a slow step was slow, from which of the view's trajectories (T,) were truly fast,
+    rated fast on what the FAM read, and rated fast on the live ring alone (None: no FAM),
+    and whether the robot was spinning on the spot."""
+    if not truly_fast.any():
+        return TIGHT
+    if (truly_fast & read_fast).any():
+        return TURNING if spinning else RULE
+    if live_fast is None:
+        return UNRATED
+    if (truly_fast & live_fast).any():
+        return MEMORY
+    return LEARNT
+
+
+def spinning_steps(speed_mps: np.ndarray, turn_radps: np.ndarray) -> np.ndarray:
+    """(N,) bool: the steps commanded to turn on the spot."""
+    return np.asarray((speed_mps == 0.0) & (turn_radps != 0.0))
 
 
 def time_by_class(
@@ -148,7 +191,7 @@ def time_by_class(
     """Simulated seconds of each TIME_CLASSES class, from the commands of each step (N,) and
     the event bits (N,) each began. A spin is trapped from the step a trapped event began
     until the robot stops spinning."""
-    spinning = (speed_mps == 0.0) & (turn_radps != 0.0)
+    spinning = spinning_steps(speed_mps, turn_radps)
     trapped = np.zeros(len(speed_mps), dtype=bool)
     starts = set(steps_beginning(events, TRAPPED).tolist())
     inside = False
@@ -197,16 +240,19 @@ LITTLE_EXPERIENCE = 1.0
 
 def tally(autopsies: Iterable[dict[str, Any]]) -> dict[str, Any]:
     """Autopsies (as `Autopsy.to_dict` gives them) summed: contacts by cause, seconds by
-    time class, goal failures by reason, and of the rated-fast contacts what the FAM had
+    time class and slow seconds by cause (none in rows made before it was told), goal
+    failures by reason, and of the rated-fast contacts what the FAM had
     learnt there: the median true velocity of the way it rated fast, and the share it had
     under one exemplar's experience of."""
     causes: Counter[str] = Counter()
     time_s: Counter[str] = Counter()
+    slow_s: Counter[str] = Counter()
     failures: Counter[str] = Counter()
     rated_fast = []
     for autopsy in autopsies:
         causes.update({row["cause"]: row["contacts"] for row in autopsy["causes"]})
         time_s.update({row["class"]: row["time_s"] for row in autopsy["time"]})
+        slow_s.update({row["cause"]: row["time_s"] for row in autopsy.get("slow_time", ())})
         if autopsy["goal_failure"] is not None:
             failures[autopsy["goal_failure"]] += 1
         rated_fast += [c for c in autopsy["contacts"] if c["cause"] == RATED_FAST]
@@ -216,6 +262,7 @@ def tally(autopsies: Iterable[dict[str, Any]]) -> dict[str, Any]:
     return {
         "causes": {cause: causes[cause] for cause in CAUSES},
         "time_s": {name: time_s[name] for name in TIME_CLASSES},
+        "slow_time_s": {cause: slow_s[cause] for cause in SLOW_CAUSES},
         "goal_failures": {reason: failures[reason] for reason in GOAL_FAILURES},
         "rated_fast": {
             "contacts": len(rated_fast),

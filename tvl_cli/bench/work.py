@@ -221,6 +221,7 @@ def _autopsy(
         goal_reached=bool(metrics.goal_reached),
         method=method,
         fam=fam_file.fam,
+        threshold=plan.threshold or DEFAULT_THRESHOLD,
     ).to_dict()
     # Of the contacts, what the tally reads: each one's cause, and of the last choice before
     # it the rating, the truth and the experience behind it.

@@ -7,7 +7,7 @@ from typing import Any
 
 import click
 
-from tvl_cli.analysis.autopsy import CAUSES, GOAL_FAILURES, TIME_CLASSES
+from tvl_cli.analysis.autopsy import CAUSES, GOAL_FAILURES, SLOW_CAUSES, TIME_CLASSES
 from tvl_cli.analysis.generalization import (
     MAX_BELOW_CEILING,
     MAX_CONTACTS_PER_MIN,
@@ -77,8 +77,8 @@ def figures_table(all_figures: Sequence[Figures]) -> Table:
 
 
 def autopsy_table(all_figures: Sequence[Figures]) -> Table:
-    """Where the FAM-driven runs' contacts came from, where their time went, and why their
-    goal runs failed: each line with a count somewhere."""
+    """Where the FAM-driven runs' contacts came from, where their time went, why they drove
+    slowly, and why their goal runs failed: each line with a count somewhere."""
     shown = [f for f in all_figures if f.autopsy is not None]
     columns = [f.autopsy for f in shown if f.autopsy is not None]
     rows: list[tuple[str, ...]] = []
@@ -89,6 +89,10 @@ def autopsy_table(all_figures: Sequence[Figures]) -> Table:
         if any(c["time_s"][name] for c in columns):
             shares = [c["time_s"][name] / (sum(c["time_s"].values()) or 1) for c in columns]
             rows.append((f"time: {name}", *(f"{s:.0%}" for s in shares)))
+    for cause in SLOW_CAUSES:
+        if any(c["slow_time_s"][cause] for c in columns):
+            shares = [c["slow_time_s"][cause] / (sum(c["time_s"].values()) or 1) for c in columns]
+            rows.append((f"slow: {cause}", *(f"{s:.0%}" for s in shares)))
     for reason in GOAL_FAILURES:
         if any(c["goal_failures"][reason] for c in columns):
             rows.append(

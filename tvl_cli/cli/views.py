@@ -162,7 +162,8 @@ def step_explanation(e: StepExplanation) -> None:
 
 
 def autopsy(a: Autopsy) -> None:
-    """The contact autopsy: each contact, the causes counted, the time by class."""
+    """The contact autopsy: each contact, the causes counted, the time by class, and the
+    slow time by cause."""
     contacts = table(
         "time (s)",
         "event",
@@ -190,6 +191,13 @@ def autopsy(a: Autopsy) -> None:
     for name, seconds in a.time_s.items():
         time.add_row(name, f"{seconds:.1f}", percent(seconds / total))
     out.print(time)
+    slow = table(
+        "cause", "time (s)", "share", title="why it drove slowly", right=("time (s)", "share")
+    )
+    for cause, seconds in a.slow_time_s.items():
+        if seconds:
+            slow.add_row(cause, f"{seconds:.1f}", percent(seconds / total))
+    out.print(slow)
     if a.goal_failure is not None:
         out.print(
             f"goal missed: {a.goal_failure} (came within {a.goal_closest_m:.2f} m of it)",

@@ -34,12 +34,14 @@ from tvl_cli.analysis.autopsy import (
     goal_failure,
     time_by_class,
 )
+from tvl_cli.commands.slow_autopsy import slow_time_by_cause
 from tvl_cli.core.contacts import BUMP, NEAR_MISS, near_miss_sonars, steps_beginning
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.method import DEFAULT, Method
 from tvl_cli.core.ring import mm_to_ring
 from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.core.trajectory_choice import DEFAULT_THRESHOLD
 from tvl_cli.io.famfile import read_fam
 from tvl_cli.io.logreader import file_sha256
 from tvl_cli.io.runfile import read_run
@@ -93,12 +95,15 @@ def run_autopsy(
     goal_reached: bool,
     method: Method = DEFAULT,
     fam: Fam | None = None,
+    threshold: float = DEFAULT_THRESHOLD,
 ) -> Autopsy:
     """The autopsy of a run from its steps' columns (agent.trace names them).
 
     `table_sonars` names, for each trajectory, the sonars its FAM table reads (facing ahead);
     None counts every sonar as read. `method` gives the labels true velocities are told in
-    (the oracle's, agent.true_velocities); `fam`, the run's, the experience of its ratings.
+    (the oracle's, agent.true_velocities); `fam`, the run's, the experience of its ratings
+    and what it would have rated on the live ring; `threshold`, the run's, which ways were
+    fast.
     """
     dt = robot.control_period_s
     pose = columns["pose"]  # (N, 3) true pose after each step
@@ -173,7 +178,8 @@ def run_autopsy(
     failure, closest = None, None
     if goal_xy is not None and not goal_reached:
         failure, closest = goal_failure(pose[:, :2], goal_xy, GOAL_RADIUS_M, time_s, dt)
-    return Autopsy(tuple(contacts), time_s, failure, closest)
+    slow_s = slow_time_by_cause(world, robot, method, threshold, columns, poses_before, fam)
+    return Autopsy(tuple(contacts), time_s, failure, closest, slow_s)
 
 
 class _Ratings:
@@ -308,6 +314,7 @@ def trace_autopsy(path: Path) -> Autopsy:
         goal_reached=bool(trace.metrics.get("goal_reached")),
         method=trace.method,
         fam=_fam_if_found(parameters),
+        threshold=float(parameters.get("threshold", DEFAULT_THRESHOLD)),
     )
 
 

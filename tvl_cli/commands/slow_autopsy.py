@@ -1,0 +1,67 @@
+"""Why a run was slow: each step the policy drove slower than competence asks, told by the
+simulator's truth and the run's FAM (analysis.autopsy.slow_cause judges it).
+
+A step is judged in the view its choice was made in (the heading's when it made none): which
+of that view's trajectories were truly fast (the oracle velocities, from the map and the true
+pose), which the FAM rated fast on what it read (through the echo memory, where there is
+one), and which it would have rated fast on the live ring alone.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from tvl_cli.agent.trace import Columns
+from tvl_cli.agent.true_velocities import TrueVelocities
+from tvl_cli.analysis.autopsy import (
+    FAST_DRIVE_MPS,
+    SLOW_CAUSES,
+    UNRATED,
+    slow_cause,
+    spinning_steps,
+)
+from tvl_cli.core.fam import Fam
+from tvl_cli.core.method import Method
+from tvl_cli.core.ring import mm_to_ring
+from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.sim.worldmap import WorldMap
+
+
+def slow_time_by_cause(
+    world: WorldMap,
+    robot: RobotConfig,
+    method: Method,
+    threshold: float,
+    columns: Columns,
+    poses_before: np.ndarray,
+    fam: Fam | None,
+) -> dict[str, float]:
+    """SLOW_CAUSES -> simulated seconds, over the steps (columns, as agent.trace names them;
+    `poses_before` (N, 3) the true pose each reading was taken at) where the policy
+    commanded less than FAST_DRIVE_MPS. A trajectory is fast, truly or as rated, at
+    `threshold` x its maximum velocity, as the run's choices had it."""
+    fast_from_mps = threshold * np.array([t.v_max_mps for t in robot.trajectories])  # (T,)
+    read = np.asarray(columns["ring_mm"].any(axis=1))
+    slow = (columns["reflex"] < 0) & (columns["speed_mps"] < FAST_DRIVE_MPS)
+    spinning = spinning_steps(columns["speed_mps"], columns["turn_radps"])
+    live_m = mm_to_ring(columns["ring_mm"])  # (N, 16) metres
+    read_m = mm_to_ring(columns.get("perceived_mm", columns["ring_mm"]))
+    truth = TrueVelocities(world, robot, method, lambda: (0.0, 0.0, 0.0))
+    seconds = dict.fromkeys(SLOW_CAUSES, 0.0)
+    cause = UNRATED
+    for step in np.flatnonzero(slow):
+        # A step that read no ring carries out the choice of the last one that did (the
+        # steps of a spin to face a view): that choice's cause is its cause.
+        if read[step]:
+            choice = int(columns["choice"][step])
+            view = int(columns["rotation"][step]) % robot.sonar.count if choice >= 0 else 0
+            x, y, theta = poses_before[step]
+            truly_fast = truth.in_view((float(x), float(y), float(theta)), view) >= fast_from_mps
+            if fam is None:
+                read_fast, live_fast = np.asarray(columns["fast"][step], dtype=bool), None
+            else:
+                read_fast = fam.perceive(read_m[step])[0][view] >= fast_from_mps
+                live_fast = fam.perceive(live_m[step])[0][view] >= fast_from_mps
+            cause = slow_cause(truly_fast, read_fast, live_fast, bool(spinning[step]))
+        seconds[cause] += robot.control_period_s
+    return seconds
