@@ -8,10 +8,11 @@ import numpy as np
 import pytest
 
 from tvl_cli.agent.policy import LazyRing, Observation
-from tvl_cli.baselines.qlearning import QLearning, QPolicy, forward_travel_m, learn_and_evaluate
+from tvl_cli.baselines.qlearning import QLearning, QPolicy, learn_and_evaluate
 from tvl_cli.baselines.qtable import QParams, RuleStates
 from tvl_cli.core.drive_command import Command
 from tvl_cli.core.fam_config import SINGLE
+from tvl_cli.core.reward import forward_travel_m
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.robot import Simulator
 from tvl_cli.sim.worldmap import load_world

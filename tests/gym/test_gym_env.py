@@ -16,10 +16,10 @@ from gymnasium.utils.env_checker import check_env
 
 from tvl_cli.agent.engine import GOAL_RADIUS_M
 from tvl_cli.agent.motions import BACKOFF_M
-from tvl_cli.baselines.qlearning import DEFAULT_Q, step_reward
 from tvl_cli.core.drive_command import STOP, Command
 from tvl_cli.core.memory import NO_MEMORY, MemoryConfig
 from tvl_cli.core.method import DEFAULT, PAPER
+from tvl_cli.core.reward import COLLISION_PENALTY_M, step_reward
 from tvl_cli.core.robot_config import SONAR_MODELS
 from tvl_cli.gym import ENV_ID, MAX_EPISODE_STEPS, SonarRingEnv
 from tvl_cli.gym.env import ACTION_NAMES, ROBOT, SPIN_LEFT, SPIN_RIGHT, STOP_ACTION
@@ -131,14 +131,15 @@ def test_avoid_rewards_forward_metres_and_ends_at_a_bump_with_the_baselines_pena
     *driving, (_, last_reward, terminated, truncated, last_info) = steps
     assert terminated and not truncated and last_info["bumped"] and "bump" in last_info["events"]
     assert not any(step[2] or step[4]["bumped"] for step in driving)
-    # Each reward is the Q-learning baseline's own, from the odometry before and after.
+    # Each reward is the one the Q-learning baseline learns by, from the odometry before and
+    # after.
     bumped = [False] * len(driving) + [True]
     assert rewards == [
         step_reward(tuple(a), tuple(b), bump)
         for a, b, bump in zip(odometry[:-1], odometry[1:], bumped, strict=True)
     ]
-    assert last_reward < -DEFAULT_Q.collision_penalty + 0.07  # at most one step's 0.06 m
-    assert sum(rewards) == pytest.approx(AHEAD_M - DEFAULT_Q.collision_penalty, abs=0.05)
+    assert last_reward < -COLLISION_PENALTY_M + 0.07  # at most one step's 0.06 m
+    assert sum(rewards) == pytest.approx(AHEAD_M - COLLISION_PENALTY_M, abs=0.05)
     assert last_info["pose"][0] == pytest.approx(3.75 - ROBOT.radius_m, abs=0.01)
 
 
@@ -252,7 +253,7 @@ def test_the_docs_quote_the_envs_own_numbers() -> None:
     assert f"`Discrete({len(ACTION_NAMES)})`" in gym
     assert f"at {ROBOT.spin_rate_radps:g} rad/s" in gym
     # One reward per task: avoid, goal and wall each charge the bump.
-    assert gym.count(f"less {DEFAULT_Q.collision_penalty:g} for a bump") == 3
+    assert gym.count(f"less {COLLISION_PENALTY_M:g} for a bump") == 3
     assert f"within {GOAL_RADIUS_M:g} m of the goal" in gym
     assert f"after {MAX_EPISODE_STEPS:,} steps" in gym
     assert f"backed off {BACKOFF_M:g} m along its path after a bump" in gym

@@ -1,27 +1,35 @@
 """One step body: `tvl run` and tvl/SonarRing-v0 step the same engine, so a run's commands
 given again to the environment, from the same seed, move, sense and count contacts as the run
-did, step for step."""
+did, step for step; and the vector environment, single environments and the drive loop, alone
+or over a batch, give the same steps."""
 
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
 from click.testing import CliRunner
 from method_samples import LIVE_RING
+from numpy.random import default_rng
 
+from tvl_cli.agent.drive import Drive, Step, drive_engine, drive_together
+from tvl_cli.agent.engine import StepEngine
+from tvl_cli.agent.policy import Decision, Observation
 from tvl_cli.agent.trace import NOT_READ_MM
 from tvl_cli.cli import main
 from tvl_cli.commands.train import train_from_logs
 from tvl_cli.core.contacts import BUMP, EVENTS, NEAR_MISS, TRAPPED
+from tvl_cli.core.drive_command import Command
 from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.memory import NO_MEMORY, NONE, MemoryChoice
 from tvl_cli.core.method import MethodChoice
-from tvl_cli.gym import SonarRingEnv
+from tvl_cli.gym import SonarRingEnv, SonarRingVectorEnv
 from tvl_cli.gym.env import ROBOT
 from tvl_cli.io.famfile import write_fam
 from tvl_cli.io.runfile import RunTrace, read_run
+from tvl_cli.sim.batch import RobotBatch
 
 ROOT = Path(__file__).resolve().parents[2]
 CIRCLE = ROOT / "worlds" / "circle.txt"
@@ -123,3 +131,123 @@ def test_with_the_noisy_ring_the_env_gives_the_run_until_the_run_leaves_a_readin
     assert_same_readings(arrays["ring_mm"][same], ours["ring_m"][same])
     np.testing.assert_array_equal(ours["events"][same], arrays["events"][same] & STEP_EVENTS)
     assert not np.array_equal(ours["odometry"], arrays["odometry"])
+
+
+class Commands:
+    """A policy that drives given commands in turn, reading the ring every step as an
+    environment returning it does, so that it draws the same sonar noise."""
+
+    def __init__(self, commands: list[Command]) -> None:
+        self._commands = iter(commands)
+
+    def decide(self, obs: Observation) -> Decision:
+        obs.ring.get()
+        return Decision(next(self._commands))
+
+    def interrupt(self) -> None:
+        """No plan under way to drop."""
+
+
+# What one robot's first steps gave, alike for an environment and a drive: the ring before
+# each step, in the observation's float32, and the true pose, odometry and events (joined)
+# after it.
+Seen = dict[str, Any]
+
+
+def env_seen(observations: list[np.ndarray], infos: list[dict[str, Any]], steps: int) -> Seen:
+    """From an environment's observations (the reset's, then each step's) and step infos."""
+    return {
+        "ring_m": np.array(observations[:steps]),
+        "pose": np.array([info["pose"] for info in infos[:steps]]),
+        "odometry": np.array([info["odometry"] for info in infos[:steps]]),
+        "events": [" ".join(info["events"]) for info in infos[:steps]],
+    }
+
+
+def drive_seen(steps: list[Step], count: int) -> Seen:
+    """From a drive's steps."""
+    return {
+        "ring_m": np.array([step.ring_m for step in steps[:count]], dtype=np.float32),
+        "pose": np.array([step.pose for step in steps[:count]]),
+        "odometry": np.array([step.odometry for step in steps[:count]]),
+        "events": [" ".join(step.events) for step in steps[:count]],
+    }
+
+
+def single_env_seen(env: SonarRingEnv, seed: int, actions: np.ndarray) -> Seen:
+    """The episode's steps, to the bump that ends it."""
+    observation, _ = env.reset(seed=seed)
+    observations, infos = [observation], []
+    for action in actions:
+        observation, _, terminated, _, info = env.step(int(action))
+        observations.append(observation)
+        infos.append(info)
+        if terminated:
+            break
+    return env_seen(observations, infos, len(infos))
+
+
+def vector_env_seen(env: SonarRingVectorEnv, seed: int, actions: np.ndarray) -> list[Seen]:
+    """Each copy's first episode, for actions (steps, copies), to the bump that ends it."""
+    observation, _ = env.reset(seed=seed)
+    observations, infos, ended = [observation], [], []
+    for action in actions:
+        observation, _, terminated, _, info = env.step(action)
+        observations.append(observation)
+        infos.append(info)
+        ended.append(terminated)
+    return [
+        env_seen(
+            [each[i] for each in observations],
+            [{key: value[i] for key, value in info.items()} for info in infos],
+            int(np.argmax(np.array(ended)[:, i])) + 1,
+        )
+        for i in range(env.num_envs)
+    ]
+
+
+@pytest.mark.slow  # about 2 s
+def test_vector_env_single_envs_and_run_drives_agree_step_for_step() -> None:
+    # The same robots stepped four ways from the same seeds and actions, each until it bumps:
+    # by the vector environment (an engine on each robot of one batch), by single environments
+    # (a lone engine each), and by the drive loop `tvl run` drives through, alone and together
+    # over a batch. The live ring is observed as read, and every way reads it every step.
+    copies, seed, steps = 3, 21, 60
+    vector = SonarRingVectorEnv(copies, "obstacles", method=LIVE_RING)
+    task = vector.robot_task
+    # Every copy its own trajectories, into an obstacle within the steps.
+    trajectories = len(task.robot.trajectories)
+    actions = np.random.default_rng(0).integers(trajectories, size=(steps, copies))
+    minutes = steps * task.robot.control_period_s / 60
+
+    def commands(i: int) -> Commands:
+        return Commands([task.actions.command(int(a)) for a in actions[:, i]])
+
+    alone: list[list[Step]] = [[] for _ in range(copies)]
+    for i in range(copies):
+        engine = StepEngine(task.world, task.robot, measure=True)
+        engine.reset(seed + i)
+        drive_engine(engine, commands(i), minutes, on_step=alone[i].append)
+    together: list[list[Step]] = [[] for _ in range(copies)]
+    batch = RobotBatch(task.world, task.robot, [default_rng(seed + i) for i in range(copies)])
+    drives = [
+        Drive(StepEngine.over(batch.alone(i), measure=True), commands(i), minutes, sink.append)
+        for i, sink in enumerate(together)
+    ]
+    drive_together(batch, drives)
+
+    in_vector = vector_env_seen(vector, seed, actions)
+    for i in range(copies):
+        single = single_env_seen(
+            SonarRingEnv("obstacles", method=LIVE_RING), seed + i, actions[:, i]
+        )
+        count = len(single["pose"])
+        assert count > 40 and single["events"][-1] == BUMP  # dozens of steps, then a bump
+        ways = {
+            "vector env": in_vector[i],
+            "drive": drive_seen(alone[i], count),
+            "drives together": drive_seen(together[i], count),
+        }
+        for name, seen in ways.items():
+            for key, value in single.items():
+                np.testing.assert_array_equal(seen[key], value, err_msg=f"{name}: {key}")

@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 from gymnasium.utils.env_checker import check_env
 
-from tvl_cli.baselines.qlearning import forward_travel_m
 from tvl_cli.core.method import DEFAULT
+from tvl_cli.core.reward import forward_travel_m
 from tvl_cli.core.robot_config import SONAR_MODELS, RobotConfig
 from tvl_cli.core.robot_profiles import TURTLEBOT3
 from tvl_cli.gym import ENV_ID, SonarRingEnv

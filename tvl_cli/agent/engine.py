@@ -1,10 +1,12 @@
 """The one step body: a robot in a world, stepped one control period at a time.
 
 The robot is a lone Simulator, or one robot of a RobotBatch (sim.batch) stepped with the
-others between the engine's `ready` and `stepped`, which are the step's two halves.
+others between the engine's `ready` and `stepped`, which are the step's two halves
+(`step_together` steps an engine a robot so).
 
 Every way of moving the simulated robot goes through it: the drive loop under learning, `tvl
-run` and the baselines (agent.drive), and the Gymnasium environment (gym.env). `reset(seed)`
+run` and the baselines (agent.drive), and the Gymnasium environments (gym.env, and gym.vector
+with an engine a robot of its batch). `reset(seed)`
 puts the robot at the world's start and returns what it knows; `step(command)` holds the
 command for a control period and returns what it knows then, the events the step began, the
 truth beside them and whether the goal is reached.
@@ -15,13 +17,13 @@ random stream depends only on what reads the ring. A caller that reads it every 
 environment returning it) draws the same noise as a drive whose policy does.
 
 What the engine judges is a StepJudge's: the contact events of core.contacts, and the goal,
-reached within GOAL_RADIUS_M. The vector environment, whose robots a RobotBatch steps, judges
-each of them by a StepJudge of its own.
+reached within GOAL_RADIUS_M.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -31,7 +33,7 @@ from tvl_cli.core.contacts import EventDetector, near_miss_sonars
 from tvl_cli.core.drive_command import Command
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.core.trajectory_choice import GOAL_RADIUS_M
-from tvl_cli.sim.batch import BatchRobot
+from tvl_cli.sim.batch import BatchRobot, RobotBatch
 from tvl_cli.sim.robot import Simulator
 from tvl_cli.sim.worldmap import WorldMap
 
@@ -212,3 +214,28 @@ class StepEngine:
         return Observation(
             sim.time_s, LazyRing(sim.read_sonar), sim.odometry, sim.bumped, self.goal_xy
         )
+
+
+def step_together(
+    batch: RobotBatch, engines: Sequence[StepEngine], commands: Sequence[Command | None]
+) -> list[StepOutcome | None]:
+    """One control period of every robot of `batch`, engine i (over `batch.alone(i)`) holding
+    commands[i]: each engine's outcome, as its `step` would give it alone. A robot whose
+    command is None sits the step out (RobotBatch.step), its engine untouched."""
+    for engine, command in zip(engines, commands, strict=True):
+        if command is not None:
+            engine.ready()
+    batch.step(commands)
+    return [
+        None if command is None else engine.stepped(command)
+        for engine, command in zip(engines, commands, strict=True)
+    ]
+
+
+def hold_together(
+    batch: RobotBatch, engines: Sequence[StepEngine], plans: Sequence[Sequence[Command]]
+) -> None:
+    """Engine i holds the commands of plans[i] in turn, a control period each, every robot
+    stepped together (step_together); one whose plan is done, or empty, sits the rest out."""
+    for k in range(max(map(len, plans), default=0)):
+        step_together(batch, engines, [plan[k] if k < len(plan) else None for plan in plans])

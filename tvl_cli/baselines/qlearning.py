@@ -24,23 +24,12 @@ from tvl_cli.core.competence import COMPETENCE_RUN_MINUTES, is_competent
 from tvl_cli.core.drive_command import Command
 from tvl_cli.core.fam_config import SINGLE, FamTable
 from tvl_cli.core.metrics import RunMetrics
+from tvl_cli.core.reward import step_reward
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.robot import Pose, Simulator
 from tvl_cli.sim.worldmap import WorldMap
 
 DEFAULT_Q = QParams()
-
-
-def forward_travel_m(before: Pose, after: Pose) -> float:
-    """Metres moved along the mean heading between two poses (negative going backwards)."""
-    mid = 0.5 * (before[2] + after[2])
-    return (after[0] - before[0]) * math.cos(mid) + (after[1] - before[1]) * math.sin(mid)
-
-
-def step_reward(before: Pose, after: Pose, bumped: bool, params: QParams = DEFAULT_Q) -> float:
-    """The reward of one action: metres moved forward by odometry, less the collision penalty
-    if it bumped."""
-    return forward_travel_m(before, after) - (params.collision_penalty if bumped else 0.0)
 
 
 class QPolicy:
@@ -77,7 +66,7 @@ class QPolicy:
         state = self.table.state(obs.ring_m)
         if self._pending is not None and self.rng is not None:
             last_state, action, odometry = self._pending
-            reward = step_reward(odometry, obs.odometry, False, self.params)
+            reward = step_reward(odometry, obs.odometry, False, self.params.collision_penalty)
             self.table.learn(last_state, action, reward, state)
         action = self.table.act(state, self.rng)
         self._pending = (state, action, obs.odometry)
@@ -85,7 +74,7 @@ class QPolicy:
 
     def _end_episode(self, obs: Observation, state: int, action: int, odometry: Pose) -> None:
         """Punish the action that bumped, with nothing after it, and back off along the arc."""
-        reward = step_reward(odometry, obs.odometry, True, self.params)
+        reward = step_reward(odometry, obs.odometry, True, self.params.collision_penalty)
         self.table.learn(state, action, reward, None)
         self._pending = None
         self._queue = backoff_commands(self._actions[action], self.robot, self.params.reverse_m)

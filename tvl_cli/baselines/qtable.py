@@ -17,6 +17,7 @@ import numpy as np
 from tvl_cli.agent.motions import BACKOFF_M
 from tvl_cli.core.fam_config import FamTable
 from tvl_cli.core.fuzzy import StackedPartitions
+from tvl_cli.core.reward import COLLISION_PENALTY_M
 
 
 @dataclass(frozen=True, slots=True)
@@ -28,9 +29,7 @@ class QParams:
     # turn away from a wall before reaching it.
     discount: float = 0.95
     epsilon: float = 0.1  # chance of a random action while learning
-    # A bump costs as much as 100 control periods of driving at top speed: no progress is
-    # worth one.
-    collision_penalty: float = 6.0
+    collision_penalty: float = COLLISION_PENALTY_M
     reverse_m: float = BACKOFF_M  # backed off along the path after a bump, as TVL learning does
 
 

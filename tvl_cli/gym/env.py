@@ -32,9 +32,7 @@ from tvl_cli.gym.actions import (
 )
 from tvl_cli.gym.episode import (
     TASKS,
-    WALL,
     RobotEpisode,
-    RobotNow,
     RobotTask,
     reset_option,
     resolve_world,
@@ -146,19 +144,11 @@ class SonarRingEnv(gymnasium.Env[np.ndarray, Any]):
             engine = self._running()
             for command in self._episode.backoff(engine.sim.bumped):
                 engine.step(command)
-            observation = engine.go_on()
+            engine.go_on()
         else:
-            engine = self._engine = StepEngine(
-                self.world,
-                self.robot,
-                goal_xy=self.goal_xy,
-                measure=self.task == WALL,
-            )
-            observation = engine.reset(self.np_random)
-        sim = engine.sim
-        clearance_m = sim.clearance_m() if self.task == WALL else None
-        now = RobotNow(sim.time_s, sim.pose, sim.odometry, sim.bumped, clearance_m)
-        began = self._episode.begin(observation.ring_m, now, remember=going_on)
+            engine = self._engine = self.robot_task.engine()
+            engine.reset(self.np_random)
+        began = self._episode.begin(engine, remember=going_on)
         self._steps, self._ended = 0, None
         if self.render_mode == HUMAN:
             self.render()
@@ -173,13 +163,7 @@ class SonarRingEnv(gymnasium.Env[np.ndarray, Any]):
                 f"the episode has ended ({self._ended}): call reset() before step()"
             )
         outcome = engine.step(self._episode.command(action))
-        seen = outcome.observation
-        now = RobotNow(
-            seen.time_s, outcome.truth.pose, seen.odometry, seen.bumped, outcome.truth.clearance_m
-        )
-        obs, reward, terminated, info = self._episode.after(
-            action, seen.ring_m, now, outcome.events, outcome.done
-        )
+        obs, reward, terminated, info = self._episode.after(action, outcome)
         self._steps += 1
         limit = self.max_episode_steps
         truncated = limit is not None and self._steps >= limit

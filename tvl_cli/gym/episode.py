@@ -1,8 +1,8 @@
-"""One robot's part of the Gymnasium task, whatever steps its physics: the command an action
-asks for, and after the step what the robot observes, its reward, whether the episode has
-ended and the truth beside it. SonarRingEnv runs one over the step engine (agent.engine);
-SonarRingVectorEnv runs one a robot over a RobotBatch, each judged by the engine's StepJudge,
-so both follow the same rules.
+"""One robot's part of the Gymnasium task, over the step engine (agent.engine) that moves and
+judges it: the command an action asks for, and after the step what the robot observes, its
+reward, whether the episode has ended and the truth beside it. SonarRingEnv runs one over a
+lone engine; SonarRingVectorEnv runs one a robot, over an engine each on a RobotBatch's
+robots, so both follow the same rules.
 """
 
 from __future__ import annotations
@@ -15,20 +15,21 @@ from typing import Any
 import numpy as np
 from gymnasium import spaces
 
-from tvl_cli.agent.engine import within_goal
+from tvl_cli.agent.engine import StepEngine, StepOutcome, within_goal
 from tvl_cli.agent.motions import BACKOFF_M, backoff_commands
 from tvl_cli.agent.perception import Perception
 from tvl_cli.agent.tvl import goal_bearing
-from tvl_cli.baselines.qlearning import DEFAULT_Q, forward_travel_m, step_reward
 from tvl_cli.core.contacts import drives_forward
 from tvl_cli.core.drive_command import STOP, Command
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.memory import MemoryConfig
 from tvl_cli.core.method import DEFAULT, Method
+from tvl_cli.core.reward import bump_penalty_m, step_reward
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.gym.actions import DISCRETE, ROBOT, Actions, is_real
 from tvl_cli.io.methodfile import resolve_method as resolve_named_method
 from tvl_cli.io.robotfile import resolve_robot as resolve_named_robot
+from tvl_cli.sim.batch import BatchRobot
 from tvl_cli.sim.motion import Pose
 from tvl_cli.sim.worldgen import bundled_world_path
 from tvl_cli.sim.worldmap import WorldMap, check_goal, load_world
@@ -161,6 +162,19 @@ class RobotTask:
             np.array(low, dtype=np.float32), np.array(high, dtype=np.float32), dtype=np.float32
         )
 
+    def engine(self) -> StepEngine:
+        """A step engine for one robot on the task, to be reset."""
+        return StepEngine(self.world, self.robot, goal_xy=self.goal_xy, measure=self._measured)
+
+    def engine_over(self, robot: BatchRobot) -> StepEngine:
+        """A step engine for a batch's robot on the task, from where the robot is."""
+        return StepEngine.over(robot, goal_xy=self.goal_xy, measure=self._measured)
+
+    @property
+    def _measured(self) -> bool:
+        """Whether each step measures the true clearance: the wall task's reward needs it."""
+        return self.task == WALL
+
     def goal_m(self, odometry: Pose) -> float:
         """Metres from the odometry's position to the goal."""
         assert self.goal_xy is not None
@@ -239,13 +253,26 @@ class RobotNow:
     bumped: bool
     clearance_m: float | None  # the truth, body edge to the nearest obstacle: the wall task's
 
+    @classmethod
+    def at(cls, engine: StepEngine) -> RobotNow:
+        """Where the engine's robot is now (its clearance if the engine measures it)."""
+        sim = engine.sim
+        clearance_m = sim.clearance_m() if engine.measure else None
+        return cls(sim.time_s, sim.pose, sim.odometry, sim.bumped, clearance_m)
+
+    @classmethod
+    def after(cls, outcome: StepOutcome) -> RobotNow:
+        """Where a step left the robot, as the engine saw it."""
+        seen, truth = outcome.observation, outcome.truth
+        return cls(seen.time_s, truth.pose, seen.odometry, seen.bumped, truth.clearance_m)
+
 
 class RobotEpisode:
     """One robot's episode of a task: its perception, rewards and end.
 
-    Fed in order: `begin` after the robot is (re)set, then for each step `command` before
-    the physics and `after` with the ring read after it and what the step's judge
-    (agent.engine.StepJudge) made of it.
+    Fed in order: `begin` with the engine once its robot is (re)set, then for each step
+    `command` before the engine steps and `after` with the step's outcome. Every ring the
+    episode takes it reads through the engine, which judges the next step by it.
     """
 
     def __init__(self, task: RobotTask) -> None:
@@ -263,13 +290,15 @@ class RobotEpisode:
         return Perception(task.memory, task.robot, seeking_goal=task.goal_xy is not None)
 
     def begin(
-        self, ring: np.ndarray, now: RobotNow, remember: bool = False
+        self, engine: StepEngine, remember: bool = False
     ) -> tuple[np.ndarray, dict[str, Any]]:
-        """A new episode from where the robot is: the observation and info. `remember`: a
-        robot going on keeps what it heard; one starting afresh has heard nothing."""
+        """A new episode from where the engine's robot is: the observation and info.
+        `remember`: a robot going on keeps what it heard; one starting afresh has heard
+        nothing."""
         if not remember:
             self._perception = self._fresh_perception()
-        perceived = self._sense(ring, now)
+        now = RobotNow.at(engine)
+        perceived = self._sense(engine.observation.ring_m, now)
         self.last = None
         self.trail = [now.pose[:2]]
         reached = self.task.goal_xy is not None and within_goal(now.odometry[:2], self.task.goal_xy)
@@ -289,32 +318,32 @@ class RobotEpisode:
         return self.last_command
 
     def after(
-        self,
-        action: object,
-        ring: np.ndarray,
-        now: RobotNow,
-        events: tuple[str, ...],
-        reached: bool,
+        self, action: object, outcome: StepOutcome
     ) -> tuple[np.ndarray, float, bool, dict[str, Any]]:
-        """After the physics of a step: observation, reward, terminated and info. `events`
-        and `reached` are the judge's: what the step began, and the goal reached."""
+        """After the engine stepped the robot: observation, reward, terminated and info. The
+        outcome's events and goal are the engine's judge's."""
         before = self._odometry
-        perceived = self._sense(ring, now)
-        task = self.task
-        penalty = DEFAULT_Q.collision_penalty if now.bumped else 0.0
-        terminated = now.bumped
-        if task.task == GOAL:
-            reward = task.goal_m(before) - task.goal_m(now.odometry) - penalty
-            terminated = now.bumped or reached
-        elif task.task == WALL:
-            reward = forward_travel_m(before, now.odometry) - penalty
-            reward -= WALL_ERROR_WEIGHT * abs(self._wall_error_m(now))
-        else:
-            reward = step_reward(before, now.odometry, now.bumped)
-        self.last = (action, reward, events)
+        now = RobotNow.after(outcome)
+        perceived = self._sense(outcome.observation.ring_m, now)
+        reached = outcome.done
+        reward = self._reward(before, now)
+        terminated = now.bumped or (self.task.task == GOAL and reached)
+        self.last = (action, reward, outcome.events)
         self.trail.append(now.pose[:2])
-        info = self._info(now, events, reached)
+        info = self._info(now, outcome.events, reached)
         return self._observation(perceived, now), reward, terminated, info
+
+    def _reward(self, before: Pose, now: RobotNow) -> float:
+        """The task's reward of a step from odometry `before`: progress (metres forward, or
+        nearer the goal), less a bump's penalty (core.reward); following a wall, less its
+        error from the set distance too."""
+        task = self.task
+        if task.task == GOAL:
+            return task.goal_m(before) - task.goal_m(now.odometry) - bump_penalty_m(now.bumped)
+        reward = step_reward(before, now.odometry, now.bumped)
+        if task.task == WALL:
+            reward -= WALL_ERROR_WEIGHT * abs(self._wall_error_m(now))
+        return reward
 
     def caption(self) -> str:
         """The last step's action and reward, as the renderings caption them."""

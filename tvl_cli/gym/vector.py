@@ -1,10 +1,10 @@
 """tvl/SonarRing-v0 as a Gymnasium vector environment: N copies of its task in one world,
 every robot stepped by one RobotBatch (one physics space, one ring kernel call a step).
 
-Each copy follows the single environment's rules (gym.episode), each step judged by the step
-engine's StepJudge (agent.engine), and its robot moves bit for bit as the single
-environment's Simulator would, so copy i with seed s and the same actions gives what
-`SonarRingEnv` reset with seed s gives, step by step, through Gymnasium's next-step
+Each copy follows the single environment's rules (gym.episode) over a step engine of its own
+(agent.engine) on its robot of the batch, which moves and judges it as the single
+environment's engine does its Simulator, so copy i with seed s and the same actions gives
+what `SonarRingEnv` reset with seed s gives, step by step, through Gymnasium's next-step
 autoreset (as `SyncVectorEnv` over single environments runs them).
 """
 
@@ -20,14 +20,12 @@ from gymnasium.utils import seeding
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
-from tvl_cli.agent.engine import StepJudge
+from tvl_cli.agent.engine import StepEngine, hold_together, step_together
 from tvl_cli.core.method import Method
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.gym.actions import DISCRETE
 from tvl_cli.gym.episode import (
-    WALL,
     RobotEpisode,
-    RobotNow,
     RobotTask,
     positive_int,
     reset_option,
@@ -88,8 +86,8 @@ class SonarRingVectorEnv(VectorEnv[np.ndarray, np.ndarray, np.ndarray]):
         self.action_space = batch_space(self.single_action_space, num_envs)
         self._rngs: list[np.random.Generator | None] = [None] * num_envs
         self._batch: RobotBatch | None = None
+        self._engines: list[StepEngine] = []  # one a copy, over its robot of the batch
         self._episodes = [RobotEpisode(self.robot_task) for _ in range(num_envs)]
-        self._judges = [self._judge() for _ in range(num_envs)]
         self._elapsed = np.zeros(num_envs, dtype=np.int64)  # steps of each episode so far
         self._ended = np.zeros(num_envs, dtype=bool)  # to be reset at the next step
 
@@ -113,16 +111,15 @@ class SonarRingVectorEnv(VectorEnv[np.ndarray, np.ndarray, np.ndarray]):
             self._back_off(self._batch)
         else:
             self._start_afresh(self._seeds(seed))
-        assert self._batch is not None
+        batch = self._running()
         self._elapsed[:] = 0
         self._ended[:] = False
-        rings = self._batch.read_sonar()
-        now = self._now()
+        # Every copy's ring in one kernel call, each taken as its engine reads it.
+        batch.read_ahead(range(self.num_envs))
         observations = []
         infos: dict[str, Any] = {}
-        for i, episode in enumerate(self._episodes):
-            self._judges[i] = self._judge()
-            observation, info = episode.begin(rings[i], now[i], remember=going_on)
+        for i, (engine, episode) in enumerate(self._copies()):
+            observation, info = episode.begin(engine, remember=going_on)
             observations.append(observation)
             infos = self._add_info(infos, info, i)
         return np.stack(observations), infos
@@ -134,23 +131,22 @@ class SonarRingVectorEnv(VectorEnv[np.ndarray, np.ndarray, np.ndarray]):
                 self._rngs[i] = seeding.np_random(copy_seed)[0]
         rngs = [rng for rng in self._rngs if rng is not None]
         if self._batch is None:
-            self._batch = RobotBatch(self.robot_task.world, self.robot_task.robot, rngs)
+            batch = self._batch = RobotBatch(self.robot_task.world, self.robot_task.robot, rngs)
+            self._engines = [self.robot_task.engine_over(batch.alone(i)) for i in range(len(rngs))]
         else:
             for i, rng in enumerate(rngs):
                 self._batch.restart(i, rng)
+                self._engines[i].go_on()
 
     def _back_off(self, batch: RobotBatch) -> None:
         """Each robot that ended in a bump driving forward backs off, as the single
-        environment's engine steps it; one with fewer back-off steps (or none) sits the
-        others' out, held still (RobotBatch.step). A back-off drives backward, so none of its
-        steps reads the ring (the step judge wants it only after driving on), and the events
-        it begins belong to no episode."""
-        plans = [
-            episode.backoff(bool(bumped))
-            for episode, bumped in zip(self._episodes, batch.bumped.tolist(), strict=True)
-        ]
-        for k in range(max(map(len, plans))):
-            batch.step([plan[k] if k < len(plan) else None for plan in plans])
+        environment's does, through its engine; one with fewer back-off steps (or none) sits
+        the others' out, held still (RobotBatch.step). Each then goes on from where it is, its
+        judge afresh."""
+        plans = [episode.backoff(engine.sim.bumped) for engine, episode in self._copies()]
+        hold_together(batch, self._engines, plans)
+        for engine in self._engines:
+            engine.go_on()
 
     def step(
         self, actions: np.ndarray
@@ -167,30 +163,25 @@ class SonarRingVectorEnv(VectorEnv[np.ndarray, np.ndarray, np.ndarray]):
             None if restarting[i] else episode.command(actions[i])
             for i, episode in enumerate(self._episodes)
         ]
-        batch.step(commands)
+        outcomes = step_together(batch, self._engines, commands)
         for k in np.flatnonzero(restarting).tolist():
             rng = self._rngs[k]
             assert rng is not None
             batch.restart(k, rng)  # a reset without a seed goes on with the generator
-        rings = batch.read_sonar()
-        now = self._now()
+            self._engines[k].go_on()
+        # Every copy's ring in one kernel call, each taken as its engine reads it.
+        batch.read_ahead(range(self.num_envs))
         observations = []
         rewards = np.zeros(self.num_envs)
         terminations = np.zeros(self.num_envs, dtype=bool)
         infos: dict[str, Any] = {}
-        for i, episode in enumerate(self._episodes):
-            command = commands[i]
-            if command is None:
-                self._judges[i] = self._judge()
-                observation, info = episode.begin(rings[i], now[i])
+        for i, (engine, episode) in enumerate(self._copies()):
+            outcome = outcomes[i]
+            if outcome is None:
+                observation, info = episode.begin(engine)
                 self._elapsed[i] = 0
             else:
-                events, reached = self._judges[i].judge(
-                    episode.ring, command, now[i].bumped, False, now[i].pose, now[i].odometry
-                )
-                observation, reward, terminated, info = episode.after(
-                    actions[i], rings[i], now[i], events, reached
-                )
+                observation, reward, terminated, info = episode.after(actions[i], outcome)
                 rewards[i], terminations[i] = reward, terminated
                 self._elapsed[i] += 1
             observations.append(observation)
@@ -225,28 +216,6 @@ class SonarRingVectorEnv(VectorEnv[np.ndarray, np.ndarray, np.ndarray]):
             raise ResetNeeded("call reset() before step()")
         return self._batch
 
-    def _judge(self) -> StepJudge:
-        """A copy's judge of its steps for an episode, as the single environment's engine
-        judges them."""
-        task = self.robot_task
-        return StepJudge(task.robot, task.goal_xy)
-
-    def _now(self) -> list[RobotNow]:
-        """What the batch says of each robot now, as a Simulator would say it."""
-        batch = self._running()
-        clearances: list[float | None] = (
-            batch.clearances_m().tolist()
-            if self.robot_task.task == WALL
-            else [None] * self.num_envs
-        )
-        return [
-            RobotNow(time_s, (x, y, heading), odometry, bumped, clearance_m)
-            for time_s, (x, y, heading), odometry, bumped, clearance_m in zip(
-                batch.time_s.tolist(),
-                batch.poses.tolist(),
-                batch.odometry,
-                batch.bumped.tolist(),
-                clearances,
-                strict=True,
-            )
-        ]
+    def _copies(self) -> list[tuple[StepEngine, RobotEpisode]]:
+        """Each copy's engine and episode."""
+        return list(zip(self._engines, self._episodes, strict=True))
