@@ -29,7 +29,7 @@ def add_input(strength, offset, size, upper, stride):
     """Extend the first `size` corners (strengths, rule offsets) by one more input of upper
     degree `upper` and index step `stride`, to 2 * size corners: corner c takes the input's
     lower set as 2c and its upper set as 2c + 1, so the first input is the most significant,
-    as core.fam.Firing orders them."""
+    as core.fam_firing.Firing orders them."""
     for c in range(size - 1, -1, -1):  # from the top, so that each is read before it is written
         s, o = strength[c], offset[c]
         strength[2 * c] = s if s < 1.0 - upper else 1.0 - upper

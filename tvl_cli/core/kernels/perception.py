@@ -16,7 +16,7 @@ def infer_views(
     """Fill velocities (V, J) m/s and experience (V, J) with what V views perceive.
 
     View v reads the ring rings[ring_of_view[v]] (16,) metres rotated by k =
-    rotation_of_view[v]: ring[(i + k) % 16] is read as S_i. firing: core.fam.Firing's
+    rotation_of_view[v]: ring[(i + k) % 16] is read as S_i. firing: core.fam_firing.Firing's
     kernel_inputs(). lookup (2 cols, R): each rule's velocity (rows 0 .. cols - 1) and
     experience (rows cols .. 2 cols - 1) per column; trajectory_at (T, cols): the trajectory
     each table's column holds, -1 where none. strength and offset (2^n,): room for each

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from tvl_cli.core.fam import Firing
+from tvl_cli.core.fam_firing import Firing
 from tvl_cli.core.fuzzy import StackedPartitions
 
 
