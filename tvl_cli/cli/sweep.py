@@ -8,7 +8,7 @@ from pathlib import Path
 
 import click
 
-from tvl_cli.cli import documents, sweep_view, views
+from tvl_cli.cli import grid_documents, sweep_view, views
 from tvl_cli.cli.examples import examples
 from tvl_cli.cli.options import (
     PICTURE,
@@ -19,7 +19,13 @@ from tvl_cli.cli.options import (
 )
 from tvl_cli.sweep.executors import DEFAULT_SCHEDULER_TIMEOUT_S
 from tvl_cli.sweep.grid import FULL, SIZES
-from tvl_cli.sweep.runner import DEFAULT_MAX_CELLS, SweepRequest, default_out, run_sweep
+from tvl_cli.sweep.runner import (
+    DEFAULT_MAX_CELLS,
+    SweepRequest,
+    SweepResult,
+    default_out,
+    run_sweep,
+)
 from tvl_cli.sweep.summary import PLOT_FORM, parse_measures, parse_plot
 
 
@@ -142,20 +148,26 @@ def sweep(
         plot_out,
         size,
     )
-
-    def on_dashboard(link: str) -> None:
-        if not as_json:  # a script reading the JSON keeps a clean stderr, as with the bar
-            views.say(f"dashboard: {link}")
-
-    try:
-        with views.progress("cells", quiet=as_json) as bar:
-            result = run_sweep(request, bar, on_dashboard)
-    except KeyboardInterrupt:
-        views.say(f"interrupted: the runs that ended are in {request.out}; run again to go on")
-        sys.exit(130)
+    result = _run(request, quiet=as_json)
     if as_json:
-        print_json(documents.sweep_json(result, request))
+        print_json(grid_documents.sweep_json(result, request))
     elif as_csv:
         print_csv(result.rows)
     else:
         sweep_view.show(result)
+
+
+def _run(request: SweepRequest, quiet: bool) -> SweepResult:
+    """Run the sweep under a progress bar, `quiet` (for --json) without the bar or the
+    dashboard's link; Ctrl-C exits 130, saying where the runs that ended are."""
+
+    def on_dashboard(link: str) -> None:
+        if not quiet:  # a script reading the JSON keeps a clean stderr, as with the bar
+            views.say(f"dashboard: {link}")
+
+    try:
+        with views.progress("cells", quiet=quiet) as bar:
+            return run_sweep(request, bar, on_dashboard)
+    except KeyboardInterrupt:
+        views.say(f"interrupted: the runs that ended are in {request.out}; run again to go on")
+        sys.exit(130)
