@@ -19,16 +19,12 @@ import gymnasium
 import numpy as np
 from gymnasium.wrappers import RecordEpisodeStatistics
 
-from tvl_cli.baselines.qlearning import QLearning
-from tvl_cli.baselines.qtable import QParams, QTable, RuleStates
+from tvl_cli.baselines.qlearning import QLearning, empty_table
+from tvl_cli.baselines.qtable import QTable
 from tvl_cli.core.competence import COMPETENCE_RUN_MINUTES, is_competent
-from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.gym import ENV_ID, resolve_world  # importing tvl_cli.gym registers the env
 from tvl_cli.gym.env import ROBOT
-
-# Actions 0-6, T3L .. T3R at their top speed: the spins and the stop are left unused.
-TRAJECTORIES = len(ROBOT.trajectories)
 
 
 def train(env: gymnasium.Env, table: QTable, steps: int, seed: int) -> list[float]:
@@ -75,7 +71,8 @@ def main() -> None:
     # observe its echo memory's virtual ring).
     env = gymnasium.make(ENV_ID, world=args.world, task="avoid", method="paper")
     env = RecordEpisodeStatistics(env)
-    table = QTable(RuleStates(SINGLE.tables[0]), TRAJECTORIES, QParams())
+    # Actions 0-6, T3L .. T3R at their top speed: the spins and the stop are left unused.
+    table = empty_table(ROBOT)
     for label, steps in (("untrained", 0), ("trained", args.steps)):
         returns = train(env, table, steps, args.seed)
         run = judge(args.world, table, args.seed)

@@ -32,6 +32,14 @@ from tvl_cli.sim.worldmap import WorldMap
 DEFAULT_Q = QParams()
 
 
+def empty_table(
+    robot: RobotConfig, params: QParams = DEFAULT_Q, table: FamTable = SINGLE.tables[0]
+) -> QTable:
+    """The baseline's Q-table before learning: a FAM table's rules as states (the single
+    FAM's by default), the robot's trajectories as actions, every value zero."""
+    return QTable(RuleStates(table), len(robot.trajectories), params)
+
+
 class QPolicy:
     """Drives by a Q-table: epsilon-greedy and updating it while learning, greedy otherwise."""
 
@@ -98,8 +106,9 @@ class QLearning:
         self.world = world
         self.robot = robot
         self.params = params
-        self.states = RuleStates(table)
-        self.q = np.zeros((self.states.count, len(robot.trajectories)))  # (rules, trajectories)
+        learnt = empty_table(robot, params, table)
+        self.states = learnt.states
+        self.q = learnt.q  # (rules, trajectories)
         self._sim = Simulator(world, robot, np.random.default_rng(sim_seed))
         self._learner = QPolicy(
             self.q, self.states, robot, params, np.random.default_rng(explore_seed)

@@ -15,17 +15,14 @@ import numpy as np
 
 from tvl_cli.agent.policy import LazyRing, Observation
 from tvl_cli.agent.tvl import TvlPolicy
-from tvl_cli.baselines.qlearning import DEFAULT_Q
-from tvl_cli.baselines.qtable import QParams, QTable, RuleStates
+from tvl_cli.baselines.qlearning import DEFAULT_Q, empty_table
+from tvl_cli.baselines.qtable import QParams
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
-from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.trajectory_choice import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD, is_threshold
 from tvl_cli.gym.actions import DISCRETE, ROBOT, SPIN_LEFT, SPIN_RIGHT
 from tvl_cli.gym.episode import AVOID, SONARS
 from tvl_cli.io.famfile import read_fam
-
-TRAJECTORIES = len(ROBOT.trajectories)
 
 
 class TvlGymPolicy:
@@ -81,17 +78,19 @@ class TvlGymPolicy:
 
 
 class QTableAgent:
-    """The Q-learning baseline's learner (baselines.qtable.QTable) over the single FAM's 720
-    rules and the seven trajectories, learnt by stepping an `avoid` environment of discrete
-    actions; called, it acts greedily.
+    """The Q-learning baseline's own table (baselines.qlearning.empty_table: the single FAM's
+    720 rules and the seven trajectories) and learner (baselines.qtable.QTable, whose choice
+    and update these are), learnt by stepping an `avoid` environment of discrete actions;
+    called, it acts greedily.
 
-    Its learning settings are `params`'; the reward, the bump penalty and the back-off after a
-    bump are the environment's, which are the baseline's defaults.
+    Its learning settings are `params`'; the reward (core.reward, as the baseline's), the bump
+    penalty and the back-off after a bump are the environment's, which are the baseline's
+    defaults.
     """
 
     def __init__(self, params: QParams = DEFAULT_Q) -> None:
         self.params = params
-        self.table = QTable(RuleStates(SINGLE.tables[0]), TRAJECTORIES, params)
+        self.table = empty_table(ROBOT, params)
 
     @property
     def q(self) -> np.ndarray:
