@@ -34,7 +34,7 @@ from tvl_cli.analysis.autopsy import (
     goal_failure,
     time_by_class,
 )
-from tvl_cli.commands.slow_autopsy import slow_time_by_cause
+from tvl_cli.analysis.slow_time import slow_time_by_cause
 from tvl_cli.core.contacts import BUMP, NEAR_MISS, near_miss_sonars, steps_beginning
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
@@ -178,7 +178,8 @@ def run_autopsy(
     failure, closest = None, None
     if goal_xy is not None and not goal_reached:
         failure, closest = goal_failure(pose[:, :2], goal_xy, GOAL_RADIUS_M, time_s, dt)
-    slow_s = slow_time_by_cause(world, robot, method, threshold, columns, poses_before, fam)
+    true_in_view = TrueVelocities(world, robot, method, lambda: (0.0, 0.0, 0.0)).in_view
+    slow_s = slow_time_by_cause(robot, threshold, columns, poses_before, true_in_view, fam)
     return Autopsy(tuple(contacts), time_s, failure, closest, slow_s)
 
 

@@ -8,10 +8,11 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
-from test_autopsy import NAMES, ROBOT, room_with
+from autopsy_rooms import NAMES, ROBOT, room_with
 
 from tvl_cli.agent.drive_tvl import behave
 from tvl_cli.agent.trace import Columns, TraceRecorder
+from tvl_cli.agent.true_velocities import TrueVelocities
 from tvl_cli.analysis.autopsy import (
     FAST_DRIVE_MPS,
     LEARNT,
@@ -23,7 +24,7 @@ from tvl_cli.analysis.autopsy import (
     UNRATED,
     slow_cause,
 )
-from tvl_cli.commands.slow_autopsy import slow_time_by_cause
+from tvl_cli.analysis.slow_time import slow_time_by_cause
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.memory import NO_MEMORY
@@ -52,7 +53,8 @@ def driven(world: WorldMap, fam: Fam, minutes: float) -> Columns:
 
 def slow_seconds(world: WorldMap, columns: Columns, fam: Fam | None) -> dict[str, float]:
     poses_before = np.vstack([np.array(world.start)[None, :], columns["pose"][:-1]])
-    return slow_time_by_cause(world, ROBOT, LIVE, DEFAULT_THRESHOLD, columns, poses_before, fam)
+    truth = TrueVelocities(world, ROBOT, LIVE, lambda: (0.0, 0.0, 0.0))
+    return slow_time_by_cause(ROBOT, DEFAULT_THRESHOLD, columns, poses_before, truth.in_view, fam)
 
 
 def policy_slow_s(columns: Columns) -> float:

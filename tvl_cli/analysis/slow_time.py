@@ -1,5 +1,6 @@
 """Why a run was slow: each step the policy drove slower than competence asks, told by the
-simulator's truth and the run's FAM (analysis.autopsy.slow_cause judges it).
+simulator's truth and the run's FAM (analysis.autopsy.slow_cause judges it; the caller,
+commands.autopsy, gives the truth as the oracle velocities of a view).
 
 A step is judged in the view its choice was made in (the heading's when it made none): which
 of that view's trajectories were truly fast (the oracle velocities, from the map and the true
@@ -9,10 +10,10 @@ one), and which it would have rated fast on the live ring alone.
 
 from __future__ import annotations
 
+from collections.abc import Callable, Mapping
+
 import numpy as np
 
-from tvl_cli.agent.trace import Columns
-from tvl_cli.agent.true_velocities import TrueVelocities
 from tvl_cli.analysis.autopsy import (
     FAST_DRIVE_MPS,
     SLOW_CAUSES,
@@ -21,19 +22,19 @@ from tvl_cli.analysis.autopsy import (
     spinning_steps,
 )
 from tvl_cli.core.fam import Fam
-from tvl_cli.core.method import Method
 from tvl_cli.core.ring import mm_to_ring
 from tvl_cli.core.robot_config import RobotConfig
-from tvl_cli.sim.worldmap import WorldMap
+
+# The true velocities (T,) m/s of one view's trajectories (facing sonar `view`) from a pose.
+TrueInView = Callable[[tuple[float, float, float], int], np.ndarray]
 
 
 def slow_time_by_cause(
-    world: WorldMap,
     robot: RobotConfig,
-    method: Method,
     threshold: float,
-    columns: Columns,
+    columns: Mapping[str, np.ndarray],
     poses_before: np.ndarray,
+    true_in_view: TrueInView,
     fam: Fam | None,
 ) -> dict[str, float]:
     """SLOW_CAUSES -> simulated seconds, over the steps (columns, as agent.trace names them;
@@ -46,7 +47,6 @@ def slow_time_by_cause(
     spinning = spinning_steps(columns["speed_mps"], columns["turn_radps"])
     live_m = mm_to_ring(columns["ring_mm"])  # (N, 16) metres
     read_m = mm_to_ring(columns.get("perceived_mm", columns["ring_mm"]))
-    truth = TrueVelocities(world, robot, method, lambda: (0.0, 0.0, 0.0))
     seconds = dict.fromkeys(SLOW_CAUSES, 0.0)
     cause = UNRATED
     for step in np.flatnonzero(slow):
@@ -56,7 +56,7 @@ def slow_time_by_cause(
             choice = int(columns["choice"][step])
             view = int(columns["rotation"][step]) % robot.sonar.count if choice >= 0 else 0
             x, y, theta = poses_before[step]
-            truly_fast = truth.in_view((float(x), float(y), float(theta)), view) >= fast_from_mps
+            truly_fast = true_in_view((float(x), float(y), float(theta)), view) >= fast_from_mps
             if fam is None:
                 read_fast, live_fast = np.asarray(columns["fast"][step], dtype=bool), None
             else:
