@@ -29,7 +29,7 @@ import math
 
 import numpy as np
 
-from tvl_cli.core.kernels import kernel
+from tvl_cli.core.kernels import inlined, kernel
 from tvl_cli.core.memory import POINTS
 
 # Metres of slack in the wedge test, far above rounding and far below any patch.
@@ -153,9 +153,35 @@ def _patches_met(
     cleared, cleared_above_m, out,
 ):  # fmt: skip
     beams = out.shape[0]
+    wedges = _beam_wedges(origins, directions, rays_per_beam, beams)
+    for b in range(beams):
+        out[b] = within_m[b]  # the nearest met so far
+    # Echo by echo, each against every beam: each beam still meets the echoes in their
+    # order, and the cuts skip only what could not come nearer than the beam's best. The
+    # cuts are taken for all beams at once, free of branches, and only the beams they leave
+    # are cast against the patch's rays (the patch's depth and offset kept for them).
+    skipped = np.empty(beams, dtype=np.bool_)
+    depth, offsets = np.empty(beams), np.empty(beams)
+    for k in range(centres.shape[0]):
+        if heard[k] < since:
+            continue
+        _cut_beams(
+            k, centres, axes, half_widths, cleared, cleared_above_m, wedges, out, skipped,
+            depth, offsets,
+        )  # fmt: skip
+        _cast_patch(k, axes, half_widths, directions, rays_per_beam, skipped, depth, offsets, out)
+    for b in range(beams):
+        if out[b] >= within_m[b]:
+            out[b] = np.inf
+
+
+@inlined
+def _beam_wedges(origins, directions, rays_per_beam, beams):
+    """Each beam's wedge (B,) x 6: its transducer (ox, oy) metres, the unit middle ray (mx,
+    my), and the cosine and sine of the widest angle of its rays from the middle one."""
+    # Each beam's rays leave one transducer within that spread of the middle ray: a patch no
+    # nearer than its half width to the wedge meets none of them.
     middle = rays_per_beam // 2
-    # Each beam's rays leave one transducer (ox, oy) within `spread` of the middle ray
-    # (mx, my): a patch no nearer than its half width to that wedge meets none of them.
     ox, oy = np.empty(beams), np.empty(beams)
     mx, my = np.empty(beams), np.empty(beams)
     cos_spread, sin_spread = np.empty(beams), np.empty(beams)
@@ -170,63 +196,69 @@ def _patches_met(
                 cos_b = cos_ray
         cos_spread[b] = cos_b
         sin_spread[b] = math.sqrt(1.0 - cos_b * cos_b) if cos_b < 1.0 else 0.0
-        out[b] = within_m[b]  # the nearest met so far
-    # Echo by echo, each against every beam: each beam still meets the echoes in their
-    # order, and the cuts below skip only what could not come nearer than the beam's best.
-    # The cuts are taken for all beams at once, free of branches, and only the beams they
-    # leave are cast against the patch's rays (the patch's depth and offset kept for them).
-    skipped = np.empty(beams, dtype=np.bool_)
-    depth, offsets = np.empty(beams), np.empty(beams)
-    for k in range(centres.shape[0]):
-        if heard[k] < since:
-            continue
-        cx, cy = centres[k, 0], centres[k, 1]
-        half_width = half_widths[k]
-        reach = half_width + WEDGE_SLACK_M
-        ax, ay = axes[k, 0], axes[k, 1]
-        wide = half_width > cleared_above_m
-        for b in range(beams):
-            best = out[b]
-            vx, vy = cx - ox[b], cy - oy[b]
-            ahead = vx * ax + vy * ay  # the transducer's distance behind the patch's line
-            depth[b] = ahead
-            offsets[b] = vx * ay - vy * ax  # where across the patch the transducer stands
-            along = vx * mx[b] + vy * my[b]
-            lateral = abs(vx * my[b] - vy * mx[b])
-            behind = along <= 0.0
-            # On the far side it cannot hear the patch; and no ray meets the line nearer
-            # than `ahead` (facing is at most 1, give or take rounding). Behind the
-            # transducer, only a patch reaching it; ahead, one outside the wedge, or no
-            # nearer than what the beam already met, is skipped.
-            skipped[b] = (
-                (wide & cleared[b])
-                | (ahead < 0.0)
-                | (ahead >= best * FACING_MAX)
-                | (behind & (vx * vx + vy * vy > reach * reach))
-                | (
-                    ~behind
-                    & (
-                        (lateral * cos_spread[b] - along * sin_spread[b] > reach)
-                        | (along - reach >= best)
-                    )
+    return ox, oy, mx, my, cos_spread, sin_spread
+
+
+@inlined
+def _cut_beams(
+    k, centres, axes, half_widths, cleared, cleared_above_m, wedges, out, skipped, depth,
+    offsets,
+):  # fmt: skip
+    """Mark in skipped (B,) the beams patch k cannot come nearer in than what they met so far
+    (out), keeping for the others the transducer's depth behind the patch's line and offset
+    across it (metres)."""
+    ox, oy, mx, my, cos_spread, sin_spread = wedges
+    cx, cy = centres[k, 0], centres[k, 1]
+    reach = half_widths[k] + WEDGE_SLACK_M
+    ax, ay = axes[k, 0], axes[k, 1]
+    wide = half_widths[k] > cleared_above_m
+    for b in range(out.shape[0]):
+        best = out[b]
+        vx, vy = cx - ox[b], cy - oy[b]
+        ahead = vx * ax + vy * ay  # the transducer's distance behind the patch's line
+        depth[b] = ahead
+        offsets[b] = vx * ay - vy * ax  # where across the patch the transducer stands
+        along = vx * mx[b] + vy * my[b]
+        lateral = abs(vx * my[b] - vy * mx[b])
+        behind = along <= 0.0
+        # On the far side it cannot hear the patch; and no ray meets the line nearer than
+        # `ahead` (facing is at most 1, give or take rounding). Behind the transducer, only
+        # a patch reaching it; ahead, one outside the wedge, or no nearer than what the beam
+        # already met, is skipped.
+        skipped[b] = (
+            (wide & cleared[b])
+            | (ahead < 0.0)
+            | (ahead >= best * FACING_MAX)
+            | (behind & (vx * vx + vy * vy > reach * reach))
+            | (
+                ~behind
+                & (
+                    (lateral * cos_spread[b] - along * sin_spread[b] > reach)
+                    | (along - reach >= best)
                 )
             )
-        for b in range(beams):
-            if skipped[b]:
+        )
+
+
+@inlined
+def _cast_patch(k, axes, half_widths, directions, rays_per_beam, skipped, depth, offsets, out):
+    """Cast the rays of each beam not skipped against patch k, keeping in out (B,) metres the
+    nearer of what the beam met before and where a ray meets the patch."""
+    ax, ay = axes[k, 0], axes[k, 1]
+    half_width = half_widths[k]
+    for b in range(out.shape[0]):
+        if skipped[b]:
+            continue
+        best, ahead, offset = out[b], depth[b], offsets[b]
+        first = b * rays_per_beam
+        for r in range(first, first + rays_per_beam):
+            dx, dy = directions[r, 0], directions[r, 1]
+            facing = dx * ax + dy * ay
+            if facing <= 0.0 or ahead >= best * facing:
                 continue
-            best, ahead, offset = out[b], depth[b], offsets[b]
-            first = b * rays_per_beam
-            for r in range(first, first + rays_per_beam):
-                dx, dy = directions[r, 0], directions[r, 1]
-                facing = dx * ax + dy * ay
-                if facing <= 0.0 or ahead >= best * facing:
-                    continue
-                # The ray meets the line at t = ahead / facing, (offset + t * slant) across
-                # the patch; compared times `facing`, so that only a hit costs a division.
-                slant = dy * ax - dx * ay
-                if abs(offset * facing + ahead * slant) <= half_width * facing:
-                    best = ahead / facing
-            out[b] = best
-    for b in range(beams):
-        if out[b] >= within_m[b]:
-            out[b] = np.inf
+            # The ray meets the line at t = ahead / facing, (offset + t * slant) across the
+            # patch; compared times `facing`, so that only a hit costs a division.
+            slant = dy * ax - dx * ay
+            if abs(offset * facing + ahead * slant) <= half_width * facing:
+                best = ahead / facing
+        out[b] = best
