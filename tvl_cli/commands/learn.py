@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -35,7 +35,7 @@ from tvl_cli.io.interrupts import catching_signals
 from tvl_cli.io.log_sessions import distinct_sessions, provenance
 from tvl_cli.io.logfile import LogWriter
 from tvl_cli.io.loglayout import KIND_LEARNING, ended_status
-from tvl_cli.io.logreader import file_sha256, read_log
+from tvl_cli.io.logreader import LearningLog, file_sha256, read_log
 from tvl_cli.sim.worldmap import WorldMap, load_world
 
 # Learning writes its episodes to the log a few at a time, once those held span this many
@@ -106,29 +106,7 @@ def learn_to_log(
         check_writable(request.fam_out)
     log = read_log(request.log, empty_allowed=True) if request.log.exists() else None
     earlier = log.sessions if log is not None else []
-    started_from: dict[str, Any] = {}
-    if request.from_fam is not None:
-        if earlier:
-            raise BadInput(
-                f"{request.log}: already holds sessions; --from-fam starts a new log "
-                "(a log goes on from its own sessions)"
-            )
-        fam = _fam_to_start_from(request.from_fam, config, robot, method.memory)
-        started_from = {"path": str(request.from_fam), "sha256": file_sha256(request.from_fam)}
-    else:
-        fam = Fam(config, [t.name for t in robot.trajectories], request.train.init_velocity_mps)
-        if log is not None:
-            # A log goes on from what its sessions learnt, trained as `tvl train` would.
-            sessions, _ = distinct_sessions([log])
-            earlier_episodes = [
-                SessionEpisodes(
-                    perceived_episodes(s.episodes(), method.memory, robot),
-                    ended=True,
-                    driven_only=s.kind != KIND_LEARNING,
-                )
-                for s in sessions
-            ]
-            train_sessions(fam, earlier_episodes, robot, request.train)
+    fam, started_from = _fam_to_learn_into(request, config, robot, log)
     learner = Learner(
         world,
         robot,
@@ -140,72 +118,21 @@ def learn_to_log(
         symmetric=request.symmetric,
     )
     started = time.perf_counter()
-    parameters = {
-        "config": config.name,
-        **request.learn.to_dict(),
-        **request.train.settings(),
-        "seed_stream": len(earlier),
-        "from_fam": started_from or None,
-    }
     with (
-        LogWriter.open(
-            request.log,
-            world_name=world.name,
-            world_text=world.text,
-            seed=request.seed,
-            parameters=parameters,
-            robot_config=robot.to_dict(),
-            fam_config=config.to_dict(),
-            write_every_s=LOG_WRITE_EVERY_S,
-            method=method,
-        ) as writer,
+        _open_session(request, world, robot, config, len(earlier), started_from) as writer,
         catching_signals() as interrupted,
     ):
         if writer.session != f"{len(earlier):04d}":
             raise BadInput(f"{request.log}: another process added a session meanwhile")
-
-        coverage = CoverageTracker(world_floor(world, robot))
-        minute_coverage: list[float] = []
-
-        def record(episode: Episode) -> None:
-            writer.append_episode(episode)
-            coverage.add(episode.pose)
-            on_progress(episode.end_time_s)
-
-        def minute(stats: MinuteStats) -> None:
-            writer.append_minute(
-                minute=stats.minute,
-                episodes=stats.episodes,
-                collisions=stats.collisions,
-                exemplars=stats.exemplars,
-                delta_v=stats.delta_v,
-            )
-            minute_coverage.append(coverage.fraction)
-            on_minute(stats)
-
-        summary = learner.run(record, minute, interrupted.reason, watch)
+        recording = _SessionRecording(
+            writer, CoverageTracker(world_floor(world, robot)), on_minute, on_progress
+        )
+        summary = learner.run(recording.episode, recording.minute, interrupted.reason, watch)
         status = ended_status(summary.stopped_by)
         session = writer.session
         writer.close(status)
-    if request.fam_out is not None and summary.episodes == 0:
-        raise BadInput(
-            f"{request.fam_out}: not written: no episode finished in "
-            f"{request.learn.minutes:g} simulated minutes, so nothing was learnt "
-            f"(the log {request.log} keeps the session; learn for longer)"
-        )
     if request.fam_out is not None:
-        # After the writer has closed: the provenance hashes the finished log.
-        write_fam(
-            request.fam_out,
-            fam,
-            robot_config=robot,
-            method=method,
-            provenance={
-                **provenance([read_log(request.log)], request.train, config),
-                "online_session": session,
-                "from_fam": started_from or None,
-            },
-        )
+        _write_online_fam(request, fam, config, summary, session, started_from)
     return LearnResult(
         request,
         session,
@@ -213,8 +140,124 @@ def learn_to_log(
         summary,
         time.perf_counter() - started,
         status,
-        minute_coverage,
-        coverage.fraction,
+        recording.minute_coverage,
+        recording.coverage.fraction,
+    )
+
+
+def _fam_to_learn_into(
+    request: LearnRequest, config: FamConfig, robot: RobotConfig, log: LearningLog | None
+) -> tuple[Fam, dict[str, Any]]:
+    """The FAM the session learns into, and the file it started from as the log records it
+    (empty for none): --from-fam's trained FAM, or a new one trained on the log's sessions."""
+    if request.from_fam is not None:
+        if log is not None and log.sessions:
+            raise BadInput(
+                f"{request.log}: already holds sessions; --from-fam starts a new log "
+                "(a log goes on from its own sessions)"
+            )
+        fam = _fam_to_start_from(request.from_fam, config, robot, request.method.memory)
+        return fam, {"path": str(request.from_fam), "sha256": file_sha256(request.from_fam)}
+    fam = Fam(config, [t.name for t in robot.trajectories], request.train.init_velocity_mps)
+    if log is not None:
+        # A log goes on from what its sessions learnt, trained as `tvl train` would.
+        sessions, _ = distinct_sessions([log])
+        earlier_episodes = [
+            SessionEpisodes(
+                perceived_episodes(s.episodes(), request.method.memory, robot),
+                ended=True,
+                driven_only=s.kind != KIND_LEARNING,
+            )
+            for s in sessions
+        ]
+        train_sessions(fam, earlier_episodes, robot, request.train)
+    return fam, {}
+
+
+def _open_session(
+    request: LearnRequest,
+    world: WorldMap,
+    robot: RobotConfig,
+    config: FamConfig,
+    seed_stream: int,
+    started_from: dict[str, Any],
+) -> LogWriter:
+    """The log's new learning session, its parameters recorded."""
+    parameters = {
+        "config": config.name,
+        **request.learn.to_dict(),
+        **request.train.settings(),
+        "seed_stream": seed_stream,
+        "from_fam": started_from or None,
+    }
+    return LogWriter.open(
+        request.log,
+        world_name=world.name,
+        world_text=world.text,
+        seed=request.seed,
+        parameters=parameters,
+        robot_config=robot.to_dict(),
+        fam_config=config.to_dict(),
+        write_every_s=LOG_WRITE_EVERY_S,
+        method=request.method,
+    )
+
+
+@dataclass
+class _SessionRecording:
+    """Where the session's finished episodes and minutes go: the log, the floor they cover,
+    and the caller's progress."""
+
+    writer: LogWriter
+    coverage: CoverageTracker
+    on_minute: Callable[[MinuteStats], None]
+    on_progress: Callable[[float], None]
+    minute_coverage: list[float] = field(default_factory=list)  # at the end of each minute
+
+    def episode(self, episode: Episode) -> None:
+        self.writer.append_episode(episode)
+        self.coverage.add(episode.pose)
+        self.on_progress(episode.end_time_s)
+
+    def minute(self, stats: MinuteStats) -> None:
+        self.writer.append_minute(
+            minute=stats.minute,
+            episodes=stats.episodes,
+            collisions=stats.collisions,
+            exemplars=stats.exemplars,
+            delta_v=stats.delta_v,
+        )
+        self.minute_coverage.append(self.coverage.fraction)
+        self.on_minute(stats)
+
+
+def _write_online_fam(
+    request: LearnRequest,
+    fam: Fam,
+    config: FamConfig,
+    summary: LearnSummary,
+    session: str,
+    started_from: dict[str, Any],
+) -> None:
+    """Write the FAM the session learnt into to --fam, once the log's writer has closed: its
+    provenance hashes the finished log."""
+    assert request.fam_out is not None
+    if summary.episodes == 0:
+        raise BadInput(
+            f"{request.fam_out}: not written: no episode finished in "
+            f"{request.learn.minutes:g} simulated minutes, so nothing was learnt "
+            f"(the log {request.log} keeps the session; learn for longer)"
+        )
+    write_fam(
+        request.fam_out,
+        fam,
+        robot_config=request.robot,
+        method=request.method,
+        provenance={
+            **provenance([read_log(request.log)], request.train, config),
+            "online_session": session,
+            "from_fam": started_from or None,
+        },
     )
 
 
