@@ -107,73 +107,19 @@ def run_autopsy(
     """
     dt = robot.control_period_s
     pose = columns["pose"]  # (N, 3) true pose after each step
-    steps = len(pose)
     poses_before = np.vstack([np.array(world.start)[None, :], pose[:-1]])  # (N, 3)
-    read = np.asarray(columns["ring_mm"].any(axis=1))  # (N,) the ring was read before the step
-    ring_m = mm_to_ring(columns["ring_mm"])  # (N, 16) metres
-    geometry = static_geometry(world)
-    hearing = _Hearing(geometry, robot, poses_before)
-    truth = _Hearing(geometry, robot, poses_before, ideal=True)
-    fam_read = mm_to_ring(columns.get("perceived_mm", columns["ring_mm"]))  # (N, 16) metres
     every = tuple(range(robot.sonar.count))
     sonars_of = {
         j: (table_sonars or {}).get(name, every) for j, name in enumerate(trajectory_names)
     }
-    min_range = robot.sonar.min_range_m
-    near_sonars = np.array(near_miss_sonars(robot.sonar.count))  # (s,) sonar indices
-    blind = read & np.asarray((ring_m[:, near_sonars] <= min_range).any(axis=1))  # (N,)
-    window = max(1, round(AUDIBLE_S / dt))
-    rating = max(1, round(RATING_S / dt))
-    decided = read & (columns["choice"] >= 0)  # (N,) steps the policy chose, seeing the ring
-    ratings = _Ratings(world, robot, method, columns, poses_before, fam_read, fam)
-
-    contacts = []
+    judge = _Contacts(world, robot, method, columns, poses_before, fam, sonars_of)
     found = [(int(s), BUMP) for s in steps_beginning(columns["events"], BUMP)]
     found += [(int(s), NEAR_MISS) for s in steps_beginning(columns["events"], NEAR_MISS)]
+    contacts = []
     for event_step, event in sorted(found):
-        if event == BUMP:
-            # It began on the step that closed the bump sensor, touching where it ended: that
-            # step's command drove into it.
-            began, where = event_step, pose[event_step]
-            moved = began
-            obstacle, _ = nearest_element(geometry, where[0], where[1])
-        else:
-            # Counted when the approach ended; it began at the approach's first blind reading,
-            # taken after the step before it drove there (the step of the reading itself is
-            # already the reflexes' answer to it).
-            began = event_step
-            while began > 0 and blind[began - 1]:
-                began -= 1
-            began = min(began, steps - 1)
-            moved = max(began - 1, 0)
-            where = poses_before[began]
-            obstacle = _blind_obstacle(hearing, began, ring_m[began], near_sonars)
-        if obstacle < 0:
-            continue  # nothing there to have met
-        heard = False
-        for step in range(max(0, began - window + 1), began + 1):
-            if read[step]:
-                ranges, sources = hearing.at(step)
-                heard |= bool(((sources == obstacle) & (ranges > min_range)).any())
-        # The choices that led to it: those of the seconds before, up to its beginning.
-        first_choice = max(0, moved - rating + 1)
-        choices = np.flatnonzero(decided[first_choice : moved + 1]) + first_choice
-        held_m = _held_at(truth, choices, fam_read, columns, obstacle, sonars_of)
-        rated, true, experience = ratings.of(int(choices[-1])) if len(choices) else (None,) * 3
-        facts = ContactFacts(
-            step=began,
-            time_s=(began + 1) * dt,
-            event=event,
-            obstacle=_shape(geometry, obstacle, where),
-            **_driver(columns, moved, reflex_names, trajectory_names),
-            heard=heard,
-            given=held_m is not None,
-            given_beyond_blind_zone=held_m is not None and held_m > min_range,
-            rated_mps=rated,
-            true_mps=true,
-            experience=experience,
-        )
-        contacts.append(Contact(facts, cause_of(facts)))
+        facts = judge.facts(event_step, event, reflex_names, trajectory_names)
+        if facts is not None:
+            contacts.append(Contact(facts, cause_of(facts)))
     time_s = time_by_class(columns["speed_mps"], columns["turn_radps"], columns["events"], dt)
     failure, closest = None, None
     if goal_xy is not None and not goal_reached:
@@ -181,6 +127,108 @@ def run_autopsy(
     true_in_view = TrueVelocities(world, robot, method, lambda: (0.0, 0.0, 0.0)).in_view
     slow_s = slow_time_by_cause(robot, threshold, columns, poses_before, true_in_view, fam)
     return Autopsy(tuple(contacts), time_s, failure, closest, slow_s)
+
+
+class _Contacts:
+    """The facts of a run's contacts, from its steps and the simulator's truth: where each
+    began, what it met, whether a beam heard that before, whether what the FAM read held it,
+    and what was driving."""
+
+    def __init__(
+        self,
+        world: WorldMap,
+        robot: RobotConfig,
+        method: Method,
+        columns: Columns,
+        poses_before: np.ndarray,
+        fam: Fam | None,
+        sonars_of: dict[int, tuple[int, ...]],
+    ) -> None:
+        self._dt = robot.control_period_s
+        self._columns = columns
+        self._poses_before = poses_before  # (N, 3) true pose each reading was taken at
+        self._sonars_of = sonars_of  # each trajectory's table's sonars, facing ahead
+        self._read = np.asarray(columns["ring_mm"].any(axis=1))  # (N,) the ring was read
+        self._ring_m = mm_to_ring(columns["ring_mm"])  # (N, 16) metres
+        self._geometry = static_geometry(world)
+        self._hearing = _Hearing(self._geometry, robot, poses_before)
+        self._truth = _Hearing(self._geometry, robot, poses_before, ideal=True)
+        # (N, 16) metres: the ring as the FAM read it
+        self._fam_read = mm_to_ring(columns.get("perceived_mm", columns["ring_mm"]))
+        self._min_range_m = robot.sonar.min_range_m
+        self._near_sonars = np.array(near_miss_sonars(robot.sonar.count))  # (s,) sonars
+        # (N,) readings with a beam ahead inside the ring's minimum range
+        self._blind = self._read & np.asarray(
+            (self._ring_m[:, self._near_sonars] <= self._min_range_m).any(axis=1)
+        )
+        self._audible_steps = max(1, round(AUDIBLE_S / self._dt))
+        self._rating_steps = max(1, round(RATING_S / self._dt))
+        # (N,) steps the policy chose, seeing the ring
+        self._decided = self._read & (columns["choice"] >= 0)
+        self._ratings = _Ratings(world, robot, method, columns, poses_before, self._fam_read, fam)
+
+    def facts(
+        self,
+        event_step: int,
+        event: str,
+        reflex_names: tuple[str, ...],
+        trajectory_names: tuple[str, ...],
+    ) -> ContactFacts | None:
+        """The facts of the contact counted at `event_step`; None if nothing was there."""
+        began, moved, where, obstacle = self._onset(event_step, event)
+        if obstacle < 0:
+            return None
+        # The choices that led to it: those of the seconds before, up to its beginning.
+        first_choice = max(0, moved - self._rating_steps + 1)
+        choices = np.flatnonzero(self._decided[first_choice : moved + 1]) + first_choice
+        held_m = _held_at(
+            self._truth, choices, self._fam_read, self._columns, obstacle, self._sonars_of
+        )
+        rated, true, experience = (
+            self._ratings.of(int(choices[-1])) if len(choices) else (None,) * 3
+        )
+        return ContactFacts(
+            step=began,
+            time_s=(began + 1) * self._dt,
+            event=event,
+            obstacle=_shape(self._geometry, obstacle, where),
+            **_driver(self._columns, moved, reflex_names, trajectory_names),
+            heard=self._heard(began, obstacle),
+            given=held_m is not None,
+            given_beyond_blind_zone=held_m is not None and held_m > self._min_range_m,
+            rated_mps=rated,
+            true_mps=true,
+            experience=experience,
+        )
+
+    def _onset(self, event_step: int, event: str) -> tuple[int, int, np.ndarray, int]:
+        """The step the contact began, the step whose command drove into it, where the body
+        was (x, y, theta) and the obstacle it met (-1: none)."""
+        if event == BUMP:
+            # It began on the step that closed the bump sensor, touching where it ended: that
+            # step's command drove into it.
+            where = self._columns["pose"][event_step]
+            obstacle, _ = nearest_element(self._geometry, where[0], where[1])
+            return event_step, event_step, where, obstacle
+        # Counted when the approach ended; it began at the approach's first blind reading,
+        # taken after the step before it drove there (the step of the reading itself is
+        # already the reflexes' answer to it).
+        began = event_step
+        while began > 0 and self._blind[began - 1]:
+            began -= 1
+        began = min(began, len(self._poses_before) - 1)
+        obstacle = _blind_obstacle(self._hearing, began, self._ring_m[began], self._near_sonars)
+        return began, max(began - 1, 0), self._poses_before[began], obstacle
+
+    def _heard(self, began: int, obstacle: int) -> bool:
+        """Whether a beam heard the obstacle, beyond the ring's minimum range, in the seconds
+        before the contact began."""
+        heard = False
+        for step in range(max(0, began - self._audible_steps + 1), began + 1):
+            if self._read[step]:
+                ranges, sources = self._hearing.at(step)
+                heard |= bool(((sources == obstacle) & (ranges > self._min_range_m)).any())
+        return heard
 
 
 class _Ratings:
