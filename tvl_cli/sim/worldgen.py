@@ -93,25 +93,57 @@ STAND_RADIUS_M = 0.05  # lamp and tripod stands: thin poles
 def _lab(canvas: Canvas, rng: np.random.Generator) -> None:
     """A cluttered lab: benches along the walls, desks with thin overhanging table tops,
     pillars and thin stands, with room for the robot to pass between any two of them."""
-    taken = np.zeros(canvas.grid.shape, dtype=bool)  # (rows, cols) cells claimed by furniture
+    floor = _LabFloor(canvas, rng, np.zeros(canvas.grid.shape, dtype=bool))
     scale = canvas.rows * canvas.cols * CELL_M**2 / LAB_AREA_M2
 
     def count(n: int) -> int:
         return max(1, round(n * scale))
 
+    for _ in range(count(3)):  # benches, 0.5-0.75 m deep, 1.5-2.25 m long, along a wall
+        side = int(rng.integers(4))
+        bench = np.ones((int(rng.integers(2, 4)), int(rng.integers(6, 10))), dtype=bool)
+        floor.build(bench if side < 2 else bench.T, side)
+    for _ in range(count(2)):  # desks 0.75 m deep with a one-cell table top sticking out
+        length, overhang = int(rng.integers(5, 8)), int(rng.integers(2, 5))
+        desk = np.zeros((3, length + overhang), dtype=bool)
+        desk[:, :length] = True
+        desk[0, length:] = True
+        desk = np.rot90(desk, int(rng.integers(4)))
+        floor.build(np.fliplr(desk) if rng.integers(2) else desk, None)
+    # Pillars (a disc of radius <= 1 cell on the middle cell of its footprint, so 2 cells of
+    # gap still leave over 0.6 m of floor), then thin stands that sonar barely sees.
+    for radius_m in rng.uniform(0.15, 0.25, count(3)).round(2):
+        spot = floor.place(np.ones((3, 3), dtype=bool), None, gap=2)
+        if spot is not None:
+            canvas.disc(*canvas.centre_m(spot[0] + 1, spot[1] + 1), float(radius_m))
+    for _ in range(count(2)):
+        spot = floor.place(np.ones((1, 1), dtype=bool), None)
+        if spot is not None:
+            canvas.disc(*canvas.centre_m(*spot), STAND_RADIUS_M)
+    floor.place_start()
+
+
+@dataclass(frozen=True, slots=True)
+class _LabFloor:
+    """The lab's floor as its furniture is placed, each piece `gap` cells from every other."""
+
+    canvas: Canvas
+    rng: np.random.Generator
+    taken: np.ndarray  # (rows, cols) cells claimed by furniture
+
     def place(
-        footprint: np.ndarray, wall_side: int | None, gap: int = LAB_GAP
+        self, footprint: np.ndarray, wall_side: int | None, gap: int = LAB_GAP
     ) -> tuple[int, int] | None:
         """Top-left cell for a footprint, against a wall (0 top, 1 bottom, 2 left, 3 right)
         or free-standing, `gap` cells from everything else; None if no spot was found."""
         h, w = footprint.shape
-        rows, cols = canvas.rows, canvas.cols
+        rows, cols = self.canvas.rows, self.canvas.cols
         margin = 1 if wall_side is not None else 1 + gap
         if rows - margin - h < margin or cols - margin - w < margin:
             return None
         for _ in range(LAB_TRIES):
-            r = int(rng.integers(margin, rows - margin - h + 1))
-            c = int(rng.integers(margin, cols - margin - w + 1))
+            r = int(self.rng.integers(margin, rows - margin - h + 1))
+            c = int(self.rng.integers(margin, cols - margin - w + 1))
             if wall_side == 0:
                 r = 1
             elif wall_side == 1:
@@ -120,47 +152,29 @@ def _lab(canvas: Canvas, rng: np.random.Generator) -> None:
                 c = 1
             elif wall_side == 3:
                 c = cols - 1 - w
-            near = taken[max(r - gap, 0) : r + h + gap, max(c - gap, 0) : c + w + gap]
+            near = self.taken[max(r - gap, 0) : r + h + gap, max(c - gap, 0) : c + w + gap]
             if not near.any():
-                taken[r : r + h, c : c + w] = True
+                self.taken[r : r + h, c : c + w] = True
                 return r, c
         return None
 
-    def build(footprint: np.ndarray, wall_side: int | None) -> None:
-        spot = place(footprint, wall_side)
+    def build(self, footprint: np.ndarray, wall_side: int | None) -> None:
+        """Wall in a footprint where place() finds it room, if it does."""
+        spot = self.place(footprint, wall_side)
         if spot is not None:
             r, c = spot
             h, w = footprint.shape
-            canvas.grid[r : r + h, c : c + w][footprint] = "#"
+            self.canvas.grid[r : r + h, c : c + w][footprint] = "#"
 
-    for _ in range(count(3)):  # benches, 0.5-0.75 m deep, 1.5-2.25 m long, along a wall
-        side = int(rng.integers(4))
-        bench = np.ones((int(rng.integers(2, 4)), int(rng.integers(6, 10))), dtype=bool)
-        build(bench if side < 2 else bench.T, side)
-    for _ in range(count(2)):  # desks 0.75 m deep with a one-cell table top sticking out
-        length, overhang = int(rng.integers(5, 8)), int(rng.integers(2, 5))
-        desk = np.zeros((3, length + overhang), dtype=bool)
-        desk[:, :length] = True
-        desk[0, length:] = True
-        desk = np.rot90(desk, int(rng.integers(4)))
-        build(np.fliplr(desk) if rng.integers(2) else desk, None)
-    # Pillars (a disc of radius <= 1 cell on the middle cell of its footprint, so 2 cells of
-    # gap still leave over 0.6 m of floor), then thin stands that sonar barely sees.
-    for radius_m in rng.uniform(0.15, 0.25, count(3)).round(2):
-        spot = place(np.ones((3, 3), dtype=bool), None, gap=2)
-        if spot is not None:
-            canvas.disc(*canvas.centre_m(spot[0] + 1, spot[1] + 1), float(radius_m))
-    for _ in range(count(2)):
-        spot = place(np.ones((1, 1), dtype=bool), None)
-        if spot is not None:
-            canvas.disc(*canvas.centre_m(*spot), STAND_RADIUS_M)
-
-    blocked = np.pad(taken | (canvas.grid == "#"), 2, constant_values=True)
-    windows = np.lib.stride_tricks.sliding_window_view(blocked, (5, 5))  # (rows, cols, 5, 5)
-    clear = np.argwhere(~windows.any(axis=(2, 3)))  # cells with 0.5 m of floor all round
-    if len(clear):
-        r, c = clear[rng.integers(len(clear))]
-        canvas.grid[r, c] = ">^<v"[int(rng.integers(4))]
+    def place_start(self) -> None:
+        """The robot's start, facing a random way, on a cell with 0.5 m of floor all round (none
+        if no cell has)."""
+        blocked = np.pad(self.taken | (self.canvas.grid == "#"), 2, constant_values=True)
+        windows = np.lib.stride_tricks.sliding_window_view(blocked, (5, 5))  # (rows, cols, 5, 5)
+        clear = np.argwhere(~windows.any(axis=(2, 3)))  # cells with 0.5 m of floor all round
+        if len(clear):
+            r, c = clear[self.rng.integers(len(clear))]
+            self.canvas.grid[r, c] = ">^<v"[int(self.rng.integers(4))]
 
 
 @dataclass(frozen=True, slots=True)
