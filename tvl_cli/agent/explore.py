@@ -253,48 +253,25 @@ class Learner:
     ) -> LearnSummary:
         """Learn until the simulated minutes are spent or `should_stop` names a reason; each
         step shown to `on_step` if given (a live view)."""
-        summary = LearnSummary()
-        steps_per_minute = 60.0 / self.robot.control_period_s
-        last = math.ceil(self.params.minutes)  # minutes 0 .. last - 1 are recorded
-        minute = MinuteStats(0)
-
-        trainer = SessionTrainer(self.fam, self.robot, self.train_params)
-
-        def trained(changes: list[Trained]) -> None:
-            # The mean over every velocity entry; training sums the change of those it
-            # touched. An episode trained once its labels were heard counts in the minute it
-            # was trained in.
-            for _, change in changes:
-                minute.delta_v += change / self.fam.entry_count / steps_per_minute
-
-        def learnt(episode: Episode) -> None:
-            nonlocal minute
-            # Minutes this episode ended after are closed before it is handed on, so a sink
-            # sees each minute when it has seen exactly the episodes counted by then. The last
-            # minute keeps an episode ending on its closing boundary.
-            while episode.end_time_s >= (minute.minute + 1) * 60.0 and minute.minute + 1 < last:
-                on_minute(minute)
-                summary.minutes.append(minute)
-                minute = MinuteStats(minute.minute + 1)
-            trained(trainer.add(episode))
-            on_episode(episode)
-            minute.episodes += 1
-            minute.collisions += int(episode.bumped)
-            minute.exemplars += episode.exemplar_count
-            summary.episodes += 1
-            summary.collisions += int(episode.bumped)
-            summary.exemplars += episode.exemplar_count
-
+        tally = _Tally(
+            SessionTrainer(self.fam, self.robot, self.train_params),
+            self.fam.entry_count,
+            on_episode,
+            on_minute,
+            60.0 / self.robot.control_period_s,
+            math.ceil(self.params.minutes),
+        )
         policy = ExplorePolicy(
             self.robot,
             self.fam,
             self.params,
             self.rng,
             lambda: self.sim.pose,
-            learnt,
+            tally.learnt,
             Perception(self.method.memory, self.robot),
             self.method,
         )
+        summary = tally.summary
 
         def stop() -> bool:
             if not policy.between_episodes:
@@ -306,11 +283,66 @@ class Learner:
         if summary.stopped_by is None:
             # The session has ended: what waits for its labels is trained. A session stopped
             # by a signal leaves it to `tvl train` (the log keeps it), so that it stops at once.
-            trained(trainer.finish())
-            # The last minute is whole only when time ran out; a cut-short one is partial.
-            while minute.minute < last:
-                on_minute(minute)
-                summary.minutes.append(minute)
-                minute = MinuteStats(minute.minute + 1)
+            tally.finish()
         summary.sim_s = self.sim.time_s
         return summary
+
+
+class _Tally:
+    """A session's counts as its episodes are learnt: the whole session's, and each simulated
+    minute's, handed on as the minute closes."""
+
+    def __init__(
+        self,
+        trainer: SessionTrainer,
+        entries: int,
+        on_episode: EpisodeSink,
+        on_minute: MinuteSink,
+        steps_per_minute: float,
+        last: int,
+    ) -> None:
+        self.summary = LearnSummary()
+        self._trainer = trainer
+        self._entries = entries  # the FAM's velocity entries: delta_v is a mean over them
+        self._on_episode = on_episode
+        self._on_minute = on_minute
+        self._steps_per_minute = steps_per_minute
+        self._last = last  # minutes 0 .. last - 1 are recorded
+        self._minute = MinuteStats(0)
+
+    def learnt(self, episode: Episode) -> None:
+        """Train on an episode, hand it on and count it."""
+        # Minutes this episode ended after are closed before it is handed on, so a sink sees
+        # each minute when it has seen exactly the episodes counted by then. The last minute
+        # keeps an episode ending on its closing boundary.
+        minute = self._minute
+        while episode.end_time_s >= (minute.minute + 1) * 60.0 and minute.minute + 1 < self._last:
+            minute = self._close_minute()
+        self._trained(self._trainer.add(episode))
+        self._on_episode(episode)
+        minute.episodes += 1
+        minute.collisions += int(episode.bumped)
+        minute.exemplars += episode.exemplar_count
+        self.summary.episodes += 1
+        self.summary.collisions += int(episode.bumped)
+        self.summary.exemplars += episode.exemplar_count
+
+    def finish(self) -> None:
+        """Train what waits for its labels, and close the minutes left: the last is whole only
+        when time ran out, a cut-short one partial."""
+        self._trained(self._trainer.finish())
+        while self._minute.minute < self._last:
+            self._close_minute()
+
+    def _trained(self, changes: list[Trained]) -> None:
+        # The mean over every velocity entry; training sums the change of those it touched.
+        # An episode trained once its labels were heard counts in the minute it was trained in.
+        for _, change in changes:
+            self._minute.delta_v += change / self._entries / self._steps_per_minute
+
+    def _close_minute(self) -> MinuteStats:
+        """Hand on the minute under way; the next one."""
+        self._on_minute(self._minute)
+        self.summary.minutes.append(self._minute)
+        self._minute = MinuteStats(self._minute.minute + 1)
+        return self._minute
