@@ -162,25 +162,17 @@ def run_behaviour(
     step to `watch` (a progress bar, a live view) as the run goes, and with `request.learn`
     train the FAM on what the run meets. A run that `stop()` names a reason for (a signal)
     ends at that step, and its trace and picture keep what it did."""
-    if request.behaviour not in BEHAVIOUR_NAMES:
-        raise BadInput(f"unknown behaviour {request.behaviour!r}")
-    check_threshold(request.threshold)
-    check_run_minutes(request.minutes, RobotConfig().control_period_s)
+    _check_request(request)
     fam_file = read_fam(request.fam)
     world = load_world(request.world)
-    choice = as_choice(request.method)
-    method = run_method(fam_file, choice)
+    method = run_method(fam_file, as_choice(request.method))
     recorded = run_record(method, fam_file)
     robot = request_robot(request, fam_file)
     goal = resolve_goal(request.world, world, request.behaviour, request.goal)
     path = PathRecorder()
     tally = MinuteTally(robot.control_period_s)
     with ExitStack() as outputs:
-        learner, session = (
-            _online_learner(request, fam_file, world, robot, method, goal, outputs)
-            if request.learn is not None
-            else (None, None)
-        )
+        learner, session = _online_learner(request, fam_file, world, robot, method, goal, outputs)
         sinks: list[ColumnSink] = [path] if request.png is not None else []
         trace = None
         if request.trace is not None:
@@ -213,15 +205,35 @@ def run_behaviour(
             trace.metrics = asdict(metrics)
             trace.stopped_by = stopped_by
     if request.png is not None:
-        title = f"{request.behaviour} in {world.name}, threshold {request.threshold:g}"
-        from tvl_cli.render.plot import render_recorded_path  # matplotlib only for a picture
-
-        render_recorded_path(world, path.column, request.png, title, goal, robot)
+        _draw_path(request, world, robot, goal, path)
     learnt = learner.summary() if learner is not None else None
     options = {**run_options(request, goal), "robot": profile_name(robot)}
     return RunResult(
         metrics, tally.minutes(metrics), learnt, session, recorded, options, stopped_by
     )
+
+
+def _check_request(request: RunRequest) -> None:
+    """Refuse a behaviour, threshold or length no run has, before any file is read."""
+    if request.behaviour not in BEHAVIOUR_NAMES:
+        raise BadInput(f"unknown behaviour {request.behaviour!r}")
+    check_threshold(request.threshold)
+    check_run_minutes(request.minutes, RobotConfig().control_period_s)
+
+
+def _draw_path(
+    request: RunRequest,
+    world: WorldMap,
+    robot: RobotConfig,
+    goal: tuple[float, float] | None,
+    path: PathRecorder,
+) -> None:
+    """The --png picture of the path the run drove."""
+    from tvl_cli.render.plot import render_recorded_path  # matplotlib only for a picture
+
+    assert request.png is not None
+    title = f"{request.behaviour} in {world.name}, threshold {request.threshold:g}"
+    render_recorded_path(world, path.column, request.png, title, goal, robot)
 
 
 def training_params(fam_file: FamFile, fam_path: Path) -> TrainParams:
@@ -273,11 +285,13 @@ def _online_learner(
     method: Method,
     goal: tuple[float, float] | None,
     outputs: ExitStack,
-) -> tuple[OnlineLearner, str | None]:
-    """The learner of a --learn run, and the `behaving` session of the log it appends to
-    (None: learning in memory). The session is opened before any other output, so that a
-    log refused (locked, not a log, another robot's) stops the run before it starts."""
-    assert request.learn is not None
+) -> tuple[OnlineLearner | None, str | None]:
+    """The learner of a --learn run (None: the run does not learn), and the `behaving`
+    session of the log it appends to (None: learning in memory, or not at all). The session
+    is opened before any other output, so that a log refused (locked, not a log, another
+    robot's) stops the run before it starts."""
+    if request.learn is None:
+        return None, None
     params = training_params(fam_file, request.fam)
     memory = method.memory
     if request.learn.log is None:
