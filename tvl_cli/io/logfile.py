@@ -59,14 +59,13 @@ from tvl_cli.core.method import Method, method_record
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.atomic import atomic_output, refuse_missing_directory
 from tvl_cli.io.lock import WriterLock
+from tvl_cli.io.log_storage import compress, new_session
 from tvl_cli.io.loglayout import (
     COMMITTED_EPISODES,
     COMMITTED_MINUTES,
     EPISODE_DTYPE,
     EXEMPLAR_DATASETS,
     KIND_LEARNING,
-    MINUTE_COLUMNS,
-    MINUTE_UNITS,
     SESSION_KINDS,
     SESSIONS,
     STATUS_FINISHED,
@@ -77,19 +76,12 @@ from tvl_cli.io.schema import (
     FORMAT_VERSIONS,
     LIBVER,
     LOG_FORMAT,
-    hdf5_output,
     open_for_appending,
     read_json_attr,
     to_json,
     utc_now,
     write_header,
 )
-
-# Rows per chunk: about 32 KiB of sonar readings, enough for gzip to work with.
-EXEMPLAR_CHUNK_ROWS = 1024
-EPISODE_CHUNK_ROWS = 256
-MINUTE_CHUNK_ROWS = 64
-COMPRESSION: dict[str, Any] = {"compression": "gzip", "compression_opts": 4, "shuffle": True}
 
 
 class LogWriter:
@@ -140,21 +132,11 @@ class LogWriter:
         f: h5py.File | None = None
         try:
             if created:
-                # Made whole beside it and linked into place: a kill at any moment leaves no
-                # log or a readable empty one, never a stub every command refuses.
-                with (
-                    atomic_output(path, overwrite=False) as temporary,
-                    h5py.File(temporary, "w", libver=LIBVER) as empty,
-                ):
-                    write_header(empty, LOG_FORMAT)
+                _create_empty(path)
             f = open_for_appending(path, LOG_FORMAT)
             if not created:
-                check_log_structure(f, path)
-                _refuse_other_robot(f, path, robot_config)
-                # Its new session keeps the method as this version does: a tvl that reads
-                # only version 1 must refuse the log rather than misread that session.
-                f.attrs["format_version"] = FORMAT_VERSIONS[LOG_FORMAT]
-            group = _new_session(f, RobotConfig.from_dict(robot_config))
+                _check_appendable(f, path, robot_config)
+            group = new_session(f, RobotConfig.from_dict(robot_config))
             group.attrs.update(
                 kind=kind,
                 world_name=world_name,
@@ -171,14 +153,7 @@ class LogWriter:
             group.attrs.update({COMMITTED_EPISODES: np.int64(0), COMMITTED_MINUTES: np.int64(0)})
             f.flush()
         except BaseException:
-            # Cleared first: HDF5 may fail again closing a file it could not write (a full
-            # disk), and a log this call made holds nothing yet.
-            if created:
-                path.unlink(missing_ok=True)
-            lock.release()
-            if f is not None:
-                with contextlib.suppress(OSError, RuntimeError):
-                    f.close()
+            _abandon(path, created, lock, f)
             raise
         return cls(path, lock, f, group, write_every_s)
 
@@ -218,7 +193,7 @@ class LogWriter:
             self._group.attrs.update(status=status, ended=utc_now())
             self._file.close()
             self._file = None
-            _compress(self.path)
+            compress(self.path)
         finally:
             self._file = None
             self._lock.release()
@@ -311,6 +286,38 @@ def _check_episode(episode: Episode, expected_index: int) -> None:
             raise ValueError(f"episode {episode.index}: {name} has shape {shape}, not {expected}")
 
 
+def _create_empty(path: Path) -> None:
+    """An empty log at `path`, made whole beside it and linked into place: a kill at any moment
+    leaves no log or a readable empty one, never a stub every command refuses."""
+    with (
+        atomic_output(path, overwrite=False) as temporary,
+        h5py.File(temporary, "w", libver=LIBVER) as empty,
+    ):
+        write_header(empty, LOG_FORMAT)
+
+
+def _check_appendable(f: h5py.File, path: Path, robot_config: dict[str, Any]) -> None:
+    """Refuse a log a session of this robot cannot be added to; raise its format version."""
+    check_log_structure(f, path)
+    _refuse_other_robot(f, path, robot_config)
+    # Its new session keeps the method as this version does: a tvl that reads only version 1
+    # must refuse the log rather than misread that session.
+    f.attrs["format_version"] = FORMAT_VERSIONS[LOG_FORMAT]
+
+
+def _abandon(path: Path, created: bool, lock: WriterLock, f: h5py.File | None) -> None:
+    """Undo a session's opening that failed: the log, if this opening made it, the lock, and
+    the file as far as HDF5 can close it."""
+    # Cleared first: HDF5 may fail again closing a file it could not write (a full disk), and
+    # a log this opening made holds nothing yet.
+    if created:
+        path.unlink(missing_ok=True)
+    lock.release()
+    if f is not None:
+        with contextlib.suppress(OSError, RuntimeError):
+            f.close()
+
+
 def _refuse_other_robot(f: h5py.File, path: Path, robot_config: dict[str, Any]) -> None:
     """One log, one robot: `tvl train` refuses logs of different robots, so say it now."""
     for name, group in f.get(SESSIONS, {}).items():
@@ -324,71 +331,6 @@ def _refuse_other_robot(f: h5py.File, path: Path, robot_config: dict[str, Any]) 
 def _round_trip(value: dict[str, Any]) -> Any:
     """The value as it reads back from JSON (tuples become lists)."""
     return json.loads(to_json(value))
-
-
-def _new_session(f: h5py.File, robot: RobotConfig) -> h5py.Group:
-    """The next session group, '0000', '0001', ..., with its empty growable datasets,
-    uncompressed until the session closes (see the module's docstring)."""
-    sessions = f.require_group(SESSIONS)
-    group = sessions.create_group(f"{len(sessions):04d}")
-    row_shapes = {"ring_mm": (robot.sonar.count,), "pose": (3,), "odometry": (3,)}
-    for name, (dtype, units, description) in EXEMPLAR_DATASETS.items():
-        row = row_shapes.get(name, ())
-        dataset = group.create_dataset(
-            name,
-            shape=(0, *row),
-            maxshape=(None, *row),
-            dtype=dtype,
-            chunks=(EXEMPLAR_CHUNK_ROWS, *row),
-        )
-        dataset.attrs.update(units=units, description=description)
-    group["trajectory"].attrs["names"] = [t.name for t in robot.trajectories]
-    episodes = group.create_dataset(
-        "episodes",
-        shape=(0,),
-        maxshape=(None,),
-        dtype=EPISODE_DTYPE,
-        chunks=(EPISODE_CHUNK_ROWS,),
-    )
-    episodes.attrs["description"] = (
-        "one row per episode: exemplars first..first+count-1, how and where it ended"
-    )
-    minutes = group.create_dataset(
-        "minutes",
-        shape=(0, len(MINUTE_COLUMNS)),
-        maxshape=(None, len(MINUTE_COLUMNS)),
-        dtype="<f8",
-        chunks=(MINUTE_CHUNK_ROWS, len(MINUTE_COLUMNS)),
-    )
-    minutes.attrs.update(
-        columns=list(MINUTE_COLUMNS),
-        units=list(MINUTE_UNITS),
-        description="learning progress per simulated minute (delta_v: paper eq. 4)",
-    )
-    return group
-
-
-def _compress(path: Path) -> None:
-    """Rewrite the log with every session's datasets gzip-compressed, then rename it into
-    place; sessions already compressed are copied chunk for chunk, not recompressed."""
-    with h5py.File(path, "r") as source, hdf5_output(path) as target:
-        target.attrs.update(source.attrs)
-        sessions = target.create_group(SESSIONS)
-        for name, group in source[SESSIONS].items():
-            if group["ring_mm"].compression is not None:
-                source.copy(group, sessions, name)
-                continue
-            copy = sessions.create_group(name)
-            copy.attrs.update(group.attrs)
-            for dataset in group.values():
-                compressed = copy.create_dataset(
-                    dataset.name.rsplit("/", 1)[-1],
-                    data=dataset[()],
-                    maxshape=dataset.maxshape,
-                    chunks=dataset.chunks,
-                    **COMPRESSION,
-                )
-                compressed.attrs.update(dataset.attrs)
 
 
 def _append(dataset: h5py.Dataset, values: np.ndarray, start: int) -> None:
