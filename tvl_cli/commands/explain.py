@@ -113,18 +113,23 @@ def explain_run(
         moved=moved,
     )
     if png is not None:
-        from tvl_cli.render.moment import render_moment  # matplotlib only for a picture
-
-        render_moment(
-            parse_world(trace.world_text, trace.world_name),
-            RobotConfig.from_dict(trace.robot_config),
-            arrays["pose"][: step + 1],
-            float(trace.parameters.get("threshold", 0.0)),
-            found,
-            png,
-            trace.parameters.get("goal"),
-        )
+        _draw_moment(trace, found, png)
     return found
+
+
+def _draw_moment(trace: RunTrace, found: StepExplanation, png: Path) -> None:
+    """The --png picture of the explained step, after the path that led to it."""
+    from tvl_cli.render.moment import render_moment  # matplotlib only for a picture
+
+    render_moment(
+        parse_world(trace.world_text, trace.world_name),
+        RobotConfig.from_dict(trace.robot_config),
+        trace.arrays["pose"][: found.step + 1],
+        float(trace.parameters.get("threshold", 0.0)),
+        found,
+        png,
+        trace.parameters.get("goal"),
+    )
 
 
 def _nearest_decision(trace: RunTrace, step: int) -> tuple[int, str | None]:
