@@ -111,14 +111,14 @@ def train_from_logs(
     refuse_repeated([(log.path, log.sha256) for log in logs], "log")
     robot = common_robot(logs)
     made_by, differing = training_method(logs, as_choice(method))
-    memory_read = made_by.memory
     params = train_params(made_by, symmetric, init_velocity_mps)
     check_init_velocity(params, robot)
     fam = Fam(config, [t.name for t in robot.trajectories], params.init_velocity_mps)
     sessions, repeats = distinct_sessions(logs)
     until_s = None if until_minute is None else until_minute * 60.0
     chosen = [
-        (perceived_episodes(finished_episodes(s, until_s), memory_read, robot), s) for s in sessions
+        (perceived_episodes(finished_episodes(s, until_s), made_by.memory, robot), s)
+        for s in sessions
     ]
     if true_labels:
         total = _train_true(fam, chosen, robot, params, on_progress)
@@ -126,8 +126,6 @@ def train_from_logs(
         total = train_sessions(
             fam, [_to_train(episodes, s) for episodes, s in chosen], robot, params, on_progress
         )
-    tables = range(len(config.tables))
-    touched = sum(int(np.count_nonzero(fam.experience_table(t).sum(axis=1))) for t in tables)
     return TrainSummary(
         fam=fam,
         robot=robot,
@@ -141,7 +139,7 @@ def train_from_logs(
         },
         exemplars=total,
         episodes=sum(len(episodes) for episodes, _ in chosen),
-        rules_touched=touched,
+        rules_touched=_rules_touched(fam),
         rules_total=config.rule_count,
         wall_s=time.perf_counter() - started,
         repeated_sessions=repeats,
@@ -150,6 +148,12 @@ def train_from_logs(
 
 # What a FAM trained on the oracle labels records of them in its provenance.
 ORACLE_LABELS = "the true map and pose: oracle labels, a reference, not a method"
+
+
+def _rules_touched(fam: Fam) -> int:
+    """How many of the FAM's rules were trained: those with experience of any trajectory."""
+    tables = range(len(fam.config.tables))
+    return sum(int(np.count_nonzero(fam.experience_table(t).sum(axis=1))) for t in tables)
 
 
 def _to_train(episodes: list[Episode], session: Session) -> SessionEpisodes:
