@@ -54,7 +54,7 @@ COMMANDS: dict[str, tuple[str, str, str]] = {
         "Summarise a learning log or a run trace, and draw it.",
     ),
     "explain": (
-        "tvl_cli.cli.runs",
+        "tvl_cli.cli.explain",
         "explain",
         "Explain one moment of a run trace in the rules of its FAM.",
     ),

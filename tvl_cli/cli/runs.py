@@ -1,5 +1,4 @@
-"""`tvl run`, `tvl replay`, `tvl explain` and `tvl demo`: behaviours, traces and the whole
-pipeline.
+"""`tvl run`, `tvl replay` and `tvl demo`: behaviours, traces and the whole pipeline.
 
 Each command imports the modules that do its work when it runs, so that `--help` reads only
 the options (and loads neither HDF5 nor the physics).
@@ -37,8 +36,7 @@ from tvl_cli.cli.options import (
     robot_option,
     seed_option,
 )
-from tvl_cli.core.contacts import EVENT_CHOICES
-from tvl_cli.core.errors import DEFAULT_RUN_MINUTES, BadInput
+from tvl_cli.core.errors import DEFAULT_RUN_MINUTES
 from tvl_cli.core.method import ALL, MethodChoice
 from tvl_cli.core.robot_config import SONAR_MODEL_NAMES, RobotConfig
 from tvl_cli.core.trajectory_choice import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD
@@ -141,15 +139,7 @@ def run(
     if live and view is not None:
         raise click.UsageError("give --live or --view, not both")
     learning = OnlineLearning(learn_log) if learn or learn_log is not None else None
-    refuse_shared_paths(
-        {"--png": png, "--log": trace, "--learn-log": learn_log},
-        {"FAM": fam, "WORLD": world_file},
-    )
-    for output in (png, trace):
-        if output is not None:
-            refuse_existing(output, force)
-    if learn_log is not None:
-        views.warn_of_other_worlds(learn_log, world_file, str(world_file))
+    _check_outputs(fam, world_file, png, trace, learn_log, force)
     request = RunRequest(
         fam,
         world_file,
@@ -173,6 +163,27 @@ def run(
     if result.stopped_by is not None:
         views.stopped(result.stopped_by, result.metrics.sim_s, trace)
         sys.exit(STOPPED_EXIT[result.stopped_by])
+
+
+def _check_outputs(
+    fam: Path,
+    world_file: Path,
+    png: Path | None,
+    trace: Path | None,
+    learn_log: Path | None,
+    force: bool,
+) -> None:
+    """Before the run: refuse an output that is an input or another output, or one that exists
+    without --force; warn of a learn log that holds other worlds."""
+    refuse_shared_paths(
+        {"--png": png, "--log": trace, "--learn-log": learn_log},
+        {"FAM": fam, "WORLD": world_file},
+    )
+    for output in (png, trace):
+        if output is not None:
+            refuse_existing(output, force)
+    if learn_log is not None:
+        views.warn_of_other_worlds(learn_log, world_file, str(world_file))
 
 
 def _show_run(request: RunRequest, result: RunResult, form: str | None) -> None:
@@ -295,84 +306,6 @@ def demo(directory: Path, force: bool, as_json: bool) -> None:
         print_json(documents.demo_json(result))
     else:
         views.demo(result)
-
-
-@click.command(epilog=examples("explain"))
-@click.argument("trace", metavar="RUN", type=click.Path(path_type=Path))
-@click.option("--step", type=click.IntRange(min=0), default=None, help="The step, 0 the first.")
-@click.option(
-    "--at", "at_s", type=float, default=None, help="Simulated seconds, as replay lists events."
-)
-@click.option("--event", type=click.Choice(EVENT_CHOICES), default=None, help="An event's step.")
-@click.option(
-    "--index", type=click.IntRange(min=1), default=1, show_default=True, help="The K-th event."
-)
-@click.option(
-    "--fam",
-    "fam_path",
-    type=click.Path(path_type=Path),
-    default=None,
-    help="The FAM the run used, if it is no longer where the trace says.",
-)
-@click.option(
-    "--contacts",
-    is_flag=True,
-    help="The contact autopsy instead: every contact's cause, where the time went and why "
-    "a goal was missed.",
-)
-@click.option(
-    "--png",
-    type=PICTURE,
-    default=None,
-    help="Draw the moment: the pose, the rays, the trajectories of the view with the fast "
-    "set, the perceived velocities and the strongest rules that fired.",
-)
-@click.option("--force", is_flag=True, help="Overwrite the --png file.")
-@click.option("--json", "as_json", is_flag=True, help="Print JSON.")
-def explain(
-    trace: Path,
-    step: int | None,
-    at_s: float | None,
-    event: str | None,
-    index: int,
-    fam_path: Path | None,
-    contacts: bool,
-    png: Path | None,
-    force: bool,
-    as_json: bool,
-) -> None:
-    """Explain one moment of a run trace in the rules of its FAM.
-
-    What the robot read and perceived, what it chose and why; or, with --contacts, why each
-    contact of the run happened."""
-    from tvl_cli.cli import documents
-
-    if contacts:
-        if any(x is not None for x in (step, at_s, event)):
-            raise BadInput("--contacts explains the whole run: give no --step, --at or --event")
-        if png is not None:
-            raise BadInput("--png draws one moment: it is not for --contacts")
-        from tvl_cli.commands.autopsy import trace_autopsy
-
-        autopsy = trace_autopsy(trace)
-        if as_json:
-            print_json(documents.autopsy_json(autopsy, trace))
-        else:
-            views.autopsy(autopsy)
-        return
-    from tvl_cli.commands.explain import Moment, explain_run
-
-    if png is not None:
-        refuse_shared_paths({"--png": png}, {"RUN": trace, "--fam": fam_path})
-        refuse_existing(png, force)
-    found = explain_run(trace, Moment(step, at_s, event, index), fam_path, png)
-    if found.moved:
-        click.echo(found.moved, err=True)
-    if as_json:
-        moment = {"step": step, "at_s": at_s, "event": event, "index": index}
-        print_json(documents.explain_json(found, trace, moment))
-    else:
-        views.step_explanation(found)
 
 
 @contextmanager
