@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from tvl_cli.agent.engine import StepEngine, StepOutcome
+from tvl_cli.agent.engine import StepEngine, StepOutcome, step_together
 from tvl_cli.agent.policy import Decision, Policy
 from tvl_cli.core.contacts import drives_forward
 from tvl_cli.core.metrics import MetricsRecorder, RunMetrics
@@ -76,13 +76,14 @@ def drive_engine(
 
 def drive_together(batch: RobotBatch, drives: Sequence[Drive]) -> list[RunMetrics]:
     """Drive robot i of `batch` by drives[i] (over an engine on `batch.alone(i)`), every
-    robot a step together, until each drive is over. Each drive goes as drive_engine would
-    drive it over a lone Simulator with robot i's generator: the rings of the robots likely
-    to read theirs are read ahead together, a robot that did not read its ring gets its
-    generator back, and one that reads it unforeseen reads it alone (RobotBatch); a robot
-    whose drive is over sits the others' steps out."""
+    robot a step together (agent.engine.step_together), until each drive is over. Each drive
+    goes as drive_engine would drive it over a lone Simulator with robot i's generator: the
+    rings of the robots likely to read theirs are read ahead together, a robot that did not
+    read its ring gets its generator back, and one that reads it unforeseen reads it alone
+    (RobotBatch); a robot whose drive is over sits the others' steps out."""
     if len(drives) != batch.count:
         raise ValueError(f"{len(drives)} drives for {batch.count} robots")
+    engines = [d.engine for d in drives]
     # A policy reads its ring on some steps only (the TVL policy on about a third, in runs
     # of steps: between them it follows the trajectory it chose), so a robot that read its
     # ring on the last step is the one likely to read it on this one.
@@ -90,17 +91,17 @@ def drive_together(batch: RobotBatch, drives: Sequence[Drive]) -> list[RunMetric
     while not all(d.over for d in drives):
         going = [i for i, d in enumerate(drives) if not d.over]
         batch.read_ahead([i for i in going if i in readers])
-        decisions: list[Decision | None] = [None] * batch.count
-        for i in going:
-            decisions[i] = drives[i].decide()
-            drives[i].engine.ready()
+        decisions: list[Decision | None] = [None if d.over else d.decide() for d in drives]
+        outcomes = step_together(
+            batch,
+            engines,
+            [None if d is None else d.command for d in decisions],
+            trapped=[d is not None and d.trapped for d in decisions],
+        )
         readers = {i for i in going if drives[i].read_ring}
-        batch.settle()
-        batch.step([None if d is None else d.command for d in decisions])
         for i in going:
-            decision = decisions[i]
-            assert decision is not None
-            outcome = drives[i].engine.stepped(decision.command, trapped=decision.trapped)
+            decision, outcome = decisions[i], outcomes[i]
+            assert decision is not None and outcome is not None
             drives[i].take(decision, outcome)
     return [d.result() for d in drives]
 

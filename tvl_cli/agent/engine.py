@@ -217,18 +217,27 @@ class StepEngine:
 
 
 def step_together(
-    batch: RobotBatch, engines: Sequence[StepEngine], commands: Sequence[Command | None]
+    batch: RobotBatch,
+    engines: Sequence[StepEngine],
+    commands: Sequence[Command | None],
+    *,
+    trapped: Sequence[bool] | None = None,
 ) -> list[StepOutcome | None]:
     """One control period of every robot of `batch`, engine i (over `batch.alone(i)`) holding
-    commands[i]: each engine's outcome, as its `step` would give it alone. A robot whose
-    command is None sits the step out (RobotBatch.step), its engine untouched."""
+    commands[i], trapped[i] saying its policy found nothing to drive (none trapped if not
+    given): each engine's outcome, as its `step` would give it alone. A robot whose command
+    is None sits the step out (RobotBatch.step), its engine untouched."""
+    trapped = [False] * len(commands) if trapped is None else trapped
     for engine, command in zip(engines, commands, strict=True):
         if command is not None:
             engine.ready()
+    # A ring read ahead (RobotBatch.read_ahead) that nobody took is undrawn before the robots
+    # move, so each generator has drawn only the rings its robot read, as a lone one would.
+    batch.settle()
     batch.step(commands)
     return [
-        None if command is None else engine.stepped(command)
-        for engine, command in zip(engines, commands, strict=True)
+        None if command is None else engine.stepped(command, trapped=stuck)
+        for engine, command, stuck in zip(engines, commands, trapped, strict=True)
     ]
 
 
