@@ -11,8 +11,8 @@ from tvl_cli.analysis.autopsy import (
     REFLEX,
     SLOW_CAUSES,
     STALLED,
+    TIGHT,
     TIME_CLASSES,
-    TURNING,
     Autopsy,
     Contact,
     ContactFacts,
@@ -34,7 +34,7 @@ def test_tally_sums_contacts_time_slow_time_and_goal_failures_over_the_runs_reco
     first = Autopsy(
         (_contact(RATED_FAST, experience=0.5), _contact(REFLEX, NEAR_MISS)),
         {name: 1.0 for name in TIME_CLASSES},
-        slow_time_s={**dict.fromkeys(SLOW_CAUSES, 0.0), MEMORY: 1.5, TURNING: 0.5},
+        slow_time_s={**dict.fromkeys(SLOW_CAUSES, 0.0), MEMORY: 1.5, TIGHT: 0.5},
     )
     second = Autopsy(
         (_contact(RATED_FAST, true_mps=0.2),),
@@ -48,9 +48,7 @@ def test_tally_sums_contacts_time_slow_time_and_goal_failures_over_the_runs_reco
     summed = tally([first.to_dict(), second.to_dict(), earlier])
     assert summed["causes"] == {c: {RATED_FAST: 2, REFLEX: 1}.get(c, 0) for c in CAUSES}
     assert summed["time_s"] == {n: 3.5 if n == DRIVE_FAST else 1.0 for n in TIME_CLASSES}
-    assert summed["slow_time_s"] == {
-        c: {MEMORY: 3.5, TURNING: 0.5}.get(c, 0.0) for c in SLOW_CAUSES
-    }
+    assert summed["slow_time_s"] == {c: {MEMORY: 3.5, TIGHT: 0.5}.get(c, 0.0) for c in SLOW_CAUSES}
     assert summed["goal_failures"] == {r: 2 * int(r == STALLED) for r in GOAL_FAILURES}
     # The rated-fast contacts: the truth under their ratings, and one in two barely trained.
     assert summed["rated_fast"] == {

@@ -20,7 +20,6 @@ from tvl_cli.analysis.autopsy import (
     RULE,
     SLOW_CAUSES,
     TIGHT,
-    TURNING,
     UNRATED,
     slow_cause,
 )
@@ -54,7 +53,9 @@ def driven(world: WorldMap, fam: Fam, minutes: float) -> Columns:
 def slow_seconds(world: WorldMap, columns: Columns, fam: Fam | None) -> dict[str, float]:
     poses_before = np.vstack([np.array(world.start)[None, :], columns["pose"][:-1]])
     truth = TrueVelocities(world, ROBOT, LIVE, lambda: (0.0, 0.0, 0.0))
-    return slow_time_by_cause(ROBOT, DEFAULT_THRESHOLD, columns, poses_before, truth.in_view, fam)
+    return slow_time_by_cause(
+        ROBOT, DEFAULT_THRESHOLD, columns, poses_before, lambda pose: truth.in_view(pose, 0), fam
+    )
 
 
 def policy_slow_s(columns: Columns) -> float:
@@ -93,18 +94,17 @@ NONE, FIRST, SECOND = (np.array(m, dtype=bool) for m in ([0, 0], [1, 0], [0, 1])
 
 
 @pytest.mark.parametrize(
-    ("truly", "read", "live", "spinning", "cause"),
+    ("truly", "read", "live", "cause"),
     [
-        (NONE, FIRST, FIRST, False, TIGHT),
-        (FIRST, FIRST, FIRST, True, TURNING),
-        (FIRST, FIRST, NONE, False, RULE),
-        (FIRST, SECOND, FIRST, False, MEMORY),
-        (FIRST, SECOND, SECOND, False, LEARNT),
-        (FIRST, NONE, None, False, UNRATED),
+        (NONE, FIRST, FIRST, TIGHT),
+        (FIRST, FIRST, NONE, RULE),
+        (FIRST, SECOND, FIRST, MEMORY),
+        (FIRST, SECOND, SECOND, LEARNT),
+        (FIRST, NONE, None, UNRATED),
     ],
 )
 def test_the_first_slow_cause_that_fits_is_taken(
-    truly: np.ndarray, read: np.ndarray, live: np.ndarray | None, spinning: bool, cause: str
+    truly: np.ndarray, read: np.ndarray, live: np.ndarray | None, cause: str
 ) -> None:
     assert cause in SLOW_CAUSES
-    assert slow_cause(truly, read, live, spinning) == cause
+    assert slow_cause(truly, read, live) == cause

@@ -112,7 +112,7 @@ RELEASED = {
     "design": (1, "8644a5ca5cf08dee"),
     "run": (5, "33ec7a8cae7f521e"),
     "replay": (4, "2c7fe7226357bf28"),
-    "explain": (3, "4df3c55dd2bdf43e"),
+    "explain": (3, "2c4ea7aab9d99ef8"),
     "demo": (2, "e70a1078cb6cfd9b"),
     "baseline dwa": (4, "1fd204220a12375f"),
     "baseline qlearn": (4, "7514df4e5fd1c6e2"),

@@ -17,16 +17,16 @@ A contact (a collision or a near miss, core.contacts) gets one cause, the first 
 - `other`: none of these.
 
 A step the policy drove slower than competence asks (FAST_DRIVE_MPS), spins included, gets
-one cause too, judged in the view its choice was made in (SLOW_CAUSES, slow_cause):
-- `tight`: no trajectory there was truly fast (its true velocity, from the map, under
-  threshold x its maximum): slow was right;
-- `turning`: spinning to face that view, where a way truly fast was rated fast (the paper's
-  rotation of perception, paid for in time);
-- `rule`: a way truly fast was rated fast on what the FAM read, and the behaviour's rule
-  (the goal's bearing, the wall's side) took a slower one;
-- `memory`: every way truly fast was rated slow on what the FAM read, and one of them fast
-  on the live ring alone: remembered echoes closed it;
-- `learnt`: every way truly fast was rated slow on the live ring too: what was learnt;
+one cause too (SLOW_CAUSES, slow_cause). It is judged straight ahead, in the view the choice
+looks at first and drives on in when it finds a fast way there; only when it finds none does
+it turn:
+- `tight`: no trajectory ahead was truly fast (its true velocity, from the map, under
+  threshold x its maximum): slowing or turning was right;
+- `rule`: a way ahead truly fast was rated fast on what the FAM read, and the behaviour's
+  rule (the goal's bearing, the wall's side, a way a reflex left out) took a slower one;
+- `memory`: every way ahead truly fast was rated slow on what the FAM read, and one of them
+  fast on the live ring alone: remembered echoes closed it;
+- `learnt`: every way ahead truly fast was rated slow on the live ring too: what was learnt;
 - `unrated`: no FAM at hand to tell the last two apart.
 
 The facts come from the simulator's ground truth (commands.autopsy); the rules are here.
@@ -74,9 +74,8 @@ FAST_DRIVE_MPS = 0.3
 MEDIUM_DRIVE_MPS = 0.2
 
 # Why the policy drove slowly (the module's docstring says what each means).
-TIGHT, TURNING, RULE = "tight", "turning", "rule"
-MEMORY, LEARNT, UNRATED = "memory", "learnt", "unrated"
-SLOW_CAUSES = (TIGHT, TURNING, RULE, MEMORY, LEARNT, UNRATED)
+TIGHT, RULE, MEMORY, LEARNT, UNRATED = "tight", "rule", "memory", "learnt", "unrated"
+SLOW_CAUSES = (TIGHT, RULE, MEMORY, LEARNT, UNRATED)
 
 # Why a goal run ended without its goal.
 DRIFT, TRAPPED_GOAL, STALLED, WANDERED = "drift", "trapped", "stalled", "wandered"
@@ -163,26 +162,18 @@ class Autopsy:
         }
 
 
-def slow_cause(
-    truly_fast: np.ndarray, read_fast: np.ndarray, live_fast: np.ndarray | None, spinning: bool
-) -> str:
-    """Why a slow step was slow, from which of the view's trajectories (T,) were truly fast,
-    rated fast on what the FAM read, and rated fast on the live ring alone (None: no FAM),
-    and whether the robot was spinning on the spot."""
+def slow_cause(truly_fast: np.ndarray, read_fast: np.ndarray, live_fast: np.ndarray | None) -> str:
+    """Why a slow step was slow, from which trajectories ahead (T,) were truly fast, rated
+    fast on what the FAM read, and rated fast on the live ring alone (None: no FAM)."""
     if not truly_fast.any():
         return TIGHT
     if (truly_fast & read_fast).any():
-        return TURNING if spinning else RULE
+        return RULE
     if live_fast is None:
         return UNRATED
     if (truly_fast & live_fast).any():
         return MEMORY
     return LEARNT
-
-
-def spinning_steps(speed_mps: np.ndarray, turn_radps: np.ndarray) -> np.ndarray:
-    """(N,) bool: the steps commanded to turn on the spot."""
-    return np.asarray((speed_mps == 0.0) & (turn_radps != 0.0))
 
 
 def time_by_class(
@@ -191,7 +182,7 @@ def time_by_class(
     """Simulated seconds of each TIME_CLASSES class, from the commands of each step (N,) and
     the event bits (N,) each began. A spin is trapped from the step a trapped event began
     until the robot stops spinning."""
-    spinning = spinning_steps(speed_mps, turn_radps)
+    spinning = (speed_mps == 0.0) & (turn_radps != 0.0)
     trapped = np.zeros(len(speed_mps), dtype=bool)
     starts = set(steps_beginning(events, TRAPPED).tolist())
     inside = False

@@ -2,10 +2,10 @@
 simulator's truth and the run's FAM (analysis.autopsy.slow_cause judges it; the caller,
 commands.autopsy, gives the truth as the oracle velocities of a view).
 
-A step is judged in the view its choice was made in (the heading's when it made none): which
-of that view's trajectories were truly fast (the oracle velocities, from the map and the true
-pose), which the FAM rated fast on what it read (through the echo memory, where there is
-one), and which it would have rated fast on the live ring alone.
+A step is judged straight ahead (analysis.autopsy says why): which trajectories there were
+truly fast (the oracle velocities, from the map and the true pose), which the FAM rated fast
+on what it read (through the echo memory, where there is one), and which it would have rated
+fast on the live ring alone.
 """
 
 from __future__ import annotations
@@ -19,14 +19,13 @@ from tvl_cli.analysis.autopsy import (
     SLOW_CAUSES,
     UNRATED,
     slow_cause,
-    spinning_steps,
 )
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.ring import mm_to_ring
 from tvl_cli.core.robot_config import RobotConfig
 
-# The true velocities (T,) m/s of one view's trajectories (facing sonar `view`) from a pose.
-TrueInView = Callable[[tuple[float, float, float], int], np.ndarray]
+# The true velocities (T,) m/s of the trajectories ahead of a true pose.
+TrueAhead = Callable[[tuple[float, float, float]], np.ndarray]
 
 
 def slow_time_by_cause(
@@ -34,7 +33,7 @@ def slow_time_by_cause(
     threshold: float,
     columns: Mapping[str, np.ndarray],
     poses_before: np.ndarray,
-    true_in_view: TrueInView,
+    true_ahead: TrueAhead,
     fam: Fam | None,
 ) -> dict[str, float]:
     """SLOW_CAUSES -> simulated seconds, over the steps (columns, as agent.trace names them;
@@ -44,24 +43,25 @@ def slow_time_by_cause(
     fast_from_mps = threshold * np.array([t.v_max_mps for t in robot.trajectories])  # (T,)
     read = np.asarray(columns["ring_mm"].any(axis=1))
     slow = (columns["reflex"] < 0) & (columns["speed_mps"] < FAST_DRIVE_MPS)
-    spinning = spinning_steps(columns["speed_mps"], columns["turn_radps"])
     live_m = mm_to_ring(columns["ring_mm"])  # (N, 16) metres
     read_m = mm_to_ring(columns.get("perceived_mm", columns["ring_mm"]))
     seconds = dict.fromkeys(SLOW_CAUSES, 0.0)
     cause = UNRATED
     for step in np.flatnonzero(slow):
         # A step that read no ring carries out the choice of the last one that did (the
-        # steps of a spin to face a view): that choice's cause is its cause.
+        # rest of a spin to face another view): that choice's cause is its cause.
         if read[step]:
-            choice = int(columns["choice"][step])
-            view = int(columns["rotation"][step]) % robot.sonar.count if choice >= 0 else 0
             x, y, theta = poses_before[step]
-            truly_fast = true_in_view((float(x), float(y), float(theta)), view) >= fast_from_mps
+            truly_fast = true_ahead((float(x), float(y), float(theta))) >= fast_from_mps
             if fam is None:
-                read_fast, live_fast = np.asarray(columns["fast"][step], dtype=bool), None
+                # The fast set the choice recorded is of the view it chose, which is the one
+                # ahead unless it turned, and it turns only when it finds nothing fast ahead.
+                ahead = columns["rotation"][step] == 0
+                read_fast = np.asarray(columns["fast"][step], dtype=bool) & ahead
+                live_fast = None
             else:
-                read_fast = fam.perceive(read_m[step])[0][view] >= fast_from_mps
-                live_fast = fam.perceive(live_m[step])[0][view] >= fast_from_mps
-            cause = slow_cause(truly_fast, read_fast, live_fast, bool(spinning[step]))
+                read_fast = fam.perceive(read_m[step])[0][0] >= fast_from_mps  # row 0: ahead
+                live_fast = fam.perceive(live_m[step])[0][0] >= fast_from_mps
+            cause = slow_cause(truly_fast, read_fast, live_fast)
         seconds[cause] += robot.control_period_s
     return seconds

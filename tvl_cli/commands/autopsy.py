@@ -124,8 +124,10 @@ def run_autopsy(
     failure, closest = None, None
     if goal_xy is not None and not goal_reached:
         failure, closest = goal_failure(pose[:, :2], goal_xy, GOAL_RADIUS_M, time_s, dt)
-    true_in_view = TrueVelocities(world, robot, method, lambda: (0.0, 0.0, 0.0)).in_view
-    slow_s = slow_time_by_cause(robot, threshold, columns, poses_before, true_in_view, fam)
+    truth = TrueVelocities(world, robot, method, lambda: (0.0, 0.0, 0.0))
+    slow_s = slow_time_by_cause(
+        robot, threshold, columns, poses_before, lambda pose: truth.in_view(pose, 0), fam
+    )
     return Autopsy(tuple(contacts), time_s, failure, closest, slow_s)
 
 
