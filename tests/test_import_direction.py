@@ -5,14 +5,12 @@ too."""
 
 from __future__ import annotations
 
-import ast
 import subprocess
 import sys
 from pathlib import Path
 
 import pytest
-
-PACKAGE = Path(__file__).resolve().parents[1] / "tvl_cli"
+from package_imports import PACKAGE, imports, room_imported, room_modules
 
 # The rooms each room may import from, besides itself. Top-level modules (tvl_cli/__init__)
 # hold only the version and may be imported by anyone.
@@ -68,43 +66,22 @@ TESTS_ONLY = frozenset({"jsonschema", "referencing"})
 CONFINED: dict[str, str] = {"numba": "core/kernels"}
 
 
-def _imports(path: Path) -> list[str]:
-    """Every module name an import statement in the file names, at any depth."""
-    names: list[str] = []
-    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
-        if isinstance(node, ast.Import):
-            names += [alias.name for alias in node.names]
-        elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
-            base = node.module
-            names += [base] + [f"{base}.{alias.name}" for alias in node.names]
-    return names
-
-
 def _confined_to(name: str) -> str | None:
     """The folder of tvl_cli that alone may import the library `name`, if one is set."""
     return CONFINED.get(name.split(".")[0])
 
 
-def _modules() -> list[tuple[str, Path]]:
-    found = []
-    for path in sorted(PACKAGE.rglob("*.py")):
-        parts = path.relative_to(PACKAGE).parts
-        if len(parts) > 1:
-            found.append((parts[0], path))
-    return found
-
-
 def test_every_module_lives_in_a_known_room() -> None:
-    assert {room for room, _ in _modules()} == set(ALLOWED)
+    assert {room for room, _ in room_modules()} == set(ALLOWED)
 
 
-@pytest.mark.parametrize(("room", "path"), _modules(), ids=lambda v: str(v))
+@pytest.mark.parametrize(("room", "path"), room_modules(), ids=lambda v: str(v))
 def test_imports_point_one_way(room: str, path: Path) -> None:
     wrong = []
-    for name in _imports(path):
+    for name in imports(path):
         parts = name.split(".")
-        if parts[0] == "tvl_cli" and len(parts) > 2 and parts[1] in ALLOWED:
-            target = parts[1]
+        target = room_imported(name)
+        if target in ALLOWED:
             if target != room and target not in ALLOWED[room]:
                 wrong.append(name)
         elif (
@@ -125,7 +102,7 @@ COMPOSES_VERBS = {"demo"}
 def test_a_verb_imports_no_other_verb(path: Path) -> None:
     if path.stem in COMPOSES_VERBS:
         return
-    verbs = [n for n in _imports(path) if n.startswith("tvl_cli.commands")]
+    verbs = [n for n in imports(path) if n.startswith("tvl_cli.commands")]
     assert not verbs, f"commands/{path.name} imports {verbs}: move what they share out"
 
 
@@ -133,21 +110,21 @@ def test_the_verb_composing_others_imports_them() -> None:
     # Else the exemption above would hold of nothing.
     for name in COMPOSES_VERBS:
         assert any(
-            n.startswith("tvl_cli.commands.") for n in _imports(PACKAGE / "commands" / f"{name}.py")
+            n.startswith("tvl_cli.commands.") for n in imports(PACKAGE / "commands" / f"{name}.py")
         )
 
 
-@pytest.mark.parametrize(("room", "path"), _modules(), ids=lambda v: str(v))
+@pytest.mark.parametrize(("room", "path"), room_modules(), ids=lambda v: str(v))
 def test_confined_libraries_are_imported_only_in_their_folder(room: str, path: Path) -> None:
     folder = path.parent.relative_to(PACKAGE).as_posix()
-    wrong = [n for n in _imports(path) if _confined_to(n) not in (None, folder)]
+    wrong = [n for n in imports(path) if _confined_to(n) not in (None, folder)]
     assert not wrong, f"{path.relative_to(PACKAGE)} imports {wrong}"
 
 
 def test_the_kernels_folder_imports_numba() -> None:
     # Else the confinement above would hold of nothing.
     kernels = PACKAGE / "core" / "kernels"
-    assert any("numba" in _imports(path) for path in kernels.glob("*.py"))
+    assert any("numba" in imports(path) for path in kernels.glob("*.py"))
 
 
 def test_importing_the_run_loop_loads_no_file_or_terminal_library() -> None:
