@@ -4,6 +4,7 @@ reference, every module of the package in the API reference. Skipped without the
 
 from __future__ import annotations
 
+import ast
 import html
 import os
 import re
@@ -57,3 +58,13 @@ def test_the_site_builds_strictly_with_generated_references(tmp_path: Path) -> N
         dotted = ".".join(module.relative_to(ROOT).with_suffix("").parts)
         api = (site / "reference" / "api" / room / "index.html").read_text(encoding="utf-8")
         assert f'id="{dotted}"' in api, dotted
+    # Every room's page opens with the room's own summary line, then a table of its modules.
+    for face in sorted(package.glob("*/__init__.py")):
+        room = face.parent.name
+        if room == "cli":
+            continue
+        docstring = ast.get_docstring(ast.parse(face.read_text(encoding="utf-8")))
+        assert docstring, f"tvl_cli/{room}/__init__.py has no docstring"
+        summary = docstring.splitlines()[0].replace("`", "")  # code spans lose their marks
+        page = _text(site / "reference" / "api" / room / "index.html")
+        assert summary in page and "Modules:" in page, room

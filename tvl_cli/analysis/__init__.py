@@ -1,0 +1,28 @@
+"""Reading results: tables, competence, FAM rules in words, the contact autopsy, coverage."""
+
+__all__ = [
+    "ablation_table",
+    "aggregation",
+    "autopsy",
+    "claims",
+    "coverage",
+    "exploration",
+    "famdiff",
+    "figure_needs",
+    "generalization",
+    "goal_series",
+    "input_selection",
+    "intervals",
+    "learning_time_table",
+    "measures",
+    "method_table",
+    "online_table",
+    "result_rows",
+    "result_text",
+    "robotdiff",
+    "rules",
+    "slow_time",
+    "surface",
+    "time_to_competence",
+    "wall_threshold",
+]

@@ -1,3 +1,7 @@
-"""Controllers to measure TVL against, on the same worlds, robot, sonar ring and seeds:
-a Dynamic Window Approach that knows the true geometry, and tabular Q-learning over the
-single FAM's rules."""
+"""Controllers to measure TVL against: a Dynamic Window Approach and tabular Q-learning.
+
+Both run on the same worlds, robot, sonar ring and seeds as TVL: the DWA knows the true
+geometry, and the Q-learning learns over the single FAM's rules.
+"""
+
+__all__ = ["dwa", "dwa_window", "qlearning", "qtable"]

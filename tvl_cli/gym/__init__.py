@@ -1,5 +1,7 @@
-"""The robot, its sonar ring and the worlds as a Gymnasium environment, `tvl/SonarRing-v0`,
-with the paper's TVL policy and the Q-learning baseline as agents over it (`tvl[gym]`).
+"""The robot as a Gymnasium environment, `tvl/SonarRing-v0`, with TVL and Q-learning agents.
+
+The robot, its sonar ring and the worlds make the environment, with the paper's TVL policy
+and the Q-learning baseline as agents over it (`tvl[gym]`).
 
 Gymnasium 1.x loads no plugins by entry point, so importing this package registers the
 environment: `gymnasium.make("tvl_cli.gym:tvl/SonarRing-v0")` imports it on the way, and
@@ -34,5 +36,11 @@ __all__ = [
     "SonarRingEnv",
     "SonarRingVectorEnv",
     "TvlGymPolicy",
+    "actions",
+    "env",
+    "episode",
+    "policies",
     "resolve_world",
+    "scoring",
+    "vector",
 ]

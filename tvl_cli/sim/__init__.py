@@ -1,0 +1,20 @@
+"""The simulated world: pymunk bodies, the sonar ring, the robot, batches of robots, maps."""
+
+__all__ = [
+    "batch",
+    "bodies",
+    "canvas",
+    "maps",
+    "motion",
+    "robot",
+    "rooms",
+    "sonar",
+    "true_arcs",
+    "wall_grid",
+    "world",
+    "world_budget",
+    "world_entries",
+    "worldgen",
+    "worldheader",
+    "worldmap",
+]

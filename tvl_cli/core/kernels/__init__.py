@@ -1,5 +1,6 @@
-"""Compiled hot loops: numba kernels, each beside a plain numpy reference that tests compare
-it with on real worlds, rings and exemplars.
+"""Compiled hot loops: numba kernels, each beside the plain numpy reference it is tested on.
+
+Tests compare each kernel with its reference on real worlds, rings and exemplars.
 
 A kernel is compiled the first time it runs and cached on disk: in `__pycache__` beside its
 module, or, where the package directory is read-only, in the user's cache directory;
@@ -19,3 +20,22 @@ kernel = numba.njit(cache=True, error_model="numpy")
 # The same for a small helper compiled into each kernel that calls it: its array arguments
 # are then not counted in and out of every call.
 inlined = numba.njit(cache=True, error_model="numpy", inline="always")
+
+__all__ = [
+    "clearance",
+    "clearance_reference",
+    "contacts",
+    "firing",
+    "flood",
+    "flood_reference",
+    "inlined",
+    "kernel",
+    "memory",
+    "memory_reference",
+    "perception",
+    "perception_reference",
+    "ring",
+    "ring_reference",
+    "rule_updates",
+    "rule_updates_reference",
+]

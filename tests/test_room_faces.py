@@ -1,0 +1,87 @@
+"""Each package of tvl_cli shows one face: a docstring whose first line says what it is, and
+an `__all__` naming its modules (and what it defines itself), without importing them: a
+package imported on the way to one of its modules loads none of the others, which keeps
+`tvl --help` free of numpy and the rest (tests/cli/test_help.py)."""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+from package_imports import PACKAGE, imports
+
+# Every package's face but the top one's, which holds the version.
+FACES = sorted(PACKAGE.glob("*/**/__init__.py"))
+
+# The faces that import, and the modules they may import from: the console script's entry
+# point is the command line's `main`; importing the Gymnasium room registers its environment;
+# every kernel module compiles with the kernels' decorators.
+IMPORTING = {
+    "cli": {"tvl_cli.cli.main"},
+    "gym": {"gymnasium", "tvl_cli.core.competence", "tvl_cli.gym.env"}
+    | {"tvl_cli.gym.policies", "tvl_cli.gym.vector"},
+    "core/kernels": {"__future__", "numba"},
+}
+
+
+def _name(face: Path) -> str:
+    return face.parent.relative_to(PACKAGE).as_posix()
+
+
+def _tree(face: Path) -> ast.Module:
+    return ast.parse(face.read_text(encoding="utf-8"))
+
+
+def _all(tree: ast.Module) -> list[str]:
+    for node in tree.body:
+        if isinstance(node, ast.Assign) and [ast.unparse(t) for t in node.targets] == ["__all__"]:
+            return ast.literal_eval(node.value)
+    return []
+
+
+def _bound(tree: ast.Module) -> set[str]:
+    """The names the face binds itself: by assignment or import."""
+    names: set[str] = set()
+    for node in tree.body:
+        if isinstance(node, ast.Assign):
+            names |= {t.id for t in node.targets if isinstance(t, ast.Name)}
+        elif isinstance(node, ast.Import | ast.ImportFrom):
+            names |= {(alias.asname or alias.name).split(".")[0] for alias in node.names}
+    return names
+
+
+def _modules(package: Path) -> set[str]:
+    """The package's public modules and subpackages."""
+    files = {path.stem for path in package.glob("*.py") if not path.stem.startswith("_")}
+    return files | {path.parent.name for path in package.glob("*/__init__.py")}
+
+
+@pytest.mark.parametrize("face", FACES, ids=_name)
+def test_a_face_says_in_one_line_what_its_package_is(face: Path) -> None:
+    docstring = ast.get_docstring(_tree(face))
+    assert docstring, f"tvl_cli/{_name(face)} has no docstring"
+    first, *rest = docstring.splitlines()
+    assert first.endswith(".") and (not rest or rest[0] == ""), first
+
+
+@pytest.mark.parametrize("face", FACES, ids=_name)
+def test_a_face_lists_its_modules_and_its_own_names(face: Path) -> None:
+    tree = _tree(face)
+    listed = _all(tree)
+    assert len(listed) == len(set(listed)), "a name listed twice"
+    modules = _modules(face.parent)
+    assert modules <= set(listed), f"not in __all__: {sorted(modules - set(listed))}"
+    strangers = set(listed) - modules - _bound(tree)
+    assert not strangers, f"__all__ names what is neither module nor bound: {sorted(strangers)}"
+
+
+@pytest.mark.parametrize("face", FACES, ids=_name)
+def test_a_face_imports_nothing_but_what_it_must(face: Path) -> None:
+    allowed = IMPORTING.get(_name(face), set())
+    wrong = [
+        name
+        for name in imports(face)
+        if not any(name == module or name.startswith(f"{module}.") for module in allowed)
+    ]
+    assert not wrong, f"tvl_cli/{_name(face)}/__init__.py imports {wrong}"
