@@ -38,6 +38,7 @@ from tvl_cli.commands.learn import LearnRequest
 from tvl_cli.commands.run import run_method, run_record, run_robot
 from tvl_cli.commands.train import train_from_logs, write_trained
 from tvl_cli.core.competence import is_competent_run
+from tvl_cli.core.errors import BadInput
 from tvl_cli.core.method import NOT_GIVEN, Method, MethodChoice, describe_record
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.core.robot_profiles import DEFAULT_ROBOT
@@ -233,13 +234,22 @@ def _autopsy(
 def _policy(cell: PolicyCell, world: WorldMap) -> list[Row]:
     from tvl_cli.gym.scoring import load_controller, score_controller  # the gym extra's
 
-    make = load_controller(cell.spec)
+    controller = load_controller(cell.spec)
     rows = []
     for plan in cell.runs:
+        # A model made for one task is scored on that task alone; its row of the other is "–".
+        if not controller.observes(world, plan.goal, cell.observe):
+            continue
         metrics = score_controller(
-            make(), world, plan.goal, cell.observe, minutes=cell.run_minutes, seed=cell.seed
-        )
+            controller.make(), world, plan.goal, cell.observe, minutes=cell.run_minutes,
+            seed=cell.seed,
+        )  # fmt: skip
         rows.append({"method": None, "config": None, **run_row(plan, metrics, cell.run_minutes)})
+    if not rows:
+        raise BadInput(
+            f"--controller {cell.spec}: observes {controller.observation_shape}, which no "
+            "task scored gives (avoid: the 16 ranges; goal: and its bearing and distance)"
+        )
     return rows
 
 

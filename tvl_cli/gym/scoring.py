@@ -18,6 +18,7 @@ import importlib
 import importlib.util
 import sys
 from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -47,9 +48,29 @@ def is_model_spec(spec: str) -> bool:
     return spec.endswith(".zip")
 
 
-def load_controller(spec: str) -> Callable[[], Act]:
-    """A maker of the controller's action function, one for each run; BadInput naming the
-    spec for one that cannot be loaded."""
+@dataclass(frozen=True, slots=True)
+class LoadedController:
+    """A maker of the controller's action function, one for each run, and the shape of what
+    it observes when it was made for one (a saved model: the observation it learnt on)."""
+
+    make: Callable[[], Act]
+    observation_shape: tuple[int, ...] | None = None  # None: whatever it is given
+
+    def observes(
+        self, world: WorldMap, goal_xy: tuple[float, float] | None, observe: Method
+    ) -> bool:
+        """Whether it can act on what a run of `world` observes, seeking `goal_xy` or not: a
+        model learnt on avoiding (16 ranges) cannot read a goal's bearing and distance too."""
+        if self.observation_shape is None:
+            return True
+        task = RobotTask.of(
+            world, GOAL if goal_xy is not None else AVOID, goal=goal_xy, method=observe
+        )
+        return task.observation_space().shape == self.observation_shape
+
+
+def load_controller(spec: str) -> LoadedController:
+    """The controller a spec names; BadInput naming the spec for one that cannot be loaded."""
     algorithm, colon, name = spec.partition(":")
     if not colon or not algorithm or not name:
         raise BadInput(
@@ -61,7 +82,7 @@ def load_controller(spec: str) -> Callable[[], Act]:
     return _policy(spec, algorithm, name)
 
 
-def _model(spec: str, algorithm: str, path: Path) -> Callable[[], Act]:
+def _model(spec: str, algorithm: str, path: Path) -> LoadedController:
     try:
         import stable_baselines3
     except ImportError:
@@ -79,10 +100,10 @@ def _model(spec: str, algorithm: str, path: Path) -> Callable[[], Act]:
     def act(observation: np.ndarray) -> Any:
         return model.predict(observation, deterministic=True)[0]
 
-    return lambda: act
+    return LoadedController(lambda: act, tuple(model.observation_space.shape))
 
 
-def _policy(spec: str, module_name: str, attribute: str) -> Callable[[], Act]:
+def _policy(spec: str, module_name: str, attribute: str) -> LoadedController:
     try:
         module = _module(module_name)
     except Exception as error:  # an import that fails is the user's module's fault
@@ -93,7 +114,7 @@ def _policy(spec: str, module_name: str, attribute: str) -> Callable[[], Act]:
     if not callable(found):
         raise BadInput(f"--controller {spec}: {module_name} has no callable {attribute!r}")
     if isinstance(found, type):
-        return found  # a new instance for each run
+        return LoadedController(found)  # a new instance for each run
     policy: Act = found
 
     def fresh() -> Act:
@@ -102,7 +123,7 @@ def _policy(spec: str, module_name: str, attribute: str) -> Callable[[], Act]:
             reset()
         return policy
 
-    return fresh
+    return LoadedController(fresh)
 
 
 def _module(name: str) -> Any:
