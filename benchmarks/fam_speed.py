@@ -6,11 +6,11 @@ For each configuration: the 112-trajectory foveal perception of one ring (all 16
 x 7 trajectories), batch inference, symmetric training, and the size of the FAM file after
 training on N exemplars. Readings are uniform over the sonar range, labels uniform up to
 0.6 m/s. Each figure is the median CPU time of R timed runs, beside the same work done in
-the same run by the plain numpy references of the compiled kernels (core/kernels/*_reference
-.py). A FAM file holds one velocity and one experience per rule and trajectory, so its size
-does not grow with the exemplars it learnt from. Finally the same one-ring inference of the
-trained `single` FAM (7 velocities and their experience) is run by simpful, a zero-order
-Sugeno system with one rule per FAM entry, for the ratio.
+the same run by the plain numpy references of the compiled kernels
+(tests/kernel_references/). A FAM file holds one velocity and one experience per rule and
+trajectory, so its size does not grow with the exemplars it learnt from. Finally the same
+one-ring inference of the trained `single` FAM (7 velocities and their experience) is run by
+simpful, a zero-order Sugeno system with one rule per FAM entry, for the ratio.
 """
 
 from __future__ import annotations
@@ -29,8 +29,6 @@ from timing import cpu_seconds, figure_line
 
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS, SINGLE
-from tvl_cli.core.kernels.perception_reference import infer_views_reference
-from tvl_cli.core.kernels.rule_updates_reference import train_table_reference
 from tvl_cli.core.method import DEFAULT
 from tvl_cli.core.robot_config import SONAR_COUNT, RobotConfig
 from tvl_cli.io.famfile import write_fam
@@ -38,6 +36,11 @@ from tvl_cli.io.famfile import write_fam
 # The benchmark times the very translation to simpful that the agreement test checks.
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests" / "core"))
 from test_fam_simpful import simpful_system
+
+# The numpy references the kernels' tests hold them to.
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
+from kernel_references.perception_reference import infer_views_reference
+from kernel_references.rule_updates_reference import train_table_reference
 
 ROBOT = RobotConfig()
 NAMES = tuple(t.name for t in ROBOT.trajectories)

@@ -6,9 +6,9 @@ and the echo memory's work a step.
 The robot wanders the lab (an arc while the way ahead is clear, a spin otherwise), so the
 timing includes contacts and every kind of obstacle. Each figure is the median CPU time of
 R timed runs, beside the same work done in the same run by the baselines: the ring cast by
-its plain numpy reference (core/kernels/ring_reference.py), and by pymunk's own
+its plain numpy reference (tests/kernel_references/ring_reference.py), and by pymunk's own
 segment_query_first, one call a ray; the echo memory's cast by its numpy reference
-(core/kernels/memory_reference.py). The echo memory (the default) is fed the wander's
+(tests/kernel_references/memory_reference.py). The echo memory (the default) is fed the wander's
 readings step by step, already full when timed: a step is remembering the reading and
 casting the virtual ring. Its figure is the median of REPEATS_OF_MEMORY runs whatever R:
 each is a whole wander's worth of steps, the numpy cast's a fifth of one.
@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
 from collections.abc import Callable
 from pathlib import Path
 
@@ -28,12 +29,15 @@ from timing import cpu_seconds, figure_line
 from tvl_cli.agent.perception import EchoMemory
 from tvl_cli.agent.policy import Pose
 from tvl_cli.core.drive_command import Command
-from tvl_cli.core.kernels.memory_reference import remembered_ranges_reference
-from tvl_cli.core.kernels.ring_reference import ring_ranges_reference
 from tvl_cli.core.memory import DEFAULT_MEMORY
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.robot import Simulator
 from tvl_cli.sim.worldmap import WorldMap, load_world
+
+# The numpy references the kernels' tests hold them to.
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
+from kernel_references.memory_reference import remembered_ranges_reference
+from kernel_references.ring_reference import ring_ranges_reference
 
 LAB = Path(__file__).resolve().parent.parent / "worlds" / "lab.txt"
 WARM_UP_STEPS = 200

@@ -15,13 +15,11 @@ from package_imports import PACKAGE, imports
 FACES = sorted(PACKAGE.glob("*/**/__init__.py"))
 
 # The faces that import, and the modules they may import from: the console script's entry
-# point is the command line's `main`; importing the Gymnasium room registers its environment;
-# every kernel module compiles with the kernels' decorators.
+# point is the command line's `main`; importing the Gymnasium room registers its environment.
 IMPORTING = {
     "cli": {"tvl_cli.cli.main"},
     "gym": {"gymnasium", "tvl_cli.core.competence", "tvl_cli.gym.env"}
     | {"tvl_cli.gym.policies", "tvl_cli.gym.vector"},
-    "core/kernels": {"__future__", "numba"},
 }
 
 

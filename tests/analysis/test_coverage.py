@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from cluttered_hall import cluttered_hall
+from kernel_references.clearance_reference import clearances_reference
 
 from tvl_cli.analysis import coverage
 from tvl_cli.analysis.coverage import (
@@ -18,7 +19,6 @@ from tvl_cli.analysis.coverage import (
     reachable_floor,
     world_floor,
 )
-from tvl_cli.core.kernels.clearance_reference import clearances_reference
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.world import static_geometry
 from tvl_cli.sim.worldmap import parse_world

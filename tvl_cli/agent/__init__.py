@@ -7,6 +7,7 @@ __all__ = [
     "engine",
     "explore",
     "explore_rules",
+    "memory_kernel",
     "motions",
     "novelty",
     "online",

@@ -29,7 +29,7 @@ class EchoMemory:
     def __init__(self, config: MemoryConfig, robot: RobotConfig, clears: bool = False) -> None:
         # The compiled kernels are loaded with the first memory, so that a command's help, or
         # a run without a memory, never loads the compiler.
-        from tvl_cli.core.kernels.memory import remember_echoes, remembered_ranges
+        from tvl_cli.agent.memory_kernel import remember_echoes, remembered_ranges
 
         self._keep = remember_echoes
         self._cast = remembered_ranges

@@ -96,8 +96,8 @@ def reachable_floor(grid: CoverageGrid, fits: np.ndarray, start_xy: tuple[float,
     A step between two neighbours is open when both centres fit, and so does the midpoint
     between them: on the lattice with each midpoint kept only where its step is open (and
     the points between four cells dropped), the cells reachable are the centres a flood from
-    the start's reaches (core.kernels.flood)."""
-    from tvl_cli.core.kernels.flood import flood  # compiled: loaded on first use
+    the start's reaches (sim.flood_kernel)."""
+    from tvl_cli.sim.flood_kernel import flood  # compiled: loaded on first use
 
     start = int(grid.cell_index(np.array([start_xy]))[0])
     if start < 0:

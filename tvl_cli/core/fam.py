@@ -92,8 +92,8 @@ class Fam:
         self._all_rotations = np.arange(SONAR_COUNT)  # (16,)
         self._one_ring = np.zeros(SONAR_COUNT, dtype=np.intp)  # (16,) every view reads ring 0
         # Compiled kernels, loaded here rather than on import so that no `--help` loads them.
-        from tvl_cli.core.kernels.perception import infer_views
-        from tvl_cli.core.kernels.rule_updates import train_table
+        from tvl_cli.core.fam_perception_kernel import infer_views
+        from tvl_cli.core.fam_rule_updates_kernel import train_table
 
         self._infer_views: Callable[..., None] = infer_views
         self._train_table: Callable[..., int] = train_table
@@ -283,7 +283,7 @@ class Fam:
     def inference_inputs(
         self, rings: np.ndarray, ring_of_view: np.ndarray, rotation_of_view: np.ndarray
     ) -> tuple[object, ...]:
-        """The arguments of core.kernels.perception.infer_views for V views, view v reading
+        """The arguments of core.fam_perception_kernel.infer_views for V views, view v reading
         ring rings[ring_of_view[v]] (N, 16) metres under rotation rotation_of_view[v], but
         the (V, J) velocities and experience it fills."""
         return (

@@ -81,7 +81,7 @@ class Firing:
         return replace(self, sonars=np.vectorize(mirror_sonar, otypes=[np.intp])(self.sonars))
 
     def kernel_inputs(self) -> tuple[np.ndarray, ...]:
-        """The arrays the compiled FAM kernels fire with (core.kernels.perception)."""
+        """The arrays the compiled FAM kernels fire with (core.fam_perception_kernel)."""
         p = self.partitions
         return (
             self.sonars, p.interior_m, p.gap_start, p.gap_low_m, p.gap_width_m, self.strides,

@@ -127,7 +127,7 @@ class HeardLabeller:
         """Every exemplar's distances: heard on every trajectory where supported (all of the
         episode when `supported`, else those whose window after was heard), and the
         episode's own on the driven one."""
-        from tvl_cli.core.kernels.contacts import first_contacts_in_windows  # compiled
+        from tvl_cli.core.contacts_kernel import first_contacts_in_windows  # compiled
 
         n = episode.exemplar_count
         distances = np.full((n, len(self._curvatures)), np.nan)

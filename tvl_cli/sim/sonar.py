@@ -15,7 +15,7 @@ decided by the first surface it meets (the rest of the ray is reflected away, ne
   the two-way spreading loss of a point echo (1/r^2) then puts it above the threshold that a
   square-on echo meets at the maximum range only within max_range * sqrt(R cos(incidence)).
 A transducer reads its nearest echo; no echo reads the maximum range. The casting itself is
-a compiled kernel, core.kernels.ring.
+a compiled kernel, sim.ring_kernel.
 """
 
 from __future__ import annotations
@@ -45,7 +45,7 @@ class SonarRing:
 
     def __init__(self, config: SonarConfig, body_radius_m: float) -> None:
         # Imported on first use, with the compiler behind it, so that no `--help` loads it.
-        from tvl_cli.core.kernels.ring import ring_ranges
+        from tvl_cli.sim.ring_kernel import ring_ranges
 
         self._ring_ranges: Callable[..., None] = ring_ranges
         self.config = config
@@ -95,7 +95,7 @@ class SonarRing:
             config.noise_sigma_m,
             config.noise_fraction,
             config.ideal,
-        )  # as core.kernels.ring documents it
+        )  # as sim.ring_kernel documents it
         self._quiet = np.zeros((1, config.count))  # (1, 16) the noise of a reading without any
 
     def read(
@@ -160,7 +160,7 @@ class SonarRing:
     def cast_inputs(
         self, geometry: StaticGeometry, poses: np.ndarray, noise: np.ndarray
     ) -> tuple[object, ...]:
-        """The arguments of core.kernels.ring.ring_ranges for N robots at poses (N, 3), but
+        """The arguments of sim.ring_kernel.ring_ranges for N robots at poses (N, 3), but
         the readings (N, 16) it fills."""
         g = geometry
         walls = (g.seg_start, g.seg_normal, g.seg_moment, g.seg_len, g.seg_ends, g.corner_sides,

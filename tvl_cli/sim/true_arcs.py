@@ -60,7 +60,7 @@ class TrueArcs:
     ) -> np.ndarray:
         """(V, T) metres: distances_m from (x, y) facing each of `headings` (V,) rad, with the
         outline near the place sought once for them all."""
-        from tvl_cli.core.kernels.contacts import first_contacts_in_windows  # compiled
+        from tvl_cli.core.contacts_kernel import first_contacts_in_windows  # compiled
 
         gap = self._points - (x, y)  # (K, 2) metres
         within = reach_m + self._reach_m

@@ -53,7 +53,7 @@ class WallGrid:
     # ray screens every wall of a cell by, read side by side.
     lines: np.ndarray
 
-    # The grid as the ring and clearance kernels take it (core.kernels.ring documents it),
+    # The grid as the ring and clearance kernels take it (sim.ring_kernel documents it),
     # with the most walls any cell lists.
     kernel_input: tuple[object, ...] = field(init=False, repr=False)
 

@@ -205,7 +205,7 @@ def _clearances(
     geometry: StaticGeometry, points: np.ndarray, body_radius_m: float, limit_m: float
 ) -> tuple[np.ndarray, np.ndarray]:
     """clearances_m, and the nearest obstacle to each point (p,) as element_of numbers it."""
-    from tvl_cli.core.kernels.clearance import clearances  # compiled: loaded on first use
+    from tvl_cli.sim.clearance_kernel import clearances  # compiled: loaded on first use
 
     g = geometry
     points = np.ascontiguousarray(points, dtype=np.float64)

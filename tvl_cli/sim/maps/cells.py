@@ -73,11 +73,11 @@ def reaches_outside(
 ) -> bool:
     """Whether the open cells joined to the start's (up, down, left and right, never between
     cells of different `sides`) touch a cell outside the map or off its edge: a compiled
-    flood (core.kernels.flood) over the start's side.
+    flood (sim.flood_kernel) over the start's side.
 
     sides (rows + 2, columns + 2): a number for each cell and the ring of cells round the
     map, equal for cells on the same side of every ring wall."""
-    from tvl_cli.core.kernels.flood import flood  # compiled: loaded on first use
+    from tvl_cli.sim.flood_kernel import flood  # compiled: loaded on first use
 
     padded_open = np.pad(open_cells, 1, constant_values=False)
     padded_outside = np.pad(outside, 1, constant_values=True)  # off the map: outside

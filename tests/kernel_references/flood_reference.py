@@ -1,5 +1,5 @@
-"""Flood fill in plain Python: what `flood.flood` computes, kept for the tests that compare
-the two. Same arguments, same result."""
+"""Flood fill in plain Python: what `sim.flood_kernel.flood` computes, kept for the tests that
+compare the two. Same arguments, same result."""
 
 from __future__ import annotations
 

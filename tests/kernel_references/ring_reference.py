@@ -1,7 +1,7 @@
 """The sonar ring cast in plain numpy, every ray of a robot at once against every wall: what
-`ring.ring_ranges` computes, kept for the tests that compare the two. Same arguments, same
-results: the kernel asks only the walls of the cells each ray crosses, this asks them all, so
-the two agree only if the grid never leaves out a wall that decides a reading."""
+`sim.ring_kernel.ring_ranges` computes, kept for the tests that compare the two. Same
+arguments, same results: the kernel asks only the walls of the cells each ray crosses, this
+asks them all, so the two agree only if the grid never leaves out a wall that decides a reading."""
 
 from __future__ import annotations
 

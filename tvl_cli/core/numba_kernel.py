@@ -1,6 +1,7 @@
-"""Compiled hot loops: numba kernels, each beside the plain numpy reference it is tested on.
-
-Tests compare each kernel with its reference on real worlds, rings and exemplars.
+"""The decorators every compiled hot loop is built with. Each numba kernel is a module named
+`*_kernel.py` beside the concept it computes for (`sim/ring_kernel.py` for the sonar ring,
+`core/fam_perception_kernel.py` for the FAM); the tests compare each with its plain numpy
+reference (tests/kernel_references/) on real worlds, rings and exemplars.
 
 A kernel is compiled the first time it runs and cached on disk: in `__pycache__` beside its
 module, or, where the package directory is read-only, in the user's cache directory;
@@ -20,22 +21,3 @@ kernel = numba.njit(cache=True, error_model="numpy")
 # The same for a small helper compiled into each kernel that calls it: its array arguments
 # are then not counted in and out of every call.
 inlined = numba.njit(cache=True, error_model="numpy", inline="always")
-
-__all__ = [
-    "clearance",
-    "clearance_reference",
-    "contacts",
-    "firing",
-    "flood",
-    "flood_reference",
-    "inlined",
-    "kernel",
-    "memory",
-    "memory_reference",
-    "perception",
-    "perception_reference",
-    "ring",
-    "ring_reference",
-    "rule_updates",
-    "rule_updates_reference",
-]

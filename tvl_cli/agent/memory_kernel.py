@@ -1,8 +1,8 @@
 """The echo memory's kernels (core.memory): keeping a reading's echoes, and the cast, the
 nearest remembered surface in each beam.
 
-`remember_echoes` and `remembered_ranges` are compiled; `memory_reference` computes the
-same in numpy, for the tests to hold the kernels to.
+`remember_echoes` and `remembered_ranges` are compiled; `memory_reference`
+(tests/kernel_references/) computes the same in numpy, for the tests to hold the kernels to.
 
 The arguments they share, for B beams of `rays_per_beam` rays each and a memory of K
 echoes:
@@ -29,8 +29,8 @@ import math
 
 import numpy as np
 
-from tvl_cli.core.kernels import inlined, kernel
 from tvl_cli.core.memory import POINTS
+from tvl_cli.core.numba_kernel import inlined, kernel
 
 # Metres of slack in the wedge test, far above rounding and far below any patch.
 WEDGE_SLACK_M = 1e-9

@@ -5,9 +5,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from kernel_references.flood_reference import flood_reference
 
-from tvl_cli.core.kernels.flood import flood
-from tvl_cli.core.kernels.flood_reference import flood_reference
+from tvl_cli.sim.flood_kernel import flood
 
 
 @pytest.mark.parametrize("seed", range(30))

@@ -8,11 +8,11 @@ from collections.abc import Callable
 
 import numpy as np
 import pytest
+from kernel_references.ring_reference import ring_ranges_reference
 from kernel_worlds import every_world, random_poses
 
-from tvl_cli.core.kernels.ring import ring_ranges
-from tvl_cli.core.kernels.ring_reference import ring_ranges_reference
 from tvl_cli.core.robot_config import SONAR_MODELS, SonarConfig
+from tvl_cli.sim.ring_kernel import ring_ranges
 from tvl_cli.sim.sonar import SonarRing
 from tvl_cli.sim.world import StaticGeometry
 

@@ -16,7 +16,7 @@ from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.core.training import SessionEpisodes, TrainParams, train_sessions
 from tvl_cli.io.logreader import read_log
 
-LOG = Path(__file__).resolve().parents[3] / "logs" / "lab-s1.h5"
+LOG = Path(__file__).resolve().parents[1] / "logs" / "lab-s1.h5"
 ROBOT = RobotConfig()
 NAMES = [t.name for t in ROBOT.trajectories]
 # The single FAM's one table split in two: three trajectories in one, four in the other.

@@ -1,5 +1,5 @@
 """The true clearance in plain numpy, all points against all obstacles at once: what
-`clearance.clearances` computes, kept for the tests that compare the two."""
+`sim.clearance_kernel.clearances` computes, kept for the tests that compare the two."""
 
 from __future__ import annotations
 

@@ -1,6 +1,6 @@
-"""The echo memory's kernels in plain numpy: what `memory.remember_echoes` and
-`memory.remembered_ranges` compute (the cast every ray against every echo at once), kept for
-the tests that compare them. Same arguments, same results."""
+"""The echo memory's kernels in plain numpy: what `agent.memory_kernel.remember_echoes`
+and `agent.memory_kernel.remembered_ranges` compute (the cast every ray against every echo at
+once), kept for the tests that compare them. Same arguments, same results."""
 
 from __future__ import annotations
 

@@ -6,9 +6,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from kernel_fams import CONFIGS, learnt_fam, logged_rings, odd_rings
+from kernel_references.rule_updates_reference import train_table_reference
 
 from tvl_cli.core.fam import Fam
-from tvl_cli.core.kernels.rule_updates_reference import train_table_reference
 
 
 def tables(fam: Fam) -> bytes:

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 
-from tvl_cli.core.kernels import kernel
+from tvl_cli.core.numba_kernel import kernel
 
 # The squared-distance screen's margins: far wider than the rounding of either test, so that it
 # leaves out only echoes the exact test would leave out too.

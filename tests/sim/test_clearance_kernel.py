@@ -5,10 +5,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from kernel_references.clearance_reference import clearances_reference
 from kernel_worlds import every_world, random_poses
 
-from tvl_cli.core.kernels.clearance import clearances
-from tvl_cli.core.kernels.clearance_reference import clearances_reference
+from tvl_cli.sim.clearance_kernel import clearances
 from tvl_cli.sim.world import clearance_m, clearances_m, geometry_of
 
 WORLDS = every_world()

@@ -1,12 +1,12 @@
 """Flood fill: the cells of a grid joined to a start through open neighbours (up, down, left
 and right), for the reachable floor of a world and the enclosure of a large map. What
-`flood_reference` computes, cell for cell."""
+`flood_reference` (tests/kernel_references/) computes, cell for cell."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from tvl_cli.core.kernels import kernel
+from tvl_cli.core.numba_kernel import kernel
 
 
 @kernel

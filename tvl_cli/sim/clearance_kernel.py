@@ -1,7 +1,8 @@
 """The true clearance: how far a body's edge is from the nearest obstacle, at many points or
-at one (a run measures it every step). Bit for bit what `clearance_reference` computes.
+at one (a run measures it every step). Bit for bit what `clearance_reference`
+(tests/kernel_references/) computes.
 
-Each point asks the walls of the grid's cells (core.kernels.ring documents the grid) in
+Each point asks the walls of the grid's cells (sim.ring_kernel documents the grid) in
 squares of cells growing round its own, and stops once the nearest wall found is nearer than
 any cell not yet asked, or once every cell within `limit_m` has been asked."""
 
@@ -9,7 +10,7 @@ from __future__ import annotations
 
 import math
 
-from tvl_cli.core.kernels import inlined, kernel
+from tvl_cli.core.numba_kernel import inlined, kernel
 
 # Farther than any rounding of a distance in metres: a cell is passed over only when it lies
 # beyond the nearest wall found by more than this.

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from tvl_cli.core.kernels import inlined
+from tvl_cli.core.numba_kernel import inlined
 
 
 @inlined

@@ -6,8 +6,9 @@ then its
 echo, by the specular rule, a corner or edge near the hit, the wall's roughness, or a
 pillar's nearest point. A transducer reads its nearest echo plus noise, clamped to the range.
 
-Agrees with `ring_reference` to within 1e-12 m rather than bit for bit: numpy's matrix
-products may fuse a multiply and an add (BLAS on FMA hardware), where this rounds each one.
+Agrees with `ring_reference` (tests/kernel_references/) to within 1e-12 m rather than bit
+for bit: numpy's matrix products may fuse a multiply and an add (BLAS on FMA hardware), where
+this rounds each one.
 
 The arguments come in tuples, each unpacked by name where it is used:
     layout = (transducers, rays)
@@ -33,7 +34,7 @@ import math
 
 import numpy as np
 
-from tvl_cli.core.kernels import inlined, kernel
+from tvl_cli.core.numba_kernel import inlined, kernel
 
 # A ray's line crosses a wall's line this far beyond the wall's ends (as a fraction of its
 # length) at most for the wall to be tested exactly: any wider than rounding could reach.

@@ -1,11 +1,12 @@
 """FAM inference (paper eq. 3) of many views at once: the 112 rotated trajectories of one ring
-a control step, or a batch of rings. Bit for bit what `perception_reference` computes: each
-weighted sum adds the fired rules in the same order as numpy's."""
+a control step, or a batch of rings. Bit for bit what `perception_reference`
+(tests/kernel_references/) computes: each weighted sum adds the fired rules in the same order
+as numpy's."""
 
 from __future__ import annotations
 
-from tvl_cli.core.kernels import kernel
-from tvl_cli.core.kernels.firing import add_input, fuzzify
+from tvl_cli.core.fam_firing_kernel import add_input, fuzzify
+from tvl_cli.core.numba_kernel import kernel
 
 
 @kernel

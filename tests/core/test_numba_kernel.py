@@ -13,7 +13,7 @@ from conftest import TVL
 # Every test here starts the real `tvl` and waits on it.
 pytestmark = pytest.mark.slow
 
-SQUARE = Path(__file__).resolve().parents[3] / "worlds" / "square.txt"
+SQUARE = Path(__file__).resolve().parents[2] / "worlds" / "square.txt"
 # Learning through the default echo memory keeps echoes and casts them, too.
 KERNELS = {
     "ring_ranges", "clearances", "infer_views", "train_table", "remember_echoes", "_patches_met"

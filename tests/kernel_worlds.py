@@ -14,7 +14,7 @@ from tvl_cli.sim.world import StaticGeometry, static_geometry
 from tvl_cli.sim.worldgen import generate_world
 from tvl_cli.sim.worldmap import load_world, parse_world
 
-WORLDS = Path(__file__).resolve().parents[3] / "worlds"
+WORLDS = Path(__file__).resolve().parents[1] / "worlds"
 SHIPPED = sorted(p.stem for p in WORLDS.glob("*.txt"))
 ROOMS_SEEDS = (2, 5, 9)
 

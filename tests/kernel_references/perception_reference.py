@@ -1,5 +1,5 @@
 """FAM inference of many views in plain numpy, every view and corner at once: what
-`perception.infer_views` computes, kept for the tests that compare the two."""
+`core.fam_perception_kernel.infer_views` computes, kept for the tests that compare the two."""
 
 from __future__ import annotations
 

@@ -1,5 +1,6 @@
 """Training's rule updates (paper eq. 1-2) of one table, and how much they changed each
-velocity they recomputed: bit for bit what `rule_updates_reference` computes.
+velocity they recomputed: bit for bit what `rule_updates_reference`
+(tests/kernel_references/) computes.
 
 Sums are added in numpy's order: each chunk of exemplars corner by corner, exemplar by
 exemplar, into sums of its own (as np.bincount did), which are then added to the batch's.
@@ -7,8 +8,8 @@ exemplar, into sums of its own (as np.bincount did), which are then added to the
 
 from __future__ import annotations
 
-from tvl_cli.core.kernels import inlined, kernel
-from tvl_cli.core.kernels.firing import fuzzify
+from tvl_cli.core.fam_firing_kernel import fuzzify
+from tvl_cli.core.numba_kernel import inlined, kernel
 
 # Exemplars whose inputs are loaded input by input: enough rows fetched from memory at once
 # to hide its latency, few enough to stay in the core's first cache for the next input.

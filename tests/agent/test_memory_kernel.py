@@ -7,12 +7,12 @@ import math
 
 import numpy as np
 import pytest
-
-from tvl_cli.core.kernels.memory import remember_echoes, remembered_ranges
-from tvl_cli.core.kernels.memory_reference import (
+from kernel_references.memory_reference import (
     remember_echoes_reference,
     remembered_ranges_reference,
 )
+
+from tvl_cli.agent.memory_kernel import remember_echoes, remembered_ranges
 from tvl_cli.core.memory import PATCHES, POINTS
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.sonar import SonarRing

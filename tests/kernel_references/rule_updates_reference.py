@@ -1,5 +1,5 @@
 """Training's rule updates in plain numpy, every exemplar and corner of a chunk at once: what
-`rule_updates` computes, kept for the tests that compare the two."""
+`core.fam_rule_updates_kernel.train_table` computes, kept for the tests that compare the two."""
 
 from __future__ import annotations
 

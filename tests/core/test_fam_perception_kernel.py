@@ -6,8 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from kernel_fams import CONFIGS, learnt_fam, logged_rings, odd_rings
-
-from tvl_cli.core.kernels.perception_reference import infer_views_reference
+from kernel_references.perception_reference import infer_views_reference
 
 RINGS = np.concatenate([logged_rings(150), odd_rings(150, seed=4)])
 

@@ -9,7 +9,7 @@ from kernel_worlds import WORLDS as WORLD_FILES
 from kernel_worlds import random_poses
 
 from tvl_cli.core.arcs import first_contacts_m
-from tvl_cli.core.kernels.contacts import first_contacts_in_windows
+from tvl_cli.core.contacts_kernel import first_contacts_in_windows
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.true_arcs import outline_points
 from tvl_cli.sim.world import static_geometry
