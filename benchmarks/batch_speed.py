@@ -39,9 +39,9 @@ from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.method import DEFAULT
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.batch import RobotBatch
+from tvl_cli.sim.geometry import clearances_m
 from tvl_cli.sim.motion import Pose
 from tvl_cli.sim.robot import Simulator
-from tvl_cli.sim.world import clearances_m
 from tvl_cli.sim.worldmap import WorldMap, load_world
 
 SIZES = (1, 8, 64)

@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 
 from tvl_cli.agent.explore import Learner, LearnParams
-from tvl_cli.bench.generalization import WORLD_SETS
+from tvl_cli.bench.generalization_suite import WORLD_SETS
 from tvl_cli.core.arcs import collision_clearance_m
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import SINGLE

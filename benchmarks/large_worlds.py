@@ -50,8 +50,8 @@ from tvl_cli.core.method import DEFAULT
 from tvl_cli.io.fam_config_file import resolve_fam_config
 from tvl_cli.io.famfile import read_fam
 from tvl_cli.sim import world_budget
+from tvl_cli.sim.geometry import clearance_m
 from tvl_cli.sim.robot import Simulator
-from tvl_cli.sim.world import clearance_m
 from tvl_cli.sim.worldmap import WorldMap, load_world, parse_world
 
 ROOT = Path(__file__).resolve().parent.parent

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 from cluttered_hall import cluttered_hall
 
-from tvl_cli.sim.world import StaticGeometry, static_geometry
+from tvl_cli.sim.geometry import StaticGeometry, static_geometry
 from tvl_cli.sim.worldgen import generate_world
 from tvl_cli.sim.worldmap import load_world, parse_world
 

@@ -10,7 +10,7 @@ import pytest
 from conftest import TVL
 from hdf5_contents import datasets
 
-from tvl_cli.bench.generalization import TEST, TUNING, WORLD_SETS
+from tvl_cli.bench.generalization_suite import TEST, TUNING, WORLD_SETS
 from tvl_cli.core.method import DEFAULT
 from tvl_cli.io.famfile import read_fam
 from tvl_cli.io.logreader import file_sha256, read_log

@@ -14,7 +14,7 @@ from tvl_cli.core.contacts import NEAR_MISS_WITHIN_RAD
 from tvl_cli.core.method import PAPER
 from tvl_cli.core.robot_config import EDGE_ECHO_RANGE_M, SonarConfig
 from tvl_cli.core.trajectory_choice import LOOKAHEAD_M
-from tvl_cli.io.schema import FAM_FORMAT, FORMAT_VERSIONS, LOG_FORMAT, RUN_FORMAT
+from tvl_cli.io.hdf5_header import FAM_FORMAT, FORMAT_VERSIONS, LOG_FORMAT, RUN_FORMAT
 
 METHOD = page("method.md")
 REFLEX_TABLE = section(METHOD, "Reflexes: every rule beyond the paper")

@@ -20,7 +20,7 @@ from tvl_cli.analysis.coverage import (
     world_floor,
 )
 from tvl_cli.core.robot_config import RobotConfig
-from tvl_cli.sim.world import static_geometry
+from tvl_cli.sim.geometry import static_geometry
 from tvl_cli.sim.worldmap import parse_world
 
 ROBOT = RobotConfig()

@@ -10,12 +10,12 @@ from pathlib import Path
 
 import pytest
 
-from tvl_cli.bench.cells import DwaCell, LearntCell, PolicyCell
-from tvl_cli.bench.claims import ClaimsRequest
-from tvl_cli.bench.claims import plan as claims_plan
+from tvl_cli.bench.claims_suite import ClaimsRequest
+from tvl_cli.bench.claims_suite import plan as claims_plan
 from tvl_cli.bench.controllers import METHOD, POLICY, parse_controller
-from tvl_cli.bench.generalization import GeneralizationRequest, plan
-from tvl_cli.bench.options import parse_span
+from tvl_cli.bench.generalization_suite import GeneralizationRequest, plan
+from tvl_cli.bench.suite_cells import DwaCell, LearntCell, PolicyCell
+from tvl_cli.bench.suite_options import parse_span
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.method import DEFAULT, PAPER
 

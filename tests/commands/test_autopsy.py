@@ -27,7 +27,7 @@ from tvl_cli.analysis.autopsy import (
     cause_of,
 )
 from tvl_cli.cli.main import main as cli
-from tvl_cli.commands.autopsy import run_autopsy
+from tvl_cli.commands.contact_autopsy import run_autopsy
 from tvl_cli.core.contacts import BUMP
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import SINGLE

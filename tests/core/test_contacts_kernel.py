@@ -11,8 +11,8 @@ from kernel_worlds import random_poses
 from tvl_cli.core.arcs import first_contacts_m
 from tvl_cli.core.contacts_kernel import first_contacts_in_windows
 from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.sim.geometry import static_geometry
 from tvl_cli.sim.true_arcs import outline_points
-from tvl_cli.sim.world import static_geometry
 from tvl_cli.sim.worldgen import generate_world
 from tvl_cli.sim.worldmap import load_world, parse_world
 

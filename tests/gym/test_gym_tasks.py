@@ -18,7 +18,7 @@ from tvl_cli.core.robot_config import SONAR_MODELS, RobotConfig
 from tvl_cli.core.robot_profiles import TURTLEBOT3
 from tvl_cli.gym import ENV_ID, SonarRingEnv
 from tvl_cli.gym.env import ROBOT, STOP_ACTION
-from tvl_cli.gym.episode import WALL_DISTANCE_M, WALL_ERROR_WEIGHT
+from tvl_cli.gym.task import WALL_DISTANCE_M, WALL_ERROR_WEIGHT
 
 T0 = ROBOT.trajectory_index("T0")
 # The square's start, (2.125, 2.125) facing +x: the body's edge 1.425 m from the east wall.

@@ -25,9 +25,9 @@ from tvl_cli.core.fam_config import (
     Partition,
 )
 from tvl_cli.core.robot_config import RobotConfig as Robot
-from tvl_cli.io import famfile, schema
+from tvl_cli.io import famfile, hdf5_header
 from tvl_cli.io.famfile import read_fam, write_fam
-from tvl_cli.io.schema import FormatError
+from tvl_cli.io.hdf5_header import FormatError
 
 ROBOT = Robot()
 NAMES = [t.name for t in ROBOT.trajectories]
@@ -122,7 +122,7 @@ def test_rewriting_a_read_fam_keeps_every_dataset_and_attribute(tmp_path: Path) 
 
 
 def test_same_fam_gives_the_same_bytes(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setattr(schema, "utc_now", lambda: "2000-01-01T00:00:00+00:00")
+    monkeypatch.setattr(hdf5_header, "utc_now", lambda: "2000-01-01T00:00:00+00:00")
     a = written(tmp_path / "a.h5", trained(MULTI))
     b = written(tmp_path / "b.h5", trained(MULTI))
     assert a.read_bytes() == b.read_bytes()
@@ -209,7 +209,7 @@ def test_fam_for_another_robot_is_a_programming_error(tmp_path: Path) -> None:
 def test_reading_a_log_as_a_fam_is_refused_by_name(tmp_path: Path) -> None:
     path = tmp_path / "log.h5"
     with h5py.File(path, "w") as f:
-        schema.write_header(f, schema.LOG_FORMAT)
+        hdf5_header.write_header(f, hdf5_header.LOG_FORMAT)
     with pytest.raises(FormatError, match=r"log\.h5: is a tvl-log file, expected a tvl-fam"):
         read_fam(path)
 

@@ -15,7 +15,7 @@ from hypothesis import strategies as st
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam_config_json import fam_config_from_json
 from tvl_cli.core.robot_config import RobotConfig
-from tvl_cli.sim.world import static_geometry
+from tvl_cli.sim.geometry import static_geometry
 from tvl_cli.sim.worldmap import parse_world
 
 WORLDS = Path(__file__).resolve().parents[2] / "worlds"

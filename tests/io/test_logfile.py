@@ -28,9 +28,9 @@ from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.ring import mm_to_ring, ring_to_mm
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.famfile import write_fam
+from tvl_cli.io.hdf5_header import FormatError
 from tvl_cli.io.loglayout import MINUTE_COLUMNS
 from tvl_cli.io.logreader import read_log
-from tvl_cli.io.schema import FormatError
 
 HERE = Path(__file__).parent
 

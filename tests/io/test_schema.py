@@ -12,7 +12,7 @@ from log_samples import open_sample_writer, sample_episode
 
 from tvl_cli import __version__
 from tvl_cli.core.errors import BadInput
-from tvl_cli.io.schema import (
+from tvl_cli.io.hdf5_header import (
     FAM_FORMAT,
     FORMAT_VERSIONS,
     LOG_FORMAT,

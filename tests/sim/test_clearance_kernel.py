@@ -9,7 +9,7 @@ from kernel_references.clearance_reference import clearances_reference
 from kernel_worlds import every_world, random_poses
 
 from tvl_cli.sim.clearance_kernel import clearances
-from tvl_cli.sim.world import clearance_m, clearances_m, geometry_of
+from tvl_cli.sim.geometry import clearance_m, clearances_m, geometry_of
 
 WORLDS = every_world()
 

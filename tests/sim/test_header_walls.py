@@ -9,9 +9,9 @@ import pytest
 
 from tvl_cli.core.drive_command import Command
 from tvl_cli.core.robot_config import RobotConfig, SonarConfig
+from tvl_cli.sim.geometry import static_geometry
 from tvl_cli.sim.robot import Simulator
 from tvl_cli.sim.sonar import SonarRing
-from tvl_cli.sim.world import static_geometry
 from tvl_cli.sim.worldmap import WorldMap, parse_world
 
 ROBOT = RobotConfig()

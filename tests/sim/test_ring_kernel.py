@@ -12,9 +12,9 @@ from kernel_references.ring_reference import ring_ranges_reference
 from kernel_worlds import every_world, random_poses
 
 from tvl_cli.core.robot_config import SONAR_MODELS, SonarConfig
+from tvl_cli.sim.geometry import StaticGeometry
 from tvl_cli.sim.ring_kernel import ring_ranges
 from tvl_cli.sim.sonar import SonarRing
-from tvl_cli.sim.world import StaticGeometry
 
 WORLDS = every_world()
 POSES = 300

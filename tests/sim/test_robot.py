@@ -11,8 +11,8 @@ from test_world import room, square_block
 
 from tvl_cli.core.drive_command import STOP, Command
 from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.sim.geometry import clearances_m
 from tvl_cli.sim.robot import Simulator
-from tvl_cli.sim.world import clearances_m
 from tvl_cli.sim.worldmap import WorldMap
 
 ROBOT = RobotConfig()

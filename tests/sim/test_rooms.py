@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.sim.geometry import clearances_m, static_geometry
 from tvl_cli.sim.rooms import PATH_CLEARANCE_M, PIECES, RoomsPlan
-from tvl_cli.sim.world import clearances_m, static_geometry
 from tvl_cli.sim.worldgen import draw_world, generate_world
 from tvl_cli.sim.worldmap import WorldMap, parse_world
 

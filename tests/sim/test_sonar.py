@@ -12,8 +12,8 @@ from cluttered_hall import cluttered_hall
 from test_world import room, square_block
 
 from tvl_cli.core.robot_config import SonarConfig
+from tvl_cli.sim.geometry import StaticGeometry, clearance_m, static_geometry
 from tvl_cli.sim.sonar import SonarRing
-from tvl_cli.sim.world import StaticGeometry, clearance_m, static_geometry
 from tvl_cli.sim.worldmap import load_world
 
 RADIUS = 0.2

@@ -9,7 +9,7 @@ import pymunk
 import pytest
 
 from tvl_cli.core.robot_config import RobotConfig
-from tvl_cli.sim.world import (
+from tvl_cli.sim.geometry import (
     CORNER_TOLERANCE_M,
     RING_MAX_SAG_M,
     StaticGeometry,

@@ -29,7 +29,7 @@ it turn:
 - `learnt`: every way ahead truly fast was rated slow on the live ring too: what was learnt;
 - `unrated`: no FAM at hand to tell the last two apart.
 
-The facts come from the simulator's ground truth (commands.autopsy); the rules are here.
+The facts come from the simulator's ground truth (commands.contact_autopsy); the rules are here.
 """
 
 from __future__ import annotations

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from tvl_cli.core.robot_config import RobotConfig
-from tvl_cli.sim.world import clearances_m, static_geometry
+from tvl_cli.sim.geometry import clearances_m, static_geometry
 from tvl_cli.sim.worldmap import WorldMap
 
 # A floor of more cells than this is measured on squares of several of the world's cells: its

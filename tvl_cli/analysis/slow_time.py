@@ -1,6 +1,6 @@
 """Why a run was slow: each step the policy drove slower than competence asks, told by the
 simulator's truth and the run's FAM (analysis.autopsy.slow_cause judges it; the caller,
-commands.autopsy, gives the truth as the oracle velocities of a view).
+commands.contact_autopsy, gives the truth as the oracle velocities of a view).
 
 A step is judged straight ahead (analysis.autopsy says why): which trajectories there were
 truly fast (the oracle velocities, from the map and the true pose), which the FAM rated fast

@@ -38,8 +38,8 @@ from tvl_cli.core.drive_command import Command
 from tvl_cli.core.memory import NO_MEMORY, PATCHES, MemoryConfig
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.sim.geometry import StaticGeometry, clearance_m, clearances_m, geometry_of
 from tvl_cli.sim.robot import Simulator
-from tvl_cli.sim.world import StaticGeometry, clearance_m, clearances_m, geometry_of
 from tvl_cli.sim.worldmap import WorldMap
 
 BEHAVIOURS = ("avoid", "goal")

@@ -1,17 +1,18 @@
 """`tvl bench`'s room: the shipped suites, as cells run on the sweep's engine.
 
-The suites (generalization, claims) are each a list of cells (cells) planned from its options
-(options, generalization, claims, references, controllers), done by the verbs' own work (work)
-on the sweep's engine with a journal to go on from (runner).
+The suites (generalization, claims) are each a list of cells (suite_cells) planned from its
+options (suite_options, generalization_suite, claims_suite, references, controllers), done by
+the verbs' own work (suite_work) on the sweep's engine with a journal to go on from
+(suite_runner).
 """
 
 __all__ = [
-    "cells",
-    "claims",
+    "claims_suite",
     "controllers",
-    "generalization",
-    "options",
+    "generalization_suite",
     "references",
-    "runner",
-    "work",
+    "suite_cells",
+    "suite_options",
+    "suite_runner",
+    "suite_work",
 ]

@@ -12,7 +12,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 from tvl_cli.baselines.dwa import MAP, RING
-from tvl_cli.bench.cells import (
+from tvl_cli.bench.suite_cells import (
     Cell,
     DwaCell,
     FamPlan,

@@ -12,7 +12,7 @@ __all__ = [
     "examples",
     "explain",
     "export",
-    "fam",
+    "fam_commands",
     "fam_views",
     "figure",
     "grid_documents",

@@ -81,7 +81,7 @@ def where_options(suite: str) -> Callable[[Command], Command]:
 
 
 def _where(out: Path, workers: int | None, scheduler: str | None, timeout_s: float) -> Any:
-    from tvl_cli.bench.runner import Where  # the engine only when a suite runs
+    from tvl_cli.bench.suite_runner import Where  # the engine only when a suite runs
 
     if workers is not None and scheduler is not None:
         raise click.UsageError("give --workers or --scheduler, not both (a cluster has its own)")
@@ -163,8 +163,8 @@ def _running(as_json: bool, run: Callable[..., Any]) -> Any:
 def generalization(**options: Any) -> None:
     """Learn, train and run in generated rooms worlds nobody tuned on, beside references and
     any controller given; print competence, goals, contacts and speed over the trials."""
-    from tvl_cli.bench.generalization import run_generalization
-    from tvl_cli.bench.options import generalization_request
+    from tvl_cli.bench.generalization_suite import run_generalization
+    from tvl_cli.bench.suite_options import generalization_request
 
     as_json, markdown = options.pop("as_json"), options.pop("markdown")
     where = _where(
@@ -199,7 +199,7 @@ def generalization(**options: Any) -> None:
 def claims(**options: Any) -> None:
     """Run five of the paper's claims (§5) by the paper's method and ours, and say which are
     met, with the trials' means and intervals."""
-    from tvl_cli.bench.claims import METHODS, ClaimsRequest, check_claims, run_claims
+    from tvl_cli.bench.claims_suite import METHODS, ClaimsRequest, check_claims, run_claims
 
     as_json, markdown = options.pop("as_json"), options.pop("markdown")
     where = _where(

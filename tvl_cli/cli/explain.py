@@ -72,7 +72,7 @@ def explain(
             raise BadInput("--contacts explains the whole run: give no --step, --at or --event")
         if png is not None:
             raise BadInput("--png draws one moment: it is not for --contacts")
-        from tvl_cli.commands.autopsy import trace_autopsy
+        from tvl_cli.commands.contact_autopsy import trace_autopsy
 
         autopsy = trace_autopsy(trace)
         if as_json:

@@ -12,9 +12,9 @@ from tvl_cli.io.json_documents import document, input_file, output_path
 
 if TYPE_CHECKING:
     # Named for their types only: a command's `--help` imports this module.
-    from tvl_cli.bench.claims import ClaimsResult
-    from tvl_cli.bench.generalization import GeneralizationResult
-    from tvl_cli.bench.runner import BenchRun, Where
+    from tvl_cli.bench.claims_suite import ClaimsResult
+    from tvl_cli.bench.generalization_suite import GeneralizationResult
+    from tvl_cli.bench.suite_runner import BenchRun, Where
     from tvl_cli.sweep.runner import SweepRequest, SweepResult
 
 

@@ -23,7 +23,7 @@ from rich.text import Text
 from tvl_cli.agent.drive import Step
 from tvl_cli.core.contacts import BUMP, NEAR_MISS
 from tvl_cli.core.robot_config import RobotConfig
-from tvl_cli.sim.world import clearances_m, static_geometry
+from tvl_cli.sim.geometry import clearances_m, static_geometry
 from tvl_cli.sim.worldmap import WALL, WorldMap, layout
 
 MAP_COLUMNS, MAP_ROWS = 44, 20  # the world's share of an 80 x 24 terminal

@@ -35,10 +35,18 @@ COMMANDS: dict[str, tuple[str, str, str]] = {
         "learn",
         "Explore WORLD and learn trajectory velocities, recording every episode in a log.",
     ),
-    "train": ("tvl_cli.cli.fam", "train", "Train a FAM file from learning logs (log replay)."),
-    "inspect": ("tvl_cli.cli.fam", "inspect", "Print a FAM file's rules as a person reads them."),
+    "train": (
+        "tvl_cli.cli.fam_commands",
+        "train",
+        "Train a FAM file from learning logs (log replay).",
+    ),
+    "inspect": (
+        "tvl_cli.cli.fam_commands",
+        "inspect",
+        "Print a FAM file's rules as a person reads them.",
+    ),
     "diff": (
-        "tvl_cli.cli.fam",
+        "tvl_cli.cli.fam_commands",
         "diff",
         "Show where two FAM files of one configuration disagree, rule by rule.",
     ),

@@ -1,8 +1,8 @@
 """One module per verb: files in, a typed result out; what the `tvl` commands call."""
 
 __all__ = [
-    "autopsy",
     "baseline",
+    "contact_autopsy",
     "demo",
     "design",
     "diff",

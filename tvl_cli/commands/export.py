@@ -9,9 +9,9 @@ import numpy as np
 
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.io.hdf5_header import LOG_FORMAT, FormatError, file_format
 from tvl_cli.io.mcapfile import Robot, Scene, write_run_mcap
 from tvl_cli.io.runfile import read_run
-from tvl_cli.io.schema import LOG_FORMAT, FormatError, file_format
 from tvl_cli.sim.maps.raster import rasterise
 from tvl_cli.sim.worldmap import parse_world
 

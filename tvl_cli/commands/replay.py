@@ -13,10 +13,10 @@ from tvl_cli.analysis.coverage import coverage_by_minute, coverage_of, world_flo
 from tvl_cli.core.contacts import EVENTS
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.io.hdf5_header import LOG_FORMAT, RUN_FORMAT, file_format
 from tvl_cli.io.loglayout import KIND_LEARNING, MINUTE_COLUMNS, STATUS_FINISHED
 from tvl_cli.io.logreader import LearningLog, Session, read_log
 from tvl_cli.io.runfile import RunTrace, read_run, recorded_paths
-from tvl_cli.io.schema import LOG_FORMAT, RUN_FORMAT, file_format
 from tvl_cli.sim.worldmap import parse_world
 
 

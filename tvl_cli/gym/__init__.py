@@ -38,9 +38,9 @@ __all__ = [
     "TvlGymPolicy",
     "actions",
     "env",
-    "episode",
     "policies",
     "resolve_world",
     "scoring",
+    "task",
     "vector",
 ]

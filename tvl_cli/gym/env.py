@@ -2,7 +2,7 @@
 of the step engine (agent.engine), the one `tvl run` steps.
 
 The environment adds only what Gymnasium asks for: spaces, a reward and an end for each task
-(gym.episode), and rendering. Observations are the sonar ring (and, seeking a goal, the goal's
+(gym.task), and rendering. Observations are the sonar ring (and, seeking a goal, the goal's
 bearing and distance by odometry); actions are the trajectories at one speed, a spin either
 way and a stop, or with `action_type="continuous"` any (speed, turn rate) within the robot's
 limits. A bump ends an episode in every task.
@@ -30,7 +30,7 @@ from tvl_cli.gym.actions import (
     SPIN_RIGHT,
     STOP_ACTION,
 )
-from tvl_cli.gym.episode import (
+from tvl_cli.gym.task import (
     TASKS,
     RobotEpisode,
     RobotTask,

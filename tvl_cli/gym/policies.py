@@ -21,7 +21,7 @@ from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.trajectory_choice import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD, is_threshold
 from tvl_cli.gym.actions import DISCRETE, ROBOT, SPIN_LEFT, SPIN_RIGHT
-from tvl_cli.gym.episode import AVOID, SONARS
+from tvl_cli.gym.task import AVOID, SONARS
 from tvl_cli.io.famfile import read_fam
 
 

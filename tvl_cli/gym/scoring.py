@@ -32,7 +32,7 @@ from tvl_cli.core.errors import BadInput
 from tvl_cli.core.method import Method
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.gym.actions import CONTINUOUS, DISCRETE
-from tvl_cli.gym.episode import AVOID, GOAL, RobotTask, observation_of
+from tvl_cli.gym.task import AVOID, GOAL, RobotTask, observation_of
 from tvl_cli.sim.worldmap import WorldMap
 
 Act = Callable[[np.ndarray], Any]

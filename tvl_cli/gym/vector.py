@@ -1,7 +1,7 @@
 """tvl/SonarRing-v0 as a Gymnasium vector environment: N copies of its task in one world,
 every robot stepped by one RobotBatch (one physics space, one ring kernel call a step).
 
-Each copy follows the single environment's rules (gym.episode) over a step engine of its own
+Each copy follows the single environment's rules (gym.task) over a step engine of its own
 (agent.engine) on its robot of the batch, which moves and judges it as the single
 environment's engine does its Simulator, so copy i with seed s and the same actions gives
 what `SonarRingEnv` reset with seed s gives, step by step, through Gymnasium's next-step
@@ -24,7 +24,7 @@ from tvl_cli.agent.engine import StepEngine, hold_together, step_together
 from tvl_cli.core.method import Method
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.gym.actions import DISCRETE
-from tvl_cli.gym.episode import (
+from tvl_cli.gym.task import (
     RobotEpisode,
     RobotTask,
     positive_int,

@@ -37,8 +37,7 @@ from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import FamConfig, FamTable
 from tvl_cli.core.method import SESSIONS_DIFFER_IN, Method, method_record
 from tvl_cli.core.robot_config import RobotConfig
-from tvl_cli.io.method_records import ReadMethod, current, fam_method
-from tvl_cli.io.schema import (
+from tvl_cli.io.hdf5_header import (
     FAM_FORMAT,
     METHOD_RECORDED_SINCE,
     FormatError,
@@ -48,6 +47,7 @@ from tvl_cli.io.schema import (
     read_str_attr,
     write_header,
 )
+from tvl_cli.io.method_records import ReadMethod, current, fam_method
 
 FAMS = "fams"
 AXES = "axes"

@@ -10,6 +10,7 @@ from typing import Any
 import h5py
 
 from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.io.hdf5_header import hdf5_output
 from tvl_cli.io.loglayout import (
     EPISODE_DTYPE,
     EXEMPLAR_DATASETS,
@@ -17,7 +18,6 @@ from tvl_cli.io.loglayout import (
     MINUTE_UNITS,
     SESSIONS,
 )
-from tvl_cli.io.schema import hdf5_output
 
 # Rows per chunk: about 32 KiB of sonar readings, enough for gzip to work with.
 EXEMPLAR_CHUNK_ROWS = 1024

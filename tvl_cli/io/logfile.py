@@ -58,6 +58,16 @@ from tvl_cli.core.errors import BadInput
 from tvl_cli.core.method import Method, method_record
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.atomic import atomic_output, refuse_missing_directory
+from tvl_cli.io.hdf5_header import (
+    FORMAT_VERSIONS,
+    LIBVER,
+    LOG_FORMAT,
+    open_for_appending,
+    read_json_attr,
+    to_json,
+    utc_now,
+    write_header,
+)
 from tvl_cli.io.lock import WriterLock
 from tvl_cli.io.log_storage import compress, new_session
 from tvl_cli.io.loglayout import (
@@ -71,16 +81,6 @@ from tvl_cli.io.loglayout import (
     STATUS_FINISHED,
     STATUS_RUNNING,
     check_log_structure,
-)
-from tvl_cli.io.schema import (
-    FORMAT_VERSIONS,
-    LIBVER,
-    LOG_FORMAT,
-    open_for_appending,
-    read_json_attr,
-    to_json,
-    utc_now,
-    write_header,
 )
 
 

@@ -8,7 +8,7 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-from tvl_cli.io.schema import FormatError
+from tvl_cli.io.hdf5_header import FormatError
 
 SESSIONS = "sessions"
 

@@ -17,6 +17,13 @@ from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam_config import FamConfig
 from tvl_cli.core.method import Method
 from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.io.hdf5_header import (
+    LOG_FORMAT,
+    FormatError,
+    open_for_reading,
+    read_json_attr,
+    read_str_attr,
+)
 from tvl_cli.io.lock import writer_pid
 from tvl_cli.io.loglayout import (
     COMMITTED_EPISODES,
@@ -31,13 +38,6 @@ from tvl_cli.io.loglayout import (
     check_log_structure,
 )
 from tvl_cli.io.method_records import ReadMethod, session_method
-from tvl_cli.io.schema import (
-    LOG_FORMAT,
-    FormatError,
-    open_for_reading,
-    read_json_attr,
-    read_str_attr,
-)
 
 
 @dataclass(frozen=True, slots=True, eq=False)

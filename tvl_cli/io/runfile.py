@@ -50,9 +50,7 @@ from tvl_cli.core.errors import BadInput
 from tvl_cli.core.method import Method
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.atomic import atomic_output
-from tvl_cli.io.loglayout import STATUS_FINISHED, ended_status
-from tvl_cli.io.method_records import ReadMethod, current, trace_method
-from tvl_cli.io.schema import (
+from tvl_cli.io.hdf5_header import (
     LIBVER,
     METHOD_RECORDED_SINCE,
     RUN_FORMAT,
@@ -63,6 +61,8 @@ from tvl_cli.io.schema import (
     to_json,
     write_header,
 )
+from tvl_cli.io.loglayout import STATUS_FINISHED, ended_status
+from tvl_cli.io.method_records import ReadMethod, current, trace_method
 
 _COMPRESSION: dict[str, Any] = {"compression": "gzip", "compression_opts": 4, "shuffle": True}
 _CHUNK_ROWS = 1024  # steps per HDF5 chunk

@@ -25,9 +25,9 @@ import pymunk.batch
 from tvl_cli.core.drive_command import STOP, Command
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.bodies import ContactRecorder, place_body
+from tvl_cli.sim.geometry import add_robot_body, clearances_m, static_geometry, static_space
 from tvl_cli.sim.motion import Pose, odometry_after, substep_motion, wheel_velocity
 from tvl_cli.sim.sonar import SonarRing
-from tvl_cli.sim.world import add_robot_body, clearances_m, static_geometry, static_space
 from tvl_cli.sim.worldmap import WorldMap
 
 _POSE = pymunk.batch.BodyFields.POSITION | pymunk.batch.BodyFields.ANGLE

@@ -25,7 +25,7 @@ def clearances(
     """Fill found (p,) with the metres from the edge of a body centred at each of points
     (p, 2) to the nearest obstacle: 0 where it touches or overlaps one, inf where none is
     within limit_m of the centre; and which (p,) with that obstacle, numbered segments first,
-    then discs, then rings (-1: none). Segments as sim.world.StaticGeometry keeps them; discs
+    then discs, then rings (-1: none). Segments as sim.geometry.StaticGeometry keeps them; discs
     (m, 3) and rings (k, 3) x, y, r metres."""
     n, m = seg_len.shape[0], discs.shape[0]
     for i in range(points.shape[0]):

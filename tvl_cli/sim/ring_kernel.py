@@ -16,7 +16,7 @@ The arguments come in tuples, each unpacked by name where it is used:
         rays (16 * r, 4): each ray's body-frame direction (cos, sin), then its offset d from its
             transducer's normal as body_radius_m * (cos d, sin d); beam by beam
     walls = (start, normal, moment, length, ends, corner_sides, roughness)
-        as sim.world.StaticGeometry's seg_start, seg_normal, seg_moment, seg_len, seg_ends,
+        as sim.geometry.StaticGeometry's seg_start, seg_normal, seg_moment, seg_len, seg_ends,
         corner_sides and seg_roughness (n,): 0 to 1, how much sound each wall scatters
     grid = (x0_m, y0_m, cell_m, columns, rows, first, walls, lines, largest)
         sim.wall_grid.WallGrid's cells of walls (as_kernel_input), and the most any holds

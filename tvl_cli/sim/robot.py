@@ -11,9 +11,9 @@ import numpy as np
 from tvl_cli.core.drive_command import Command
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.bodies import ContactRecorder, place_body
+from tvl_cli.sim.geometry import build_space, clearance_m, static_geometry
 from tvl_cli.sim.motion import Pose, odometry_after, substep_motion, wheel_velocity
 from tvl_cli.sim.sonar import SonarRing
-from tvl_cli.sim.world import build_space, clearance_m, static_geometry
 from tvl_cli.sim.worldmap import WorldMap
 
 __all__ = ["Pose", "Simulator"]

@@ -17,7 +17,7 @@ import numpy as np
 
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.canvas import CELL_M, Canvas
-from tvl_cli.sim.world import clearances_m, static_geometry
+from tvl_cli.sim.geometry import clearances_m, static_geometry
 from tvl_cli.sim.worldheader import WorldMapError
 from tvl_cli.sim.worldmap import parse_world
 

@@ -26,7 +26,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from tvl_cli.core.robot_config import SonarConfig
-from tvl_cli.sim.world import StaticGeometry
+from tvl_cli.sim.geometry import StaticGeometry
 
 # A ray finds a corner when it hits one of the corner's walls within this many "footprints" of
 # it, where a footprint is half the gap between neighbouring rays at that range. A corner lying

@@ -68,7 +68,7 @@ def wall_grid(
     segments: np.ndarray, normal: np.ndarray, start: np.ndarray, cell_m: float = CELL_M
 ) -> WallGrid:
     """The grid over segments (n, 4) x1, y1, x2, y2 metres, with their normals (2, n) and
-    starts (2, n) as sim.world.StaticGeometry keeps them: cells of cell_m, or smaller where
+    starts (2, n) as sim.geometry.StaticGeometry keeps them: cells of cell_m, or smaller where
     the walls crowd (WALL_SPACINGS_A_CELL), or larger in a world too wide for MAX_CELLS."""
     n = len(segments)
     ends = segments.reshape(-1, 2)

@@ -4,7 +4,7 @@ the option at the first fault, before anything runs."""
 from __future__ import annotations
 
 from tvl_cli.bench.controllers import parse_controller
-from tvl_cli.bench.generalization import GeneralizationRequest
+from tvl_cli.bench.generalization_suite import GeneralizationRequest
 from tvl_cli.bench.references import REFERENCES
 from tvl_cli.core.errors import BadInput, did_you_mean
 from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS

@@ -45,8 +45,8 @@ from tvl_cli.core.trajectory_choice import DEFAULT_THRESHOLD
 from tvl_cli.io.famfile import read_fam
 from tvl_cli.io.logreader import file_sha256
 from tvl_cli.io.runfile import read_run
+from tvl_cli.sim.geometry import StaticGeometry, nearest_element, static_geometry
 from tvl_cli.sim.sonar import SonarRing
-from tvl_cli.sim.world import StaticGeometry, nearest_element, static_geometry
 from tvl_cli.sim.worldmap import WorldMap, parse_world
 
 # A contact this near a wall's end meets the end itself: a convex edge or a free end.

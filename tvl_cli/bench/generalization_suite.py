@@ -14,10 +14,10 @@ from collections.abc import Callable
 from dataclasses import dataclass, replace
 
 from tvl_cli.analysis.generalization import Figures, summarise
-from tvl_cli.bench.cells import Cell, FamFileCell, PolicyCell
 from tvl_cli.bench.controllers import FAM, METHOD, Controller
 from tvl_cli.bench.references import CONTROLLER, OURS, REFERENCES, Setting
-from tvl_cli.bench.runner import BenchRun, Where, run_cells
+from tvl_cli.bench.suite_cells import Cell, FamFileCell, PolicyCell
+from tvl_cli.bench.suite_runner import BenchRun, Where, run_cells
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS, FamConfig
 from tvl_cli.core.method import Method

@@ -20,9 +20,9 @@ from dataclasses import dataclass
 
 from tvl_cli.analysis.claims import CLAIMS, ClaimRow, judge
 from tvl_cli.analysis.wall_threshold import PAPER_FIG21
-from tvl_cli.bench.cells import Cell, FamPlan, LearntCell, RunPlan
-from tvl_cli.bench.generalization import FULL, QUICK, TINY
-from tvl_cli.bench.runner import BenchRun, Where, run_cells
+from tvl_cli.bench.generalization_suite import FULL, QUICK, TINY
+from tvl_cli.bench.suite_cells import Cell, FamPlan, LearntCell, RunPlan
+from tvl_cli.bench.suite_runner import BenchRun, Where, run_cells
 from tvl_cli.core.errors import BadInput, did_you_mean
 from tvl_cli.core.fam_config import MULTI, SINGLE
 from tvl_cli.core.method import DEFAULT_NAME, PAPER_NAME, Method

@@ -16,8 +16,8 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from tvl_cli.analysis.result_rows import read_results
-from tvl_cli.bench.cells import Cell, cell_id
-from tvl_cli.bench.work import CELL, CELL_ROWS, FAMS, LOGS, WORLDS, Row, do_cell
+from tvl_cli.bench.suite_cells import Cell, cell_id
+from tvl_cli.bench.suite_work import CELL, CELL_ROWS, FAMS, LOGS, WORLDS, Row, do_cell
 from tvl_cli.core.errors import BadInput
 from tvl_cli.io.lock import WriterLock
 from tvl_cli.io.table import append_rows

@@ -20,7 +20,7 @@ from tvl_cli.agent.drive_tvl import BehaviourRun, behave_together
 from tvl_cli.agent.explore import LearnParams
 from tvl_cli.agent.trace import Columns, TraceRecorder
 from tvl_cli.agent.true_velocities import behave_with_true_velocities
-from tvl_cli.bench.cells import (
+from tvl_cli.bench.suite_cells import (
     Cell,
     DwaCell,
     FamFileCell,
@@ -32,8 +32,8 @@ from tvl_cli.bench.cells import (
     RunPlan,
     cell_id,
 )
-from tvl_cli.commands.autopsy import run_autopsy
 from tvl_cli.commands.baseline import dwa_session, qlearn_session
+from tvl_cli.commands.contact_autopsy import run_autopsy
 from tvl_cli.commands.learn import LearnRequest
 from tvl_cli.commands.run import run_method, run_record, run_robot
 from tvl_cli.commands.train import train_from_logs, write_trained
