@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 import pytest
-from test_world import room, square_block
+from test_geometry import room, square_block
 
 from tvl_cli.core.drive_command import STOP, Command
 from tvl_cli.core.robot_config import RobotConfig

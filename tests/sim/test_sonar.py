@@ -9,7 +9,7 @@ import numpy as np
 import pymunk
 import pytest
 from cluttered_hall import cluttered_hall
-from test_world import room, square_block
+from test_geometry import room, square_block
 
 from tvl_cli.core.robot_config import SonarConfig
 from tvl_cli.sim.geometry import StaticGeometry, clearance_m, static_geometry
