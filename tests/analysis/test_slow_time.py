@@ -52,7 +52,7 @@ def driven(world: WorldMap, fam: Fam, minutes: float) -> Columns:
 
 def slow_seconds(world: WorldMap, columns: Columns, fam: Fam | None) -> dict[str, float]:
     poses_before = np.vstack([np.array(world.start)[None, :], columns["pose"][:-1]])
-    truth = TrueVelocities(world, ROBOT, LIVE, lambda: (0.0, 0.0, 0.0))
+    truth = TrueVelocities(world, ROBOT, LIVE)
     return slow_time_by_cause(
         ROBOT, DEFAULT_THRESHOLD, columns, poses_before, lambda pose: truth.in_view(pose, 0), fam
     )

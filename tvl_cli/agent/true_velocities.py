@@ -33,8 +33,14 @@ class TrueVelocities:
     """Perceives like a FAM (`perceive`), from the true pose and the map."""
 
     def __init__(
-        self, world: WorldMap, robot: RobotConfig, method: Method, true_pose: Callable[[], Pose]
+        self,
+        world: WorldMap,
+        robot: RobotConfig,
+        method: Method,
+        true_pose: Callable[[], Pose] | None = None,
     ) -> None:
+        """`true_pose` gives the pose `perceive` perceives from; a caller that names its own
+        poses (`in_view`) needs none."""
         self._arcs = TrueArcs(world, robot, collision_clearance_m(robot))
         self._labels = (method.decel_mps2, method.margin_m)
         self._reach_m = self._arcs.reach_m(*self._labels)
@@ -44,6 +50,7 @@ class TrueVelocities:
 
     def perceive(self, ring_m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(16, 7) m/s, view k facing sonar k, and the experience (all ones: known)."""
+        assert self._true_pose is not None, "perceive needs the true pose"
         velocities = self._velocities(self._true_pose(), self._views)
         return velocities, np.ones_like(velocities)
 

@@ -60,8 +60,8 @@ def slow_time_by_cause(
                 read_fast = np.asarray(columns["fast"][step], dtype=bool) & ahead
                 live_fast = None
             else:
-                read_fast = fam.perceive(read_m[step])[0][0] >= fast_from_mps  # row 0: ahead
-                live_fast = fam.perceive(live_m[step])[0][0] >= fast_from_mps
+                read_fast = fam.velocities(read_m[step]) >= fast_from_mps  # rotation 0: ahead
+                live_fast = fam.velocities(live_m[step]) >= fast_from_mps
             cause = slow_cause(truly_fast, read_fast, live_fast)
         seconds[cause] += robot.control_period_s
     return seconds

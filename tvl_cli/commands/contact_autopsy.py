@@ -112,7 +112,8 @@ def run_autopsy(
     sonars_of = {
         j: (table_sonars or {}).get(name, every) for j, name in enumerate(trajectory_names)
     }
-    judge = _Contacts(world, robot, method, columns, poses_before, fam, sonars_of)
+    truth = TrueVelocities(world, robot, method)
+    judge = _Contacts(world, robot, columns, poses_before, fam, sonars_of, truth)
     found = [(int(s), BUMP) for s in steps_beginning(columns["events"], BUMP)]
     found += [(int(s), NEAR_MISS) for s in steps_beginning(columns["events"], NEAR_MISS)]
     contacts = []
@@ -124,7 +125,6 @@ def run_autopsy(
     failure, closest = None, None
     if goal_xy is not None and not goal_reached:
         failure, closest = goal_failure(pose[:, :2], goal_xy, GOAL_RADIUS_M, time_s, dt)
-    truth = TrueVelocities(world, robot, method, lambda: (0.0, 0.0, 0.0))
     slow_s = slow_time_by_cause(
         robot, threshold, columns, poses_before, lambda pose: truth.in_view(pose, 0), fam
     )
@@ -140,11 +140,11 @@ class _Contacts:
         self,
         world: WorldMap,
         robot: RobotConfig,
-        method: Method,
         columns: Columns,
         poses_before: np.ndarray,
         fam: Fam | None,
         sonars_of: dict[int, tuple[int, ...]],
+        truth: TrueVelocities,
     ) -> None:
         self._dt = robot.control_period_s
         self._columns = columns
@@ -167,7 +167,7 @@ class _Contacts:
         self._rating_steps = max(1, round(RATING_S / self._dt))
         # (N,) steps the policy chose, seeing the ring
         self._decided = self._read & (columns["choice"] >= 0)
-        self._ratings = _Ratings(world, robot, method, columns, poses_before, self._fam_read, fam)
+        self._ratings = _Ratings(truth, columns, poses_before, self._fam_read, fam)
 
     def facts(
         self,
@@ -239,16 +239,13 @@ class _Ratings:
 
     def __init__(
         self,
-        world: WorldMap,
-        robot: RobotConfig,
-        method: Method,
+        truth: TrueVelocities,
         columns: Columns,
         poses_before: np.ndarray,
         fam_read: np.ndarray,
         fam: Fam | None,
     ) -> None:
-        self._velocities = TrueVelocities(world, robot, method, lambda: self._pose)
-        self._pose = (0.0, 0.0, 0.0)
+        self._truth = truth
         self._columns = columns
         self._poses = poses_before
         self._fam_read = fam_read
@@ -258,8 +255,7 @@ class _Ratings:
         """At the choice of `step`: the rating (m/s), the true velocity, the experience."""
         rotation, chosen = int(self._columns["rotation"][step]), int(self._columns["choice"][step])
         x, y, theta = self._poses[step]
-        self._pose = (float(x), float(y), float(theta))
-        true = self._velocities.perceive(self._fam_read[step])[0][rotation % 16, chosen]
+        true = self._truth.in_view((float(x), float(y), float(theta)), rotation % 16)[chosen]
         experience = (
             None
             if self._fam is None
