@@ -30,8 +30,8 @@ import numpy as np
 
 from tvl_cli.agent.drive_tvl import behave
 from tvl_cli.agent.explore import Learner, LearnParams
-from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS, Fam
-from tvl_cli.core.fam_config import SINGLE
+from tvl_cli.core.fam import Fam
+from tvl_cli.core.fam_config import DEFAULT_INIT_VELOCITY_MPS, SINGLE
 from tvl_cli.core.memory import MEMORY_KINDS
 from tvl_cli.core.method import ALL, DEFAULT, PAPER, Method, parse_reflexes
 from tvl_cli.core.robot_config import RobotConfig

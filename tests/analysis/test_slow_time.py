@@ -24,11 +24,11 @@ from tvl_cli.analysis.autopsy import (
     slow_cause,
 )
 from tvl_cli.analysis.slow_time import slow_time_by_cause
+from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.memory import NO_MEMORY
 from tvl_cli.core.method import DEFAULT
-from tvl_cli.core.trajectory_choice import DEFAULT_THRESHOLD
 from tvl_cli.sim.worldmap import WorldMap, parse_world
 
 # The paper's choice rule alone, on the live ring.

@@ -43,6 +43,16 @@ def test_the_top_level_help_loads_no_heavy_library() -> None:
     assert loaded == "[]"
 
 
+def test_the_run_commands_help_loads_neither_numpy_nor_the_progress_bars() -> None:
+    # Each takes a tenth of a second or more to import, the most of `tvl run --help`'s
+    # start-up: the options name numpy-free constants, and a bar is built when one runs.
+    printed, loaded = helps_in_a_fresh_interpreter(
+        "[['run', '--help']]", "('numpy', 'rich.progress')"
+    )
+    assert "Perform a behaviour in WORLD" in printed
+    assert loaded == "[]"
+
+
 @pytest.mark.slow  # about half a second
 def test_the_run_commands_help_loads_neither_hdf5_nor_the_physics() -> None:
     # What `tvl run --help` prints needs the options alone (cli.runs says so); the JSON

@@ -24,13 +24,13 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from tvl_cli.core.behaviours import is_threshold
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS
 from tvl_cli.core.fam_config_json import fam_config_from_json
 from tvl_cli.core.labels import velocity_labels
 from tvl_cli.core.method import FIELDS, method_from_dict
 from tvl_cli.core.robot_config import RobotConfig
-from tvl_cli.core.trajectory_choice import is_threshold
 from tvl_cli.io.robotfile import robot_from_table
 from tvl_cli.io.tomlfile import loads_toml
 from tvl_cli.sweep.grid import read_grid

@@ -14,11 +14,11 @@ from tvl_cli.agent.perception import Perception
 from tvl_cli.agent.policy import Policy
 from tvl_cli.agent.reflexes import wrap
 from tvl_cli.agent.tvl import TvlPolicy, VelocityPerception
+from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.method import Method
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.core.robot_config import RobotConfig
-from tvl_cli.core.trajectory_choice import DEFAULT_THRESHOLD
 from tvl_cli.sim.batch import RobotBatch
 from tvl_cli.sim.worldmap import WorldMap
 

@@ -29,10 +29,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from tvl_cli.agent.policy import LazyRing, Observation, Pose
+from tvl_cli.core.behaviours import GOAL_RADIUS_M
 from tvl_cli.core.contacts import EventDetector, near_miss_sonars
 from tvl_cli.core.drive_command import Command
 from tvl_cli.core.robot_config import RobotConfig
-from tvl_cli.core.trajectory_choice import GOAL_RADIUS_M
 from tvl_cli.sim.batch import BatchRobot, RobotBatch
 from tvl_cli.sim.robot import Simulator
 from tvl_cli.sim.worldmap import WorldMap

@@ -21,10 +21,10 @@ from tvl_cli.agent.drive_tvl import behaving_policy
 from tvl_cli.agent.engine import StepEngine
 from tvl_cli.agent.policy import Pose
 from tvl_cli.core.arcs import collision_clearance_m
+from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
 from tvl_cli.core.method import Method
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.core.robot_config import RobotConfig
-from tvl_cli.core.trajectory_choice import DEFAULT_THRESHOLD
 from tvl_cli.sim.true_arcs import TrueArcs
 from tvl_cli.sim.worldmap import WorldMap
 

@@ -15,10 +15,10 @@ from pathlib import Path
 from typing import Any
 
 from tvl_cli.core import jsontext
+from tvl_cli.core.behaviours import is_threshold
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.core.text import decoded
-from tvl_cli.core.trajectory_choice import is_threshold
 
 Row = dict[str, Any]
 

@@ -7,7 +7,7 @@ from tvl_cli.analysis.aggregation import distinct, seed_interval, select
 from tvl_cli.analysis.intervals import Interval
 from tvl_cli.analysis.result_rows import Row
 from tvl_cli.core import competence
-from tvl_cli.core.trajectory_choice import BEHAVIOUR_NAMES
+from tvl_cli.core.behaviours import BEHAVIOUR_NAMES
 
 # A setting is collision prone above the competence limit (dashed in Figure 21).
 COLLISION_PRONE_PER_MIN = competence.MAX_CONTACTS_PER_MIN

@@ -23,10 +23,10 @@ from tvl_cli.analysis.wall_threshold import PAPER_FIG21
 from tvl_cli.bench.generalization_suite import FULL, QUICK, TINY
 from tvl_cli.bench.suite_cells import Cell, FamPlan, LearntCell, RunPlan
 from tvl_cli.bench.suite_runner import BenchRun, Where, run_cells
+from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
 from tvl_cli.core.errors import BadInput, did_you_mean
 from tvl_cli.core.fam_config import MULTI, SINGLE
 from tvl_cli.core.method import DEFAULT_NAME, PAPER_NAME, Method
-from tvl_cli.core.trajectory_choice import DEFAULT_THRESHOLD
 from tvl_cli.io.methodfile import resolve_method
 from tvl_cli.sim.worldgen import bundled_world_path
 from tvl_cli.sim.worldmap import WorldMap, load_world

@@ -18,10 +18,10 @@ from tvl_cli.bench.controllers import FAM, METHOD, Controller
 from tvl_cli.bench.references import CONTROLLER, OURS, REFERENCES, Setting
 from tvl_cli.bench.suite_cells import Cell, FamFileCell, PolicyCell
 from tvl_cli.bench.suite_runner import BenchRun, Where, run_cells
+from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS, FamConfig
 from tvl_cli.core.method import Method
-from tvl_cli.core.trajectory_choice import DEFAULT_THRESHOLD
 from tvl_cli.sim.worldgen import generate_world
 from tvl_cli.sim.worldmap import parse_world
 from tvl_cli.sweep.executors import OnDashboard

@@ -6,10 +6,10 @@ from __future__ import annotations
 from tvl_cli.bench.controllers import parse_controller
 from tvl_cli.bench.generalization_suite import GeneralizationRequest
 from tvl_cli.bench.references import REFERENCES
+from tvl_cli.core.behaviours import is_threshold
 from tvl_cli.core.errors import BadInput, did_you_mean
 from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS
 from tvl_cli.core.robot_config import RobotConfig
-from tvl_cli.core.trajectory_choice import is_threshold
 from tvl_cli.io.fam_config_file import resolve_fam_config
 from tvl_cli.io.methodfile import resolve_method
 

@@ -37,12 +37,12 @@ from tvl_cli.commands.contact_autopsy import run_autopsy
 from tvl_cli.commands.learn import LearnRequest
 from tvl_cli.commands.run import run_method, run_record, run_robot
 from tvl_cli.commands.train import train_from_logs, write_trained
+from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
 from tvl_cli.core.competence import is_competent_run
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.method import NOT_GIVEN, Method, MethodChoice, describe_record
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.core.robot_profiles import DEFAULT_ROBOT
-from tvl_cli.core.trajectory_choice import DEFAULT_THRESHOLD
 from tvl_cli.io.famfile import FamFile, read_fam
 from tvl_cli.sim.worldmap import WorldMap, load_world
 from tvl_cli.sweep.layout import LogRequest, TrainRequest, learning_tag

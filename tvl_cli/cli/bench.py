@@ -14,7 +14,7 @@ from tvl_cli.cli import bench_view, grid_documents, views
 from tvl_cli.cli.examples import examples
 from tvl_cli.cli.groups import Subcommands
 from tvl_cli.cli.options import print_json
-from tvl_cli.core.trajectory_choice import DEFAULT_THRESHOLD
+from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
 from tvl_cli.sweep.executors import DEFAULT_SCHEDULER_TIMEOUT_S
 
 SIZES = ("tiny", "quick", "full")

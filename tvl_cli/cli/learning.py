@@ -23,6 +23,7 @@ from tvl_cli.cli.options import (
     training_options,
 )
 from tvl_cli.commands.learn import LearnRequest, LearnResult, learn_to_log
+from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.method import DEFAULT, EXPLORATION_RULES, FIELDS, MethodChoice
 from tvl_cli.core.robot_config import (
@@ -32,7 +33,6 @@ from tvl_cli.core.robot_config import (
     RobotConfig,
 )
 from tvl_cli.core.robot_profiles import DEFAULT_ROBOT_NAME
-from tvl_cli.core.trajectory_choice import DEFAULT_THRESHOLD
 from tvl_cli.core.words import counted
 from tvl_cli.io.interrupts import STOPPED_EXIT
 from tvl_cli.sim.world_entries import named_worlds

@@ -21,8 +21,7 @@ from tvl_cli.cli.params import (
     goal_point,
 )
 from tvl_cli.core.errors import MAX_SEED, BadInput
-from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS
-from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS
+from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS, DEFAULT_INIT_VELOCITY_MPS
 from tvl_cli.core.labels import LABEL_RULES
 from tvl_cli.core.memory import (
     NOT_CHOSEN,

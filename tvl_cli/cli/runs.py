@@ -36,10 +36,10 @@ from tvl_cli.cli.options import (
     robot_option,
     seed_option,
 )
+from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD
 from tvl_cli.core.errors import DEFAULT_RUN_MINUTES
 from tvl_cli.core.method import ALL, MethodChoice
 from tvl_cli.core.robot_config import SONAR_MODEL_NAMES, RobotConfig
-from tvl_cli.core.trajectory_choice import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD
 
 if TYPE_CHECKING:
     from tvl_cli.agent.drive import StepSink

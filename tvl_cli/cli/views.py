@@ -8,25 +8,18 @@ from dataclasses import asdict
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from rich.progress import (
-    BarColumn,
-    Progress,
-    TaskProgressColumn,
-    TextColumn,
-    TimeElapsedColumn,
-    TimeRemainingColumn,
-)
-
 from tvl_cli.cli.console import err, folded, out, say
 from tvl_cli.cli.fam_views import explanation
 from tvl_cli.cli.tables import GOAL_METRICS, NOTHING, cell, facts, label, labelled, percent, table
+from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
 from tvl_cli.core.method import describe_record
-from tvl_cli.core.trajectory_choice import DEFAULT_THRESHOLD
 from tvl_cli.core.words import counted
 
 if TYPE_CHECKING:
     # What is shown, named for its type only: a command's `--help` imports this module, and
     # importing these would load every command's machinery.
+    from rich.progress import Progress
+
     from tvl_cli.agent.drive import Step, StepSink
     from tvl_cli.agent.explore import MinuteStats
     from tvl_cli.analysis.autopsy import Autopsy
@@ -39,6 +32,16 @@ if TYPE_CHECKING:
 
 
 def _bar(description: str) -> Progress:
+    # Imported for a bar, not with the module: a command's `--help` imports this module.
+    from rich.progress import (
+        BarColumn,
+        Progress,
+        TaskProgressColumn,
+        TextColumn,
+        TimeElapsedColumn,
+        TimeRemainingColumn,
+    )
+
     return Progress(
         TextColumn("{task.description}"),
         BarColumn(),

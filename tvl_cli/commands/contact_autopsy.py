@@ -35,13 +35,13 @@ from tvl_cli.analysis.autopsy import (
     time_by_class,
 )
 from tvl_cli.analysis.slow_time import slow_time_by_cause
+from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
 from tvl_cli.core.contacts import BUMP, NEAR_MISS, near_miss_sonars, steps_beginning
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.method import DEFAULT, Method
 from tvl_cli.core.ring import mm_to_ring
 from tvl_cli.core.robot_config import RobotConfig
-from tvl_cli.core.trajectory_choice import DEFAULT_THRESHOLD
 from tvl_cli.io.famfile import read_fam
 from tvl_cli.io.logreader import file_sha256
 from tvl_cli.io.runfile import read_run

@@ -14,8 +14,9 @@ from tvl_cli.agent.drive_tvl import behave
 from tvl_cli.agent.online import ECHO_AFTER_S, ECHO_BEFORE_S, OnlineLearner, OnlineSummary
 from tvl_cli.agent.trace import ColumnSink, PathRecorder, TraceRecorder
 from tvl_cli.analysis.robotdiff import robot_differences
+from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, is_threshold
 from tvl_cli.core.errors import BadInput, check_run_minutes
-from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS
+from tvl_cli.core.fam_config import DEFAULT_INIT_VELOCITY_MPS
 from tvl_cli.core.method import (
     BEHAVING_FIELDS,
     DEFAULT,
@@ -29,7 +30,6 @@ from tvl_cli.core.metrics import MinuteContacts, MinuteTally, RunMetrics
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.core.robot_profiles import body_of, profile_name, robot_name
 from tvl_cli.core.training import TrainParams, train_params
-from tvl_cli.core.trajectory_choice import BEHAVIOUR_NAMES, is_threshold
 from tvl_cli.io.famfile import FamFile, read_fam
 from tvl_cli.io.logfile import LogWriter
 from tvl_cli.io.loglayout import KIND_BEHAVING

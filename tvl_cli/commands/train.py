@@ -15,8 +15,8 @@ from tvl_cli.agent.perception import perceived_episodes
 from tvl_cli.core.arcs import collision_clearance_m
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
-from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS, Fam
-from tvl_cli.core.fam_config import FamConfig
+from tvl_cli.core.fam import Fam
+from tvl_cli.core.fam_config import DEFAULT_INIT_VELOCITY_MPS, FamConfig
 from tvl_cli.core.heard import HeardEpisode
 from tvl_cli.core.method import (
     NOT_GIVEN,

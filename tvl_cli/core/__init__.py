@@ -4,6 +4,7 @@ __all__ = [
     "additions",
     "angles",
     "arcs",
+    "behaviours",
     "competence",
     "contacts",
     "contacts_kernel",

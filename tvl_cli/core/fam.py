@@ -17,13 +17,11 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from tvl_cli.core.errors import BadInput
-from tvl_cli.core.fam_config import FamConfig, FamTable
+from tvl_cli.core.fam_config import DEFAULT_INIT_VELOCITY_MPS, FamConfig, FamTable
 from tvl_cli.core.fam_config_json import validate_fam_config
 from tvl_cli.core.fam_firing import Firing, TableTraining
 from tvl_cli.core.fired_rules import Explanation, FiredRule, reading
 from tvl_cli.core.robot_config import SONAR_COUNT, mirror_trajectory
-
-DEFAULT_INIT_VELOCITY_MPS = 0.1  # paper §3.1: an unknown reading must be perceived as slow
 
 
 def rule_set_indices(table: FamTable, rules: np.ndarray | None = None) -> np.ndarray:

@@ -1,5 +1,6 @@
 """The FAM's configuration: fuzzy partitions, inputs and tables, with JSON round trips, and
-the built-in configurations (the paper's single and multi FAMs, and the designed one).
+the built-in configurations (the paper's single and multi FAMs, and the designed one); and
+the velocity a rule holds before training.
 
 The configuration is stored as JSON inside each FAM file; users' own are read by
 core/fam_config_json.py.
@@ -12,6 +13,8 @@ from dataclasses import asdict, dataclass
 from typing import Any
 
 from tvl_cli.core.robot_config import ALL_TRAJECTORY_NAMES, mirror_sonar
+
+DEFAULT_INIT_VELOCITY_MPS = 0.1  # paper §3.1: an unknown reading must be perceived as slow
 
 # Fuzzy-set names by partition size: very near .. very far.
 SET_NAMES: dict[int, tuple[str, ...]] = {

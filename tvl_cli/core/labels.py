@@ -8,10 +8,15 @@ never more than the trajectory's maximum; after a full circle every point gets v
 
 from __future__ import annotations
 
-import numpy as np
+from typing import TYPE_CHECKING
 
 from tvl_cli.core.errors import check_in_range
 from tvl_cli.core.robot_config import SonarConfig
+
+if TYPE_CHECKING:
+    # The functions below import numpy when they run: core.method reads this module's
+    # constants, and a command's `--help` imports core.method.
+    import numpy as np
 
 # A trajectory is "fast" at threshold t while the collision point is at least
 # margin + (t * v_max)^2 / (2 a) away along it. A gentle deceleration makes that horizon long
@@ -44,6 +49,8 @@ def velocity_labels(
     margin_m: float = DEFAULT_MARGIN_M,
 ) -> np.ndarray:
     """Labels (N,) m/s for distances (N,) metres along the arc (inf: no collision ahead)."""
+    import numpy as np  # when labels are made, not when the constants are read
+
     check_in_range(decel_mps2, "deceleration", 0.0, MAX_DECEL_MPS2, "m/s²", low_allowed=False)
     check_in_range(margin_m, "margin", 0.0, MAX_MARGIN_M, "m")
     distance = np.asarray(distance_to_collision_m, dtype=np.float64)
@@ -61,6 +68,8 @@ def distances_to_collision(
     `arc_m` (N,) is the arc length travelled at each point; the collision point is at
     `end_arc_m`, by default the last recorded point.
     """
+    import numpy as np  # when labels are made, not when the constants are read
+
     arc = np.asarray(arc_m, dtype=np.float64)
     if not collided:
         return np.full(arc.shape, np.inf)

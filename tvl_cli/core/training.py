@@ -16,7 +16,8 @@ import numpy as np
 
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
-from tvl_cli.core.fam import DEFAULT_INIT_VELOCITY_MPS, Fam
+from tvl_cli.core.fam import Fam
+from tvl_cli.core.fam_config import DEFAULT_INIT_VELOCITY_MPS
 from tvl_cli.core.heard import HeardEpisode, HeardLabeller
 from tvl_cli.core.labels import (
     BUMP_LABELS,

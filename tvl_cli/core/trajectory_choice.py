@@ -15,23 +15,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from tvl_cli.core.angles import wrap_rad
+from tvl_cli.core.behaviours import LEFT_SONARS, RIGHT_SONARS
 
 # How far along an arc its heading is judged: far enough that arcs of different radius
 # point in clearly different directions, near enough to stay inside a few-metre arena.
 LOOKAHEAD_M = 0.5
-# The paper's default: fast means at least 85 % of a trajectory's maximum velocity.
-DEFAULT_THRESHOLD = 0.85
-GOAL_RADIUS_M = 0.3  # a goal counts as reached this near (goal seeking stops there)
-
-
-def is_threshold(value: float) -> bool:
-    """A threshold is a fraction of each trajectory's maximum velocity, in (0, 1]."""
-    return math.isfinite(value) and 0 < value <= 1
-
-
-# Each side front to back, mirror images, so that equal readings pick the same sonar on both.
-LEFT_SONARS = (2, 3, 4, 5, 6)
-RIGHT_SONARS = (14, 13, 12, 11, 10)
 
 
 @dataclass(frozen=True, slots=True)
@@ -103,9 +91,6 @@ BEHAVIOURS: dict[str, Scorer] = {
     "wall-right": _wall_score(-1),
     "goal": _goal_score,
 }
-# `wall` follows the side of the nearest object (Fig. 4(b)), so it scores like wall-left or
-# wall-right once the wall rule (core.wall_rules) has found that side.
-BEHAVIOUR_NAMES = ("avoid", "wall-left", "wall-right", "wall", "goal")
 
 
 def fast_set(velocities: np.ndarray, v_max: np.ndarray, threshold: float) -> np.ndarray:

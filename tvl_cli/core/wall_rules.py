@@ -10,10 +10,14 @@ to follow now. Until it finds one the robot goes on as when avoiding.
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import TYPE_CHECKING
 
-import numpy as np
+from tvl_cli.core.behaviours import LEFT_SONARS, RIGHT_SONARS
 
-from tvl_cli.core.trajectory_choice import LEFT_SONARS, RIGHT_SONARS
+if TYPE_CHECKING:
+    # For the types alone: the rules index arrays without calling numpy, and core.method,
+    # which a command's `--help` imports, names this module's rules.
+    import numpy as np
 
 # A reading this short on one side means a wall to follow on that side.
 WALL_SEEN_M = 1.0
@@ -46,6 +50,6 @@ def first_seen(behaviour: str, ring_m: np.ndarray, found: int) -> int:
 
 
 # (behaviour, ring (16,) metres, side found so far) -> the side to follow, 0 none yet.
-WallRule = Callable[[str, np.ndarray, int], int]
+WallRule = Callable[[str, "np.ndarray", int], int]
 FIRST_SEEN = "first-seen"
 WALL_RULES: dict[str, WallRule] = {FIRST_SEEN: first_seen}

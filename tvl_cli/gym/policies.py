@@ -17,9 +17,9 @@ from tvl_cli.agent.policy import LazyRing, Observation
 from tvl_cli.agent.tvl import TvlPolicy
 from tvl_cli.baselines.qlearning import DEFAULT_Q, empty_table
 from tvl_cli.baselines.qtable import QParams
+from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD, is_threshold
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
-from tvl_cli.core.trajectory_choice import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD, is_threshold
 from tvl_cli.gym.actions import DISCRETE, ROBOT, SPIN_LEFT, SPIN_RIGHT
 from tvl_cli.gym.task import AVOID, SONARS
 from tvl_cli.io.famfile import read_fam

@@ -15,10 +15,10 @@ from matplotlib.patches import Circle, PathPatch, Rectangle
 from matplotlib.path import Path as DrawPath
 
 from tvl_cli.analysis.surface import Surface
+from tvl_cli.core.behaviours import GOAL_RADIUS_M
 from tvl_cli.core.contacts import BACKOFF, BUMP, NEAR_MISS, steps_beginning
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.core.robot_profiles import DEFAULT_ROBOT
-from tvl_cli.core.trajectory_choice import GOAL_RADIUS_M
 from tvl_cli.core.words import counted
 from tvl_cli.render.formats import save_picture
 from tvl_cli.sim.worldmap import WorldMap

@@ -8,6 +8,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from tvl_cli.agent.explore import LearnParams
+from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD, is_threshold
 from tvl_cli.core.errors import (
     DEFAULT_RUN_MINUTES,
     MAX_SEED,
@@ -26,7 +27,6 @@ from tvl_cli.core.method import (
     parse_reflexes,
 )
 from tvl_cli.core.robot_config import RobotConfig
-from tvl_cli.core.trajectory_choice import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD, is_threshold
 from tvl_cli.sweep.cell import DWA, KINDS_OF_CELL, LEARN, QLEARN, TVL
 
 # `learn_config = "same"`: the learner explores with the FAM the cell trains.
