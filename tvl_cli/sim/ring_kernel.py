@@ -133,7 +133,9 @@ def _ray_echo(
     return echo, source
 
 
-@kernel
+# Inlined, so that it compiles with ring_ranges: as a kernel of its own it compiled twice, for
+# the literal -1 a beam's source starts at and for any source.
+@inlined
 def _reading(nearest, source, noise, model):
     """(reading, source) of a transducer whose nearest echo is `nearest` metres (inf: none)
     from `source`: plus its noise (a standard normal draw) unless the model is ideal,
