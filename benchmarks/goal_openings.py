@@ -1,5 +1,6 @@
 """Goals through the echo memory among pillars and narrow passages: does clearing wide
-patches while seeking a goal open the way, and at what cost in contacts?
+patches while seeking a goal open the way, does escaping by following walls, and at what
+cost in contacts?
 
     python benchmarks/goal_openings.py [--seeds 1-2] [--workers 2] [--json]
 
@@ -10,9 +11,11 @@ and 9 x 5 m and `tvl world new narrow` at 8 x 5 and 10 x 6 m, each with its own 
 For each world and seed, through the real `tvl` process: `tvl learn` 15 simulated minutes,
 by our method and by the paper's; `tvl train` the single, multi and designed FAMs from each
 log; then `tvl run --behaviour goal` for 5 minutes to each of the world's goals with each
-FAM. Our FAMs run with `--memory-clearing never` and `--memory-clearing goal`; the paper's
-method keeps no memory. It prints goals reached and contacts a minute (over the runs'
-simulated time) by method, clearing and configuration.
+FAM. Our FAMs run as learnt (clearing while seeking a goal), with `--memory-clearing never`,
+with `--memory-clearing toward-goal`, and with every reflex (`--reflex all`: the escape by
+following walls besides ours); the paper's method keeps no memory and has no reflex. It
+prints goals reached and contacts a minute (over the runs' simulated time) by row and
+configuration.
 """
 
 from __future__ import annotations
@@ -42,11 +45,13 @@ WORLDS = {  # name: (kind, width m, height m)
 CONFIGS = ("single", "multi", "designed")
 LEARN_MINUTES = "15"
 RUN_MINUTES = "5"
-# (row, method preset, --memory-clearing or None)
+# (row, method preset the FAMs are learnt by, what `tvl run` is given beyond the FAM's method)
 ROWS = (
-    ("ours, clearing never", "default", "never"),
-    ("ours, clearing goal (default)", "default", "goal"),
-    ("paper's method", "paper", None),
+    ("ours, clearing never", "default", ("--memory-clearing", "never")),
+    ("ours, clearing goal (default)", "default", ()),
+    ("ours, clearing toward the goal", "default", ("--memory-clearing", "toward-goal")),
+    ("ours, escape by following walls", "default", ("--reflex", "all")),
+    ("paper's method", "paper", ()),
 )
 TVL = str(Path(sys.executable).with_name("tvl"))
 
@@ -65,10 +70,10 @@ def learn_and_train(job: tuple[Path, str, int, str]) -> None:
         tvl("train", log, "--config", config, "-o", work / f"{log.stem}-{config}.h5")
 
 
-def run(job: tuple[Path, str, int, str, tuple[float, float], str, str | None]) -> dict:
-    work, world, seed, config, goal, method, clearing = job
+def run(job: tuple[Path, str, int, str, tuple[float, float], str, str]) -> dict:
+    work, world, seed, config, goal, method, name = job
     fam = work / f"{world}-{method}-s{seed}-{config}.h5"
-    extra = ["--memory-clearing", clearing] if clearing else []
+    extra = next(flags for row, _, flags in ROWS if row == name)
     out = tvl("run", fam, work / f"{world}.txt", "--behaviour", "goal", "--goal",
               f"{goal[0]:g},{goal[1]:g}", "--minutes", RUN_MINUTES, "--seed", seed, "--csv",
               *extra)  # fmt: skip
@@ -77,8 +82,7 @@ def run(job: tuple[Path, str, int, str, tuple[float, float], str, str | None]) -
         "world": world,
         "seed": seed,
         "config": config,
-        "method": method,
-        "clearing": clearing,
+        "row": name,
         "reached": row["goal_reached"] == "true",
         "contacts": int(row["contacts"]),
         "sim_s": float(row["sim_s"]),
@@ -90,8 +94,8 @@ def table(runs: list[dict]) -> str:
         "| method | " + " | ".join(CONFIGS) + " | all | contacts/min |",
         "| --- |" + " --- |" * (len(CONFIGS) + 2),
     ]
-    for name, method, clearing in ROWS:
-        mine = [r for r in runs if r["method"] == method and r["clearing"] == clearing]
+    for name, _, _ in ROWS:
+        mine = [r for r in runs if r["row"] == name]
         cells = []
         for config in (*CONFIGS, None):
             those = [r for r in mine if config is None or r["config"] == config]
@@ -103,12 +107,14 @@ def table(runs: list[dict]) -> str:
 
 
 def by_world(runs: list[dict]) -> str:
-    lines = ["| world | " + " | ".join(r[0] for r in ROWS) + " |", "| --- |" + " --- |" * 3]
+    lines = [
+        "| world | " + " | ".join(r[0] for r in ROWS) + " |",
+        "| --- |" + " --- |" * len(ROWS),
+    ]
     for world in WORLDS:
         cells = []
-        for _, method, clearing in ROWS:
-            those = [r for r in runs if r["world"] == world and r["method"] == method
-                     and r["clearing"] == clearing]  # fmt: skip
+        for name, _, _ in ROWS:
+            those = [r for r in runs if r["world"] == world and r["row"] == name]
             cells.append(f"{sum(r['reached'] for r in those)} of {len(those)}")
         lines.append(f"| {world} | " + " | ".join(cells) + " |")
     return "\n".join(lines)
@@ -130,12 +136,12 @@ def main() -> None:
         learnt = [(work, w, s, m) for w in WORLDS for s in args.seeds for m in methods]
         list(pool.map(learn_and_train, learnt))
         jobs = [
-            (work, w, s, c, goal, method, clearing)
+            (work, w, s, c, goal, method, name)
             for w in WORLDS
             for s in args.seeds
             for c in CONFIGS
             for goal in goals[w]
-            for _, method, clearing in ROWS
+            for name, method, _ in ROWS
         ]
         runs = list(pool.map(run, jobs))
     if args.json:

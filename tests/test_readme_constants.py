@@ -8,7 +8,14 @@ from doc_pages import page, section
 
 from tvl_cli.agent.motions import BACKOFF_M
 from tvl_cli.agent.novelty import BLOCKED_BEYOND_STOP_M, NOVELTY_BIN_M, NOVELTY_LOOKAHEAD_M
-from tvl_cli.agent.reflexes import BLOCKED_HALF_WIDTH_RAD, BLOCKED_S, STACK_ORDER
+from tvl_cli.agent.reflexes import (
+    BLOCKED_HALF_WIDTH_RAD,
+    BLOCKED_S,
+    FIRST_ESCAPE_S,
+    PROGRESS_M,
+    STACK_ORDER,
+    STALLED_S,
+)
 from tvl_cli.commands.learn import LOG_WRITE_EVERY_S
 from tvl_cli.core.contacts import NEAR_MISS_WITHIN_RAD
 from tvl_cli.core.method import PAPER
@@ -34,6 +41,13 @@ def test_blocked_ways_are_quoted_with_their_width_and_time() -> None:
     assert f"within {math.degrees(BLOCKED_HALF_WIDTH_RAD):g}°" in row
     assert f"until {BLOCKED_S:g} s after" in row
     assert f"first {BACKOFF_M:g} m" in row
+
+
+def test_the_escape_is_quoted_with_its_times_and_progress() -> None:
+    row = _row("escape")
+    assert f"no nearer the goal (by {PROGRESS_M:g} m, by odometry) for {STALLED_S:g} s" in row
+    assert f"the left wall for {FIRST_ESCAPE_S:g} s" in row
+    assert f"{PROGRESS_M:g} m nearer the goal than it has ever been" in row
 
 
 def test_near_misses_are_quoted_with_their_angle_and_blind_zone() -> None:

@@ -25,7 +25,7 @@ from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.labels import BUMP_LABELS
 from tvl_cli.core.memory import NONE, PATCHES, MemoryChoice, MemoryConfig
-from tvl_cli.core.method import REFLEX_NAMES, Method, MethodChoice
+from tvl_cli.core.method import DEFAULT_REFLEXES, Method, MethodChoice
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.robot import Simulator
@@ -151,11 +151,11 @@ def digest(chunks: list[Columns], metrics: RunMetrics) -> str:
 @pytest.mark.parametrize(
     ("name", "behaviour", "seed", "reflexes", "memory", "expected"),
     [
-        ("square", "avoid", 1, REFLEX_NAMES, NONE, "66b2eb63d4e21aec"),
-        ("lab", "avoid", 2, REFLEX_NAMES, NONE, "d509fe8e9fc28056"),
-        ("obstacles", "goal", 3, REFLEX_NAMES, NONE, "f9db25014f300035"),
+        ("square", "avoid", 1, DEFAULT_REFLEXES, NONE, "66b2eb63d4e21aec"),
+        ("lab", "avoid", 2, DEFAULT_REFLEXES, NONE, "d509fe8e9fc28056"),
+        ("obstacles", "goal", 3, DEFAULT_REFLEXES, NONE, "f9db25014f300035"),
         ("corridor", "wall-left", 4, (), NONE, "536b2cda22368131"),
-        ("lab", "avoid", 5, REFLEX_NAMES, PATCHES, "54dc12a98f69940e"),
+        ("lab", "avoid", 5, DEFAULT_REFLEXES, PATCHES, "54dc12a98f69940e"),
     ],
 )
 def test_a_run_gives_the_trace_it_gave_before_the_engine(

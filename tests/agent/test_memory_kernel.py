@@ -47,15 +47,16 @@ def test_the_kernel_casts_as_the_reference_does(
             if within_m == 2.0
             else rng.uniform(0.15, 4.0, 16)
         )
-        # Half the beams cleared of the echoes wider than 0.2 m either side, or none.
-        cleared = (rng.random(16) < 0.5) if clearing else None
-        memory = (centres, axes, half_widths, heard, 50, within, cleared, 0.2)
+        # Each beam cleared of the echoes wider than 0.2 m either side, or of all of them, or
+        # of none; or every beam meets every echo.
+        limits = rng.choice([0.2, 0.0, np.inf], 16) if clearing else None
+        memory = (centres, axes, half_widths, heard, 50, within, limits)
         compiled = remembered_ranges(*args, *memory)
         reference = remembered_ranges_reference(*args, *memory)
         np.testing.assert_allclose(compiled, reference, rtol=0, atol=1e-12)
         met += int(np.isfinite(reference).sum())
         unmet += int(np.isinf(reference).sum())
-        whole = remembered_ranges_reference(*args, *memory[:-2])
+        whole = remembered_ranges_reference(*args, *memory[:-1])
         differs += int((reference != whole).sum())
     assert met > 500  # most casts met something: the comparison was not of empty memories
     # Looking no farther than given left some beams with nothing, as the reference.

@@ -205,9 +205,10 @@ def test_memory_settings_are_checked() -> None:
         MemoryConfig(PATCHES, range_m=-1.0)
     with pytest.raises(BadInput, match="unknown echo memory setting 'depth'"):
         MemoryConfig.from_dict({"kind": "points", "depth": 3})
-    with pytest.raises(BadInput, match="--memory-clearing sometimes: choose never, goal, always"):
+    choices = "choose never, goal, toward-goal, always"
+    with pytest.raises(BadInput, match=f"--memory-clearing sometimes: {choices}"):
         MemoryConfig(PATCHES, clearing="sometimes")
-    with pytest.raises(BadInput, match="clearing 1: choose never, goal, always"):
+    with pytest.raises(BadInput, match=f"clearing 1: {choices}"):
         MemoryConfig.from_dict({"kind": "patches", "clearing": 1})
 
 
@@ -302,9 +303,53 @@ def test_clearing_keeps_a_patch_heard_from_near_and_every_patch_in_a_silent_beam
     assert far.virtual(1, (0.0, 0.0, math.radians(20.0)), silent())[0] < 2.6
 
 
+@pytest.mark.parametrize("goal_deg", [0.0, 20.0, -20.0, 90.0, None])
+def test_toward_the_goal_a_beam_that_hears_farther_meets_no_patch_even_one_heard_near(
+    goal_deg: float | None,
+) -> None:
+    # The patch of a pillar heard 0.5 m ahead is narrow (0.3 m), and clearing keeps it. With
+    # the goal beyond it, S0, facing the goal or its neighbour, hears a wall 3 m away and so
+    # reads 3 m; the goal off to the side, or none, S0 still meets the patch.
+    memory = EchoMemory(replace(PATCH_MEMORY, clearing="toward-goal"), ROBOT, True, True)
+    _pillar_heard_from(0.5, memory)
+    live = silent()
+    live[0] = 3.0
+    bearing = None if goal_deg is None else math.radians(goal_deg)
+    virtual = memory.virtual(1, (0.0, 0.0, 0.0), live, bearing)
+    facing = goal_deg is not None and abs(goal_deg) < 22.5 * 1.5
+    assert virtual[0] == (3.0 if facing else pytest.approx(0.5))
+    # A silent beam facing the goal still meets every patch: a slanted wall is silent.
+    silent_ring = memory.virtual(1, (0.0, 0.0, 0.0), silent(), bearing)
+    assert silent_ring[0] == pytest.approx(0.5)
+
+
+@pytest.mark.parametrize(
+    ("clearing", "seeking_goal", "opens"),
+    [("toward-goal", True, True), ("toward-goal", False, False), ("goal", True, False)],
+)
+def test_perception_opens_toward_the_goal_only_when_seeking_one_with_that_clearing(
+    clearing: str, seeking_goal: bool, opens: bool
+) -> None:
+    perception = Perception(replace(PATCH_MEMORY, clearing=clearing), ROBOT, seeking_goal)
+    ring = silent()
+    ring[0] = 0.5
+    perception.sense(0.0, (0.0, 0.0, 0.0), ring)
+    live = silent()
+    live[0] = 3.0
+    virtual = perception.peek(0.1, (0.0, 0.0, 0.0), live, goal_rad=0.0)
+    assert (virtual[0] == 3.0) == opens
+
+
 @pytest.mark.parametrize(
     ("clearing", "seeking_goal", "clears"),
-    [("never", True, False), ("goal", False, False), ("goal", True, True), ("always", False, True)],
+    [
+        ("never", True, False),
+        ("goal", False, False),
+        ("goal", True, True),
+        ("toward-goal", False, False),
+        ("toward-goal", True, True),
+        ("always", False, True),
+    ],
 )
 def test_perception_clears_as_the_memory_says_for_its_behaviour(
     clearing: str, seeking_goal: bool, clears: bool
@@ -327,8 +372,9 @@ def test_a_learner_replays_its_rings_cleared_only_when_the_memory_always_clears(
     rings = np.where(rng.random((60, 16)) < 0.6, rng.uniform(0.3, 3.5, (60, 16)), MAX)
     replayed = {
         c: replayed_rings(replace(PATCH_MEMORY, clearing=c), ROBOT, steps, odometry, rings)
-        for c in ("never", "goal", "always")
+        for c in ("never", "goal", "toward-goal", "always")
     }
     np.testing.assert_array_equal(replayed["never"], replayed["goal"])
+    np.testing.assert_array_equal(replayed["never"], replayed["toward-goal"])
     assert (replayed["always"] != replayed["never"]).any()
     assert np.all(replayed["always"] >= replayed["never"])  # clearing only lets farther in

@@ -13,10 +13,14 @@ from tvl_cli.agent.drive_tvl import behave
 from tvl_cli.agent.policy import Decision, Observation
 from tvl_cli.agent.reflexes import (
     BLOCKED_S,
+    FIRST_ESCAPE_S,
+    PROGRESS_M,
     REFLEXES,
     STACK_ORDER,
+    STALLED_S,
     BlockedWays,
     TieToLastTurn,
+    WallEscape,
     WallStart,
     wrap,
 )
@@ -153,19 +157,76 @@ class Recording:
     def __init__(self, decisions: list[Decision]) -> None:
         self.decisions = decisions
         self.tie_sides: list[int] = []
+        self.behaviours: list[str] = []
 
     def decide(self, obs: Observation) -> Decision:
         self.tie_sides.append(obs.tie_side)
-        return self.decisions.pop(0)
+        self.behaviours.append(obs.behaviour)
+        return self.decisions.pop(0) if self.decisions else Decision(Command(0.3, 0.0))
 
     def interrupt(self) -> None:
         pass
 
 
-def _obs() -> Observation:
+def _obs(
+    time_s: float = 0.0,
+    x_m: float = 0.0,
+    goal_xy: tuple[float, float] | None = None,
+) -> Observation:
     from tvl_cli.agent.policy import LazyRing
 
-    return Observation(0.0, LazyRing(lambda: np.full(16, 4.0)), (0.0, 0.0, 0.0), False)
+    ring = LazyRing(lambda: np.full(16, 4.0))
+    return Observation(time_s, ring, (x_m, 0.0, 0.0), False, goal_xy=goal_xy)
+
+
+def _advice_each_second(reflex: WallEscape, inner: Recording, xs: list[float]) -> list[str]:
+    """The behaviour advised at each whole second, the robot at x = xs[t] metres (by
+    odometry), its goal 5 m along x."""
+    for t, x in enumerate(xs):
+        reflex.decide(_obs(float(t), x, (5.0, 0.0)))
+    return inner.behaviours
+
+
+def test_a_goal_stalled_escapes_along_walls_both_ways_for_longer_and_longer() -> None:
+    inner = Recording([])
+    stalled = int(STALLED_S)
+    first = int(FIRST_ESCAPE_S)
+    advice = _advice_each_second(WallEscape(inner, ROBOT, "goal"), inner, [0.0] * 120)
+    # Seeking the goal until it has come no nearer for STALLED_S; then the left wall for
+    # FIRST_ESCAPE_S; the goal again for STALLED_S; then the right wall twice as long.
+    assert advice[:stalled] == [""] * stalled
+    assert advice[stalled : stalled + first] == ["wall-left"] * first
+    second = 2 * stalled + first
+    assert advice[stalled + first : second] == [""] * stalled
+    assert advice[second : second + 2 * first] == ["wall-right"] * (2 * first)
+    assert advice[second + 2 * first] == ""
+
+
+def test_an_escape_ends_once_the_robot_is_nearer_the_goal_than_ever() -> None:
+    inner = Recording([])
+    stalled = int(STALLED_S)
+    # Stalled at x = 0, then the wall leads 0.1 m nearer each second.
+    xs = [0.0] * (stalled + 1) + [0.1 * k for k in range(1, 30)]
+    advice = _advice_each_second(WallEscape(inner, ROBOT, "goal"), inner, xs)
+    nearer = next(t for t, x in enumerate(xs) if x >= PROGRESS_M - 1e-9)
+    assert advice[stalled:nearer] == ["wall-left"] * (nearer - stalled)
+    assert set(advice[nearer:]) == {""}
+
+
+def test_progress_towards_the_goal_never_escapes() -> None:
+    inner = Recording([])
+    xs = [0.05 * t for t in range(90)]  # 0.3 m nearer every 6 s
+    assert set(_advice_each_second(WallEscape(inner, ROBOT, "goal"), inner, xs)) == {""}
+
+
+@pytest.mark.parametrize("behaviour", ["avoid", "wall-left", "goal"])
+def test_the_escape_leaves_other_behaviours_and_goalless_runs_alone(behaviour: str) -> None:
+    inner = Recording([])
+    reflex = WallEscape(inner, ROBOT, behaviour)
+    goal = (5.0, 0.0) if behaviour != "goal" else None
+    for t in range(60):
+        reflex.decide(_obs(float(t), 0.0, goal))
+    assert set(inner.behaviours) == {""}
 
 
 def test_tie_passes_the_side_of_the_last_turn() -> None:

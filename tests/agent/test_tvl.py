@@ -13,7 +13,7 @@ from tvl_cli.agent.explore import Learner, LearnParams
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.memory import NO_MEMORY
-from tvl_cli.core.method import DEFAULT, REFLEX_NAMES
+from tvl_cli.core.method import DEFAULT, DEFAULT_REFLEXES
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.worldmap import WorldMap, parse_world
 
@@ -54,7 +54,7 @@ def run(
     behaviour: str,
     minutes: float,
     seed: int = 1,
-    reflexes: tuple[str, ...] = REFLEX_NAMES,
+    reflexes: tuple[str, ...] = DEFAULT_REFLEXES,
     **options,
 ) -> tuple[object, list[Step]]:
     steps: list[Step] = []

@@ -128,7 +128,7 @@ def test_the_paper_refuses_clearing_and_a_bad_clearing_is_one_line(tmp_path: Pat
                      "--memory-clearing", "goal")  # fmt: skip
     assert "--memory-clearing cannot be given with --paper" in output
     output = refused("learn", SQUARE, "--log", tmp_path / "l.h5", "--memory-clearing", "often")
-    assert "'often' is not one of 'never', 'goal', 'always'" in output
+    assert "'often' is not one of 'never', 'goal', 'toward-goal', 'always'" in output
     assert not (tmp_path / "l.h5").exists()
 
 

@@ -105,19 +105,19 @@ RELEASED = {
     "world render": (1, "73701f22a7db6b3d"),
     "world import": (2, "946b4da5d9420c27"),
     "world export": (1, "9e6559936de1d145"),
-    "learn": (5, "733d592b0f9bf71f"),
-    "train": (3, "8910d5f6dbbb6699"),
-    "inspect": (4, "b322b47dabef7451"),
+    "learn": (6, "5a361357df0513b5"),
+    "train": (4, "7b298d7d11398614"),
+    "inspect": (5, "3fd7a71e0dd08d79"),
     "diff": (2, "73af06e71a481611"),
     "design": (1, "8644a5ca5cf08dee"),
-    "run": (5, "33ec7a8cae7f521e"),
-    "replay": (4, "2c7fe7226357bf28"),
+    "run": (6, "3ec59ecf14e0641f"),
+    "replay": (5, "c3fd7bd969ac49cf"),
     "explain": (3, "2c4ea7aab9d99ef8"),
     "demo": (2, "e70a1078cb6cfd9b"),
-    "baseline dwa": (4, "1fd204220a12375f"),
-    "baseline qlearn": (4, "7514df4e5fd1c6e2"),
+    "baseline dwa": (5, "68c15d1bed4c263a"),
+    "baseline qlearn": (5, "a2956b676e4b0806"),
     "sweep": (2, "b7fbe07376b9b2bb"),
-    "bench generalization": (2, "2ee4a862d8093e5d"),
+    "bench generalization": (3, "d7f6ec780bbee17c"),
     "bench claims": (1, "c574aae6e568d1f9"),
     "export": (1, "4a3407f1771e4ec1"),
     "figure": (1, "beee1067ca60bd82"),
@@ -200,7 +200,7 @@ def test_schema_json_carries_the_schema_in_a_document() -> None:
     assert printed["inputs"] == {"command": "run"}
     assert printed["json_schema"] == command_schema("run")
     assert printed["schemas"] == [
-        {"command": "run", "id": "urn:tvl:schema:run", "schema_version": 5}
+        {"command": "run", "id": "urn:tvl:schema:run", "schema_version": schema_version("run")}
     ]
 
 
@@ -371,3 +371,12 @@ def test_a_count_written_as_a_float_fails_the_check() -> None:
     changed["minutes"][0]["minute"] = float(changed["minutes"][0]["minute"])
     with pytest.raises(AssertionError, match="minutes/0/minute"):
         valid("replay", changed)
+
+
+def test_the_memory_schema_names_every_kind_and_clearing_the_memory_takes() -> None:
+    from tvl_cli.core.memory import CLEARINGS, MEMORY_KINDS, MemoryConfig
+
+    memory = load_schema("common")["$defs"]["memory"]
+    assert tuple(memory["properties"]["kind"]["enum"]) == MEMORY_KINDS
+    assert tuple(memory["properties"]["clearing"]["enum"]) == CLEARINGS
+    assert set(memory["required"]) == set(MemoryConfig().to_dict())

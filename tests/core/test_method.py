@@ -12,10 +12,10 @@ from tvl_cli.core.errors import BadInput
 from tvl_cli.core.memory import NO_MEMORY, PATCHES, MemoryChoice, MemoryConfig
 from tvl_cli.core.method import (
     DEFAULT,
+    DEFAULT_REFLEXES,
     LEARNING_FIELDS,
     NOT_GIVEN,
     PAPER,
-    REFLEX_NAMES,
     Method,
     MethodChoice,
     describe_record,
@@ -28,7 +28,7 @@ from tvl_cli.core.method import (
 def test_the_papers_method_learns_at_bumps_alone_and_runs_with_no_reflex_or_memory() -> None:
     assert (PAPER.near_m, PAPER.reflexes, PAPER.memory) == (0.0, (), NO_MEMORY)
     assert PAPER.exploration == DEFAULT.exploration == "least-experience"
-    assert DEFAULT.reflexes == REFLEX_NAMES and DEFAULT.memory.kind == PATCHES
+    assert DEFAULT.reflexes == DEFAULT_REFLEXES and DEFAULT.memory.kind == PATCHES
 
 
 def test_reflexes_are_kept_in_stacking_order_whatever_order_they_are_given_in() -> None:
@@ -95,7 +95,7 @@ def test_a_record_names_the_preset_it_equals_on_the_fields_it_keeps() -> None:
         **{n: v for n, v in DEFAULT.to_dict().items() if n in LEARNING_FIELDS},
     }
     # The paper's learning, behaving with our reflexes: the paper's on learning alone.
-    mixed = replace(PAPER, reflexes=REFLEX_NAMES)
+    mixed = replace(PAPER, reflexes=DEFAULT_REFLEXES)
     assert preset_name(mixed) is None and preset_name(mixed, LEARNING_FIELDS) == "paper"
     labels = f"decel_mps2 {PAPER.decel_mps2:g}, margin_m {PAPER.margin_m:g}, labels bump"
     assert (

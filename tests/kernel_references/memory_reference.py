@@ -52,23 +52,22 @@ def remembered_ranges_reference(
     heard: np.ndarray,
     since: int,
     within_m: np.ndarray | None = None,
-    cleared: np.ndarray | None = None,
-    cleared_above_m: float = math.inf,
+    cleared_above_m: np.ndarray | None = None,
 ) -> np.ndarray:
     """remembered_ranges in numpy: every ray against every echo at once."""
     beams = len(origins) // rays_per_beam
-    if cleared is not None and cleared.any():
-        # Cast twice, once against every echo and once against those narrow enough for a
-        # cleared beam (the rest as if forgotten), and each beam takes its own.
-        narrow_heard = np.where(half_widths <= cleared_above_m, heard, since - 1)
-        cast = [
-            remembered_ranges_reference(
+    if cleared_above_m is not None and np.isfinite(cleared_above_m).any():
+        # Cast once for each limit the beams have, against the echoes narrow enough for it
+        # (the rest as if forgotten), and each beam takes the cast of its own limit.
+        ranges = np.full(beams, np.inf)
+        for limit in np.unique(cleared_above_m):
+            narrow_heard = np.where(half_widths <= limit, heard, since - 1)
+            cast = remembered_ranges_reference(
                 kind, origins, directions, rays_per_beam, half_cone_rad, centres, axes,
-                half_widths, remembered, since, within_m,
-            )
-            for remembered in (heard, narrow_heard)
-        ]  # fmt: skip
-        return np.where(cleared, cast[1], cast[0])
+                half_widths, narrow_heard, since, within_m,
+            )  # fmt: skip
+            ranges = np.where(cleared_above_m == limit, cast, ranges)
+        return ranges
     live = heard >= since
     centres, axes, half_widths = centres[live], axes[live], half_widths[live]
     if len(centres) == 0:

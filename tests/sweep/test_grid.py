@@ -13,12 +13,13 @@ from tvl_cli.agent.explore import LearnParams
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.memory import NO_MEMORY
-from tvl_cli.core.method import DEFAULT, PAPER, MethodChoice
+from tvl_cli.core.method import DEFAULT, PAPER, MethodChoice, reflexes_text
 from tvl_cli.sim.worldgen import generate_world
 from tvl_cli.sweep.cell import Cell
 from tvl_cli.sweep.grid import read_grid
 
 WORLDS = Path(__file__).resolve().parents[2] / "worlds"
+OURS = reflexes_text(DEFAULT.reflexes)  # a cell of our method runs with our reflexes
 
 
 def grid_of(tmp_path: Path, text: str) -> Path:
@@ -61,7 +62,7 @@ def test_cells_are_every_combination_with_the_last_key_fastest(tmp_path: Path) -
         competence_every=None,
         trace=False,
         method="default",
-        reflexes="all",
+        reflexes=OURS,
         run_memory=None,
     )
     assert grid.methods == {"default": DEFAULT}
@@ -95,7 +96,7 @@ def test_each_method_runs_with_its_own_reflexes_unless_the_grid_gives_some(
     grid = read_grid(grid_of(tmp_path, text))
     ours, paper = grid.cells
     assert (ours.method, ours.reflexes, paper.method, paper.reflexes) == (
-        "default", "all", "paper", "none"
+        "default", OURS, "paper", "none"
     )  # fmt: skip
     assert grid.methods == {"default": DEFAULT, "paper": PAPER}
     assert ours.learn_params() == paper.learn_params() == LearnParams()
@@ -118,7 +119,7 @@ def test_a_method_file_beside_the_grid_is_its_method(tmp_path: Path) -> None:
     text = 'world = "square"\nseed = 1\nbehaviour = "avoid"\nmethod = "slow.toml"\n'
     grid = read_grid(grid_of(tmp_path, text))
     assert grid.methods["slow.toml"].decel_mps2 == 0.3
-    assert grid.cells[0].reflexes == "all"
+    assert grid.cells[0].reflexes == OURS
     (tmp_path / "bad.toml").write_text("decell = 0.3\n")
     with pytest.raises(BadInput, match=r"bad\.toml: unknown key 'decell' \(did you mean"):
         read_grid(grid_of(tmp_path, text.replace("slow", "bad")))

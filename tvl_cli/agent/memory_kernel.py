@@ -12,9 +12,9 @@ echoes:
         along; half_widths (K,) metres: the half width of its patch;
     heard (K,): the control step each was heard on.
 The cast's `since` is the oldest step remembered, and `within_m` (B,) metres how far to look
-in each beam (its live reading: nothing farther changes what the robot perceives); in the
-beams `cleared` (B,) marks, only echoes no wider than `cleared_above_m` either side are met
-(core.memory, *clearing*). It returns (B,) metres from each transducer to the nearest
+in each beam (its live reading: nothing farther changes what the robot perceives); each beam
+meets only the echoes no wider than its `cleared_above_m` (B,) metres either side (inf: every
+echo; core.memory, *clearing*). It returns (B,) metres from each transducer to the nearest
 remembered surface in the beam nearer than that, inf where there is none.
 
 A point is met by a beam when it lies inside the cone about the beam's middle ray. A patch is
@@ -81,17 +81,16 @@ def remembered_ranges(
     heard: np.ndarray,
     since: int,
     within_m: np.ndarray | None = None,
-    cleared: np.ndarray | None = None,
-    cleared_above_m: float = math.inf,
+    cleared_above_m: np.ndarray | None = None,
 ) -> np.ndarray:
     """(B,) metres: the nearest remembered point (kind `points`) or patch in each beam
-    nearer than within_m (B,) (None: at any range), of those no wider than cleared_above_m
-    either side in the beams `cleared` (B,) marks (None: none); inf where there is none."""
+    nearer than within_m (B,) (None: at any range), of those no wider than the beam's
+    cleared_above_m (B,) either side (None: every one); inf where there is none."""
     beams = len(origins) // rays_per_beam
     if within_m is None:
         within_m = np.full(beams, np.inf)
-    if cleared is None:
-        cleared = np.zeros(beams, dtype=np.bool_)
+    if cleared_above_m is None:
+        cleared_above_m = np.full(beams, np.inf)
     out = np.empty(beams)  # (B,) metres
     if kind == POINTS:
         _points_in_cones(
@@ -104,7 +103,6 @@ def remembered_ranges(
             heard,
             since,
             within_m,
-            cleared,
             cleared_above_m,
             out,
         )
@@ -119,7 +117,6 @@ def remembered_ranges(
             heard,
             since,
             within_m,
-            cleared,
             cleared_above_m,
             out,
         )
@@ -129,7 +126,7 @@ def remembered_ranges(
 @kernel
 def _points_in_cones(
     origins, directions, rays_per_beam, cos_half_cone, centres, half_widths, heard, since,
-    within_m, cleared, cleared_above_m, out,
+    within_m, cleared_above_m, out,
 ):  # fmt: skip
     middle = rays_per_beam // 2
     for b in range(out.shape[0]):
@@ -138,7 +135,7 @@ def _points_in_cones(
         ax, ay = directions[ray, 0], directions[ray, 1]
         best = within_m[b]
         for k in range(centres.shape[0]):
-            if heard[k] < since or (cleared[b] and half_widths[k] > cleared_above_m):
+            if heard[k] < since or half_widths[k] > cleared_above_m[b]:
                 continue
             dx, dy = centres[k, 0] - ox, centres[k, 1] - oy
             distance = math.sqrt(dx * dx + dy * dy)
@@ -150,7 +147,7 @@ def _points_in_cones(
 @kernel
 def _patches_met(
     origins, directions, rays_per_beam, centres, axes, half_widths, heard, since, within_m,
-    cleared, cleared_above_m, out,
+    cleared_above_m, out,
 ):  # fmt: skip
     beams = out.shape[0]
     wedges = _beam_wedges(origins, directions, rays_per_beam, beams)
@@ -166,8 +163,8 @@ def _patches_met(
         if heard[k] < since:
             continue
         _cut_beams(
-            k, centres, axes, half_widths, cleared, cleared_above_m, wedges, out, skipped,
-            depth, offsets,
+            k, centres, axes, half_widths, cleared_above_m, wedges, out, skipped, depth,
+            offsets,
         )  # fmt: skip
         _cast_patch(k, axes, half_widths, directions, rays_per_beam, skipped, depth, offsets, out)
     for b in range(beams):
@@ -201,8 +198,7 @@ def _beam_wedges(origins, directions, rays_per_beam, beams):
 
 @inlined
 def _cut_beams(
-    k, centres, axes, half_widths, cleared, cleared_above_m, wedges, out, skipped, depth,
-    offsets,
+    k, centres, axes, half_widths, cleared_above_m, wedges, out, skipped, depth, offsets,
 ):  # fmt: skip
     """Mark in skipped (B,) the beams patch k cannot come nearer in than what they met so far
     (out), keeping for the others the transducer's depth behind the patch's line and offset
@@ -211,7 +207,6 @@ def _cut_beams(
     cx, cy = centres[k, 0], centres[k, 1]
     reach = half_widths[k] + WEDGE_SLACK_M
     ax, ay = axes[k, 0], axes[k, 1]
-    wide = half_widths[k] > cleared_above_m
     for b in range(out.shape[0]):
         best = out[b]
         vx, vy = cx - ox[b], cy - oy[b]
@@ -226,7 +221,7 @@ def _cut_beams(
         # a patch reaching it; ahead, one outside the wedge, or no nearer than what the beam
         # already met, is skipped.
         skipped[b] = (
-            (wide & cleared[b])
+            (half_widths[k] > cleared_above_m[b])
             | (ahead < 0.0)
             | (ahead >= best * FACING_MAX)
             | (behind & (vx * vx + vy * vy > reach * reach))

@@ -16,7 +16,7 @@ import numpy as np
 
 from tvl_cli.agent.policy import Pose
 from tvl_cli.core.episode import Episode
-from tvl_cli.core.memory import CLEARED_ABOVE_M, POINTS, MemoryConfig
+from tvl_cli.core.memory import CLEARED_ABOVE_M, GOAL_BEAMS_EITHER_SIDE, POINTS, MemoryConfig
 from tvl_cli.core.ring import mm_to_ring
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.sonar import SonarRing
@@ -24,9 +24,16 @@ from tvl_cli.sim.sonar import SonarRing
 
 class EchoMemory:
     """The echoes of the last `config.window_s`, in the odometry frame; with `clears`, a beam
-    that hears an echo meets only the patches narrow enough (core.memory, *clearing*)."""
+    that hears an echo meets only the patches narrow enough, and with `opens_toward_goal` the
+    beams facing the goal none (core.memory, *clearing*)."""
 
-    def __init__(self, config: MemoryConfig, robot: RobotConfig, clears: bool = False) -> None:
+    def __init__(
+        self,
+        config: MemoryConfig,
+        robot: RobotConfig,
+        clears: bool = False,
+        opens_toward_goal: bool = False,
+    ) -> None:
         # The compiled kernels are loaded with the first memory, so that a command's help, or
         # a run without a memory, never loads the compiler.
         from tvl_cli.agent.memory_kernel import remember_echoes, remembered_ranges
@@ -35,6 +42,7 @@ class EchoMemory:
         self._cast = remembered_ranges
         self.config = config
         self.clears = clears
+        self.opens_toward_goal = opens_toward_goal
         sonar = robot.sonar
         self._sonar = sonar
         self._ring = SonarRing(sonar, robot.radius_m)
@@ -78,13 +86,36 @@ class EchoMemory:
             self._next,
         )
 
-    def virtual(self, step: int, odometry: Pose, ring_m: np.ndarray) -> np.ndarray:
+    def virtual(
+        self, step: int, odometry: Pose, ring_m: np.ndarray, goal_rad: float | None = None
+    ) -> np.ndarray:
         """(16,) metres: each sonar's live range or the nearest remembered surface in its
-        cone from `odometry`, whichever is nearer."""
-        return self._virtual(step, *self._ring.rays(odometry), ring_m)
+        cone from `odometry`, whichever is nearer; `goal_rad` is the goal's bearing from the
+        heading, if one is sought."""
+        return self._virtual(step, *self._ring.rays(odometry), ring_m, goal_rad)
+
+    def _cleared_above_m(self, ring_m: np.ndarray, goal_rad: float | None) -> np.ndarray:
+        """(16,) metres: how wide a patch each beam still meets, either side (inf: every one)."""
+        heard = ring_m < self._sonar.max_range_m
+        limits = np.full(len(ring_m), np.inf)
+        if self.clears:
+            limits[heard] = CLEARED_ABOVE_M
+        if self.opens_toward_goal and goal_rad is not None:
+            beams = len(ring_m)
+            nearest = round(goal_rad / (2.0 * math.pi / beams))
+            reach = range(-GOAL_BEAMS_EITHER_SIDE, GOAL_BEAMS_EITHER_SIDE + 1)
+            facing = np.zeros(beams, dtype=bool)
+            facing[[(nearest + k) % beams for k in reach]] = True
+            limits[facing & heard] = 0.0  # every patch is wider than none
+        return limits
 
     def _virtual(
-        self, step: int, origins: np.ndarray, directions: np.ndarray, ring_m: np.ndarray
+        self,
+        step: int,
+        origins: np.ndarray,
+        directions: np.ndarray,
+        ring_m: np.ndarray,
+        goal_rad: float | None = None,
     ) -> np.ndarray:
         sonar = self._sonar
         remembered = self._cast(
@@ -99,8 +130,7 @@ class EchoMemory:
             self._steps,
             step - self._window_steps + 1,
             ring_m,  # a surface no nearer than the live reading changes nothing below
-            ring_m < sonar.max_range_m if self.clears else None,  # the beams that heard one
-            CLEARED_ABOVE_M,
+            self._cleared_above_m(ring_m, goal_rad),
         )
         return np.minimum(ring_m, np.clip(remembered, sonar.min_range_m, sonar.max_range_m))
 
@@ -119,11 +149,13 @@ class EchoMemory:
         across = np.stack([-axes[:, 1], axes[:, 0]], axis=1) * self._half_widths[live, None]
         return np.hstack([centres - across, centres + across]), np.empty((0, 3))
 
-    def sense(self, step: int, odometry: Pose, ring_m: np.ndarray) -> np.ndarray:
+    def sense(
+        self, step: int, odometry: Pose, ring_m: np.ndarray, goal_rad: float | None = None
+    ) -> np.ndarray:
         """Remember a reading, then the virtual ring it makes."""
         rays = self._ring.rays(odometry)  # the same beams for both, cast once a step
         self._remember(step, *rays, ring_m)
-        return self._virtual(step, *rays, ring_m)
+        return self._virtual(step, *rays, ring_m, goal_rad)
 
 
 class Perception:
@@ -135,8 +167,16 @@ class Perception:
     ) -> None:
         self.config = config
         self._dt_s = robot.control_period_s
-        clears = config.clears(seeking_goal)
-        self._memory = EchoMemory(config, robot, clears) if config.remembers else None
+        self._memory = (
+            EchoMemory(
+                config,
+                robot,
+                config.clears(seeking_goal),
+                config.opens_toward_goal(seeking_goal),
+            )
+            if config.remembers
+            else None
+        )
 
     @property
     def remembers(self) -> bool:
@@ -145,17 +185,22 @@ class Perception:
     def step_of(self, time_s: float) -> int:
         return round(time_s / self._dt_s)
 
-    def sense(self, time_s: float, odometry: Pose, ring_m: np.ndarray) -> np.ndarray:
-        """(16,) metres the FAM reads, remembering this reading."""
+    def sense(
+        self, time_s: float, odometry: Pose, ring_m: np.ndarray, goal_rad: float | None = None
+    ) -> np.ndarray:
+        """(16,) metres the FAM reads, remembering this reading; `goal_rad` is the goal's
+        bearing from the heading, for a robot seeking one."""
         if self._memory is None:
             return ring_m
-        return self._memory.sense(self.step_of(time_s), odometry, ring_m)
+        return self._memory.sense(self.step_of(time_s), odometry, ring_m, goal_rad)
 
-    def peek(self, time_s: float, odometry: Pose, ring_m: np.ndarray) -> np.ndarray:
+    def peek(
+        self, time_s: float, odometry: Pose, ring_m: np.ndarray, goal_rad: float | None = None
+    ) -> np.ndarray:
         """(16,) metres the FAM reads, without remembering this reading."""
         if self._memory is None:
             return ring_m
-        return self._memory.virtual(self.step_of(time_s), odometry, ring_m)
+        return self._memory.virtual(self.step_of(time_s), odometry, ring_m, goal_rad)
 
 
 def replayed_rings(

@@ -2,7 +2,8 @@
 
 The paper's TVL choice rule is one policy (`agent.tvl`); the baselines are others. Reflexes
 (`agent.reflexes`) wrap any policy: they may pass it advice in the observation (ways to keep
-out of the choice, the side a tie goes to) and may override the command it returns.
+out of the choice, the side a tie goes to, a behaviour to perform for a while) and may
+override the command it returns.
 """
 
 from __future__ import annotations
@@ -55,6 +56,7 @@ class Observation:
     # Advice from reflexes; a policy that cannot use it ignores it.
     keep_out: KeepOut | None = None  # which ways to leave out of the choice
     tie_side: int = 0  # +1 left, -1 right: where a tie goes; 0 the policy's own order
+    behaviour: str = ""  # a behaviour to perform instead of the policy's own; "" its own
 
     @property
     def ring_m(self) -> np.ndarray:

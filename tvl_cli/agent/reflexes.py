@@ -20,7 +20,15 @@ from tvl_cli.agent.policy import Decision, KeepOut, Observation, Policy
 from tvl_cli.core.angles import wrap_rad
 from tvl_cli.core.contacts import blind_ahead, drives_forward, near_miss_sonars
 from tvl_cli.core.drive_command import Command
-from tvl_cli.core.method import BLOCKED_WAYS, BUMP, NEAR_MISS, REFLEX_NAMES, TIE, WALL_START
+from tvl_cli.core.method import (
+    BLOCKED_WAYS,
+    BUMP,
+    ESCAPE,
+    NEAR_MISS,
+    REFLEX_NAMES,
+    TIE,
+    WALL_START,
+)
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.core.trajectory_choice import trajectory_headings
 
@@ -183,6 +191,56 @@ class BlockedWays(Reflex):
         super().interrupt()
 
 
+# Goal seeking that has come no nearer its goal for this long is caught in a local minimum:
+# a pillar in the way is passed well within it, a crevice or a closed gap never is.
+STALLED_S = 20.0
+# Progress is coming this much nearer the goal than ever before, by odometry: more than a
+# turn on the spot or a back-off moves the robot.
+PROGRESS_M = 0.25
+# The first escape follows a wall this long; each next, on the other side, twice as long.
+FIRST_ESCAPE_S = 15.0
+ESCAPE_SIDES = ("wall-left", "wall-right")
+
+
+class WallEscape(Reflex):
+    """Goal seeking that has come no nearer the goal for STALLED_S follows walls for a
+    while instead: the wall on the left for FIRST_ESCAPE_S, the next time on the right for
+    twice as long, and so on, each escape ending as soon as the robot is PROGRESS_M nearer
+    the goal than it has ever been.
+
+    The paper's way out of a deep local minimum (§2.1, Fig. 5(b)): following fast
+    trajectories towards the goal cannot leave a crevice that faces it, or a gap the ring
+    cannot resolve, while following walls both ways for longer and longer leads round them.
+    Distances are by odometry, as the goal's bearing is.
+    """
+
+    name = ESCAPE
+
+    def __init__(self, inner: Policy, robot: RobotConfig, behaviour: str) -> None:
+        super().__init__(inner, robot, behaviour)
+        self._closest_m = math.inf  # the nearest the robot has come to the goal
+        self._progress_s = 0.0  # when it last came PROGRESS_M nearer than before
+        self._escapes = 0
+        self._escape_until_s = -math.inf
+
+    def decide(self, obs: Observation) -> Decision:
+        if self.behaviour != "goal" or obs.goal_xy is None:
+            return self.inner.decide(obs)
+        now = obs.time_s
+        distance = math.dist(obs.odometry[:2], obs.goal_xy)
+        if distance <= self._closest_m - PROGRESS_M:
+            self._closest_m, self._progress_s = distance, now
+            self._escape_until_s = min(self._escape_until_s, now)
+        if now >= self._escape_until_s and now - self._progress_s >= STALLED_S:
+            self._escape_until_s = now + FIRST_ESCAPE_S * 2**self._escapes
+            self._escapes += 1
+            # Goal seeking begins afresh when the escape ends, its STALLED_S counted anew.
+            self._progress_s = self._escape_until_s
+        if now < self._escape_until_s:
+            obs = replace(obs, behaviour=ESCAPE_SIDES[(self._escapes - 1) % 2])
+        return self.inner.decide(obs)
+
+
 class TieToLastTurn(Reflex):
     """Ties go to the side the robot last turned to, spin and arc together.
 
@@ -231,10 +289,11 @@ class WallStart(Reflex):
         return decision
 
 
-# Outermost first: blocked ways see every command, back-offs included; ties and the wall
-# start advise the policy directly.
+# Outermost first: blocked ways see every command, back-offs included; the escape, ties and
+# the wall start advise the policy directly.
 REFLEXES: dict[str, type[Reflex]] = {
-    r.name: r for r in (BlockedWays, NearMissBackOff, BumpBackOff, TieToLastTurn, WallStart)
+    r.name: r
+    for r in (BlockedWays, NearMissBackOff, BumpBackOff, WallEscape, TieToLastTurn, WallStart)
 }
 STACK_ORDER = REFLEX_NAMES
 

@@ -76,6 +76,7 @@ class TvlPolicy:
         # How wall following finds its wall, where the paper is silent (core.wall_rules).
         self._wall_rule = WALL_RULES[wall_rule]
         self._wall_side = 0
+        self._performing = behaviour  # the behaviour of the last choice, advice included
         self._trapped = False
 
     def interrupt(self) -> None:
@@ -84,16 +85,20 @@ class TvlPolicy:
     def decide(self, obs: Observation) -> Decision:
         if self._queue:
             return self._queue.pop(0)
-        ring_m = self.perception.sense(obs.time_s, obs.odometry, obs.ring_m)
+        bearing = goal_bearing(obs.odometry, obs.goal_xy) if obs.goal_xy else None
+        ring_m = self.perception.sense(obs.time_s, obs.odometry, obs.ring_m, bearing)
         perceived = ring_m if self.perception.remembers else None
-        self._wall_side = self._wall_rule(self.behaviour, ring_m, self._wall_side)
+        behaviour = obs.behaviour or self.behaviour
+        if behaviour != self._performing:
+            # A wall found for one behaviour is not the next one's: it finds its own.
+            self._performing, self._wall_side = behaviour, 0
+        self._wall_side = self._wall_rule(behaviour, ring_m, self._wall_side)
         velocities, _ = self.fam.perceive(ring_m)  # (16, 7) m/s, row k facing sonar k
         fast = fast_set(velocities, self._v_max, self.threshold)
         if obs.keep_out is not None:
             fast &= ~obs.keep_out(self._set_off)
-        bearing = goal_bearing(obs.odometry, obs.goal_xy) if obs.goal_xy else 0.0
-        ctx = Context(ring_m, obs.tie_side, bearing, self._wall_side)
-        choice = choose(velocities, fast, self._v_max, self._headings, self.behaviour, ctx)
+        ctx = Context(ring_m, obs.tie_side, 0.0 if bearing is None else bearing, self._wall_side)
+        choice = choose(velocities, fast, self._v_max, self._headings, behaviour, ctx)
         following = self._wall_side != 0
         if choice is None:
             became_trapped = not self._trapped

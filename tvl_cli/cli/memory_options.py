@@ -55,8 +55,9 @@ def memory_options(base: str) -> Callable[[Callable[..., None]], Callable[..., N
                 type=click.Choice(CLEARINGS),
                 default=None,
                 help="When a beam that hears an echo leaves out the remembered patches wider "
-                f"than {2 * CLEARED_ABOVE_M:g} m in it: never, while seeking a goal, or always "
-                f"(default {DEFAULT_MEMORY.clearing} with a memory).",
+                f"than {2 * CLEARED_ABOVE_M:g} m in it: never, while seeking a goal, the same "
+                "with the beams facing the goal leaving out every patch (toward-goal), or "
+                f"always (default {DEFAULT_MEMORY.clearing} with a memory).",
             ),
         )
         for option in reversed(options):

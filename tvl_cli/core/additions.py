@@ -15,6 +15,7 @@ from tvl_cli.core.method import (
     BUMP,
     DEFAULT,
     DEFAULT_NEAR_M,
+    ESCAPE,
     LEAST_EXPERIENCE,
     NEAR_MISS,
     NOVELTY,
@@ -126,6 +127,17 @@ ADDITIONS: tuple[Addition, ...] = (
         "A bump while driving forward: reverse 0.15 m along the arc, as learning does; "
         "without it a policy still rating the way fast pushes on.",
         (),
+    ),
+    Addition(
+        "escape by following walls",
+        "reflexes",
+        "--reflex",
+        ESCAPE,
+        "Goal seeking that has come no nearer the goal for 20 s follows walls instead, on the "
+        "left for 15 s, then on the right for twice as long, and so on, until it is nearer "
+        "the goal than ever: the paper's way out of a crevice (§2.1), which it did not build.",
+        (),
+        not_default="measured, not yet chosen",
     ),
     Addition(
         "ties to the last turn",

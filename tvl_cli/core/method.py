@@ -51,9 +51,12 @@ EXPLORATION_RULES = (LEAST_EXPERIENCE, NOVELTY, RANDOM)
 BLOCKED_WAYS = "blocked-ways"
 NEAR_MISS = "near-miss"
 BUMP = "bump"
+ESCAPE = "escape"
 TIE = "tie"
 WALL_START = "wall-start"
-REFLEX_NAMES = (BLOCKED_WAYS, NEAR_MISS, BUMP, TIE, WALL_START)
+REFLEX_NAMES = (BLOCKED_WAYS, NEAR_MISS, BUMP, ESCAPE, TIE, WALL_START)
+# Ours: every reflex but the escape from local minima, offered as a choice (core.additions).
+DEFAULT_REFLEXES = (BLOCKED_WAYS, NEAR_MISS, BUMP, TIE, WALL_START)
 ALL = "all"
 NONE = "none"
 
@@ -109,7 +112,7 @@ class Method:
     labels: str = HEARD_LABELS  # which trajectories a point labels: one of LABEL_RULES
     near_m: float = DEFAULT_NEAR_M  # collision points: a sonar ahead this near; 0: bumps only
     exploration: str = LEAST_EXPERIENCE  # one of EXPLORATION_RULES
-    reflexes: tuple[str, ...] = REFLEX_NAMES  # in stacking order
+    reflexes: tuple[str, ...] = DEFAULT_REFLEXES  # in stacking order
     wall_rule: str = FIRST_SEEN  # one of core.wall_rules.WALL_RULES
     sonar: str = "real"  # one of core.robot_config.SONAR_MODEL_NAMES
     memory: MemoryConfig = DEFAULT_MEMORY  # what the FAM reads through

@@ -28,6 +28,7 @@ from tvl_cli.agent.drive import drive_engine
 from tvl_cli.agent.engine import StepEngine
 from tvl_cli.agent.perception import Perception
 from tvl_cli.agent.policy import Decision, Observation
+from tvl_cli.agent.tvl import goal_bearing
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.method import Method
 from tvl_cli.core.metrics import RunMetrics
@@ -165,7 +166,9 @@ class ControllerPolicy:
         return self._tasks[DISCRETE]
 
     def decide(self, obs: Observation) -> Decision:
-        perceived = self._perception.sense(obs.time_s, obs.odometry, obs.ring_m)
+        goal = obs.goal_xy
+        bearing = None if goal is None else goal_bearing(obs.odometry, goal)
+        perceived = self._perception.sense(obs.time_s, obs.odometry, obs.ring_m, bearing)
         action = self._act(observation_of(self.task, perceived, obs.odometry))
         discrete = np.ndim(action) == 0
         task = self._tasks[DISCRETE if discrete else CONTINUOUS]

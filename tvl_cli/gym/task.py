@@ -360,7 +360,9 @@ class RobotEpisode:
         """Take the ring read where the robot is; what perception makes of it."""
         self.ring = ring
         self._odometry = now.odometry
-        return self._perception.sense(now.time_s, now.odometry, ring)
+        goal = self.task.goal_xy
+        bearing = None if goal is None else goal_bearing(now.odometry, goal)
+        return self._perception.sense(now.time_s, now.odometry, ring, bearing)
 
     def _observation(self, perceived: np.ndarray, now: RobotNow) -> np.ndarray:
         return observation_of(self.task, perceived, now.odometry)
