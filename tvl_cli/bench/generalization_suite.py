@@ -30,7 +30,8 @@ KIND = "rooms"
 TEST, TUNING = "test", "tuning"
 WORLD_SETS = {TEST: range(1001, 1021), TUNING: range(1, 21)}
 BEHAVIOURS = ("avoid", "wall-left", "wall-right", "goal")
-# What a Gymnasium controller is scored on: the environment's tasks that mean what ours do.
+# What a Gymnasium controller is scored on: the environment's tasks that mean what they mean
+# to `tvl run` (its `wall` task keeps a distance on either side).
 CONTROLLER_BEHAVIOURS = ("avoid", "goal")
 TINY, QUICK, FULL = "tiny", "quick", "full"
 

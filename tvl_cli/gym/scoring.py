@@ -39,9 +39,6 @@ from tvl_cli.sim.worldmap import WorldMap
 Act = Callable[[np.ndarray], Any]
 # How a Stable-Baselines3 model is installed, for the error when it is not.
 SB3_EXTRA = "pip install 'tvl[rl]'"
-# The behaviours a controller of the environment is scored on: the tasks it has that mean
-# what they mean to `tvl run` (its `wall` task keeps a distance on either side).
-SCORED_BEHAVIOURS = (AVOID, GOAL)
 
 
 def is_model_spec(spec: str) -> bool:
