@@ -11,8 +11,8 @@ and 9 x 5 m and `tvl world new narrow` at 8 x 5 and 10 x 6 m, each with its own 
 For each world and seed, through the real `tvl` process: `tvl learn` 15 simulated minutes,
 by our method and by the paper's; `tvl train` the single, multi and designed FAMs from each
 log; then `tvl run --behaviour goal` for 5 minutes to each of the world's goals with each
-FAM. Our FAMs run as learnt (clearing while seeking a goal), with `--memory-clearing never`,
-with `--memory-clearing toward-goal`, and with every reflex (`--reflex all`: the escape by
+FAM. Our FAMs run as learnt (clearing toward the goal), with `--memory-clearing never`,
+with `--memory-clearing goal`, and with every reflex (`--reflex all`: the escape by
 following walls besides ours); the paper's method keeps no memory and has no reflex. It
 prints goals reached and contacts a minute (over the runs' simulated time) by row and
 configuration.
@@ -48,8 +48,8 @@ RUN_MINUTES = "5"
 # (row, method preset the FAMs are learnt by, what `tvl run` is given beyond the FAM's method)
 ROWS = (
     ("ours, clearing never", "default", ("--memory-clearing", "never")),
-    ("ours, clearing goal (default)", "default", ()),
-    ("ours, clearing toward the goal", "default", ("--memory-clearing", "toward-goal")),
+    ("ours, clearing goal", "default", ("--memory-clearing", "goal")),
+    ("ours, clearing toward the goal (default)", "default", ()),
     ("ours, escape by following walls", "default", ("--reflex", "all")),
     ("paper's method", "paper", ()),
 )

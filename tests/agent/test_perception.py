@@ -19,6 +19,7 @@ from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.memory import (
+    GOAL_BEAMS_EITHER_SIDE,
     NO_MEMORY,
     NOT_CHOSEN,
     PATCHES,
@@ -215,7 +216,7 @@ def test_memory_settings_are_checked() -> None:
 def test_a_memory_recorded_before_clearing_was_a_choice_never_clears() -> None:
     recorded = {"kind": "patches", "window_s": 20.0, "range_m": 4.0, "patch_m": 0.3}
     assert MemoryConfig.from_dict(recorded).clearing == "never"
-    assert DEFAULT.memory.clearing == "goal"
+    assert DEFAULT.memory.clearing == "toward-goal"
     assert MemoryConfig.from_dict(DEFAULT.memory.to_dict()) == DEFAULT.memory
 
 
@@ -308,15 +309,16 @@ def test_toward_the_goal_a_beam_that_hears_farther_meets_no_patch_even_one_heard
     goal_deg: float | None,
 ) -> None:
     # The patch of a pillar heard 0.5 m ahead is narrow (0.3 m), and clearing keeps it. With
-    # the goal beyond it, S0, facing the goal or its neighbour, hears a wall 3 m away and so
-    # reads 3 m; the goal off to the side, or none, S0 still meets the patch.
+    # the goal beyond it, S0, facing the goal (the nearest its bearing, or as near as
+    # GOAL_BEAMS_EITHER_SIDE), hears a wall 3 m away and so reads 3 m; the goal off to the
+    # side, or none, S0 still meets the patch.
     memory = EchoMemory(replace(PATCH_MEMORY, clearing="toward-goal"), ROBOT, True, True)
     _pillar_heard_from(0.5, memory)
     live = silent()
     live[0] = 3.0
     bearing = None if goal_deg is None else math.radians(goal_deg)
     virtual = memory.virtual(1, (0.0, 0.0, 0.0), live, bearing)
-    facing = goal_deg is not None and abs(goal_deg) < 22.5 * 1.5
+    facing = goal_deg is not None and abs(round(goal_deg / 22.5)) <= GOAL_BEAMS_EITHER_SIDE
     assert virtual[0] == (3.0 if facing else pytest.approx(0.5))
     # A silent beam facing the goal still meets every patch: a slanted wall is silent.
     silent_ring = memory.virtual(1, (0.0, 0.0, 0.0), silent(), bearing)

@@ -165,8 +165,9 @@ ADDITIONS: tuple[Addition, ...] = (
         "The FAM reads a virtual ring: the live ranges, or nearer surfaces heard in the last "
         f"{DEFAULT_MEMORY.window_s:g} s placed by odometry, since a specular ring hears a "
         "slanted wall only square on. While seeking a goal, a beam that hears an echo leaves "
-        f"out the remembered patches wider than {2 * CLEARED_ABOVE_M:g} m in it "
-        "(`--memory-clearing`): heard from afar, they close gaps between pillars and doors.",
+        f"out the remembered patches wider than {2 * CLEARED_ABOVE_M:g} m in it, and the beam "
+        "facing the goal every patch (`--memory-clearing toward-goal`): patches close the "
+        "gaps between pillars and doors.",
         NO_MEMORY,
     ),
 )
