@@ -22,6 +22,7 @@ from conftest import TVL
 from json_schemas import ENVELOPE, valid
 
 from tvl_cli.core.errors import BadInput
+from tvl_cli.core.method import DEFAULT, reflexes_text
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.sweep.cell import COLUMNS
 from tvl_cli.sweep.executors import CLUSTER_EXTRA, dask_cluster
@@ -89,7 +90,7 @@ def test_every_cell_is_a_row_of_its_grid_values_and_its_run_metrics(swept: Path)
             "tvl", "square", "2", "1"
         )  # fmt: skip
         assert (row["behaviour"], row["goal"], row["run_minutes"], row["reflexes"]) == (
-            "wall-left", "", "0.5", "all"
+            "wall-left", "", "0.5", reflexes_text(DEFAULT.reflexes)
         )  # fmt: skip
         assert float(row["sim_s"]) == 30.0 and row["goal_reached"] == ""  # no goal sought
     recorded = journal(swept)
