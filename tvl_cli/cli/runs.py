@@ -38,7 +38,7 @@ from tvl_cli.cli.options import (
 )
 from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD
 from tvl_cli.core.errors import DEFAULT_RUN_MINUTES
-from tvl_cli.core.method import ALL, MethodChoice
+from tvl_cli.core.method import DEFAULT, REFLEX_NAMES, MethodChoice
 from tvl_cli.core.robot_config import SONAR_MODEL_NAMES, RobotConfig
 
 if TYPE_CHECKING:
@@ -74,7 +74,9 @@ VIEWS = (TERMINAL, WINDOW)
 @click.option("--png", type=PICTURE, default=None, help="Draw the path.")
 @click.option("--log", "trace", type=HDF5, default=None, help="Write a run trace (.h5).")
 @method_options
-@reflex_options(default=ALL)
+@reflex_options(
+    default="ours, all but " + ", ".join(n for n in REFLEX_NAMES if n not in DEFAULT.reflexes)
+)
 @click.option(
     "--sonar",
     type=click.Choice(SONAR_MODEL_NAMES),
