@@ -103,10 +103,10 @@ class EchoMemory:
         if self.opens_toward_goal and goal_rad is not None:
             beams = len(ring_m)
             nearest = round(goal_rad / (2.0 * math.pi / beams))
-            reach = range(-GOAL_BEAMS_EITHER_SIDE, GOAL_BEAMS_EITHER_SIDE + 1)
-            facing = np.zeros(beams, dtype=bool)
-            facing[[(nearest + k) % beams for k in reach]] = True
-            limits[facing & heard] = 0.0  # every patch is wider than none
+            for k in range(-GOAL_BEAMS_EITHER_SIDE, GOAL_BEAMS_EITHER_SIDE + 1):
+                beam = (nearest + k) % beams
+                if heard[beam]:
+                    limits[beam] = 0.0  # every patch is wider than none
         return limits
 
     def _virtual(
