@@ -11,6 +11,8 @@ from pathlib import Path
 import pytest
 from package_imports import PACKAGE, imports
 
+from tvl_cli.cli.main import COMMANDS, command_named
+
 # Every package's face but the top one's, which holds the version.
 FACES = sorted(PACKAGE.glob("*/**/__init__.py"))
 
@@ -83,3 +85,22 @@ def test_a_face_imports_nothing_but_what_it_must(face: Path) -> None:
         if not any(name == module or name.startswith(f"{module}.") for module in allowed)
     ]
     assert not wrong, f"tvl_cli/{_name(face)}/__init__.py imports {wrong}"
+
+
+def test_a_module_name_says_its_room_but_for_a_verbs_pair() -> None:
+    # A name met in two rooms would make the reader ask which: only a verb has two modules,
+    # its command line in cli/ and its work in commands/.
+    rooms_of: dict[str, list[str]] = {}
+    for path in PACKAGE.glob("**/*.py"):
+        if path.stem != "__init__":
+            rooms_of.setdefault(path.stem, []).append(path.parent.relative_to(PACKAGE).as_posix())
+    shared = {name: sorted(rooms) for name, rooms in rooms_of.items() if len(rooms) > 1}
+    verbs_pairs = {name for name, rooms in shared.items() if rooms == ["cli", "commands"]}
+    assert verbs_pairs <= set(COMMANDS), f"pairs that are not verbs: {verbs_pairs - set(COMMANDS)}"
+    assert shared.keys() == verbs_pairs, f"names in two rooms: {shared}"
+
+
+@pytest.mark.parametrize("verb", sorted(COMMANDS))
+def test_each_verbs_command_line_is_the_module_of_its_name(verb: str) -> None:
+    assert (PACKAGE / "cli" / f"{verb}.py").is_file()
+    assert command_named(verb).name == verb

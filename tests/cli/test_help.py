@@ -17,7 +17,7 @@ def test_the_listed_line_is_the_first_paragraph_of_the_commands_help(name: str) 
     command = main.get_command(click.Context(main), name)
     assert command is not None and command.help is not None
     first_paragraph = command.help.split("\n\n")[0]
-    assert " ".join(first_paragraph.split()) == COMMANDS[name][2]
+    assert " ".join(first_paragraph.split()) == COMMANDS[name]
 
 
 def helps_in_a_fresh_interpreter(helps: str, loaded: str) -> tuple[str, str]:
@@ -55,7 +55,7 @@ def test_the_run_commands_help_loads_neither_numpy_nor_the_progress_bars() -> No
 
 @pytest.mark.slow  # about half a second
 def test_the_run_commands_help_loads_neither_hdf5_nor_the_physics() -> None:
-    # What `tvl run --help` prints needs the options alone (cli.runs says so); the JSON
+    # What `tvl run --help` prints needs the options alone (cli/run.py says so); the JSON
     # documents and the replay's tables load h5py, so they load when a command runs.
     helps = "[[name, '--help'] for name in ('run', 'replay', 'explain', 'demo')]"
     printed, loaded = helps_in_a_fresh_interpreter(helps, "('h5py', 'pymunk', 'matplotlib')")

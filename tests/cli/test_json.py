@@ -4,7 +4,6 @@ the schema the package ships for it, on the command line, run in process."""
 from __future__ import annotations
 
 import hashlib
-import importlib
 from pathlib import Path
 
 import click
@@ -13,7 +12,7 @@ from conftest import invoke
 from json_schemas import ENVELOPE, valid
 from test_bad_numbers import SQUARE
 
-from tvl_cli.cli.main import COMMANDS
+from tvl_cli.cli.main import COMMANDS, command_named
 from tvl_cli.core.fam_config import DESIGNED
 
 COUNTS = {"segments", "discs", "rings", "goals"}
@@ -109,8 +108,8 @@ def test_csv_rows_of_rules_and_of_run_metrics(learnt: Path, tmp_path: Path) -> N
 def _leaf_commands() -> list[tuple[str, click.Command]]:
     """Every command a user can run, subcommands of a group by their full name."""
     found = []
-    for name, (module, attribute, _) in COMMANDS.items():
-        command = getattr(importlib.import_module(module), attribute)
+    for name in COMMANDS:
+        command = command_named(name)
         if isinstance(command, click.Group):
             found += [(f"{name} {sub}", c) for sub, c in command.commands.items()]
         else:

@@ -22,87 +22,37 @@ from tvl_cli.cli.examples import examples
 from tvl_cli.core.errors import BadInput, EnvironmentFailure
 from tvl_cli.io.interrupts import STOPPED_EXIT
 
-# name -> (module, attribute, the line `tvl --help` shows for it). The line is kept here so
-# the top-level help needs no import; a test holds it to the command's own first line.
-COMMANDS: dict[str, tuple[str, str, str]] = {
-    "world": (
-        "tvl_cli.cli.world",
-        "world",
-        "Make, check, show and draw text-map worlds; import and export occupancy grids.",
-    ),
-    "learn": (
-        "tvl_cli.cli.learning",
-        "learn",
-        "Explore WORLD and learn trajectory velocities, recording every episode in a log.",
-    ),
-    "train": (
-        "tvl_cli.cli.fam_commands",
-        "train",
-        "Train a FAM file from learning logs (log replay).",
-    ),
-    "inspect": (
-        "tvl_cli.cli.fam_commands",
-        "inspect",
-        "Print a FAM file's rules as a person reads them.",
-    ),
-    "diff": (
-        "tvl_cli.cli.fam_commands",
-        "diff",
-        "Show where two FAM files of one configuration disagree, rule by rule.",
-    ),
-    "design": (
-        "tvl_cli.cli.input_design",
-        "design",
-        "Choose each FAM table's sonars and fuzzy sets from learning logs.",
-    ),
-    "run": ("tvl_cli.cli.runs", "run", "Perform a behaviour in WORLD with a learnt FAM."),
-    "replay": (
-        "tvl_cli.cli.runs",
-        "replay",
-        "Summarise a learning log or a run trace, and draw it.",
-    ),
-    "explain": (
-        "tvl_cli.cli.explain",
-        "explain",
-        "Explain one moment of a run trace in the rules of its FAM.",
-    ),
-    "demo": (
-        "tvl_cli.cli.runs",
-        "demo",
-        "Learn, train, run and draw on a bundled world, in seconds.",
-    ),
-    "baseline": (
-        "tvl_cli.cli.baselines",
-        "baseline",
-        "Controllers to measure TVL against: DWA and tabular Q-learning.",
-    ),
-    "sweep": (
-        "tvl_cli.cli.sweep",
-        "sweep",
-        "Learn, train and run every combination of a grid's settings into one results table.",
-    ),
-    "bench": (
-        "tvl_cli.cli.bench",
-        "bench",
-        "Benchmark suites: generalization to worlds nobody tuned on, and the paper's claims.",
-    ),
-    "export": (
-        "tvl_cli.cli.export",
-        "export",
-        "Write a run trace as MCAP, in Foxglove's schemas, to play back in Foxglove.",
-    ),
+# name -> the line `tvl --help` shows for it. Each verb is the command of its name in
+# tvl_cli.cli.<name>. The line is kept here so that the top-level help needs no import; a
+# test holds it to the command's own first line.
+COMMANDS: dict[str, str] = {
+    "world": "Make, check, show and draw text-map worlds; import and export occupancy grids.",
+    "learn": "Explore WORLD and learn trajectory velocities, recording every episode in a log.",
+    "train": "Train a FAM file from learning logs (log replay).",
+    "inspect": "Print a FAM file's rules as a person reads them.",
+    "diff": "Show where two FAM files of one configuration disagree, rule by rule.",
+    "design": "Choose each FAM table's sonars and fuzzy sets from learning logs.",
+    "run": "Perform a behaviour in WORLD with a learnt FAM.",
+    "replay": "Summarise a learning log or a run trace, and draw it.",
+    "explain": "Explain one moment of a run trace in the rules of its FAM.",
+    "demo": "Learn, train, run and draw on a bundled world, in seconds.",
+    "baseline": "Controllers to measure TVL against: DWA and tabular Q-learning.",
+    "sweep": "Learn, train and run every combination of a grid's settings into one results table.",
+    "bench": "Benchmark suites: generalization to worlds nobody tuned on, and the paper's claims.",
+    "export": "Write a run trace as MCAP, in Foxglove's schemas, to play back in Foxglove.",
     "figure": (
-        "tvl_cli.cli.figure",
-        "figure",
         "Draw figure NAME (fig19, fig21, fig22, fig24, fig27, ablation, online, exploration) "
-        "from an experiment's RESULTS (JSON lines) and print its summary table.",
+        "from an experiment's RESULTS (JSON lines) and print its summary table."
     ),
-    "schema": (
-        "tvl_cli.cli.schema",
-        "schema",
-        "Print the JSON Schema of COMMAND's --json output; with no COMMAND, list them.",
-    ),
+    "schema": "Print the JSON Schema of COMMAND's --json output; with no COMMAND, list them.",
 }
+
+
+def command_named(name: str) -> click.Command:
+    """The command `tvl NAME` runs; its module is imported only now."""
+    command = getattr(importlib.import_module(f"tvl_cli.cli.{name}"), name)
+    assert isinstance(command, click.Command)
+    return command
 
 
 # Failures of the machine rather than of what the user typed: no space, no memory, a broken
@@ -123,10 +73,7 @@ class TvlGroup(click.Group):
     def get_command(self, ctx: click.Context, cmd_name: str) -> click.Command | None:
         if cmd_name not in COMMANDS:
             return None
-        module, attribute, _ = COMMANDS[cmd_name]
-        command = getattr(importlib.import_module(module), attribute)
-        assert isinstance(command, click.Command)
-        return command
+        return command_named(cmd_name)
 
     def resolve_command(
         self, ctx: click.Context, args: list[str]
@@ -141,7 +88,7 @@ class TvlGroup(click.Group):
         return super().resolve_command(ctx, args)
 
     def format_commands(self, ctx: click.Context, formatter: click.HelpFormatter) -> None:
-        rows = [(name, help_line) for name, (_, _, help_line) in COMMANDS.items()]
+        rows = list(COMMANDS.items())
         with formatter.section("Commands"):
             formatter.write_dl(rows)
 

@@ -1,5 +1,4 @@
-"""`tvl train`, `tvl inspect` and `tvl diff`: FAM files from logs, their rules in words, and
-where two disagree."""
+"""`tvl inspect`: a FAM file's rules in words, as CSV or JSON, or drawn."""
 
 from __future__ import annotations
 
@@ -7,68 +6,20 @@ from pathlib import Path
 
 import click
 
-from tvl_cli.analysis.famdiff import DEFAULT_TOLERANCE_MPS
 from tvl_cli.analysis.rules import SORT_KEYS
-from tvl_cli.cli import documents, fam_views, views
+from tvl_cli.cli import documents, fam_views
 from tvl_cli.cli.examples import examples
-from tvl_cli.cli.memory_options import memory_options
 from tvl_cli.cli.options import (
-    HDF5,
     PICTURE,
     given_on_command_line,
-    method_options,
     print_csv,
     print_json,
     refuse_both_formats,
     refuse_existing,
     refuse_shared_paths,
-    training_options,
 )
 from tvl_cli.cli.params import Parsed, complete_trajectory, name_and_metres, pair_of_names
-from tvl_cli.commands.diff import diff_files
 from tvl_cli.commands.inspect import InspectRequest, inspect_fam
-from tvl_cli.commands.train import TrainRequest
-from tvl_cli.commands.train import train as train_fam
-from tvl_cli.core.method import MethodChoice
-
-
-@click.command(epilog=examples("train"))
-@click.argument("logs", nargs=-1, required=True, type=click.Path(path_type=Path))
-@click.option("-o", "--output", type=HDF5, required=True, help="FAM file (.h5).")
-@method_options
-@training_options
-@click.option(
-    "--until-minute",
-    type=float,
-    default=None,
-    help="Use only the episodes each session finished by this simulated minute.",
-)
-@memory_options(base="the one the logs were learnt through")
-@click.option("--force", is_flag=True, help="Overwrite OUTPUT.")
-@click.option("--json", "as_json", is_flag=True, help="Print a JSON summary.")
-def train(
-    logs: tuple[Path, ...],
-    output: Path,
-    method: MethodChoice,
-    config: str,
-    symmetric: bool,
-    init_velocity_mps: float,
-    until_minute: float | None,
-    force: bool,
-    as_json: bool,
-) -> None:
-    """Train a FAM file from learning logs (log replay)."""
-    refuse_shared_paths({"-o": output}, {f"LOG {i + 1}": log for i, log in enumerate(logs)})
-    refuse_existing(output, force)
-    request = TrainRequest(
-        logs, output, config, method, until_minute, symmetric, init_velocity_mps, force
-    )
-    with views.progress("training") as bar:
-        summary = train_fam(request, bar)
-    if as_json:
-        print_json(documents.train_json(summary, logs, config, until_minute, output))
-    else:
-        fam_views.train_summary(summary, output, method)
 
 
 @click.command(epilog=examples("inspect"))
@@ -176,30 +127,3 @@ def inspect(
 
 # inspect's options that choose rules to print: with --png, the rules print only if one is given.
 RULE_OPTIONS = ("--trajectory", "--top", "--sort", "--untrained")
-
-
-@click.command(epilog=examples("diff"))
-@click.argument("first", type=click.Path(path_type=Path))
-@click.argument("second", type=click.Path(path_type=Path))
-@click.option(
-    "--tolerance",
-    type=click.FloatRange(min=0.0),
-    default=DEFAULT_TOLERANCE_MPS,
-    show_default=True,
-    help="m/s: velocities closer than this agree.",
-)
-@click.option(
-    "--top",
-    type=click.IntRange(min=0),
-    default=20,
-    show_default=True,
-    help="How many of the rules that differ most to name (0: all).",
-)
-@click.option("--json", "as_json", is_flag=True, help="Print JSON.")
-def diff(first: Path, second: Path, tolerance: float, top: int, as_json: bool) -> None:
-    """Show where two FAM files of one configuration disagree, rule by rule."""
-    difference = diff_files(first, second, tolerance, top)
-    if as_json:
-        print_json(documents.diff_json(difference, first, second, top))
-    else:
-        fam_views.fam_difference(difference, first, second)
