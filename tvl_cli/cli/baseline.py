@@ -18,8 +18,7 @@ from tvl_cli.cli.options import (
     method_options,
     print_json,
     reflex_options,
-    refuse_existing,
-    refuse_shared_paths,
+    refuse_outputs,
     seed_option,
 )
 from tvl_cli.commands.baseline import dwa_session, qlearn_session
@@ -64,9 +63,7 @@ def baseline_dwa(
     as_json: bool,
 ) -> None:
     """Drive WORLD with the Dynamic Window Approach, by the true map or by the sonar ring."""
-    refuse_shared_paths({"--png": png}, {"WORLD": world_file})
-    if png is not None:
-        refuse_existing(png, force)
+    refuse_outputs({"--png": png}, {"WORLD": world_file}, force)
     report = dwa_session(
         world_file,
         behaviour,
@@ -122,9 +119,7 @@ def baseline_qlearn(
     as_json: bool,
 ) -> None:
     """Learn a Q-table over the single FAM's rules in WORLD, then avoid greedily with it."""
-    refuse_shared_paths({"--png": png}, {"WORLD": world_file})
-    if png is not None:
-        refuse_existing(png, force)
+    refuse_outputs({"--png": png}, {"WORLD": world_file}, force)
     report = qlearn_session(world_file, learn_minutes, minutes, seed, competence_every, png, method)
     if as_json:
         options = {

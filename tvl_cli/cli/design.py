@@ -9,7 +9,7 @@ import click
 from tvl_cli.analysis.input_selection import DEFAULT_BUDGET_RULES
 from tvl_cli.cli import documents
 from tvl_cli.cli.examples import examples
-from tvl_cli.cli.options import JSON_FILE, SEED, print_json, refuse_existing, refuse_shared_paths
+from tvl_cli.cli.options import JSON_FILE, SEED, print_json, refuse_outputs
 from tvl_cli.cli.tables import table
 from tvl_cli.cli.views import out
 from tvl_cli.commands.design import DesignSummary, design_from_logs
@@ -49,8 +49,7 @@ def design(
     error measurably. Writes a configuration for `tvl train --config CONFIG.json` that
     records each choice's held-out error before and after.
     """
-    refuse_shared_paths({"-o": output}, {f"LOG {i + 1}": log for i, log in enumerate(logs)})
-    refuse_existing(output, force)
+    refuse_outputs({"-o": output}, {f"LOG {i + 1}": log for i, log in enumerate(logs)}, force)
     summary = design_from_logs(list(logs), output, budget, seed, force)
     if as_json:
         print_json(documents.design_json(summary, logs, budget, seed))

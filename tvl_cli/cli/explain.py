@@ -12,7 +12,7 @@ import click
 
 from tvl_cli.cli import views
 from tvl_cli.cli.examples import examples
-from tvl_cli.cli.options import PICTURE, print_json, refuse_existing, refuse_shared_paths
+from tvl_cli.cli.options import PICTURE, print_json, refuse_outputs
 from tvl_cli.core.contacts import EVENT_CHOICES
 from tvl_cli.core.errors import BadInput
 
@@ -83,8 +83,7 @@ def explain(
     from tvl_cli.commands.explain import Moment, explain_run
 
     if png is not None:
-        refuse_shared_paths({"--png": png}, {"RUN": trace, "--fam": fam_path})
-        refuse_existing(png, force)
+        refuse_outputs({"--png": png}, {"RUN": trace, "--fam": fam_path}, force)
     found = explain_run(trace, Moment(step, at_s, event, index), fam_path, png)
     if found.moved:
         click.echo(found.moved, err=True)

@@ -8,7 +8,7 @@ import click
 
 from tvl_cli.cli import documents
 from tvl_cli.cli.examples import examples
-from tvl_cli.cli.options import MCAP, print_json, refuse_existing, refuse_shared_paths
+from tvl_cli.cli.options import MCAP, print_json, refuse_outputs
 from tvl_cli.commands.export import export_mcap
 
 
@@ -30,8 +30,7 @@ def export(run: Path, output: Path, force: bool, as_json: bool) -> None:
     Topics: /world (the scene), /tf, /pose and /odometry, /sonar (the echo points),
     /perceived (the seven perceived velocities) and /events, on the run's simulated clock.
     """
-    refuse_shared_paths({"--mcap": output}, {"RUN.h5": run})
-    refuse_existing(output, force)
+    refuse_outputs({"--mcap": output}, {"RUN.h5": run}, force)
     exported = export_mcap(run, output)
     if as_json:
         print_json(documents.export_json(exported))

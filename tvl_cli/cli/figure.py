@@ -8,14 +8,7 @@ import click
 
 from tvl_cli.cli import documents, views
 from tvl_cli.cli.examples import examples
-from tvl_cli.cli.options import (
-    MARKDOWN,
-    PICTURE,
-    PICTURE_HELP,
-    print_json,
-    refuse_existing,
-    refuse_shared_paths,
-)
+from tvl_cli.cli.options import MARKDOWN, PICTURE, PICTURE_HELP, print_json, refuse_outputs
 from tvl_cli.cli.params import complete_figure
 from tvl_cli.commands.figure import FigureRequest, draw
 
@@ -35,10 +28,7 @@ def figure(
 
     RESULTS is the results.jsonl of the experiment's sweep: `tvl sweep
     experiments/grids/NAME.toml --out DIR` writes DIR/results.jsonl."""
-    refuse_shared_paths({"-o": output, "--table": table}, {"RESULTS": results})
-    for path in (output, table):
-        if path is not None:
-            refuse_existing(path, force)
+    refuse_outputs({"-o": output, "--table": table}, {"RESULTS": results}, force)
     summary = draw(FigureRequest(name, results, output, table))
     if as_json:
         print_json(documents.figure_json(name, results, output, table, summary))

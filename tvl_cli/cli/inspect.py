@@ -15,8 +15,7 @@ from tvl_cli.cli.options import (
     print_csv,
     print_json,
     refuse_both_formats,
-    refuse_existing,
-    refuse_shared_paths,
+    refuse_outputs,
 )
 from tvl_cli.cli.params import Parsed, complete_trajectory, name_and_metres, pair_of_names
 from tvl_cli.commands.inspect import InspectRequest, inspect_fam
@@ -91,8 +90,7 @@ def inspect(
     if explain is not None and as_csv:
         raise click.UsageError("--csv lists rules; --explain prints in words or --json")
     if png is not None:
-        refuse_shared_paths({"--png": png}, {"FAM": fam})
-        refuse_existing(png, force)
+        refuse_outputs({"--png": png}, {"FAM": fam}, force)
     found = inspect_fam(
         InspectRequest(fam, trajectory, top, sort, untrained, explain, png, over, fix)
     )

@@ -16,8 +16,7 @@ from tvl_cli.cli.options import (
     live_options,
     method_options,
     print_json,
-    refuse_existing,
-    refuse_shared_paths,
+    refuse_outputs,
     robot_option,
     seed_option,
     training_options,
@@ -131,9 +130,7 @@ def learn(
     the sessions before it learnt: experience from many worlds in one log and one FAM."""
     worlds = [found for entry in world_entries for found in named_worlds(entry)]
     files = {f"WORLD {w.entry}": w.path for w in worlds}
-    refuse_shared_paths({"--fam": fam_out}, {"--log": log, **files, "--from-fam": from_fam})
-    if fam_out is not None:
-        refuse_existing(fam_out, force)
+    refuse_outputs({"--fam": fam_out}, {"--log": log, **files, "--from-fam": from_fam}, force)
     if from_fam is not None and len(worlds) > 1:
         raise BadInput("--from-fam starts a new log: give it one world, then add the others")
     for index, named in enumerate(worlds):

@@ -167,6 +167,17 @@ def refuse_shared_paths(
                 )
 
 
+def refuse_outputs(
+    outputs: dict[str, Path | None], inputs: dict[str, Path | None], force: bool
+) -> None:
+    """Before any work: each output given is a file of its own (`refuse_shared_paths`) that
+    may be written (`refuse_existing`)."""
+    refuse_shared_paths(outputs, inputs)
+    for path in outputs.values():
+        if path is not None:
+            refuse_existing(path, force)
+
+
 def training_options(command: Callable[..., None]) -> Callable[..., None]:
     """--config, --decel, --margin, --labels, --no-symmetric and --init-velocity: learn and
     train label and train alike. The labels are the method's (method_options); the command is given

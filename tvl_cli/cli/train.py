@@ -9,14 +9,7 @@ import click
 from tvl_cli.cli import documents, fam_views, views
 from tvl_cli.cli.examples import examples
 from tvl_cli.cli.memory_options import memory_options
-from tvl_cli.cli.options import (
-    HDF5,
-    method_options,
-    print_json,
-    refuse_existing,
-    refuse_shared_paths,
-    training_options,
-)
+from tvl_cli.cli.options import HDF5, method_options, print_json, refuse_outputs, training_options
 from tvl_cli.commands.train import TrainRequest
 from tvl_cli.commands.train import train as train_fam
 from tvl_cli.core.method import MethodChoice
@@ -48,8 +41,7 @@ def train(
     as_json: bool,
 ) -> None:
     """Train a FAM file from learning logs (log replay)."""
-    refuse_shared_paths({"-o": output}, {f"LOG {i + 1}": log for i, log in enumerate(logs)})
-    refuse_existing(output, force)
+    refuse_outputs({"-o": output}, {f"LOG {i + 1}": log for i, log in enumerate(logs)}, force)
     request = TrainRequest(
         logs, output, config, method, until_minute, symmetric, init_velocity_mps, force
     )

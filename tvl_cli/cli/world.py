@@ -16,7 +16,7 @@ from tvl_cli.cli.options import (
     SEED,
     print_json,
     refuse_existing,
-    refuse_shared_paths,
+    refuse_outputs,
     robot_option,
 )
 from tvl_cli.commands.world import (
@@ -133,8 +133,7 @@ def world_check(file: Path, as_json: bool) -> None:
 @click.option("--json", "as_json", is_flag=True, help="Print what was drawn as JSON.")
 def world_render(file: Path, output: Path, force: bool, as_json: bool) -> None:
     """Draw a world file as a picture."""
-    refuse_shared_paths({"-o": output}, {"FILE": file})
-    refuse_existing(output, force)
+    refuse_outputs({"-o": output}, {"FILE": file}, force)
     drawn = render_world(file, output)
     if as_json:
         print_json(documents.world_render_json(file, output, drawn))
@@ -201,8 +200,7 @@ def world_import(
         force,
         robot,
     )
-    refuse_shared_paths({"-o": output}, {"MAP.yaml": map_yaml})
-    refuse_existing(output, force)
+    refuse_outputs({"-o": output}, {"MAP.yaml": map_yaml}, force)
     imported = import_map(request)
     for warning in _import_warnings(imported, robot):
         click.echo(f"tvl: warning: {map_yaml}: {warning}", err=True)
@@ -267,9 +265,7 @@ def world_export(file: Path, output: Path, force: bool, as_json: bool) -> None:
     bottom-left corner.
     """
     image = image_beside(output)
-    refuse_shared_paths({"-o": output, "its PGM": image}, {"FILE": file})
-    refuse_existing(output, force)
-    refuse_existing(image, force)
+    refuse_outputs({"-o": output, "its PGM": image}, {"FILE": file}, force)
     exported = export_map(file, output)
     if as_json:
         print_json(documents.world_export_json(exported))
