@@ -338,7 +338,7 @@ def test_perception_opens_toward_the_goal_only_when_seeking_one_with_that_cleari
     perception.sense(0.0, (0.0, 0.0, 0.0), ring)
     live = silent()
     live[0] = 3.0
-    virtual = perception.peek(0.1, (0.0, 0.0, 0.0), live, goal_rad=0.0)
+    virtual = perception.sense(0.1, (0.0, 0.0, 0.0), live, goal_xy=(5.0, 0.0))
     assert (virtual[0] == 3.0) == opens
 
 

@@ -15,6 +15,7 @@ from dataclasses import replace
 import numpy as np
 
 from tvl_cli.agent.policy import Pose
+from tvl_cli.core.angles import goal_bearing
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.memory import CLEARED_ABOVE_M, GOAL_BEAMS_EITHER_SIDE, POINTS, MemoryConfig
 from tvl_cli.core.ring import mm_to_ring
@@ -186,21 +187,25 @@ class Perception:
         return round(time_s / self._dt_s)
 
     def sense(
-        self, time_s: float, odometry: Pose, ring_m: np.ndarray, goal_rad: float | None = None
+        self,
+        time_s: float,
+        odometry: Pose,
+        ring_m: np.ndarray,
+        goal_xy: tuple[float, float] | None = None,
     ) -> np.ndarray:
-        """(16,) metres the FAM reads, remembering this reading; `goal_rad` is the goal's
-        bearing from the heading, for a robot seeking one."""
+        """(16,) metres the FAM reads, remembering this reading; `goal_xy` is the goal of a
+        robot seeking one, in the odometry frame."""
         if self._memory is None:
             return ring_m
+        goal_rad = None if goal_xy is None else goal_bearing(odometry, goal_xy)
         return self._memory.sense(self.step_of(time_s), odometry, ring_m, goal_rad)
 
-    def peek(
-        self, time_s: float, odometry: Pose, ring_m: np.ndarray, goal_rad: float | None = None
-    ) -> np.ndarray:
-        """(16,) metres the FAM reads, without remembering this reading."""
+    def peek(self, time_s: float, odometry: Pose, ring_m: np.ndarray) -> np.ndarray:
+        """(16,) metres the FAM reads, without remembering this reading (an explorer's look,
+        with no goal)."""
         if self._memory is None:
             return ring_m
-        return self._memory.virtual(self.step_of(time_s), odometry, ring_m, goal_rad)
+        return self._memory.virtual(self.step_of(time_s), odometry, ring_m)
 
 
 def replayed_rings(

@@ -5,7 +5,6 @@ addition is a reflex (agent.reflexes)."""
 
 from __future__ import annotations
 
-import math
 from typing import Protocol
 
 import numpy as np
@@ -13,7 +12,7 @@ import numpy as np
 from tvl_cli.agent.motions import BACKOFF_M, spin_commands
 from tvl_cli.agent.perception import Perception
 from tvl_cli.agent.policy import Decision, Observation
-from tvl_cli.core.angles import wrap_rad
+from tvl_cli.core.angles import goal_bearing
 from tvl_cli.core.drive_command import Command
 from tvl_cli.core.memory import NO_MEMORY
 from tvl_cli.core.robot_config import RobotConfig
@@ -41,12 +40,6 @@ class VelocityPerception(Protocol):
         """(16, 7) m/s of each trajectory in each view (row k facing sonar k), and their
         experience."""
         ...
-
-
-def goal_bearing(odometry: tuple[float, float, float], goal_xy: tuple[float, float]) -> float:
-    """Goal direction relative to the heading, [-pi, pi), from odometry alone."""
-    x, y, theta = odometry
-    return wrap_rad(math.atan2(goal_xy[1] - y, goal_xy[0] - x) - theta)
 
 
 class TvlPolicy:
@@ -85,8 +78,7 @@ class TvlPolicy:
     def decide(self, obs: Observation) -> Decision:
         if self._queue:
             return self._queue.pop(0)
-        bearing = goal_bearing(obs.odometry, obs.goal_xy) if obs.goal_xy else None
-        ring_m = self.perception.sense(obs.time_s, obs.odometry, obs.ring_m, bearing)
+        ring_m = self.perception.sense(obs.time_s, obs.odometry, obs.ring_m, obs.goal_xy)
         perceived = ring_m if self.perception.remembers else None
         behaviour = obs.behaviour or self.behaviour
         if behaviour != self._performing:
@@ -97,7 +89,8 @@ class TvlPolicy:
         fast = fast_set(velocities, self._v_max, self.threshold)
         if obs.keep_out is not None:
             fast &= ~obs.keep_out(self._set_off)
-        ctx = Context(ring_m, obs.tie_side, 0.0 if bearing is None else bearing, self._wall_side)
+        bearing = 0.0 if obs.goal_xy is None else goal_bearing(obs.odometry, obs.goal_xy)
+        ctx = Context(ring_m, obs.tie_side, bearing, self._wall_side)
         choice = choose(velocities, fast, self._v_max, self._headings, behaviour, ctx)
         following = self._wall_side != 0
         if choice is None:

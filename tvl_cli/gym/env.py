@@ -19,7 +19,7 @@ import gymnasium
 import numpy as np
 
 from tvl_cli.agent.engine import StepEngine
-from tvl_cli.agent.tvl import goal_bearing
+from tvl_cli.core.angles import goal_bearing
 from tvl_cli.core.method import Method
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.gym.actions import (

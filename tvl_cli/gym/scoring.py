@@ -28,7 +28,6 @@ from tvl_cli.agent.drive import drive_engine
 from tvl_cli.agent.engine import StepEngine
 from tvl_cli.agent.perception import Perception
 from tvl_cli.agent.policy import Decision, Observation
-from tvl_cli.agent.tvl import goal_bearing
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.method import Method
 from tvl_cli.core.metrics import RunMetrics
@@ -163,9 +162,7 @@ class ControllerPolicy:
         return self._tasks[DISCRETE]
 
     def decide(self, obs: Observation) -> Decision:
-        goal = obs.goal_xy
-        bearing = None if goal is None else goal_bearing(obs.odometry, goal)
-        perceived = self._perception.sense(obs.time_s, obs.odometry, obs.ring_m, bearing)
+        perceived = self._perception.sense(obs.time_s, obs.odometry, obs.ring_m, obs.goal_xy)
         action = self._act(observation_of(self.task, perceived, obs.odometry))
         discrete = np.ndim(action) == 0
         task = self._tasks[DISCRETE if discrete else CONTINUOUS]

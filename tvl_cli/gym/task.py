@@ -18,7 +18,7 @@ from gymnasium import spaces
 from tvl_cli.agent.engine import StepEngine, StepOutcome, within_goal
 from tvl_cli.agent.motions import BACKOFF_M, backoff_commands
 from tvl_cli.agent.perception import Perception
-from tvl_cli.agent.tvl import goal_bearing
+from tvl_cli.core.angles import goal_bearing
 from tvl_cli.core.contacts import drives_forward
 from tvl_cli.core.drive_command import STOP, Command
 from tvl_cli.core.errors import BadInput
@@ -360,9 +360,7 @@ class RobotEpisode:
         """Take the ring read where the robot is; what perception makes of it."""
         self.ring = ring
         self._odometry = now.odometry
-        goal = self.task.goal_xy
-        bearing = None if goal is None else goal_bearing(now.odometry, goal)
-        return self._perception.sense(now.time_s, now.odometry, ring, bearing)
+        return self._perception.sense(now.time_s, now.odometry, ring, self.task.goal_xy)
 
     def _observation(self, perceived: np.ndarray, now: RobotNow) -> np.ndarray:
         return observation_of(self.task, perceived, now.odometry)
