@@ -95,12 +95,11 @@ def test_competence_is_judged_every_k_learning_minutes() -> None:
     result = learn_and_evaluate(SQUARE, ROBOT, 0.3, 0.2, seed=1, competence_every=0.1)
     minutes = [check.learn_minutes for check in result.checks]
     assert minutes == pytest.approx([0.1, 0.2, 0.3])
-    for check in result.checks:
-        assert check.competent == (check.contacts_per_min <= 0.2 and check.mean_speed_mps >= 0.3)
-        assert check.contacts_per_min > 0  # a third of a minute is not enough to learn
-    assert result.time_to_competence_min == next(
-        (c.learn_minutes for c in result.checks if c.competent), None
-    )
+    # A third of a minute is not enough to learn: every check's greedy run pins itself to a
+    # wall and barely moves, so none is competent and no time to competence is found.
+    assert all(0 < check.mean_speed_mps < 0.3 for check in result.checks)
+    assert not any(check.competent for check in result.checks)
+    assert result.time_to_competence_min is None
     assert result.evaluation.sim_s == pytest.approx(12.0)
 
 
