@@ -197,7 +197,9 @@ class Perception:
         robot seeking one, in the odometry frame."""
         if self._memory is None:
             return ring_m
-        goal_rad = None if goal_xy is None else goal_bearing(odometry, goal_xy)
+        goal_rad = None  # read only by a memory that opens toward the goal
+        if goal_xy is not None and self._memory.opens_toward_goal:
+            goal_rad = goal_bearing(odometry, goal_xy)
         return self._memory.sense(self.step_of(time_s), odometry, ring_m, goal_rad)
 
     def peek(self, time_s: float, odometry: Pose, ring_m: np.ndarray) -> np.ndarray:

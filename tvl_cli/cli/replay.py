@@ -18,8 +18,7 @@ from tvl_cli.cli.options import (
     PICTURE,
     given_on_command_line,
     print_json,
-    refuse_existing,
-    refuse_shared_paths,
+    refuse_outputs,
 )
 
 # replay's options that shape an animation, and nothing else.
@@ -89,8 +88,6 @@ def replay(
     from tvl_cli.commands.replay import Animation
     from tvl_cli.commands.replay import replay as replay_file
 
-    outputs = {"--png": png, "--curves": curves, "--gif": gif, "--mp4": mp4}
-    refuse_shared_paths(outputs, {"FILE": file})
     if gif is not None and mp4 is not None:
         raise click.UsageError("give --gif or --mp4, not both")
     moving = gif or mp4
@@ -98,9 +95,8 @@ def replay(
         # Options of the animation alone: silently ignoring one would hide a mistyped command.
         for option in given_on_command_line(*ANIMATION_OPTIONS):
             raise click.UsageError(f"{option} applies only with --gif or --mp4")
-    for output in outputs.values():
-        if output is not None:
-            refuse_existing(output, force)
+    outputs = {"--png": png, "--curves": curves, "--gif": gif, "--mp4": mp4}
+    refuse_outputs(outputs, {"FILE": file}, force)
     animation = (
         Animation(moving, from_s, to_s, every, fps, video=mp4 is not None)
         if moving is not None
