@@ -29,9 +29,10 @@ from typing import Any
 import numpy as np
 
 from tvl_cli.agent.drive_tvl import behave
-from tvl_cli.agent.explore import Learner, LearnParams
+from tvl_cli.agent.explore import Learner
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import DEFAULT_INIT_VELOCITY_MPS, SINGLE
+from tvl_cli.core.learn_params import LearnParams
 from tvl_cli.core.memory import MEMORY_KINDS
 from tvl_cli.core.method import ALL, DEFAULT, PAPER, Method, parse_reflexes
 from tvl_cli.core.robot_config import RobotConfig

@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from tvl_cli.agent.explore import Learner, LearnParams
+from tvl_cli.agent.explore import Learner
 from tvl_cli.bench.generalization_suite import WORLD_SETS
 from tvl_cli.core.arcs import collision_clearance_m
 from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
@@ -30,6 +30,7 @@ from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.heard import DEFAULT_WINDOW_S, heard_episodes
 from tvl_cli.core.labels import velocity_labels
+from tvl_cli.core.learn_params import LearnParams
 from tvl_cli.core.method import DEFAULT
 from tvl_cli.sim.true_arcs import TrueArcs
 from tvl_cli.sim.worldgen import generate_world

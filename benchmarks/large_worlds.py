@@ -43,9 +43,10 @@ from sim_speed import wander
 from timing import TVL, cpu_seconds, figure_line, median_seconds, run_process
 
 from tvl_cli.agent.drive_tvl import behave
-from tvl_cli.agent.explore import Learner, LearnParams
+from tvl_cli.agent.explore import Learner
 from tvl_cli.analysis.coverage import world_floor
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.learn_params import LearnParams
 from tvl_cli.core.method import DEFAULT
 from tvl_cli.io.fam_config_file import resolve_fam_config
 from tvl_cli.io.famfile import read_fam

@@ -28,7 +28,7 @@ import numpy as np
 from competence import seed_list
 
 from tvl_cli.agent.drive_tvl import behave
-from tvl_cli.agent.explore import Learner, LearnParams
+from tvl_cli.agent.explore import Learner
 from tvl_cli.agent.online import (
     ECHO_AFTER_S,
     ECHO_BEFORE_S,
@@ -40,6 +40,7 @@ from tvl_cli.core.episode import Episode
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.labels import velocity_labels
+from tvl_cli.core.learn_params import LearnParams
 from tvl_cli.core.memory import NO_MEMORY
 from tvl_cli.core.method import DEFAULT
 from tvl_cli.core.robot_config import RobotConfig

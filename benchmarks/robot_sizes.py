@@ -35,11 +35,12 @@ import numpy as np
 from competence import seed_list
 
 from tvl_cli.agent.drive_tvl import behave
-from tvl_cli.agent.explore import Learner, LearnParams
+from tvl_cli.agent.explore import Learner
 from tvl_cli.commands.world_import import ImportRequest, import_map
 from tvl_cli.core.competence import COMPETENCE_RUN_MINUTES, is_competent
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import DEFAULT_INIT_VELOCITY_MPS, SINGLE
+from tvl_cli.core.learn_params import LearnParams
 from tvl_cli.core.method import DEFAULT, PAPER, PAPER_NAME, Method
 from tvl_cli.core.robot_profiles import DEFAULT_ROBOT_NAME, ROBOT_PROFILES, TURTLEBOT3_NAME
 from tvl_cli.sim.worldmap import load_world

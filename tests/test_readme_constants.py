@@ -6,7 +6,6 @@ import math
 
 from doc_pages import page, section
 
-from tvl_cli.agent.motions import BACKOFF_M
 from tvl_cli.agent.novelty import BLOCKED_BEYOND_STOP_M, NOVELTY_BIN_M, NOVELTY_LOOKAHEAD_M
 from tvl_cli.agent.reflexes import (
     BLOCKED_HALF_WIDTH_RAD,
@@ -18,6 +17,7 @@ from tvl_cli.agent.reflexes import (
 )
 from tvl_cli.commands.learn import LOG_WRITE_EVERY_S
 from tvl_cli.core.contacts import NEAR_MISS_WITHIN_RAD
+from tvl_cli.core.learn_params import BACKOFF_M
 from tvl_cli.core.method import PAPER
 from tvl_cli.core.robot_config import EDGE_ECHO_RANGE_M, SonarConfig
 from tvl_cli.core.trajectory_choice import LOOKAHEAD_M

@@ -104,3 +104,15 @@ def test_a_module_name_says_its_room_but_for_a_verbs_pair() -> None:
 def test_each_verbs_command_line_is_the_module_of_its_name(verb: str) -> None:
     assert (PACKAGE / "cli" / f"{verb}.py").is_file()
     assert command_named(verb).name == verb
+
+
+# Test folders that are not a room's: the files tests read, and the numpy references the
+# kernels are checked against.
+TEST_FOLDERS_NOT_ROOMS = {"data", "kernel_references"}
+
+
+def test_the_test_tree_has_a_folder_for_each_room_and_no_other() -> None:
+    tests = Path(__file__).resolve().parent
+    rooms = {path.parent.name for path in PACKAGE.glob("*/__init__.py")}
+    folders = {path.name for path in tests.iterdir() if path.is_dir() and path.name[0] != "_"}
+    assert folders - TEST_FOLDERS_NOT_ROOMS == rooms

@@ -9,11 +9,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from tvl_cli.agent.explore import Learner, LearnParams, spin_commands
+from tvl_cli.agent.explore import Learner, spin_commands
 from tvl_cli.agent.explore_rules import least_experienced
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import SINGLE
+from tvl_cli.core.learn_params import LearnParams
 from tvl_cli.core.memory import NO_MEMORY
 from tvl_cli.core.method import DEFAULT
 from tvl_cli.core.robot_config import RobotConfig

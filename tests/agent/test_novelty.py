@@ -9,12 +9,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from tvl_cli.agent.explore import ExplorePolicy, Learner, LearnParams
+from tvl_cli.agent.explore import ExplorePolicy, Learner
 from tvl_cli.agent.explore_rules import Novelty, random_pair
 from tvl_cli.agent.novelty import NOVELTY_BIN_M, NOVELTY_LOOKAHEAD_M, Places
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import SINGLE
+from tvl_cli.core.learn_params import LearnParams
 from tvl_cli.core.memory import NO_MEMORY
 from tvl_cli.core.method import DEFAULT, NOVELTY, Method
 from tvl_cli.core.robot_config import RobotConfig

@@ -14,7 +14,7 @@ from doc_pages import page, section
 
 from tvl_cli.agent.drive import Step, drive
 from tvl_cli.agent.drive_tvl import behave
-from tvl_cli.agent.explore import Learner, LearnParams
+from tvl_cli.agent.explore import Learner
 from tvl_cli.agent.online import (
     BUMP,
     ECHO_AFTER_S,
@@ -29,6 +29,7 @@ from tvl_cli.core.drive_command import Command
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import SINGLE
+from tvl_cli.core.learn_params import LearnParams
 from tvl_cli.core.memory import NO_MEMORY
 from tvl_cli.core.method import DEFAULT
 from tvl_cli.core.robot_config import RobotConfig

@@ -12,12 +12,13 @@ import pytest
 
 from tvl_cli.agent.drive import Step
 from tvl_cli.agent.drive_tvl import behave
-from tvl_cli.agent.explore import Learner, LearnParams
+from tvl_cli.agent.explore import Learner
 from tvl_cli.agent.perception import EchoMemory, Perception, perceived_episodes, replayed_rings
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import SINGLE
+from tvl_cli.core.learn_params import LearnParams
 from tvl_cli.core.memory import (
     GOAL_BEAMS_EITHER_SIDE,
     NO_MEMORY,

@@ -9,9 +9,10 @@ import pytest
 
 from tvl_cli.agent.drive import Step
 from tvl_cli.agent.drive_tvl import behave
-from tvl_cli.agent.explore import Learner, LearnParams
+from tvl_cli.agent.explore import Learner
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import SINGLE
+from tvl_cli.core.learn_params import LearnParams
 from tvl_cli.core.memory import NO_MEMORY
 from tvl_cli.core.method import DEFAULT, DEFAULT_REFLEXES
 from tvl_cli.core.robot_config import RobotConfig

@@ -6,12 +6,13 @@ from dataclasses import replace
 
 import pytest
 
-from tvl_cli.agent.explore import Learner, LearnParams
+from tvl_cli.agent.explore import Learner
 from tvl_cli.analysis.input_selection import design_inputs
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import DESIGNED, SINGLE
 from tvl_cli.core.labels import BUMP_LABELS
+from tvl_cli.core.learn_params import LearnParams
 from tvl_cli.core.memory import NO_MEMORY
 from tvl_cli.core.method import DEFAULT
 from tvl_cli.core.robot_config import RobotConfig

@@ -71,8 +71,8 @@ def test_live_without_a_terminal_falls_back_to_the_plain_output(fam: Path) -> No
 
 @pytest.mark.slow
 def test_learning_shows_the_trajectory_followed_and_the_last_minute(tmp_path: Path) -> None:
-    from tvl_cli.agent.explore import LearnParams
     from tvl_cli.commands.learn import LearnRequest, learn_to_log
+    from tvl_cli.core.learn_params import LearnParams
 
     view = LiveView(Sight(load_world(LAB), RobotConfig(), 0.85))
     view.caption = "minute 1: 3 episodes, 0 collisions"

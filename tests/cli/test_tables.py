@@ -11,13 +11,13 @@ import pytest
 from click.testing import CliRunner
 from conftest import TVL
 
-from tvl_cli.agent.explore import LearnParams
 from tvl_cli.cli import views
 from tvl_cli.cli.main import main
 from tvl_cli.cli.tables import cell, label
 from tvl_cli.commands.demo import DemoResult, DemoRow
 from tvl_cli.commands.learn import LearnRequest, learn_to_log
 from tvl_cli.commands.run import RunRequest, run_fam
+from tvl_cli.core.learn_params import LearnParams
 
 ROOT = Path(__file__).resolve().parents[2]
 SQUARE = ROOT / "worlds" / "square.txt"

@@ -15,8 +15,8 @@ from doc_pages import page
 from gymnasium.utils.env_checker import check_env
 
 from tvl_cli.agent.engine import GOAL_RADIUS_M
-from tvl_cli.agent.motions import BACKOFF_M
 from tvl_cli.core.drive_command import STOP, Command
+from tvl_cli.core.learn_params import BACKOFF_M
 from tvl_cli.core.memory import NO_MEMORY, MemoryConfig
 from tvl_cli.core.method import DEFAULT, PAPER
 from tvl_cli.core.reward import COLLISION_PENALTY_M, step_reward

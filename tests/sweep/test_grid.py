@@ -9,9 +9,9 @@ from pathlib import Path
 
 import pytest
 
-from tvl_cli.agent.explore import LearnParams
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam_config import SINGLE
+from tvl_cli.core.learn_params import LearnParams
 from tvl_cli.core.memory import NO_MEMORY
 from tvl_cli.core.method import DEFAULT, PAPER, MethodChoice, reflexes_text
 from tvl_cli.sim.worldgen import generate_world

@@ -10,49 +10,27 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from tvl_cli.agent.collision_points import sonar_collision_points
 from tvl_cli.agent.drive import StepSink, drive
 from tvl_cli.agent.explore_rules import EXPLORATION_RULES
-from tvl_cli.agent.motions import BACKOFF_M, backoff_commands, spin_commands
+from tvl_cli.agent.motions import backoff_commands, spin_commands
 from tvl_cli.agent.perception import Perception
 from tvl_cli.agent.policy import Decision, Observation, Pose
 from tvl_cli.agent.recording import EpisodeRecord
 from tvl_cli.core.drive_command import Command
 from tvl_cli.core.episode import Episode
-from tvl_cli.core.errors import BadInput, check_minutes
 from tvl_cli.core.fam import Fam
+from tvl_cli.core.learn_params import LearnParams
 from tvl_cli.core.method import DEFAULT, Method
 from tvl_cli.core.ring import mm_to_ring, ring_to_mm
-from tvl_cli.core.robot_config import FASTEST_MPS, RobotConfig
+from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.core.training import SessionTrainer, Trained, train_params
 from tvl_cli.sim.robot import Simulator
 from tvl_cli.sim.worldmap import WorldMap
-
-
-@dataclass(frozen=True, slots=True)
-class LearnParams:
-    """How long and how fast the robot explores; stored with each log session beside its
-    method. (Where collision points fall and which pair comes next are the method's.)"""
-
-    minutes: float = 15.0
-    learn_speed_mps: float = 0.2
-    straight_run_m: float = 8.0  # a T0 run this long without a bump counts as free
-    reverse_m: float = BACKOFF_M  # backed off along the path after a collision
-
-    def __post_init__(self) -> None:
-        check_minutes(self.minutes)
-        if not (math.isfinite(self.learn_speed_mps) and 0 < self.learn_speed_mps <= FASTEST_MPS):
-            raise BadInput(
-                f"--learn-speed {self.learn_speed_mps:g} must be > 0 and at most "
-                f"{FASTEST_MPS:g} m/s, the fastest trajectory's"
-            )
-
-    def to_dict(self) -> dict[str, float | str]:
-        return asdict(self)
 
 
 @dataclass(slots=True)

@@ -7,10 +7,6 @@ import math
 from tvl_cli.core.drive_command import Command
 from tvl_cli.core.robot_config import RobotConfig
 
-# Reversed along the path after a collision while learning (paper Fig. 14), and by the
-# back-off reflexes while behaving.
-BACKOFF_M = 0.15
-
 
 def backoff_commands(forward: Command, robot: RobotConfig, distance_m: float) -> list[Command]:
     """Commands that drive back along the arc `forward` was following, for distance_m."""

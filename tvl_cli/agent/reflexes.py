@@ -15,11 +15,12 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from tvl_cli.agent.motions import BACKOFF_M, backoff_commands
+from tvl_cli.agent.motions import backoff_commands
 from tvl_cli.agent.policy import Decision, KeepOut, Observation, Policy
 from tvl_cli.core.angles import wrap_rad
 from tvl_cli.core.contacts import blind_ahead, drives_forward, near_miss_sonars
 from tvl_cli.core.drive_command import Command
+from tvl_cli.core.learn_params import BACKOFF_M
 from tvl_cli.core.method import (
     BLOCKED_WAYS,
     BUMP,

@@ -9,11 +9,12 @@ from typing import Protocol
 
 import numpy as np
 
-from tvl_cli.agent.motions import BACKOFF_M, spin_commands
+from tvl_cli.agent.motions import spin_commands
 from tvl_cli.agent.perception import Perception
 from tvl_cli.agent.policy import Decision, Observation
 from tvl_cli.core.angles import goal_bearing
 from tvl_cli.core.drive_command import Command
+from tvl_cli.core.learn_params import BACKOFF_M
 from tvl_cli.core.memory import NO_MEMORY
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.core.trajectory_choice import (

@@ -14,9 +14,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from tvl_cli.agent.motions import BACKOFF_M
 from tvl_cli.core.fam_config import FamTable
 from tvl_cli.core.fuzzy import StackedPartitions
+from tvl_cli.core.learn_params import BACKOFF_M
 from tvl_cli.core.reward import COLLISION_PENALTY_M
 
 

@@ -17,7 +17,6 @@ from typing import Any
 import numpy as np
 
 from tvl_cli.agent.drive_tvl import BehaviourRun, behave_together
-from tvl_cli.agent.explore import LearnParams
 from tvl_cli.agent.trace import Columns, TraceRecorder
 from tvl_cli.agent.true_velocities import behave_with_true_velocities
 from tvl_cli.bench.suite_cells import (
@@ -40,6 +39,7 @@ from tvl_cli.commands.train import train_from_logs, write_trained
 from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
 from tvl_cli.core.competence import is_competent_run
 from tvl_cli.core.errors import BadInput
+from tvl_cli.core.learn_params import LearnParams
 from tvl_cli.core.method import NOT_GIVEN, Method, MethodChoice, describe_record
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.core.robot_profiles import DEFAULT_ROBOT

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import click
 
-from tvl_cli.agent.explore import LearnParams, MinuteStats
+from tvl_cli.agent.explore import MinuteStats
 from tvl_cli.cli import documents, views
 from tvl_cli.cli.examples import examples
 from tvl_cli.cli.memory_options import memory_options
@@ -24,6 +24,7 @@ from tvl_cli.cli.options import (
 from tvl_cli.commands.learn import LearnRequest, LearnResult, learn_to_log
 from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
 from tvl_cli.core.errors import BadInput
+from tvl_cli.core.learn_params import LearnParams
 from tvl_cli.core.method import DEFAULT, EXPLORATION_RULES, FIELDS, MethodChoice
 from tvl_cli.core.robot_config import (
     EDGE_ECHO_RANGE_M,

@@ -7,13 +7,13 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
-from tvl_cli.agent.explore import LearnParams
 from tvl_cli.commands.learn import LearnRequest, LearnResult, learn_to_log
 from tvl_cli.commands.run import RunRequest, run_fam
 from tvl_cli.commands.train import train_from_logs, write_trained
 from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam_config import MULTI, SINGLE
+from tvl_cli.core.learn_params import LearnParams
 from tvl_cli.core.method import DEFAULT
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.sim.worldgen import bundled_world_path

@@ -10,13 +10,14 @@ from pathlib import Path
 from typing import Any
 
 from tvl_cli.agent.drive import StepSink
-from tvl_cli.agent.explore import Learner, LearnParams, LearnSummary, MinuteStats
+from tvl_cli.agent.explore import Learner, LearnSummary, MinuteStats
 from tvl_cli.agent.perception import perceived_episodes
 from tvl_cli.analysis.coverage import CoverageTracker, world_floor
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import DEFAULT_INIT_VELOCITY_MPS, FamConfig
+from tvl_cli.core.learn_params import LearnParams
 from tvl_cli.core.memory import MemoryConfig
 from tvl_cli.core.method import DEFAULT, Method, method_record
 from tvl_cli.core.robot_config import RobotConfig, sonar_model_name

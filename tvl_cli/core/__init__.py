@@ -23,6 +23,7 @@ __all__ = [
     "heard",
     "jsontext",
     "labels",
+    "learn_params",
     "memory",
     "method",
     "metrics",

@@ -16,12 +16,13 @@ import numpy as np
 from gymnasium import spaces
 
 from tvl_cli.agent.engine import StepEngine, StepOutcome, within_goal
-from tvl_cli.agent.motions import BACKOFF_M, backoff_commands
+from tvl_cli.agent.motions import backoff_commands
 from tvl_cli.agent.perception import Perception
 from tvl_cli.core.angles import goal_bearing
 from tvl_cli.core.contacts import drives_forward
 from tvl_cli.core.drive_command import STOP, Command
 from tvl_cli.core.errors import BadInput
+from tvl_cli.core.learn_params import BACKOFF_M
 from tvl_cli.core.memory import MemoryConfig
 from tvl_cli.core.method import DEFAULT, Method
 from tvl_cli.core.reward import bump_penalty_m, step_reward

@@ -10,8 +10,8 @@ from __future__ import annotations
 from dataclasses import astuple, dataclass, fields, replace
 from typing import Any
 
-from tvl_cli.agent.explore import LearnParams
 from tvl_cli.commands.run import parse_goal
+from tvl_cli.core.learn_params import LearnParams
 from tvl_cli.core.memory import MemoryChoice, MemoryConfig
 from tvl_cli.core.method import Method, MethodChoice, parse_reflexes, reflexes_text
 

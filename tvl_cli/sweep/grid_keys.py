@@ -7,7 +7,6 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
-from tvl_cli.agent.explore import LearnParams
 from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD, is_threshold
 from tvl_cli.core.errors import (
     DEFAULT_RUN_MINUTES,
@@ -18,6 +17,7 @@ from tvl_cli.core.errors import (
     did_you_mean,
 )
 from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS, SINGLE
+from tvl_cli.core.learn_params import LearnParams
 from tvl_cli.core.memory import MEMORY_KINDS
 from tvl_cli.core.method import (
     DEFAULT_NAME,
