@@ -17,6 +17,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 from tvl_cli.analysis.claims import CLAIMS, ClaimRow, judge
 from tvl_cli.analysis.wall_threshold import PAPER_FIG21
@@ -27,6 +28,7 @@ from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
 from tvl_cli.core.errors import BadInput, did_you_mean
 from tvl_cli.core.fam_config import MULTI, SINGLE
 from tvl_cli.core.method import DEFAULT_NAME, PAPER_NAME, Method
+from tvl_cli.io.json_documents import document
 from tvl_cli.io.methodfile import resolve_method
 from tvl_cli.sim.worldgen import bundled_world_path
 from tvl_cli.sim.worldmap import WorldMap, load_world
@@ -71,8 +73,26 @@ class ClaimsRequest:
 class ClaimsResult:
     request: ClaimsRequest
     trials: list[int]
+    where: Where
     run: BenchRun
     verdicts: list[ClaimRow]
+
+    def document(self) -> dict[str, Any]:
+        request = self.request
+        inputs = {
+            "methods": list(request.methods),
+            "claims": list(request.claims),
+            "size": request.size,
+            "trials": self.trials,
+            **self.where.inputs(),
+        }
+        return document(
+            "bench claims",
+            inputs,
+            **self.run.record(),
+            verdicts=[row.to_dict() for row in self.verdicts],
+            rows=self.run.rows,
+        )
 
 
 def check_claims(names: tuple[str, ...]) -> tuple[str, ...]:
@@ -158,4 +178,4 @@ def run_claims(
     worlds, cells, trials = plan(request)
     done = run_cells(cells, worlds, where, on_progress, on_dashboard)
     verdicts = judge(done.rows, request.claims, request.methods)
-    return ClaimsResult(request, trials, done, verdicts)
+    return ClaimsResult(request, trials, where, done, verdicts)

@@ -11,7 +11,8 @@ tuning set (seeds 1-20) is for choosing.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, replace
+from dataclasses import asdict, dataclass, replace
+from typing import Any
 
 from tvl_cli.analysis.generalization import Figures, summarise
 from tvl_cli.bench.controllers import FAM, METHOD, Controller
@@ -21,7 +22,8 @@ from tvl_cli.bench.suite_runner import BenchRun, Where, run_cells
 from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS, FamConfig
-from tvl_cli.core.method import Method
+from tvl_cli.core.method import Method, method_record
+from tvl_cli.io.json_documents import document
 from tvl_cli.sim.worldgen import generate_world
 from tvl_cli.sim.worldmap import parse_world
 from tvl_cli.sweep.executors import OnDashboard
@@ -183,8 +185,38 @@ def _controller_cell(
 class GeneralizationResult:
     request: GeneralizationRequest
     plan: Plan
+    where: Where
     run: BenchRun
     figures: list[Figures]
+
+    def document(self) -> dict[str, Any]:
+        request, plan = self.request, self.plan
+        inputs = {
+            "set": request.world_set,
+            "worlds": plan.world_seeds,
+            "trials": plan.trials,
+            "size": request.size,
+            "learn_minutes": plan.size.learn_minutes,
+            "run_minutes": plan.size.run_minutes,
+            "threshold": request.threshold,
+            "method_name": request.method_name,
+            "method": method_record(request.method),
+            "configs": [config.name for config in request.configs],
+            "controllers": [
+                {"name": c.name, "kind": c.kind, "spec": c.spec} for c in request.controllers
+            ],
+            "observe": None if request.observe is None else method_record(request.observe),
+            "references": list(request.references),
+            **self.where.inputs(),
+        }
+        return document(
+            "bench generalization",
+            inputs,
+            **self.run.record(),
+            entries=[asdict(entry) for entry in plan.entries],
+            figures=[figures.to_dict() for figures in self.figures],
+            rows=self.run.rows,
+        )
 
 
 def run_generalization(
@@ -196,4 +228,4 @@ def run_generalization(
     """Plan the suite, run the cells not yet done, and sum the rows up."""
     planned = plan(request)
     done = run_cells(planned.cells, planned.worlds, where, on_progress, on_dashboard)
-    return GeneralizationResult(request, planned, done, summarise(done.rows, BEHAVIOURS))
+    return GeneralizationResult(request, planned, where, done, summarise(done.rows, BEHAVIOURS))

@@ -14,6 +14,7 @@ from collections.abc import Callable, Iterator
 from concurrent.futures import FIRST_COMPLETED, Executor, Future, wait
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 from tvl_cli.analysis.result_rows import read_results
 from tvl_cli.bench.suite_cells import Cell, cell_id
@@ -37,6 +38,15 @@ class Where:
     scheduler: str | None = None  # local[:N] or a Dask scheduler's address: its workers
     scheduler_timeout_s: float = DEFAULT_SCHEDULER_TIMEOUT_S
 
+    def inputs(self) -> dict[str, Any]:
+        """Where the cells ran, as a bench's document echoes it."""
+        return {
+            "out": str(self.out),
+            "workers": self.workers if self.scheduler is None else None,
+            "scheduler": self.scheduler,
+            "scheduler_timeout_s": self.scheduler_timeout_s,
+        }
+
 
 @dataclass(frozen=True, slots=True)
 class BenchRun:
@@ -47,6 +57,17 @@ class BenchRun:
     files: list[Path]  # written by this bench, relative to the directory
     wall_s: float  # this bench's, cells done before not counted
     cpu_s: float  # every cell's, those done before included: the work the rows cost
+
+    def record(self) -> dict[str, Any]:
+        """What the bench wrote and did, as its document records it (the rows apart)."""
+        return {
+            "outputs": {"files": [str(path) for path in self.files]},
+            "cells": self.cells,
+            "done": self.done,
+            "skipped": self.skipped,
+            "wall_s": self.wall_s,
+            "cpu_s": self.cpu_s,
+        }
 
 
 def run_cells(

@@ -8,7 +8,7 @@ import click
 
 from tvl_cli.baselines.dwa import BEHAVIOURS as DWA_BEHAVIOURS
 from tvl_cli.baselines.dwa import SENSORS as DWA_SENSORS
-from tvl_cli.cli import documents, views
+from tvl_cli.cli import views
 from tvl_cli.cli.examples import examples
 from tvl_cli.cli.groups import Subcommands
 from tvl_cli.cli.memory_options import memory_options
@@ -75,13 +75,7 @@ def baseline_dwa(
         sensor,
     )
     if as_json:
-        options = {
-            "behaviour": behaviour,
-            "goal": list(goal) if goal else None,
-            "minutes": minutes,
-            "sensor": sensor,
-        }
-        print_json(documents.dwa_json(report, world_file, seed, options, png))
+        print_json(report.document())
     else:
         views.run_metrics(report.metrics, report.method)
 
@@ -122,12 +116,7 @@ def baseline_qlearn(
     refuse_outputs({"--png": png}, {"WORLD": world_file}, force)
     report = qlearn_session(world_file, learn_minutes, minutes, seed, competence_every, png, method)
     if as_json:
-        options = {
-            "learn_minutes": learn_minutes,
-            "minutes": minutes,
-            "competence_every": competence_every,
-        }
-        print_json(documents.qlearn_json(report, world_file, seed, options, png))
+        print_json(report.document())
     else:
         views.run_metrics(report.result.evaluation, report.method)
         click.echo(report.summary())

@@ -10,7 +10,7 @@ from typing import Any, TypeVar
 
 import click
 
-from tvl_cli.cli import bench_view, grid_documents, views
+from tvl_cli.cli import bench_view, views
 from tvl_cli.cli.examples import examples
 from tvl_cli.cli.groups import Subcommands
 from tvl_cli.cli.options import print_json
@@ -176,7 +176,7 @@ def generalization(**options: Any) -> None:
     request = generalization_request(**options)
     result = _running(as_json, lambda bar, dash: run_generalization(request, where, bar, dash))
     if as_json:
-        print_json(grid_documents.bench_generalization_json(result, where))
+        print_json(result.document())
     else:
         bench_view.show_generalization(result, where, markdown)
 
@@ -214,6 +214,6 @@ def claims(**options: Any) -> None:
     request = ClaimsRequest(tuple(methods), check_claims(options["claims"]), options["size"])
     result = _running(as_json, lambda bar, dash: run_claims(request, where, bar, dash))
     if as_json:
-        print_json(grid_documents.bench_claims_json(result, where))
+        print_json(result.document())
     else:
         bench_view.show_claims(result, where, markdown)

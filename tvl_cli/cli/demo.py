@@ -17,11 +17,10 @@ from tvl_cli.cli.options import print_json
 @click.option("--json", "as_json", is_flag=True, help="Print the results as JSON.")
 def demo(directory: Path, force: bool, as_json: bool) -> None:
     """Learn, train, run and draw on a bundled world, in seconds."""
-    from tvl_cli.cli import documents
     from tvl_cli.commands.demo import run_demo
 
     result = run_demo(directory, force, views.say)
     if as_json:
-        print_json(documents.demo_json(result))
+        print_json(result.document())
     else:
         views.demo(result)

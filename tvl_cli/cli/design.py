@@ -7,7 +7,6 @@ from pathlib import Path
 import click
 
 from tvl_cli.analysis.input_selection import DEFAULT_BUDGET_RULES
-from tvl_cli.cli import documents
 from tvl_cli.cli.examples import examples
 from tvl_cli.cli.options import JSON_FILE, SEED, print_json, refuse_outputs
 from tvl_cli.cli.tables import table
@@ -52,7 +51,7 @@ def design(
     refuse_outputs({"-o": output}, {f"LOG {i + 1}": log for i, log in enumerate(logs)}, force)
     summary = design_from_logs(list(logs), output, budget, seed, force)
     if as_json:
-        print_json(documents.design_json(summary, logs, budget, seed))
+        print_json(summary.document())
     else:
         _show(summary)
 

@@ -7,7 +7,7 @@ from pathlib import Path
 import click
 
 from tvl_cli.analysis.famdiff import DEFAULT_TOLERANCE_MPS
-from tvl_cli.cli import documents, fam_views
+from tvl_cli.cli import fam_views
 from tvl_cli.cli.examples import examples
 from tvl_cli.cli.options import print_json
 from tvl_cli.commands.diff import diff_files
@@ -33,8 +33,8 @@ from tvl_cli.commands.diff import diff_files
 @click.option("--json", "as_json", is_flag=True, help="Print JSON.")
 def diff(first: Path, second: Path, tolerance: float, top: int, as_json: bool) -> None:
     """Show where two FAM files of one configuration disagree, rule by rule."""
-    difference = diff_files(first, second, tolerance, top)
+    differed = diff_files(first, second, tolerance, top)
     if as_json:
-        print_json(documents.diff_json(difference, first, second, top))
+        print_json(differed.document())
     else:
-        fam_views.fam_difference(difference, first, second)
+        fam_views.fam_difference(differed.difference, first, second)

@@ -65,8 +65,6 @@ def explain(
 
     What the robot read and perceived, what it chose and why; or, with --contacts, why each
     contact of the run happened."""
-    from tvl_cli.cli import documents
-
     if contacts:
         if any(x is not None for x in (step, at_s, event)):
             raise BadInput("--contacts explains the whole run: give no --step, --at or --event")
@@ -76,9 +74,9 @@ def explain(
 
         autopsy = trace_autopsy(trace)
         if as_json:
-            print_json(documents.autopsy_json(autopsy, trace))
+            print_json(autopsy.document())
         else:
-            views.autopsy(autopsy)
+            views.autopsy(autopsy.autopsy)
         return
     from tvl_cli.commands.explain import Moment, explain_run
 
@@ -88,7 +86,6 @@ def explain(
     if found.moved:
         click.echo(found.moved, err=True)
     if as_json:
-        moment = {"step": step, "at_s": at_s, "event": event, "index": index}
-        print_json(documents.explain_json(found, trace, moment))
+        print_json(found.document())
     else:
         views.step_explanation(found)

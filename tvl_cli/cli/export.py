@@ -6,7 +6,6 @@ from pathlib import Path
 
 import click
 
-from tvl_cli.cli import documents
 from tvl_cli.cli.examples import examples
 from tvl_cli.cli.options import MCAP, print_json, refuse_outputs
 from tvl_cli.commands.export import export_mcap
@@ -33,7 +32,7 @@ def export(run: Path, output: Path, force: bool, as_json: bool) -> None:
     refuse_outputs({"--mcap": output}, {"RUN.h5": run}, force)
     exported = export_mcap(run, output)
     if as_json:
-        print_json(documents.export_json(exported))
+        print_json(exported.document())
     else:
         counts = ", ".join(f"{topic} {n}" for topic, n in exported.messages.items())
         click.echo(f"{output}: {exported.steps} steps ({counts})")

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import click
 
-from tvl_cli.cli import documents, views
+from tvl_cli.cli import views
 from tvl_cli.cli.examples import examples
 from tvl_cli.cli.options import MARKDOWN, PICTURE, PICTURE_HELP, print_json, refuse_outputs
 from tvl_cli.cli.params import complete_figure
@@ -29,9 +29,9 @@ def figure(
     RESULTS is the results.jsonl of the experiment's sweep: `tvl sweep
     experiments/grids/NAME.toml --out DIR` writes DIR/results.jsonl."""
     refuse_outputs({"-o": output, "--table": table}, {"RESULTS": results}, force)
-    summary = draw(FigureRequest(name, results, output, table))
+    drawn = draw(FigureRequest(name, results, output, table))
     if as_json:
-        print_json(documents.figure_json(name, results, output, table, summary))
+        print_json(drawn.document())
     else:
         # Its tables and notes laid out for the terminal's width; --table keeps the markdown.
-        views.markdown_summary(summary)
+        views.markdown_summary(drawn.summary)

@@ -7,7 +7,7 @@ from pathlib import Path
 import click
 
 from tvl_cli.analysis.rules import SORT_KEYS
-from tvl_cli.cli import documents, fam_views
+from tvl_cli.cli import fam_views
 from tvl_cli.cli.examples import examples
 from tvl_cli.cli.options import (
     PICTURE,
@@ -95,20 +95,7 @@ def inspect(
         InspectRequest(fam, trajectory, top, sort, untrained, explain, png, over, fix)
     )
     if as_json:
-        drawn_over = found.over or over
-        options = {
-            "trajectory": trajectory,
-            "top": top,
-            "sort": sort,
-            "untrained": untrained,
-            "over": None if drawn_over is None else list(drawn_over),
-            "fix": dict(fix),
-        }
-        print_json(
-            documents.inspect_json(
-                fam, found.loaded, options, found.ring, found.rules, found.explanation, png
-            )
-        )
+        print_json(found.document())
     elif found.explanation is not None:
         fam_views.explanation(found.explanation)
     elif as_csv:

@@ -8,7 +8,7 @@ from pathlib import Path
 import click
 
 from tvl_cli.agent.explore import MinuteStats
-from tvl_cli.cli import documents, views
+from tvl_cli.cli import views
 from tvl_cli.cli.examples import examples
 from tvl_cli.cli.memory_options import memory_options
 from tvl_cli.cli.options import (
@@ -154,7 +154,7 @@ def learn(
         result = _learn_one(request, live, pace, quiet=as_json)
         if as_json:
             # One document a world, a line each (JSON Lines) when there are several.
-            print_json(documents.learn_json(result), compact=len(worlds) > 1)
+            print_json(result.document(), compact=len(worlds) > 1)
         else:
             views.learn_summary(result, log)
         if result.summary.stopped_by:

@@ -84,8 +84,8 @@ def replay(
     as_json: bool,
 ) -> None:
     """Summarise a learning log or a run trace, and draw it."""
-    from tvl_cli.cli import documents, replay_views
-    from tvl_cli.commands.replay import Animation
+    from tvl_cli.cli import replay_views
+    from tvl_cli.commands.replay import Animation, Replayed
     from tvl_cli.commands.replay import replay as replay_file
 
     if gif is not None and mp4 is not None:
@@ -106,6 +106,6 @@ def replay(
         summary = replay_file(file, png, curves, session, animation, on_frame)
     if as_json:
         pictures = {"png": png, "curves": curves, "animation": moving}
-        print_json(documents.replay_json(summary, file, session, pictures))
+        print_json(Replayed(file, session, pictures, summary).document())
     else:
         replay_views.replay(summary)

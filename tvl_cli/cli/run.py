@@ -187,10 +187,8 @@ def _check_outputs(
 
 def _show_run(request: RunRequest, result: RunResult, form: str | None) -> None:
     """The run's results as JSON, as a CSV row or (`form` None) in words."""
-    from tvl_cli.cli import documents
-
     if form == "json":
-        print_json(documents.run_json(request, result))
+        print_json(result.document())
     elif form == "csv":
         print_csv([asdict(result.metrics)])
     else:

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import click
 
-from tvl_cli.cli import grid_documents, sweep_view, views
+from tvl_cli.cli import sweep_view, views
 from tvl_cli.cli.examples import examples
 from tvl_cli.cli.options import (
     PICTURE,
@@ -150,7 +150,7 @@ def sweep(
     )
     result = _run(request, quiet=as_json)
     if as_json:
-        print_json(grid_documents.sweep_json(result, request))
+        print_json(result.document())
     elif as_csv:
         print_csv(result.rows)
     else:

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import click
 
-from tvl_cli.cli import documents, fam_views, views
+from tvl_cli.cli import fam_views, views
 from tvl_cli.cli.examples import examples
 from tvl_cli.cli.memory_options import memory_options
 from tvl_cli.cli.options import HDF5, method_options, print_json, refuse_outputs, training_options
@@ -46,8 +46,8 @@ def train(
         logs, output, config, method, until_minute, symmetric, init_velocity_mps, force
     )
     with views.progress("training") as bar:
-        summary = train_fam(request, bar)
+        trained = train_fam(request, bar)
     if as_json:
-        print_json(documents.train_json(summary, logs, config, until_minute, output))
+        print_json(trained.document())
     else:
-        fam_views.train_summary(summary, output, method)
+        fam_views.train_summary(trained.summary, output, method)

@@ -7,7 +7,6 @@ from pathlib import Path
 
 import click
 
-from tvl_cli.cli import documents
 from tvl_cli.cli.examples import examples
 from tvl_cli.cli.groups import Subcommands
 from tvl_cli.cli.options import (
@@ -39,7 +38,7 @@ from tvl_cli.core.robot_profiles import DEFAULT_ROBOT_NAME
 from tvl_cli.core.words import counted
 from tvl_cli.io.occupancy_map import SAVED_FREE_THRESH, UNKNOWN_PIXEL
 from tvl_cli.sim.worldgen import KINDS, SMOOTH, Materials
-from tvl_cli.sim.worldmap import describe, world_to_dict
+from tvl_cli.sim.worldmap import describe
 
 
 @click.group(cls=Subcommands, epilog=examples("world"))
@@ -94,11 +93,9 @@ def world_new(
     refuse_existing(output, force)
     made = new_world(NewWorldRequest(kind, output, width_m, height_m, seed, materials, force))
     if as_json:
-        given = {"kind": kind, "width_m": width_m, "height_m": height_m, "seed": seed}
-        options = {**given, "rough_share": rough_share, "roughness": roughness}
-        print_json(documents.world_new_json(options, output, made))
+        print_json(made.document())
     else:
-        click.echo(f"{output}: a {kind} world ({counts_text(made)})")
+        click.echo(f"{output}: a {kind} world ({counts_text(made.counts)})")
 
 
 @world.command("show", epilog=examples("world show"))
@@ -109,9 +106,9 @@ def world_show(file: Path, as_json: bool) -> None:
     loaded = show_world(file)
     if as_json:
         # On one line, for a reader with no JSON tool (a shell script may grep it).
-        click.echo(json.dumps(documents.world_show_json(file, world_to_dict(loaded))))
+        click.echo(json.dumps(loaded.document()))
     else:
-        click.echo(describe(loaded))
+        click.echo(describe(loaded.world))
 
 
 @world.command("check", epilog=examples("world check"))
@@ -121,9 +118,9 @@ def world_check(file: Path, as_json: bool) -> None:
     """Validate a world file (exit 2 naming the problem)."""
     found = check_world(file)
     if as_json:
-        print_json(documents.world_check_json(file, found))
+        print_json(found.document())
     else:
-        click.echo(f"{file}: ok ({counts_text(found)})")
+        click.echo(f"{file}: ok ({counts_text(found.counts)})")
 
 
 @world.command("render", epilog=examples("world render"))
@@ -136,9 +133,9 @@ def world_render(file: Path, output: Path, force: bool, as_json: bool) -> None:
     refuse_outputs({"-o": output}, {"FILE": file}, force)
     drawn = render_world(file, output)
     if as_json:
-        print_json(documents.world_render_json(file, output, drawn))
+        print_json(drawn.document())
     else:
-        click.echo(f"{output}: {file} drawn ({counts_text(drawn)})")
+        click.echo(f"{output}: {file} drawn ({counts_text(drawn.counts)})")
 
 
 def counts_text(counts: dict[str, int]) -> str:
@@ -205,7 +202,7 @@ def world_import(
     for warning in _import_warnings(imported, robot):
         click.echo(f"tvl: warning: {map_yaml}: {warning}", err=True)
     if as_json:
-        print_json(documents.world_import_json(request, imported))
+        print_json(imported.document())
     else:
         click.echo(_import_summary(output, imported))
 
@@ -268,7 +265,7 @@ def world_export(file: Path, output: Path, force: bool, as_json: bool) -> None:
     refuse_outputs({"-o": output, "its PGM": image}, {"FILE": file}, force)
     exported = export_map(file, output)
     if as_json:
-        print_json(documents.world_export_json(exported))
+        print_json(exported.document())
     else:
         click.echo(
             f"{output}, {image.name}: {exported.columns} x {exported.rows} cells of "

@@ -24,6 +24,7 @@ from tvl_cli.core.method import (
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.core.words import counted
+from tvl_cli.io.json_documents import document, input_file, output_path
 from tvl_cli.sim.worldmap import WorldMap, load_world, resolve_goal
 
 # What a baseline takes of a method: the reflexes around it, and the DWA by the ring its echo
@@ -70,6 +71,7 @@ def dwa_session(
     chosen = choice.over(ALONE, DWA_FIELDS)
     reflexes = chosen.reflexes
     world = load_world(world_path)
+    asked_goal = list(goal) if goal else None
     goal = _goal(world_path, world, behaviour, goal)
     robot = RobotConfig()
     path = PathRecorder()
@@ -90,13 +92,42 @@ def dwa_session(
         steps.close()
         _draw(world, path, png, f"DWA by the {sensor}, {behaviour} in {world.name}", goal)
     fields = REFLEXES_ONLY if sensor == MAP else DWA_FIELDS
-    return DwaReport(metrics, {**method_record(chosen, fields), "preset": None})
+    options = {"behaviour": behaviour, "goal": asked_goal, "minutes": minutes, "sensor": sensor}
+    asked = BaselineAsked(world_path, seed, options, png)
+    return DwaReport(metrics, {**method_record(chosen, fields), "preset": None}, asked)
+
+
+@dataclass(frozen=True, slots=True)
+class BaselineAsked:
+    """What a baseline command was asked: its world, seed, options and picture."""
+
+    world: Path
+    seed: int
+    options: dict[str, Any]
+    png: Path | None
+
+    def inputs(self, method: dict[str, Any]) -> dict[str, Any]:
+        """What a baseline document echoes: these, and what it took of a method."""
+        return {
+            "world": input_file(self.world),
+            "seed": self.seed,
+            "method": method,
+            **self.options,
+        }
+
+    def outputs(self) -> dict[str, Any]:
+        return {"png": output_path(self.png)}
 
 
 @dataclass(frozen=True, slots=True)
 class DwaReport:
     metrics: RunMetrics
     method: dict[str, Any]  # what the baseline took of a method (no preset: it is no TVL)
+    asked: BaselineAsked
+
+    def document(self) -> dict[str, Any]:
+        inputs, outputs = self.asked.inputs(self.method), self.asked.outputs()
+        return document("baseline dwa", inputs, outputs=outputs, **asdict(self.metrics))
 
 
 @dataclass(frozen=True, slots=True)
@@ -104,6 +135,11 @@ class QLearnReport:
     result: QLearningResult
     checked_competence: bool
     method: dict[str, Any]  # what the baseline took of a method (no preset: it is no TVL)
+    asked: BaselineAsked
+
+    def document(self) -> dict[str, Any]:
+        inputs, outputs = self.asked.inputs(self.method), self.asked.outputs()
+        return document("baseline qlearn", inputs, outputs=outputs, **self.to_dict())
 
     def to_dict(self) -> dict[str, Any]:
         """The run metrics of the greedy run, then what learning cost (and achieved); the
@@ -172,4 +208,10 @@ def qlearn_session(
         title = f"Q-learning after {learn_minutes:g} min, avoid in {world.name}"
         _draw(world, path, png, title, None)
     recorded = {**method_record(chosen, REFLEXES_ONLY), "preset": None}
-    return QLearnReport(result, competence_every is not None, recorded)
+    options = {
+        "learn_minutes": learn_minutes,
+        "minutes": minutes,
+        "competence_every": competence_every,
+    }
+    asked = BaselineAsked(world_path, seed, options, png)
+    return QLearnReport(result, competence_every is not None, recorded, asked)

@@ -9,7 +9,7 @@ FAM read held it, and what was driving.
 from __future__ import annotations
 
 import math
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -43,6 +43,7 @@ from tvl_cli.core.method import DEFAULT, Method
 from tvl_cli.core.ring import mm_to_ring
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.famfile import read_fam
+from tvl_cli.io.json_documents import document, input_file
 from tvl_cli.io.logreader import file_sha256
 from tvl_cli.io.runfile import read_run
 from tvl_cli.sim.geometry import StaticGeometry, nearest_element, static_geometry
@@ -341,7 +342,19 @@ def _held_at(
     return farthest
 
 
-def trace_autopsy(path: Path) -> Autopsy:
+@dataclass(frozen=True, slots=True)
+class TraceAutopsy:
+    """Why each contact of a recorded run happened (`tvl explain --contacts`)."""
+
+    run: Path
+    autopsy: Autopsy
+
+    def document(self) -> dict[str, Any]:
+        inputs = {"run": input_file(self.run), "fam": None, "contacts": True}
+        return document("explain", inputs, step=None, autopsy=self.autopsy.to_dict())
+
+
+def trace_autopsy(path: Path) -> TraceAutopsy:
     """The autopsy of a run trace file."""
     trace = read_run(path)
     if not trace.has_decisions:
@@ -350,7 +363,7 @@ def trace_autopsy(path: Path) -> Autopsy:
     robot = RobotConfig.from_dict(trace.robot_config)
     world = parse_world(trace.world_text, str(path))
     goal = parameters.get("goal")
-    return run_autopsy(
+    found = run_autopsy(
         world,
         robot,
         trace.arrays,
@@ -363,6 +376,7 @@ def trace_autopsy(path: Path) -> Autopsy:
         fam=_fam_if_found(parameters),
         threshold=float(parameters.get("threshold", DEFAULT_THRESHOLD)),
     )
+    return TraceAutopsy(path, found)
 
 
 def _fam_if_found(parameters: dict[str, Any]) -> Fam | None:

@@ -4,10 +4,11 @@ from __future__ import annotations
 
 import shutil
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 from pathlib import Path
+from typing import Any
 
-from tvl_cli.commands.learn import LearnRequest, LearnResult, learn_to_log
+from tvl_cli.commands.learn import LearnRequest, LearnResult, learn_to_log, world_input
 from tvl_cli.commands.run import RunRequest, run_fam
 from tvl_cli.commands.train import train_from_logs, write_trained
 from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
@@ -16,6 +17,7 @@ from tvl_cli.core.fam_config import MULTI, SINGLE
 from tvl_cli.core.learn_params import LearnParams
 from tvl_cli.core.method import DEFAULT
 from tvl_cli.core.metrics import RunMetrics
+from tvl_cli.io.json_documents import document
 from tvl_cli.sim.worldgen import bundled_world_path
 
 DEMO_WORLD = "square"
@@ -40,6 +42,33 @@ class DemoResult:
     directory: Path
     learning: LearnResult
     rows: list[DemoRow]
+
+    def document(self) -> dict[str, Any]:
+        """The learning, then each run's metrics as `tvl run --json` prints them."""
+        learnt = self.learning.request
+        inputs = {
+            "world": world_input(learnt.world),
+            "seed": DEMO_SEED,
+            "learn_minutes": learnt.learn.minutes,
+            "run_minutes": RUN_MINUTES,
+        }
+        return document(
+            "demo",
+            inputs,
+            outputs={"directory": str(self.directory), "log": str(learnt.log)},
+            learning=self.learning.session_record(),
+            runs=[
+                {
+                    "config": r.config,
+                    "behaviour": r.behaviour,
+                    "threshold": r.threshold,
+                    "fam": str(r.fam),
+                    "png": str(r.png),
+                    **asdict(r.metrics),
+                }
+                for r in self.rows
+            ],
+        )
 
 
 def run_demo(directory: Path, force: bool, say: Callable[[str], None]) -> DemoResult:

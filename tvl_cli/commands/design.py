@@ -5,24 +5,71 @@ from __future__ import annotations
 import json
 import time
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 from pathlib import Path
+from typing import Any
 
 from tvl_cli.analysis.input_selection import DEFAULT_BUDGET_RULES, Design, design_inputs
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam_config_json import fam_config_from_json
 from tvl_cli.core.training import TrainParams
 from tvl_cli.io.atomic import atomic_output
+from tvl_cli.io.json_documents import document, input_file
 from tvl_cli.io.log_sessions import RepeatedSession, common_robot, distinct_sessions
 from tvl_cli.io.logreader import read_log, refuse_repeated
 
 
 @dataclass(frozen=True, slots=True)
 class DesignSummary:
+    logs: tuple[Path, ...]
+    budget_rules: int
+    seed: int
     design: Design
     output: Path
     repeated_sessions: list[RepeatedSession]  # used once
     wall_s: float
+
+    def document(self) -> dict[str, Any]:
+        design = self.design
+        config = design.config
+        assert config.design is not None
+        inputs = {
+            "logs": [input_file(log) for log in self.logs],
+            "budget_rules": self.budget_rules,
+            "seed": self.seed,
+        }
+        return document(
+            "design",
+            inputs,
+            outputs={"config": str(self.output)},
+            config=config.name,
+            rules=config.rule_count,
+            train_episodes=design.train_episodes,
+            heldout_episodes=design.heldout_episodes,
+            candidates_scored=design.candidates_scored,
+            tables=[
+                {
+                    "name": t.name,
+                    "inputs": [{"name": i.name, "sets": len(i.partition.names)} for i in t.inputs],
+                    "rules": t.rule_count,
+                }
+                for t in config.tables
+            ],
+            choices=[asdict(c) for c in config.design.choices],
+            heldout=[
+                {
+                    "config": s.config,
+                    "rules": s.rules,
+                    "error_mps": s.error_mps,
+                    "error_by_trajectory": [
+                        {"trajectory": t, "error_mps": e} for t, e in s.error_by_trajectory_mps
+                    ],
+                }
+                for s in design.scores
+            ],
+            repeated_sessions=[asdict(found) for found in self.repeated_sessions],
+            wall_s=self.wall_s,
+        )
 
 
 def design_from_logs(
@@ -55,4 +102,6 @@ def design_from_logs(
     fam_config_from_json(text, [t.name for t in robot.trajectories], str(output))
     with atomic_output(output, overwrite) as temporary:
         temporary.write_text(text, encoding="utf-8")
-    return DesignSummary(design, output, repeats, time.perf_counter() - started)
+    return DesignSummary(
+        tuple(paths), budget_rules, seed, design, output, repeats, time.perf_counter() - started
+    )

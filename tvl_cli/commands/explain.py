@@ -16,6 +16,7 @@ from tvl_cli.core.ring import mm_to_ring
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.core.words import counted
 from tvl_cli.io.famfile import read_fam
+from tvl_cli.io.json_documents import document, input_file
 from tvl_cli.io.logreader import file_sha256
 from tvl_cli.io.runfile import RunTrace, read_run, recorded_paths
 from tvl_cli.sim.worldmap import parse_world
@@ -49,6 +50,8 @@ class StepExplanation:
     focus: tuple[str, ...]  # the trajectories explained: the choice and the best rated
     why: Explanation | None  # the FAM's view of the ring, for the focus trajectories
     fam: Path  # the FAM that explains it: the one the run used
+    run: Path  # the trace explained
+    asked: Moment  # the moment asked for
     # Why another step than the one asked for is explained (--at a step that made no
     # decision: the nearest that did); None if it is the one asked for. Said, not printed.
     moved: str | None = None
@@ -57,8 +60,17 @@ class StepExplanation:
         """What was found of the step (the FAM is one of the command's inputs)."""
         found = asdict(self)
         found["focus"] = list(self.focus)
-        del found["fam"], found["moved"]
+        del found["fam"], found["moved"], found["run"], found["asked"]
         return found
+
+    def document(self) -> dict[str, Any]:
+        inputs = {
+            "run": input_file(self.run),
+            "fam": input_file(self.fam),
+            "contacts": False,
+            **asdict(self.asked),
+        }
+        return document("explain", inputs, step=self.to_dict(), autopsy=None)
 
 
 def explain_run(
@@ -110,6 +122,8 @@ def explain_run(
         focus=focus,
         why=why,
         fam=used,
+        run=trace_path,
+        asked=moment,
         moved=moved,
     )
     if png is not None:

@@ -4,12 +4,14 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.hdf5_header import LOG_FORMAT, FormatError, file_format
+from tvl_cli.io.json_documents import document, input_file
 from tvl_cli.io.mcapfile import Robot, Scene, write_run_mcap
 from tvl_cli.io.runfile import read_run
 from tvl_cli.sim.maps.raster import rasterise
@@ -26,13 +28,14 @@ class Exported:
     steps: int
     messages: dict[str, int]  # by topic
 
-    def to_dict(self) -> dict[str, object]:
-        return {
-            "run": str(self.run),
-            "output": str(self.output),
-            "steps": self.steps,
-            "messages": self.messages,
-        }
+    def document(self) -> dict[str, Any]:
+        return document(
+            "export",
+            {"run": input_file(self.run)},
+            outputs={"mcap": str(self.output)},
+            steps=self.steps,
+            messages=[{"topic": topic, "messages": n} for topic, n in self.messages.items()],
+        )
 
 
 def export_mcap(run: Path, output: Path) -> Exported:

@@ -6,11 +6,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 from tvl_cli.analysis.figure_needs import check_needs
 from tvl_cli.analysis.result_rows import Row, read_results
 from tvl_cli.core.errors import BadInput
 from tvl_cli.io.atomic import atomic_output
+from tvl_cli.io.json_documents import document, input_file, output_path
 from tvl_cli.io.runfile import read_run
 
 DPI = 120  # of a raster picture
@@ -24,8 +26,25 @@ class FigureRequest:
     table: Path | None = None  # the summary table as markdown
 
 
-def draw(request: FigureRequest) -> str:
-    """Draw the figure and write its table; return the table."""
+@dataclass(frozen=True, slots=True)
+class Drawn:
+    """A figure drawn as asked, and its summary table (markdown)."""
+
+    request: FigureRequest
+    summary: str
+
+    def document(self) -> dict[str, Any]:
+        r = self.request
+        return document(
+            "figure",
+            {"figure": r.name, "results": input_file(r.results)},
+            outputs={"picture": str(r.picture), "table": output_path(r.table)},
+            summary_markdown=self.summary,
+        )
+
+
+def draw(request: FigureRequest) -> Drawn:
+    """Draw the figure and write its table."""
     # matplotlib is slow to import: only drawing needs it.
     from tvl_cli.render.experiment_figures import FIGURES
     from tvl_cli.render.formats import save_picture
@@ -46,7 +65,7 @@ def draw(request: FigureRequest) -> str:
     if request.table is not None:
         with atomic_output(request.table) as temporary:
             temporary.write_text(summary, encoding="utf-8")
-    return summary
+    return Drawn(request, summary)
 
 
 def _with_trace(row: Row, base: Path) -> Row:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -12,6 +13,7 @@ from tvl_cli.analysis.surface import shared_inputs, velocity_surfaces
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fired_rules import Explanation
 from tvl_cli.io.famfile import FamFile, read_fam
+from tvl_cli.io.json_documents import document, input_file, output_path
 
 
 @dataclass(frozen=True, slots=True)
@@ -32,11 +34,38 @@ class Inspected:
     """The FAM file read, and either its rules or one ring's explanation (the other None);
     with a picture, the two inputs it was drawn over."""
 
+    request: InspectRequest
     loaded: FamFile
     ring: np.ndarray | None
     explanation: Explanation | None
     rules: list[Rule] | None
     over: tuple[str, str] | None = None
+
+    def document(self) -> dict[str, Any]:
+        """A FAM's configuration and provenance, and its rules or one ring explained
+        (--explain), the other null."""
+        r = self.request
+        drawn_over = self.over or r.over
+        inputs = {
+            "fam": input_file(r.fam),
+            "trajectory": r.trajectory,
+            "top": r.top,
+            "sort": r.sort,
+            "untrained": r.untrained,
+            "over": None if drawn_over is None else list(drawn_over),
+            "fix": dict(r.fix),
+            "explain_ring_m": None if self.ring is None else [float(x) for x in self.ring],
+        }
+        return document(
+            "inspect",
+            inputs,
+            outputs={"png": output_path(r.png)},
+            config=self.loaded.fam.config.to_dict(),
+            method=self.loaded.made_by.record(),
+            provenance=self.loaded.provenance,
+            rules=None if self.rules is None else [rule.to_dict() for rule in self.rules],
+            explanation=None if self.explanation is None else self.explanation.to_dict(),
+        )
 
 
 def inspect_fam(request: InspectRequest) -> Inspected:
@@ -51,11 +80,11 @@ def inspect_fam(request: InspectRequest) -> Inspected:
         over = draw_surfaces(loaded, request.png, request.over, request.fix)
     if request.explain is not None:
         ring = parse_ring(request.explain, loaded.robot_config.sonar.count)
-        return Inspected(loaded, ring, loaded.fam.explain(ring), None, over)
+        return Inspected(request, loaded, ring, loaded.fam.explain(ring), None, over)
     rules = select_rules(
         loaded.fam, request.trajectory, request.top, request.sort, request.untrained
     )
-    return Inspected(loaded, None, None, rules, over)
+    return Inspected(request, loaded, None, None, rules, over)
 
 
 def draw_surfaces(

@@ -3,9 +3,10 @@ surviving Ctrl-C and SIGTERM with every finished episode kept."""
 
 from __future__ import annotations
 
+import hashlib
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -21,7 +22,7 @@ from tvl_cli.core.learn_params import LearnParams
 from tvl_cli.core.memory import MemoryConfig
 from tvl_cli.core.method import DEFAULT, Method, method_record
 from tvl_cli.core.robot_config import RobotConfig, sonar_model_name
-from tvl_cli.core.robot_profiles import DEFAULT_ROBOT, body_of, robot_name
+from tvl_cli.core.robot_profiles import DEFAULT_ROBOT, body_of, profile_name, robot_name
 from tvl_cli.core.training import (
     SessionEpisodes,
     TrainParams,
@@ -33,6 +34,13 @@ from tvl_cli.io.atomic import check_writable
 from tvl_cli.io.fam_config_file import resolve_fam_config
 from tvl_cli.io.famfile import check_storable, read_fam, write_fam
 from tvl_cli.io.interrupts import catching_signals
+from tvl_cli.io.json_documents import (
+    config_input,
+    document,
+    input_file,
+    optional_file,
+    output_path,
+)
 from tvl_cli.io.log_sessions import distinct_sessions, provenance
 from tvl_cli.io.logfile import LogWriter
 from tvl_cli.io.loglayout import KIND_LEARNING, ended_status
@@ -87,6 +95,46 @@ class LearnResult:
     status: str
     minute_coverage: list[float]  # at the end of each of summary.minutes
     coverage: float  # after every episode of the session
+
+    def document(self) -> dict[str, Any]:
+        r = self.request
+        inputs = {
+            "world": world_input(r.world),
+            "seed": r.seed,
+            **config_input(r.config),
+            **r.learn.to_dict(),
+            "training": r.train.settings(),
+            "from_fam": optional_file(r.from_fam),
+            "method": self.method,
+            "robot": profile_name(r.body),
+        }
+        outputs = {"log": str(r.log), "fam": output_path(r.fam_out)}
+        return document("learn", inputs, outputs=outputs, **self.session_record())
+
+    def session_record(self) -> dict[str, Any]:
+        """What the session did (`tvl learn`'s document, and `tvl demo`'s learning)."""
+        s = self.summary
+        return {
+            "session": self.session,
+            "status": self.status,
+            "episodes": s.episodes,
+            "collisions": s.collisions,
+            "exemplars": s.exemplars,
+            "sim_minutes": s.sim_s / 60.0,
+            "coverage": self.coverage,
+            "wall_s": self.wall_s,
+            "minutes": [
+                {"session": self.session, **asdict(m), "minute": m.minute + 1, "coverage": c}
+                for m, c in zip(s.minutes, self.minute_coverage, strict=True)
+            ],
+        }
+
+
+def world_input(world: Path | WorldMap) -> dict[str, str]:
+    """A world file as read; a generated world by its name, and the digest of its text."""
+    if isinstance(world, Path):
+        return input_file(world)
+    return {"path": world.name, "sha256": hashlib.sha256(world.text.encode()).hexdigest()}
 
 
 def learn_to_log(

@@ -14,6 +14,7 @@ from tvl_cli.core.contacts import EVENTS
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.hdf5_header import LOG_FORMAT, RUN_FORMAT, file_format
+from tvl_cli.io.json_documents import document, input_file, output_path
 from tvl_cli.io.loglayout import KIND_LEARNING, MINUTE_COLUMNS, STATUS_FINISHED
 from tvl_cli.io.logreader import LearningLog, Session, read_log
 from tvl_cli.io.runfile import RunTrace, read_run, recorded_paths
@@ -114,6 +115,22 @@ class RunReplay:
 
 
 Replay = LogReplay | RunReplay
+
+
+@dataclass(frozen=True, slots=True)
+class Replayed:
+    """A file replayed as asked: the file, the session chosen, the pictures drawn (None:
+    not asked for) and its summary."""
+
+    file: Path
+    session: str | None
+    pictures: dict[str, Path | None]  # png, curves, animation
+    summary: Replay
+
+    def document(self) -> dict[str, Any]:
+        inputs = {"file": input_file(self.file), "session": self.session}
+        outputs = {name: output_path(path) for name, path in self.pictures.items()}
+        return document("replay", inputs, outputs=outputs, **self.summary.to_dict())
 
 
 def _learning(

@@ -31,8 +31,9 @@ from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.core.robot_profiles import body_of, profile_name, robot_name
 from tvl_cli.core.training import TrainParams, train_params
 from tvl_cli.io.famfile import FamFile, read_fam
+from tvl_cli.io.json_documents import document, input_file, output_path
 from tvl_cli.io.logfile import LogWriter
-from tvl_cli.io.loglayout import KIND_BEHAVING
+from tvl_cli.io.loglayout import KIND_BEHAVING, ended_status
 from tvl_cli.io.logreader import file_sha256
 from tvl_cli.io.runfile import RunTraceWriter, path_beside, run_trace_output
 from tvl_cli.sim.worldmap import WorldMap, load_world, resolve_goal
@@ -67,6 +68,7 @@ class RunRequest:
 
 @dataclass(frozen=True, slots=True)
 class RunResult:
+    request: RunRequest
     metrics: RunMetrics
     minutes: list[MinuteContacts]
     learnt: OnlineSummary | None = None  # with --learn
@@ -86,6 +88,24 @@ class RunResult:
             # Not "learning": results files mark the ablation's runs with that key.
             printed["learnt"] = {**asdict(self.learnt), "session": self.session}
         return printed
+
+    def document(self) -> dict[str, Any]:
+        """The run's metrics at the top (as results files gather them), its inputs beside."""
+        request = self.request
+        inputs = {
+            "fam": input_file(request.fam),
+            "world": input_file(request.world),
+            **self.options,
+            "learn": request.learn is not None,
+            "method": self.method,
+        }
+        outputs = {
+            "png": output_path(request.png),
+            "trace": output_path(request.trace),
+            "log": output_path(request.learn.log if request.learn else None),
+        }
+        status = ended_status(self.stopped_by)
+        return document("run", inputs, outputs=outputs, status=status, **self.to_dict())
 
 
 def check_threshold(threshold: float) -> None:
@@ -209,7 +229,7 @@ def run_behaviour(
     learnt = learner.summary() if learner is not None else None
     options = {**run_options(request, goal), "robot": profile_name(robot)}
     return RunResult(
-        metrics, tally.minutes(metrics), learnt, session, recorded, options, stopped_by
+        request, metrics, tally.minutes(metrics), learnt, session, recorded, options, stopped_by
     )
 
 

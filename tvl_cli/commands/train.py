@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -37,6 +37,7 @@ from tvl_cli.core.training import (
 )
 from tvl_cli.io.fam_config_file import resolve_fam_config
 from tvl_cli.io.famfile import write_fam
+from tvl_cli.io.json_documents import config_input, document, input_file
 from tvl_cli.io.log_sessions import (
     RepeatedSession,
     common_robot,
@@ -203,9 +204,39 @@ def write_trained(path: Path, trained: TrainSummary, overwrite: bool = True) -> 
     )
 
 
+@dataclass(frozen=True, slots=True)
+class Trained:
+    """A FAM file trained and written as a request asked."""
+
+    request: TrainRequest
+    summary: TrainSummary
+
+    def document(self) -> dict[str, Any]:
+        r, summary = self.request, self.summary
+        inputs = {
+            "logs": [input_file(log) for log in r.logs],
+            **config_input(r.config),
+            "training": summary.training.settings(),
+            "until_minute": r.until_minute,
+            "method": summary.method_record(),
+        }
+        return document(
+            "train",
+            inputs,
+            outputs={"fam": str(r.output)},
+            config=summary.fam.config.name,
+            episodes=summary.episodes,
+            exemplars=summary.exemplars,
+            rules_touched=summary.rules_touched,
+            rules_total=summary.rules_total,
+            wall_s=summary.wall_s,
+            repeated_sessions=[asdict(found) for found in summary.repeated_sessions],
+        )
+
+
 def train(
     request: TrainRequest, on_progress: Callable[[int, int], None] = lambda done, total: None
-) -> TrainSummary:
+) -> Trained:
     """Train a FAM of the request's configuration on its logs and write it as a FAM file."""
     config = resolve_fam_config(request.config, RobotConfig())
     summary = train_from_logs(
@@ -218,4 +249,4 @@ def train(
         request.init_velocity_mps,
     )
     write_trained(request.output, summary, overwrite=request.force)
-    return summary
+    return Trained(request, summary)

@@ -8,10 +8,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 from tvl_cli.io.atomic import atomic_output
+from tvl_cli.io.json_documents import document, input_file
 from tvl_cli.sim.worldgen import Materials, generate_world
-from tvl_cli.sim.worldmap import WorldMap, load_world, parse_world
+from tvl_cli.sim.worldmap import WorldMap, load_world, parse_world, world_to_dict
 
 
 @dataclass(frozen=True, slots=True)
@@ -35,30 +37,92 @@ def counts(world: WorldMap) -> dict[str, int]:
     }
 
 
-def new_world(request: NewWorldRequest) -> dict[str, int]:
-    """Generate a world of the request's kind and write it; what it holds."""
+@dataclass(frozen=True, slots=True)
+class NewWorld:
+    """A world generated and written, and what it holds."""
+
+    request: NewWorldRequest
+    counts: dict[str, int]
+
+    def document(self) -> dict[str, Any]:
+        r = self.request
+        inputs = {
+            "kind": r.kind,
+            "width_m": r.width_m,
+            "height_m": r.height_m,
+            "seed": r.seed,
+            "rough_share": r.materials.share,
+            "roughness": r.materials.roughness,
+        }
+        return document("world new", inputs, outputs={"world": str(r.output)}, counts=self.counts)
+
+
+@dataclass(frozen=True, slots=True)
+class CheckedWorld:
+    """A world file that reads as a world, and what it holds."""
+
+    path: Path
+    counts: dict[str, int]
+
+    def document(self) -> dict[str, Any]:
+        return document(
+            "world check", {"world": input_file(self.path)}, ok=True, counts=self.counts
+        )
+
+
+@dataclass(frozen=True, slots=True)
+class ShownWorld:
+    """A world file, read and checked, for its summary or its geometry to be shown."""
+
+    path: Path
+    world: WorldMap
+
+    def document(self) -> dict[str, Any]:
+        return document(
+            "world show", {"world": input_file(self.path)}, world=world_to_dict(self.world)
+        )
+
+
+@dataclass(frozen=True, slots=True)
+class RenderedWorld:
+    """A world file drawn as a picture, and what it holds."""
+
+    path: Path
+    output: Path
+    counts: dict[str, int]
+
+    def document(self) -> dict[str, Any]:
+        return document(
+            "world render",
+            {"world": input_file(self.path)},
+            outputs={"picture": str(self.output)},
+            counts=self.counts,
+        )
+
+
+def new_world(request: NewWorldRequest) -> NewWorld:
+    """Generate a world of the request's kind and write it."""
     text = generate_world(
         request.kind, request.width_m, request.height_m, request.seed, request.materials
     )
     with atomic_output(request.output, overwrite=request.force) as temporary:
         temporary.write_text(text, encoding="utf-8")
-    return counts(parse_world(text, str(request.output)))
+    return NewWorld(request, counts(parse_world(text, str(request.output))))
 
 
-def check_world(path: Path) -> dict[str, int]:
+def check_world(path: Path) -> CheckedWorld:
     """What a world file holds; BadInput naming the problem if it is not a world."""
-    return counts(load_world(path))
+    return CheckedWorld(path, counts(load_world(path)))
 
 
-def show_world(path: Path) -> WorldMap:
-    """A world file, read and checked, for its summary or its geometry to be shown."""
-    return load_world(path)
+def show_world(path: Path) -> ShownWorld:
+    return ShownWorld(path, load_world(path))
 
 
-def render_world(path: Path, output: Path) -> dict[str, int]:
-    """Draw a world file as a picture at `output`; what it holds."""
+def render_world(path: Path, output: Path) -> RenderedWorld:
+    """Draw a world file as a picture at `output`."""
     from tvl_cli.render.plot import render_world as draw  # matplotlib only when drawing
 
     world = load_world(path)
     draw(world, output)
-    return counts(world)
+    return RenderedWorld(path, output, counts(world))

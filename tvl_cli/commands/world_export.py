@@ -4,8 +4,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 from tvl_cli.core.errors import BadInput
+from tvl_cli.io.json_documents import document, input_file
 from tvl_cli.io.occupancy_map import write_occupancy_map
 from tvl_cli.io.paths import refuse_output_among_inputs
 from tvl_cli.sim.maps.raster import rasterise
@@ -34,6 +36,12 @@ class Exported:
             "free_cells": self.free_cells,
             "occupied_cells": self.occupied_cells,
         }
+
+    def document(self) -> dict[str, Any]:
+        outputs = {"map_yaml": str(self.map_yaml), "image": str(self.image)}
+        return document(
+            "world export", {"world": input_file(self.world)}, outputs=outputs, **self.to_dict()
+        )
 
 
 def image_beside(map_yaml: Path) -> Path:

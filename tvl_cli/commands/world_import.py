@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -13,6 +14,7 @@ from tvl_cli.core.errors import BadInput
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.core.robot_profiles import DEFAULT_ROBOT
 from tvl_cli.io.atomic import atomic_output
+from tvl_cli.io.json_documents import document, input_file
 from tvl_cli.io.occupancy_map import OccupancyMap, read_occupancy_map
 from tvl_cli.io.paths import refuse_output_among_inputs
 from tvl_cli.sim.maps.cells import outline_runs
@@ -67,6 +69,7 @@ class NarrowPassage:
 class Imported:
     """What was written, in the map's frame (which is the world's)."""
 
+    request: ImportRequest
     map: OccupancyMap
     world: GridWorld
     free_cells: int  # in the world's grid
@@ -91,6 +94,18 @@ class Imported:
             "narrow_passages": [asdict(p) for p in self.passages],
             "unknown_grey_free": self.map.unknown_grey_free,
         }
+
+    def document(self) -> dict[str, Any]:
+        r = self.request
+        inputs = {
+            "map_yaml": input_file(r.map_yaml),
+            "image": input_file(self.map.meta.image),
+            "start": None if r.start is None else list(r.start),
+            "cell_m": r.cell_m,
+            "crop_m": None if r.crop is None else list(r.crop),
+            "name": r.name,
+        }
+        return document("world import", inputs, outputs={"world": str(r.output)}, **self.to_dict())
 
 
 def parse_start(text: str) -> tuple[float, float, float]:
@@ -137,7 +152,7 @@ def import_map(request: ImportRequest) -> Imported:
     with atomic_output(request.output, overwrite=request.force) as temporary:
         temporary.write_text(made.text, encoding="utf-8")
     clearance = float(space.clearance_m[start_cell])
-    return Imported(occupancy, made, int(floor.sum()), chosen, clearance, passages)
+    return Imported(request, occupancy, made, int(floor.sum()), chosen, clearance, passages)
 
 
 def _grid(occupancy: OccupancyMap, request: ImportRequest) -> tuple[np.ndarray, GridPlace]:

@@ -14,6 +14,7 @@ from pathlib import Path
 from typing import Any
 
 from tvl_cli import __version__
+from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS
 
 # Every command that prints a JSON document, by the words a user types; its schema is
 # tvl_cli/schemas/NAME.schema.json, NAME the words joined by "-".
@@ -125,3 +126,11 @@ def optional_file(path: Path | str | None) -> dict[str, str] | None:
 def output_path(path: Path | str | None) -> str | None:
     """A file a command wrote (None: not asked for)."""
     return None if path is None else str(path)
+
+
+def config_input(spec: str) -> dict[str, Any]:
+    """A FAM configuration as given: a shipped one's name, or a file read."""
+    return {
+        "config": spec,
+        "config_file": None if spec in BUILTIN_FAM_CONFIGS else input_file(spec),
+    }

@@ -15,12 +15,14 @@ from concurrent.futures import Executor
 from contextlib import AbstractContextManager
 from dataclasses import asdict, dataclass
 from pathlib import Path
+from typing import Any
 
 from tvl_cli.analysis.result_rows import read_results
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.method import DEFAULT_NAME, PAPER_NAME
 from tvl_cli.io.atomic import atomic_output, check_writable
+from tvl_cli.io.json_documents import document, input_file, output_path
 from tvl_cli.io.lock import WriterLock
 from tvl_cli.io.made import Made
 from tvl_cli.io.table import Row, append_row, write_csv, write_parquet
@@ -72,6 +74,7 @@ def default_out(grid: Path) -> Path:
 
 @dataclass(frozen=True, slots=True)
 class SweepResult:
+    request: SweepRequest
     out: Path
     cells: int
     done: int  # run by this sweep
@@ -80,6 +83,24 @@ class SweepResult:
     files: list[Path]  # written by this sweep, relative to `out`
     summary: SweepSummary  # each setting's mean and 95 % interval over its seeds
     plot: Path | None  # the plot drawn, if one was asked for
+
+    def document(self) -> dict[str, Any]:
+        request = self.request
+        inputs = {
+            "grid": input_file(request.grid),
+            "out": str(request.out),
+            "workers": request.workers if request.scheduler is None else None,
+            "scheduler": request.scheduler,
+            "scheduler_timeout_s": request.scheduler_timeout_s,
+            "max_cells": request.max_cells,
+            "size": request.size,
+            "measures": None if request.measures is None else list(request.measures),
+            "plot": None if request.plot is None else asdict(request.plot),
+        }
+        outputs = {"files": [str(path) for path in self.files], "plot": output_path(self.plot)}
+        return document(
+            "sweep", inputs, outputs=outputs, cells=self.cells, done=self.done, skipped=self.skipped
+        )
 
 
 def run_sweep(
@@ -157,6 +178,7 @@ def _sweep(
         drawn = request.plot_out or default_plot_path(request.out, request.plot)
         plot(table, request.plot, drawn)
     return SweepResult(
+        request=request,
         out=request.out,
         cells=len(grid.cells),
         done=len(todo),
