@@ -12,11 +12,10 @@ from rich.console import Console
 
 from tvl_cli.cli.live import ARROWS, LiveView, Sight
 from tvl_cli.commands.run import RunRequest, run_fam
-from tvl_cli.commands.train import train_from_logs
+from tvl_cli.commands.train import train_from_logs, write_trained
 from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.method import DEFAULT
 from tvl_cli.core.robot_config import RobotConfig
-from tvl_cli.io.famfile import write_fam
 from tvl_cli.sim.worldmap import load_world
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -27,13 +26,7 @@ LAB = ROOT / "worlds" / "lab.txt"
 def fam(tmp_path_factory: pytest.TempPathFactory) -> Path:
     trained = train_from_logs([ROOT / "logs" / "lab-s1.h5"], SINGLE)
     path = tmp_path_factory.mktemp("live") / "fam.h5"
-    write_fam(
-        path,
-        trained.fam,
-        robot_config=trained.robot,
-        method=trained.made_by,
-        provenance=trained.provenance,
-    )
+    write_trained(path, trained)
     return path
 
 

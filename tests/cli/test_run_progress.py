@@ -8,9 +8,8 @@ import pytest
 from test_bad_numbers import SQUARE
 
 from tvl_cli.commands.run import RunRequest, run_fam
-from tvl_cli.commands.train import train_from_logs
+from tvl_cli.commands.train import train_from_logs, write_trained
 from tvl_cli.core.fam_config import SINGLE
-from tvl_cli.io.famfile import write_fam
 
 EXAMPLE_LOG = Path(__file__).resolve().parents[2] / "logs" / "square-s1.h5"
 
@@ -19,13 +18,7 @@ EXAMPLE_LOG = Path(__file__).resolve().parents[2] / "logs" / "square-s1.h5"
 def test_a_watcher_sees_every_step_in_order_beside_the_trace(tmp_path: Path) -> None:
     trained = train_from_logs([EXAMPLE_LOG], SINGLE)
     fam = tmp_path / "fam.h5"
-    write_fam(
-        fam,
-        trained.fam,
-        robot_config=trained.robot,
-        method=trained.made_by,
-        provenance=trained.provenance,
-    )
+    write_trained(fam, trained)
     seen: list[float] = []
     request = RunRequest(fam, SQUARE, "avoid", 0.85, 0.5, seed=1, trace=tmp_path / "run.h5")
     metrics = run_fam(request, lambda step: seen.append(step.time_s))

@@ -24,7 +24,7 @@ from rich.console import Console
 from tvl_cli.cli import main
 from tvl_cli.cli.live import LiveView, Sight
 from tvl_cli.commands.run import RunRequest, run_fam
-from tvl_cli.commands.train import train_from_logs
+from tvl_cli.commands.train import train_from_logs, write_trained
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import MULTI, SINGLE, FamConfig
 from tvl_cli.core.robot_config import RobotConfig
@@ -52,13 +52,7 @@ def _trained_and_ran(directory: Path, config: FamConfig) -> dict[str, Path]:
     """A FAM of `config` from the example log's first 3 minutes, and 18 s of it avoiding."""
     trained = train_from_logs([ROOT / "logs" / "square-s1.h5"], config, until_minute=3)
     fam = directory / "fam.h5"
-    write_fam(
-        fam,
-        trained.fam,
-        robot_config=trained.robot,
-        method=trained.made_by,
-        provenance=trained.provenance,
-    )
+    write_trained(fam, trained)
     trace = directory / "run.h5"
     run_fam(RunRequest(fam, SQUARE, "avoid", 0.85, 0.3, seed=1, trace=trace))
     return {"fam": fam, "trace": trace}

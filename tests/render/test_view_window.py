@@ -17,19 +17,12 @@ pytestmark = pytest.mark.slow  # each test starts a display server and a process
 
 @pytest.fixture(scope="module")
 def fam(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    from tvl_cli.commands.train import train_from_logs
+    from tvl_cli.commands.train import train_from_logs, write_trained
     from tvl_cli.core.fam_config import SINGLE
-    from tvl_cli.io.famfile import write_fam
 
     trained = train_from_logs([ROOT / "logs" / "square-s1.h5"], SINGLE)
     path = tmp_path_factory.mktemp("window") / "fam.h5"
-    write_fam(
-        path,
-        trained.fam,
-        robot_config=trained.robot,
-        method=trained.made_by,
-        provenance=trained.provenance,
-    )
+    write_trained(path, trained)
     return path
 
 
