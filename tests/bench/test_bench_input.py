@@ -40,6 +40,13 @@ ROOT = Path(__file__).resolve().parents[2]
         (["--controller", "default"], "--controller default: a row of that name is there"),
         (["--workers", "2", "--scheduler", "local:2"], "give --workers or --scheduler, not both"),
         (["--scheduler", "local:0"], "--scheduler local:0: give local, or local:N"),
+        (["--pool", "nowhere.h5"], "nowhere.h5"),
+        (["--pool", str(ROOT / "worlds" / "square.txt")], "square.txt"),
+        (["--pool", str(ROOT / "fams" / "general-single.h5")], "tvl-log"),
+        (
+            ["--pool", "logs/square-s1.h5", "--pool", "logs/square-s1.h5"],
+            "--pool: a log is given twice",
+        ),
     ],
 )
 def test_a_bad_option_is_one_line_and_nothing_is_written(
@@ -96,6 +103,21 @@ def test_a_cell_for_each_world_trial_and_entry_the_maps_dwa_once_a_world() -> No
         "q-learning",
     ]  # fmt: skip
     assert [e.reads_map for e in planned.entries] == [False, True, True, False, True, False, False]
+
+
+def test_pooled_rows_are_trained_in_ours_cell_from_its_log_and_the_pool() -> None:
+    pool = ((str(ROOT / "logs" / "square-s1.h5"), "0" * 64),)
+    planned = plan(GeneralizationRequest(DEFAULT, size="tiny", references=(), pool=pool))
+    assert [e.name for e in planned.entries] == ["default", "pooled"]
+    assert all(isinstance(cell, LearntCell) for cell in planned.cells)
+    for cell in planned.cells:  # one log a world and trial: ours' runs and the pooled ones
+        by_entry: dict[str, set] = {}
+        for run in cell.runs:
+            assert run.fam is not None
+            by_entry.setdefault(dict(run.tags)["entry"], set()).add(run.fam.pooled)
+        assert by_entry == {"default": {()}, "pooled": {pool}}
+    without = plan(GeneralizationRequest(DEFAULT, size="tiny", references=()))
+    assert [e.name for e in without.entries] == ["default"]
 
 
 def test_a_controller_is_known_by_its_form(tmp_path: Path) -> None:

@@ -228,3 +228,32 @@ def test_the_claims_run_by_each_method_at_the_tiny_size(tmp_path: Path) -> None:
     # Each method's log learnt once, in the bench's logs/.
     logs = sorted(p.name for p in (tmp_path / "out" / "logs").iterdir())
     assert len(logs) == 4  # square and circle, by each method
+
+
+def test_pooled_rows_train_each_worlds_log_with_the_pool(tmp_path: Path) -> None:
+    pool = ROOT / "logs" / "square-s1.h5"
+    out = tmp_path / "out"
+    done = subprocess.run(
+        [TVL, "bench", "generalization", "--size", "tiny", "--config", "single",
+         "--references", "none", "--pool", pool, "--out", out, "--json"],
+        capture_output=True, text=True, timeout=600,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    document = valid("bench generalization", done.stdout)
+    [pooled] = document["inputs"]["pool"]
+    assert pooled["path"] == str(pool) and len(pooled["sha256"]) == 64
+    rows = [r for r in document["rows"] if r["entry"] == "pooled"]
+    assert {(r["world"], r["behaviour"]) for r in rows} == {
+        (w, b) for w in ("rooms-s1001", "rooms-s1002")
+        for b in ("avoid", "wall-left", "wall-right", "goal")
+    }  # fmt: skip
+    assert {r["role"] for r in rows} == {"method"}
+    ours = {(r["world"], r["behaviour"]): r for r in document["rows"] if r["entry"] == "default"}
+    # The pooled FAM is another FAM than ours: trained from both logs, its runs differ.
+    assert any(r["distance_m"] != ours[r["world"], r["behaviour"]]["distance_m"] for r in rows)
+    [fam] = (out / "fams").glob("rooms-s1001-*-pooled-*.h5")
+    inspected = subprocess.run([TVL, "inspect", fam, "--json"], capture_output=True, text=True)
+    logs = json.loads(inspected.stdout)["provenance"]["logs"]
+    assert [log["path"] for log in logs] == [
+        str(out / "logs" / "rooms-s1001-s1-m1.0-single.h5"), str(pool)
+    ]  # fmt: skip

@@ -36,6 +36,8 @@ BEHAVIOURS = ("avoid", "wall-left", "wall-right", "goal")
 # to `tvl run` (its `wall` task keeps a distance on either side).
 CONTROLLER_BEHAVIOURS = ("avoid", "goal")
 TINY, QUICK, FULL = "tiny", "quick", "full"
+# The rows of ours' FAMs trained from each world's log pooled with logs learnt elsewhere.
+POOLED = "pooled"
 
 
 @dataclass(frozen=True, slots=True)
@@ -78,6 +80,9 @@ class GeneralizationRequest:
     observe: Method | None = None  # what policies observe through; None: our method
     references: tuple[str, ...] = tuple(REFERENCES)
     threshold: float = DEFAULT_THRESHOLD
+    # Logs learnt elsewhere, each (absolute path, SHA-256), pooled with each world's own log
+    # for the rows `pooled`; none: no such rows.
+    pool: tuple[tuple[str, str], ...] = ()
 
 
 @dataclass(frozen=True, slots=True)
@@ -107,7 +112,7 @@ def plan(request: GeneralizationRequest) -> Plan:
     """Every cell of the suite: for each world and trial, ours, each reference asked for and
     each controller."""
     size = SIZES[request.size]
-    names = {request.method_name, *request.references}
+    names = {request.method_name, *request.references, *([POOLED] if request.pool else [])}
     for controller in request.controllers:
         if controller.name in names:
             raise BadInput(f"--controller {controller.name}: a row of that name is there already")
@@ -141,8 +146,17 @@ def plan(request: GeneralizationRequest) -> Plan:
 def entries(request: GeneralizationRequest) -> list[Entry]:
     ours = Entry(request.method_name, OURS, False, f"ours: method {request.method_name}")
     refs = [REFERENCES[name] for name in request.references]
+    pooled = [
+        Entry(
+            POOLED,
+            OURS,
+            False,
+            f"ours, each world's log pooled with {len(request.pool)} learnt elsewhere",
+        )
+    ]
     return [
         ours,
+        *(pooled if request.pool else []),
         *(Entry(r.name, "reference", r.reads_map, r.label) for r in refs),
         *(Entry(c.name, CONTROLLER, False, c.label) for c in request.controllers),
     ]
@@ -152,9 +166,13 @@ def _cells(request: GeneralizationRequest, setting: Setting) -> list[Cell]:
     name = request.method_name
     ours = setting.learnt(request.method, name, name, OURS)
     refs = [REFERENCES[ref] for ref in request.references]
-    cells: list[Cell] = [
-        replace(ours, runs=ours.runs + tuple(p for r in refs for p in r.runs_in_ours(setting, r)))
-    ]
+    pooled = (
+        setting.runs_of_fams(setting.tags(POOLED, OURS, False), False, request.pool)
+        if request.pool
+        else ()
+    )
+    added = pooled + tuple(p for r in refs for p in r.runs_in_ours(setting, r))
+    cells: list[Cell] = [replace(ours, runs=ours.runs + added)]
     for ref in refs:
         cells += ref.cells(setting, ref)
     for controller in request.controllers:
@@ -207,6 +225,7 @@ class GeneralizationResult:
             ],
             "observe": None if request.observe is None else method_record(request.observe),
             "references": list(request.references),
+            "pool": [{"path": path, "sha256": digest} for path, digest in request.pool],
             **self.where.inputs(),
         }
         return document(

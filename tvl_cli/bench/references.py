@@ -71,11 +71,19 @@ class Setting:
         )  # fmt: skip
 
     def runs_of_fams(
-        self, tags: tuple[tuple[str, object], ...], true_labels: bool
+        self,
+        tags: tuple[tuple[str, object], ...],
+        true_labels: bool,
+        pooled: tuple[tuple[str, str], ...] = (),
     ) -> tuple[RunPlan, ...]:
-        """Every behaviour run with each configuration trained from the cell's log."""
+        """Every behaviour run with each configuration trained from the cell's log (pooled
+        with the logs of `pooled`)."""
         return tuple(
-            replace(plan, threshold=self.threshold, fam=FamPlan(config, true_labels=true_labels))
+            replace(
+                plan,
+                threshold=self.threshold,
+                fam=FamPlan(config, true_labels=true_labels, pooled=pooled),
+            )
             for config in self.configs
             for plan in self.plans(self.behaviours, tags)
         )

@@ -33,6 +33,9 @@ class FamPlan:
     # Trained on the oracle labels (every point's trajectories from the true map), the
     # reference `oracle-labels`; else by the method's labels.
     true_labels: bool = False
+    # Logs learnt elsewhere that the cell's log is pooled with, each as (absolute path,
+    # SHA-256): the rows `pooled`, experience from other worlds and this one's together.
+    pooled: tuple[tuple[str, str], ...] = ()
 
 
 @dataclass(frozen=True, slots=True)

@@ -3,6 +3,8 @@ the option at the first fault, before anything runs."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from tvl_cli.bench.controllers import parse_controller
 from tvl_cli.bench.generalization_suite import GeneralizationRequest
 from tvl_cli.bench.references import REFERENCES
@@ -11,6 +13,7 @@ from tvl_cli.core.errors import BadInput, did_you_mean
 from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.fam_config_file import resolve_fam_config
+from tvl_cli.io.logreader import read_log
 from tvl_cli.io.methodfile import resolve_method
 
 
@@ -25,6 +28,7 @@ def generalization_request(
     references: str,
     threshold: float,
     size: str,
+    pool: tuple[str, ...] = (),
 ) -> GeneralizationRequest:
     if not is_threshold(threshold):
         raise BadInput(f"--threshold {threshold:g} is outside (0, 1]")
@@ -46,7 +50,20 @@ def generalization_request(
         observe=None if observe is None else resolve_method(observe, label="--observe"),
         references=parse_references(references),
         threshold=threshold,
+        pool=pooled_logs(pool),
     )
+
+
+def pooled_logs(paths: tuple[str, ...]) -> tuple[tuple[str, str], ...]:
+    """--pool's logs, each as (absolute path, SHA-256), read as `tvl train` reads a log: a
+    file that is not a learning log is refused here, before anything runs."""
+    if len(set(paths)) < len(paths):
+        raise BadInput("--pool: a log is given twice")
+    pooled = []
+    for text in paths:
+        log = read_log(Path(text))
+        pooled.append((str(Path(text).resolve()), log.sha256))
+    return tuple(pooled)
 
 
 def parse_span(text: str) -> tuple[int, int]:

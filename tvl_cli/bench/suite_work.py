@@ -9,6 +9,7 @@ together in one RobotBatch (agent.drive_tvl.behave_together), each as it would r
 
 from __future__ import annotations
 
+import hashlib
 import time
 from dataclasses import asdict, replace
 from pathlib import Path
@@ -44,6 +45,7 @@ from tvl_cli.core.method import NOT_GIVEN, Method, MethodChoice, describe_record
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.core.robot_profiles import DEFAULT_ROBOT
 from tvl_cli.io.famfile import FamFile, read_fam
+from tvl_cli.io.logreader import file_sha256
 from tvl_cli.sim.worldmap import WorldMap, load_world
 from tvl_cli.sweep.layout import LogRequest, TrainRequest, learning_tag
 from tvl_cli.sweep.work import learn_log, train_fam
@@ -139,10 +141,13 @@ def _learnt(cell: LearntCell, root: Path, world: WorldMap) -> list[Row]:
     for plan in dict.fromkeys(run.fam for run in cell.runs if run.fam is not None):
         snapshot = "" if plan.until_minute is None else f"-at{plan.until_minute!r}"
         oracle = "-oracle-labels" if plan.true_labels else ""
-        path = root / FAMS / f"{log.stem}-{plan.config.name}{snapshot}{oracle}.h5"
+        path = root / FAMS / f"{log.stem}-{plan.config.name}{snapshot}{oracle}{_pooled(plan)}.h5"
         if not path.exists() and plan.true_labels:
             trained = train_from_logs([log], plan.config, cell.method, true_labels=True)
             write_trained(path, trained)
+        elif not path.exists() and plan.pooled:
+            logs = [log, *(_unchanged(pooled, digest) for pooled, digest in plan.pooled)]
+            write_trained(path, train_from_logs(logs, plan.config, cell.method))
         elif not path.exists():
             train_fam(TrainRequest(path, log, plan.config, cell.method, plan.until_minute))
         fams[plan] = (path, read_fam(path))
@@ -150,6 +155,22 @@ def _learnt(cell: LearntCell, root: Path, world: WorldMap) -> list[Row]:
     driven = [(run, *fams[run.fam]) for run in cell.runs if run.fam is not None]
     rows = _drive_fams(world, cell.seed, cell.run_minutes, driven, choice)
     return [{**row, "method": cell.method_name} for row in rows]
+
+
+def _pooled(plan: FamPlan) -> str:
+    """A pooled FAM's file name's tail: the digest of the logs it pools, whose contents the
+    plan names."""
+    if not plan.pooled:
+        return ""
+    digests = ",".join(digest for _, digest in plan.pooled)
+    return "-pooled-" + hashlib.sha256(digests.encode()).hexdigest()[:12]
+
+
+def _unchanged(path: str, digest: str) -> Path:
+    """A pooled log, refused if it is no longer the file the bench was planned with."""
+    if file_sha256(path) != digest:
+        raise BadInput(f"--pool {path}: the log changed since the bench began; start a new --out")
+    return Path(path)
 
 
 def _fam_file(cell: FamFileCell, world: WorldMap) -> list[Row]:

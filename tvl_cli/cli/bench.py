@@ -159,6 +159,13 @@ def _running(as_json: bool, run: Callable[..., Any]) -> Any:
     "dwa-ring, q-learning.",
 )
 @click.option("--threshold", type=float, default=DEFAULT_THRESHOLD, show_default=True)
+@click.option(
+    "--pool",
+    multiple=True,
+    metavar="LOG",
+    help="Also train ours' FAMs from each world's log pooled with this log learnt elsewhere, "
+    "as the rows `pooled` (repeatable; e.g. fams/general-log.h5).",
+)
 @where_options("generalization")
 def generalization(**options: Any) -> None:
     """Learn, train and run in generated rooms worlds nobody tuned on, beside references and
