@@ -117,7 +117,7 @@ RELEASED = {
     "baseline dwa": (5, "68c15d1bed4c263a"),
     "baseline qlearn": (5, "a2956b676e4b0806"),
     "sweep": (2, "b7fbe07376b9b2bb"),
-    "bench generalization": (3, "d7f6ec780bbee17c"),
+    "bench generalization": (4, "36aad5da015e382c"),
     "bench claims": (1, "c574aae6e568d1f9"),
     "export": (1, "4a3407f1771e4ec1"),
     "figure": (1, "beee1067ca60bd82"),
