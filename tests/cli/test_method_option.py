@@ -233,3 +233,28 @@ def test_a_bad_method_file_is_one_line_naming_the_file_and_key(tmp_path: Path) -
 def test_the_example_method_file_is_the_papers_with_the_echo_memory() -> None:
     example = read_method(ROOT / "experiments" / "methods" / "paper-remembering.toml")
     assert example.differs(PAPER) == ["memory"] and example.memory == DEFAULT.memory
+
+
+# Each file of the memory's settings (experiments/methods/memory/) and the one setting its
+# name says it changes from ours.
+MEMORY_SETTING_FILES = {
+    "window-10": ("window_s", 10.0),
+    "window-40": ("window_s", 40.0),
+    "range-2": ("range_m", 2.0),
+    "range-3": ("range_m", 3.0),
+    "patch-0.15": ("patch_m", 0.15),
+    "points": ("kind", "points"),
+    "clearing-always": ("clearing", "always"),
+}
+
+
+def test_each_memory_settings_file_changes_ours_in_the_setting_it_is_named_for() -> None:
+    folder = ROOT / "experiments" / "methods" / "memory"
+    assert sorted(path.stem for path in folder.glob("*.toml")) == sorted(MEMORY_SETTING_FILES)
+    ours = DEFAULT.memory.to_dict()
+    for stem, (key, value) in MEMORY_SETTING_FILES.items():
+        method = read_method(folder / f"{stem}.toml")
+        assert method.differs(DEFAULT) == ["memory"], stem
+        memory = method.memory.to_dict()
+        assert {k for k in memory if memory[k] != ours[k]} == {key}, stem
+        assert memory[key] == value, stem
