@@ -239,7 +239,9 @@ def test_the_example_method_file_is_the_papers_with_the_echo_memory() -> None:
 # name says it changes from ours.
 MEMORY_SETTING_FILES = {
     "window-10": ("window_s", 10.0),
+    "window-30": ("window_s", 30.0),
     "window-40": ("window_s", 40.0),
+    "window-60": ("window_s", 60.0),
     "range-2": ("range_m", 2.0),
     "range-3": ("range_m", 3.0),
     "patch-0.15": ("patch_m", 0.15),
