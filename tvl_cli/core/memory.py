@@ -112,22 +112,25 @@ class MemoryConfig:
         return asdict(self)
 
     @classmethod
-    def from_dict(cls, data: dict[str, Any]) -> MemoryConfig:
-        """From a file's JSON; BadInput naming what is wrong."""
+    def from_dict(cls, data: dict[str, Any], omitted: MemoryConfig | None = None) -> MemoryConfig:
+        """From a file's JSON; BadInput naming what is wrong. The settings `data` leaves out
+        are `omitted`'s (a method file's: ours); without it, those of a file from before they
+        were recorded: nothing remembered, never cleared."""
         if not isinstance(data, dict):
             raise BadInput(f"echo memory settings are not a JSON object: {data!r}")
         known = {"kind", "window_s", "range_m", "patch_m", "clearing"}
         unknown = sorted(set(data) - known)
         if unknown:
             raise BadInput(f"unknown echo memory setting {unknown[0]!r}")
-        kind = data.get("kind", NONE)
+        base = NO_MEMORY if omitted is None else omitted
+        kind = data.get("kind", base.kind)
         if not isinstance(kind, str):
             raise BadInput(f"kind {kind!r} is not text: choose {', '.join(MEMORY_KINDS)}")
-        # A file from before clearing was a choice never cleared.
-        clearing = data.get("clearing", NEVER)
+        # A file from before clearing was a choice never cleared (NO_MEMORY clears never).
+        clearing = data.get("clearing", base.clearing)
         if clearing not in CLEARINGS:
             raise BadInput(f"clearing {clearing!r}: choose {', '.join(CLEARINGS)}")
-        numbers = {key: data.get(key, getattr(NO_MEMORY, key)) for key in _LIMITS}
+        numbers = {key: data.get(key, getattr(base, key)) for key in _LIMITS}
         for key, value in numbers.items():
             _check_setting(key, value, key)  # named as the file names it
         floats = {key: float(value) for key, value in numbers.items()}

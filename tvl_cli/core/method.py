@@ -274,22 +274,25 @@ def shown_setting(value: Any) -> str:
 RECORD_NOTES = ("preset", UNRECORDED, SESSIONS_DIFFER_IN)
 
 
-def method_from_dict(data: Mapping[str, Any], where: str) -> Method:
+def method_from_dict(
+    data: Mapping[str, Any], where: str, memory_omitted: MemoryConfig | None = None
+) -> Method:
     """A method from a table of fields (a TOML file, a recorded JSON object); fields it does
-    not give are ours. BadInput naming `where` and the key at the first fault, an unknown key
-    with the field it may have meant."""
+    not give are ours, and the memory's settings it leaves out `memory_omitted`'s
+    (MemoryConfig.from_dict). BadInput naming `where` and the key at the first fault, an
+    unknown key with the field it may have meant."""
     values: dict[str, Any] = {}
     for key, value in data.items():
         if key in RECORD_NOTES:  # a record's notes (the preset it equals ...), not choices
             continue
         if key not in FIELDS:
             raise BadInput(f"{where}: unknown key {key!r} ({did_you_mean(key, FIELDS)})")
-        values[key] = _value(key, value, where)
+        values[key] = _value(key, value, where, memory_omitted)
         _check(key, values[key], f"{where}: {key}")
     return replace(DEFAULT, **values)
 
 
-def _value(key: str, value: Any, where: str) -> Any:
+def _value(key: str, value: Any, where: str, memory_omitted: MemoryConfig | None) -> Any:
     """A field's value as Method holds it, from TOML or JSON."""
     if key in ("decel_mps2", "margin_m", "near_m"):
         return float(value) if isinstance(value, int) and not isinstance(value, bool) else value
@@ -309,7 +312,7 @@ def _value(key: str, value: Any, where: str) -> Any:
         if isinstance(value, str):
             value = {"kind": value}
         try:
-            return MemoryConfig.from_dict(value)
+            return MemoryConfig.from_dict(value, memory_omitted)
         except BadInput as error:
             raise BadInput(f"{where}: memory: {error}") from None
     return value

@@ -16,23 +16,16 @@ from __future__ import annotations
 from pathlib import Path
 
 from tvl_cli.core.errors import BadInput, did_you_mean
-from tvl_cli.core.memory import DEFAULT_MEMORY
-from tvl_cli.core.method import PRESETS, Method, method_from_dict
+from tvl_cli.core.method import DEFAULT, PRESETS, Method, method_from_dict
 from tvl_cli.io.tomlfile import read_toml
 
 
 def read_method(path: Path) -> Method:
     """The method of a TOML file; BadInput naming the file and the key at the first fault."""
-    fields = read_toml(path, "method")
-    memory = fields.get("memory")
-    if isinstance(memory, str):
-        memory = {"kind": memory}
-    if isinstance(memory, dict):
-        # A memory the file names takes ours for each setting it leaves out, as the method
-        # takes ours for each field. (A memory recorded in a log or FAM without a clearing
-        # was made before clearing was a choice, and so never cleared: core.memory.)
-        fields = {**fields, "memory": {**DEFAULT_MEMORY.to_dict(), **memory}}
-    return method_from_dict(fields, str(path))
+    # A memory the file names takes ours for each setting it leaves out, as the method takes
+    # ours for each field. (A memory recorded in a log or FAM without a clearing was made
+    # before clearing was a choice, and so never cleared: core.memory.)
+    return method_from_dict(read_toml(path, "method"), str(path), memory_omitted=DEFAULT.memory)
 
 
 def resolve_method(
