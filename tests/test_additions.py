@@ -55,11 +55,13 @@ WITH_METHOD = [
 ]
 
 
-def test_the_commands_that_take_a_method_are_those_that_learn_train_or_behave() -> None:
+def test_the_commands_that_take_a_method_are_those_that_learn_train_design_or_behave() -> None:
     names = sorted(
         c.name or "" for c in _commands(main, click.Context(main)) if "--method" in _flags(c)
     )
-    assert names == ["claims", "dwa", "generalization", "learn", "qlearn", "run", "train"]
+    assert names == [
+        "claims", "design", "dwa", "generalization", "learn", "qlearn", "run", "train"
+    ]  # fmt: skip
     assert all("--paper" in flags for flags in WITH_METHOD)
 
 

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 from doc_pages import page, section
@@ -19,9 +21,10 @@ from tvl_cli.analysis.input_selection import (
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam_config import MULTI
-from tvl_cli.core.ring import ring_to_mm
+from tvl_cli.core.heard import HeardEpisode
+from tvl_cli.core.ring import mm_to_ring, ring_to_mm
 from tvl_cli.core.robot_config import RobotConfig, mirror_sonar, mirror_trajectory
-from tvl_cli.core.training import TrainParams
+from tvl_cli.core.training import TrainParams, driven_labels
 
 ROBOT = RobotConfig()
 NAMES = [t.name for t in ROBOT.trajectories]
@@ -57,13 +60,31 @@ def episode(index: int, trajectory: int, start_m: float, rng: np.random.Generato
     )
 
 
-def synthetic(per_trajectory: int = 6, seed: int = 0) -> list[Episode]:
+def synthetic(per_trajectory: int = 6, seed: int = 0) -> list[HeardEpisode]:
+    """Episodes of every trajectory, each labelling the one it drove (the paper's rule)."""
     rng = np.random.default_rng(seed)
     return [
-        episode(7 * k + j, j, float(rng.uniform(1.0, 3.5)), rng)
+        driven_labels(episode(7 * k + j, j, float(rng.uniform(1.0, 3.5)), rng), len(NAMES))
         for k in range(per_trajectory)
         for j in range(7)
     ]
+
+
+def heard_straight(count: int = 12, seed: int = 0) -> list[HeardEpisode]:
+    """Episodes that all drove T0, each point labelling every trajectory (the heard rule),
+    with the distance to each trajectory's collision point read by its informative sonar."""
+    rng = np.random.default_rng(seed)
+    found = []
+    for index in range(count):
+        driven = episode(index, NAMES.index("T0"), float(rng.uniform(1.0, 3.5)), rng)
+        distances = np.empty((driven.exemplar_count, len(NAMES)))  # (n, T) m
+        ring = mm_to_ring(driven.ring_mm)
+        for sonar in (3, 13):  # the left and right trajectories' (S0 reads T0's already)
+            ring[:, sonar] = rng.uniform(0.3, 3.5, driven.exemplar_count)
+        for j in range(len(NAMES)):
+            distances[:, j] = ring[:, informative(j)]
+        found.append(HeardEpisode(replace(driven, ring_mm=ring_to_mm(ring)), distances))
+    return found
 
 
 @pytest.fixture(scope="module")
@@ -84,6 +105,23 @@ def test_the_sonar_the_labels_depend_on_is_chosen_first_for_every_table(designed
     for choice in first.values():
         # Knowing the distance, a table perceives the label closely; without, far off.
         assert choice.heldout_error_after_mps < 0.03 < 0.05 < choice.heldout_error_before_mps
+
+
+def test_heard_labels_feed_every_table_from_episodes_that_drove_another() -> None:
+    """Every episode drove straight ahead, yet each table finds the sonar its own labels
+    depend on: a point labels every trajectory, and each table learns from all of them."""
+    design = design_inputs(heard_straight(), ROBOT, TrainParams(), seed=1)
+    first = {}
+    for choice in design.config.design.choices:
+        first.setdefault(choice.table, choice)
+    assert {t: c.inputs for t, c in first.items()} == {
+        "T3L": ("S3",),
+        "T2L": ("S3",),
+        "T1L": ("S3",),
+        "T0": ("S0",),
+    }
+    for choice in first.values():
+        assert choice.heldout_error_after_mps < 0.2 * choice.heldout_error_before_mps
 
 
 def test_right_tables_mirror_left_ones_and_the_straight_one_mirrors_itself(designed) -> None:
@@ -158,7 +196,7 @@ def test_the_same_seed_chooses_the_same_and_another_holds_out_other_episodes() -
 
 
 def test_a_trajectory_pair_with_one_episode_is_refused() -> None:
-    episodes = [e for e in synthetic() if e.trajectory not in (0, 6)]
+    episodes = [e for e in synthetic() if e.episode.trajectory not in (0, 6)]
     episodes.append(synthetic(per_trajectory=1)[0])  # one T3L episode, no T3R
     with pytest.raises(BadInput, match=r"1 episode\(s\) of T3L or T3R: at least 2"):
         design_inputs(episodes, ROBOT, TrainParams())

@@ -16,7 +16,7 @@ from tvl_cli.core.learn_params import LearnParams
 from tvl_cli.core.memory import NO_MEMORY
 from tvl_cli.core.method import DEFAULT
 from tvl_cli.core.robot_config import RobotConfig
-from tvl_cli.core.training import TrainParams
+from tvl_cli.core.training import TrainParams, driven_labels
 from tvl_cli.sim.worldgen import generate_world
 from tvl_cli.sim.worldmap import parse_world
 
@@ -43,5 +43,6 @@ def tuning_episodes() -> list[Episode]:
 @pytest.mark.slow  # over a second
 def test_the_shipped_designed_configuration_is_designed_again_from_the_tuning_logs() -> None:
     driven = TrainParams(labels=BUMP_LABELS)
-    design = design_inputs(tuning_episodes(), RobotConfig(), driven, seed=1)
+    labelled = [driven_labels(e, len(RobotConfig().trajectories)) for e in tuning_episodes()]
+    design = design_inputs(labelled, RobotConfig(), driven, seed=1)
     assert design.config.tables == DESIGNED.tables

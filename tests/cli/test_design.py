@@ -34,6 +34,21 @@ def test_the_summary_describes_the_file_written(designed: tuple[Path, dict]) -> 
     assert sum(t["rules"] for t in printed["tables"]) == printed["rules"]
 
 
+def test_the_inputs_are_chosen_by_the_labels_of_the_method_given(
+    designed: tuple[Path, dict], tmp_path: Path
+) -> None:
+    """Ours labels every trajectory from the echoes heard; the paper's the driven one from
+    its bump: the same log gives other data, and other choices."""
+    _, ours = designed
+    done = tvl("design", EXAMPLE_LOG, "-o", tmp_path / "paper.json", "--budget", "2000",
+               "--paper", "--json")  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    paper = valid("design", done.stdout)
+    assert paper["inputs"]["method"]["labels"] == "bump"
+    assert ours["inputs"]["method"]["labels"] == "heard"
+    assert paper["choices"] != ours["choices"]
+
+
 @pytest.mark.slow  # over a second
 def test_train_and_learn_take_the_file_as_config(
     designed: tuple[Path, dict], tmp_path: Path

@@ -90,7 +90,8 @@ def test_each_schema_is_draft_2020_12_and_fixes_its_id_and_version(command: str)
 
 # The commands that learn, train or behave, whose inputs hold the method they followed.
 TAKE_A_METHOD = {
-    "learn", "train", "run", "baseline dwa", "baseline qlearn", "bench generalization",
+    "learn", "train", "design", "run", "baseline dwa", "baseline qlearn",
+    "bench generalization",
 }  # fmt: skip
 
 
@@ -109,7 +110,7 @@ RELEASED = {
     "train": (4, "7b298d7d11398614"),
     "inspect": (5, "3fd7a71e0dd08d79"),
     "diff": (2, "73af06e71a481611"),
-    "design": (1, "8644a5ca5cf08dee"),
+    "design": (2, "94fbf53cffcdaa4e"),
     "run": (6, "3ec59ecf14e0641f"),
     "replay": (5, "c3fd7bd969ac49cf"),
     "explain": (3, "2c4ea7aab9d99ef8"),

@@ -20,6 +20,7 @@ from tvl_cli.core.episode import Episode
 from tvl_cli.core.memory import CLEARED_ABOVE_M, GOAL_BEAMS_EITHER_SIDE, POINTS, MemoryConfig
 from tvl_cli.core.ring import mm_to_ring
 from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.core.training import SessionEpisodes
 from tvl_cli.sim.sonar import SonarRing
 
 
@@ -250,3 +251,11 @@ def perceived_episodes(
         replace(episode, fam_ring_m=virtual[start : start + episode.exemplar_count])
         for episode, start in zip(episodes, starts, strict=False)
     ]
+
+
+def perceived_session(
+    learnt: SessionEpisodes, memory: MemoryConfig, robot: RobotConfig
+) -> SessionEpisodes:
+    """A session's episodes to train on, each with what the FAM reads through `memory` at its
+    exemplars (perceived_episodes)."""
+    return replace(learnt, episodes=perceived_episodes(learnt.episodes, memory, robot))

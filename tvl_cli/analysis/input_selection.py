@@ -19,10 +19,10 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
-from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import (
@@ -38,9 +38,9 @@ from tvl_cli.core.fam_config import (
     sonar_input,
 )
 from tvl_cli.core.fam_config_json import MAX_INPUTS_PER_TABLE, validate_fam_config
-from tvl_cli.core.ring import mm_to_ring
+from tvl_cli.core.heard import HeardEpisode
 from tvl_cli.core.robot_config import SONAR_COUNT, RobotConfig, mirror_sonar, mirror_trajectory
-from tvl_cli.core.training import TrainParams, episode_labels, train_episode
+from tvl_cli.core.training import TrainParams, heard_labels, train_heard
 
 # The paper's multi FAM is the reference: as many rules, unless the user gives a budget.
 DEFAULT_BUDGET_RULES = MULTI.rule_count
@@ -123,7 +123,7 @@ _MIRRORED_RING = np.array([mirror_sonar(i) for i in range(SONAR_COUNT)])  # (16,
 
 
 def design_inputs(
-    episodes: Sequence[Episode],
+    labelled: Sequence[HeardEpisode],
     robot: RobotConfig,
     params: TrainParams,
     budget_rules: int = DEFAULT_BUDGET_RULES,
@@ -131,8 +131,10 @@ def design_inputs(
     name: str = "designed",
     logs_sha256: tuple[str, ...] = (),
 ) -> Design:
-    """Choose every table's inputs from the episodes; BadInput if the budget cannot give each
-    table one input or a table's trajectories have too few episodes to hold one out."""
+    """Choose every table's inputs from the episodes, each with the collision points its
+    points label (core.training.labelled_episodes: every trajectory by the heard rule, the
+    driven one by the paper's); BadInput if the budget cannot give each table one input or a
+    table's trajectories were driven in too few episodes to hold one out."""
     names = [t.name for t in robot.trajectories]
     count = len(names)
     designed = _designed(count)
@@ -143,11 +145,19 @@ def design_inputs(
             f"(at least {least} rules: {min(SET_COUNTS)} per table and its mirror)"
         )
     rng = np.random.default_rng(seed)
-    split = [_split(episodes, j, names, rng) for j in designed]
-    tables = [
-        _table(j, [episodes[i] for i in train], [episodes[i] for i in heldout], robot, params, rng)
-        for j, (train, heldout) in zip(designed, split, strict=True)
+    # Held out by the trajectory driven, so that each table's own episodes are split in the
+    # same proportion; every table then takes what each episode labels of it.
+    split = [_split(labelled, j, names, rng) for j in designed]
+    heldout_set = {i for _, part in split for i in part}
+    # In log order, as `tvl train` would meet them.
+    train = [h for i, h in enumerate(labelled) if i not in heldout_set]
+    heldout = [h for i, h in enumerate(labelled) if i in heldout_set]
+    exemplars = [
+        _Exemplars(h.episode.fam_rings(), heard_labels(h, robot, params)) for h in labelled
     ]
+    train_exemplars = [e for i, e in enumerate(exemplars) if i not in heldout_set]
+    heldout_exemplars = [e for i, e in enumerate(exemplars) if i in heldout_set]
+    tables = [_table(j, train_exemplars, heldout_exemplars, robot, rng) for j in designed]
     choices, scored = _choose(tables, budget_rules, params)
 
     by_name = {t.pool.name: FamTable(t.pool.name, tuple(t.inputs), (t.pool.name,)) for t in tables}
@@ -162,9 +172,6 @@ def design_inputs(
         FamDesign(seed, budget_rules, logs_sha256, tuple(choices)),
     )
     validate_fam_config(config, names)
-    # In log order, as `tvl train` would meet them.
-    train = [episodes[i] for i in sorted(i for part, _ in split for i in part)]
-    heldout = [episodes[i] for _, part in split for i in part]
     return Design(
         config,
         len(train),
@@ -179,21 +186,22 @@ def design_inputs(
 
 def heldout_score(
     config: FamConfig,
-    train: Sequence[Episode],
-    heldout: Sequence[Episode],
+    train: Sequence[HeardEpisode],
+    heldout: Sequence[HeardEpisode],
     robot: RobotConfig,
     params: TrainParams,
 ) -> HeldOutScore:
-    """Train a whole FAM of `config` on `train` as `tvl train` does, and score it on `heldout`."""
+    """Train a whole FAM of `config` on `train` as `tvl train` does, and score it on every
+    trajectory that `heldout`'s points label."""
     names = [t.name for t in robot.trajectories]
     fam = Fam(config, names, params.init_velocity_mps)
     for episode in train:
-        train_episode(fam, episode, robot, params)
-    rings = np.concatenate([mm_to_ring(e.ring_mm) for e in heldout])  # (H, 16) m
-    labels = np.concatenate([episode_labels(e, robot, params) for e in heldout])  # (H,) m/s
-    trajectory = np.concatenate([np.full(e.exemplar_count, e.trajectory) for e in heldout])
-    perceived = fam.velocities(rings)[np.arange(len(rings)), trajectory]  # (H,) m/s
-    error = np.abs(perceived - labels)
+        train_heard(fam, episode, robot, params)
+    rings = np.concatenate([h.episode.fam_rings() for h in heldout])  # (H, 16) m
+    all_labels = np.concatenate([heard_labels(h, robot, params) for h in heldout])  # (H, T)
+    points, trajectory = np.nonzero(~np.isnan(all_labels))
+    perceived = fam.velocities(rings)[points, trajectory]  # m/s
+    error = np.abs(perceived - all_labels[points, trajectory])
     total = np.bincount(trajectory, error, len(names))
     exemplars = np.bincount(trajectory, minlength=len(names))
     return HeldOutScore(
@@ -221,18 +229,12 @@ def _copies(j: int, count: int) -> int:
 
 
 def _split(
-    episodes: Sequence[Episode], j: int, names: Sequence[str], rng: np.random.Generator
+    labelled: Sequence[HeardEpisode], j: int, names: Sequence[str], rng: np.random.Generator
 ) -> tuple[list[int], list[int]]:
-    """Indices of trajectory j's and its mirror's episodes, in log order: those to train on,
-    and those held out."""
+    """Indices of the episodes that drove trajectory j or its mirror, in log order: those to
+    train on, and those held out."""
     pair = (j, mirror_trajectory(j, len(names)))
-    mine = [i for i, e in enumerate(episodes) if e.trajectory in pair]
-    if len(mine) < 2:
-        both = " or ".join(dict.fromkeys(names[k] for k in pair))
-        raise BadInput(
-            f"{len(mine)} episode(s) of {both}: at least 2 are needed to choose table "
-            f"{names[j]}'s inputs, one to train on and one to hold out (learn for longer)"
-        )
+    mine = [i for i, h in enumerate(labelled) if h.episode.trajectory in pair]
     held = max(1, round(HELDOUT_FRACTION * len(mine)))
     out = set(rng.permutation(len(mine))[:held].tolist())
     return (
@@ -241,41 +243,59 @@ def _split(
     )
 
 
+class _Exemplars(NamedTuple):
+    """One episode as training reads it: what the FAM reads at each point, and the label of
+    every trajectory there."""
+
+    rings: np.ndarray  # (n, 16) m: the live ring, or the memory's virtual one
+    labels: np.ndarray  # (n, T) m/s; NaN: not labelled
+
+
 def _table(
     j: int,
-    train: Sequence[Episode],
-    heldout: Sequence[Episode],
+    train: Sequence[_Exemplars],
+    heldout: Sequence[_Exemplars],
     robot: RobotConfig,
-    params: TrainParams,
     rng: np.random.Generator,
 ) -> _Table:
     name = robot.trajectories[j].name
     copies = _copies(j, len(robot.trajectories))
-    train_rings, train_labels = _exemplars(train, j, robot, params)
+    train_rings, train_labels = _pooled(train, j, len(robot.trajectories))
+    heldout_rings, heldout_labels = _pooled(heldout, j, len(robot.trajectories))
+    if not (len(train_labels) and len(heldout_labels)):
+        pair = (j, mirror_trajectory(j, len(robot.trajectories)))
+        both = " or ".join(dict.fromkeys(robot.trajectories[k].name for k in pair))
+        labelling = sum(1 for e in (*train, *heldout) if _labels_any(e, pair))
+        raise BadInput(
+            f"{labelling} episode(s) of {both}: at least 2 are needed to choose table "
+            f"{name}'s inputs, one to train on and one to hold out (learn for longer)"
+        )
     if len(train_labels) > MAX_TRAIN_EXEMPLARS:
         keep = np.sort(rng.choice(len(train_labels), MAX_TRAIN_EXEMPLARS, replace=False))
         train_rings, train_labels = train_rings[keep], train_labels[keep]
-    heldout_rings, heldout_labels = _exemplars(heldout, j, robot, params)
     pool = _Pool(name, copies, train_rings, train_labels, heldout_rings, heldout_labels)
     # With no input a table is one rule, which learns the mean label (eq. 2, every w = 1).
     return _Table(pool, [], float(np.abs(train_labels.mean() - heldout_labels).mean()))
 
 
-def _exemplars(
-    episodes: Sequence[Episode], j: int, robot: RobotConfig, params: TrainParams
-) -> tuple[np.ndarray, np.ndarray]:
-    """Rings (N, 16) m and labels (N,) m/s that train table j: its own trajectory's rings as
-    read, its mirror's mirrored (the straight table's own, both ways)."""
+def _labels_any(episode: _Exemplars, trajectories: tuple[int, ...]) -> bool:
+    """Whether any point of the episode labels any of the trajectories."""
+    return bool((~np.isnan(episode.labels[:, list(trajectories)])).any())
+
+
+def _pooled(episodes: Sequence[_Exemplars], j: int, count: int) -> tuple[np.ndarray, np.ndarray]:
+    """Rings (N, 16) m and labels (N,) m/s that train table j, episode by episode: the points
+    labelling trajectory j with their rings as read, those labelling its mirror with theirs
+    mirrored (the straight table's own, both ways)."""
+    mirror = mirror_trajectory(j, count)
     rings, labels = [], []
     for episode in episodes:
-        ring = mm_to_ring(episode.ring_mm)
-        label = episode_labels(episode, robot, params)
-        if episode.trajectory == j:
-            rings.append(ring)
-            labels.append(label)
-        if mirror_trajectory(episode.trajectory, len(robot.trajectories)) == j:
-            rings.append(ring[:, _MIRRORED_RING])
-            labels.append(label)
+        own = ~np.isnan(episode.labels[:, j])
+        rings.append(episode.rings[own])
+        labels.append(episode.labels[own, j])
+        mirrored = ~np.isnan(episode.labels[:, mirror])
+        rings.append(episode.rings[mirrored][:, _MIRRORED_RING])
+        labels.append(episode.labels[mirrored, mirror])
     return np.concatenate(rings), np.concatenate(labels)
 
 

@@ -8,11 +8,21 @@ import click
 
 from tvl_cli.analysis.input_selection import DEFAULT_BUDGET_RULES
 from tvl_cli.cli.examples import examples
-from tvl_cli.cli.options import JSON_FILE, SEED, print_json, refuse_outputs
+from tvl_cli.cli.fam_views import trained_method
+from tvl_cli.cli.memory_options import memory_options
+from tvl_cli.cli.options import (
+    JSON_FILE,
+    SEED,
+    label_options,
+    method_options,
+    print_json,
+    refuse_outputs,
+)
 from tvl_cli.cli.tables import table
 from tvl_cli.cli.views import out
 from tvl_cli.commands.design import DesignSummary, design_from_logs
 from tvl_cli.core.fam_config_json import MAX_ENTRIES
+from tvl_cli.core.method import MethodChoice
 from tvl_cli.core.words import counted
 
 
@@ -34,10 +44,19 @@ from tvl_cli.core.words import counted
     show_default=True,
     help="Seed of the split into training and held-out episodes.",
 )
+@method_options
+@label_options
+@memory_options(base="the one the logs were learnt through")
 @click.option("--force", is_flag=True, help="Overwrite OUTPUT.")
 @click.option("--json", "as_json", is_flag=True, help="Print a JSON summary.")
 def design(
-    logs: tuple[Path, ...], output: Path, budget: int, seed: int, force: bool, as_json: bool
+    logs: tuple[Path, ...],
+    output: Path,
+    budget: int,
+    seed: int,
+    method: MethodChoice,
+    force: bool,
+    as_json: bool,
 ) -> None:
     """Choose each FAM table's sonars and fuzzy sets from learning logs.
 
@@ -45,18 +64,19 @@ def design(
     one input at a time, a sonar or the nearest of 2 or 3 adjacent ones with 2 to 5 fuzzy
     sets, whichever, trained on three quarters of the episodes, best perceives the velocity
     labels of the rest; until the rules would exceed the budget or no input lowers that
-    error measurably. Writes a configuration for `tvl train --config CONFIG.json` that
+    error measurably. The episodes are read and labelled as `tvl train` with the same method
+    reads and labels them. Writes a configuration for `tvl train --config CONFIG.json` that
     records each choice's held-out error before and after.
     """
     refuse_outputs({"-o": output}, {f"LOG {i + 1}": log for i, log in enumerate(logs)}, force)
-    summary = design_from_logs(list(logs), output, budget, seed, force)
+    summary = design_from_logs(list(logs), output, budget, seed, force, method)
     if as_json:
         print_json(summary.document())
     else:
-        _show(summary)
+        _show(summary, method)
 
 
-def _show(summary: DesignSummary) -> None:
+def _show(summary: DesignSummary, choice: MethodChoice) -> None:
     config = summary.design.config
     assert config.design is not None
     choices = table(
@@ -89,4 +109,6 @@ def _show(summary: DesignSummary) -> None:
     out.print(scores)
     for repeat in summary.repeated_sessions:
         out.print(f"used once: {repeat.text()}")
+    record = summary.document()["inputs"]["method"]
+    out.print(f"method: {trained_method(record, choice)}", soft_wrap=True, markup=False)
     out.print(f"{summary.wall_s:.1f} s of wall-clock time")

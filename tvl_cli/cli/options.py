@@ -178,23 +178,10 @@ def refuse_outputs(
             refuse_existing(path, force)
 
 
-def training_options(command: Callable[..., None]) -> Callable[..., None]:
-    """--config, --decel, --margin, --labels, --no-symmetric and --init-velocity: learn and
-    train label and train alike. The labels are the method's (method_options); the command is given
-    `symmetric` and `init_velocity_mps`."""
-
-    @functools.wraps(command)
-    def with_settings(*args: Any, no_symmetric: bool, init_velocity: float, **kwargs: Any) -> None:
-        command(*args, symmetric=not no_symmetric, init_velocity_mps=init_velocity, **kwargs)
-
+def label_options(command: Callable[..., None]) -> Callable[..., None]:
+    """--decel, --margin and --labels: how a recorded point becomes labels, settings of the
+    method (method_options)."""
     options = (
-        click.option(
-            "--config",
-            default="single",
-            show_default=True,
-            shell_complete=complete_config,
-            help=f"{', '.join(BUILTIN_FAM_CONFIGS)} or FILE.json.",
-        ),
         click.option(
             "--decel",
             type=float,
@@ -217,18 +204,39 @@ def training_options(command: Callable[..., None]) -> Callable[..., None]:
             "bumped (bump, the paper's), or every trajectory, each from the echoes heard "
             f"around the point (heard) (default: the method's; ours {DEFAULT.labels}).",
         ),
-        click.option("--no-symmetric", is_flag=True, help="Train each trajectory only on itself."),
-        click.option(
-            "--init-velocity",
-            type=click.FloatRange(0.0, SLOWEST_TOP_MPS, max_open=True),
-            default=DEFAULT_INIT_VELOCITY_MPS,
-            show_default=True,
-            help="Every entry's velocity before training, m/s.",
-        ),
     )
     for option in reversed(options):
-        with_settings = option(with_settings)
-    return with_settings
+        command = option(command)
+    return command
+
+
+def training_options(command: Callable[..., None]) -> Callable[..., None]:
+    """--config, the labels' options (label_options), --no-symmetric and --init-velocity:
+    learn and train label and train alike. The labels are the method's (method_options); the
+    command is given `symmetric` and `init_velocity_mps`."""
+
+    @functools.wraps(command)
+    def with_settings(*args: Any, no_symmetric: bool, init_velocity: float, **kwargs: Any) -> None:
+        command(*args, symmetric=not no_symmetric, init_velocity_mps=init_velocity, **kwargs)
+
+    decorated: Callable[..., None] = click.option(
+        "--init-velocity",
+        type=click.FloatRange(0.0, SLOWEST_TOP_MPS, max_open=True),
+        default=DEFAULT_INIT_VELOCITY_MPS,
+        show_default=True,
+        help="Every entry's velocity before training, m/s.",
+    )(with_settings)
+    decorated = click.option(
+        "--no-symmetric", is_flag=True, help="Train each trajectory only on itself."
+    )(decorated)
+    decorated = label_options(decorated)
+    return click.option(
+        "--config",
+        default="single",
+        show_default=True,
+        shell_complete=complete_config,
+        help=f"{', '.join(BUILTIN_FAM_CONFIGS)} or FILE.json.",
+    )(decorated)
 
 
 def given_on_command_line(*options: str) -> list[str]:

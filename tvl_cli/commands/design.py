@@ -9,13 +9,21 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
 
+from tvl_cli.agent.perception import perceived_session
 from tvl_cli.analysis.input_selection import DEFAULT_BUDGET_RULES, Design, design_inputs
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam_config_json import fam_config_from_json
-from tvl_cli.core.training import TrainParams
+from tvl_cli.core.method import NOT_GIVEN, Method, MethodChoice, method_record
+from tvl_cli.core.training import labelled_episodes, train_params
 from tvl_cli.io.atomic import atomic_output
 from tvl_cli.io.json_documents import document, input_file
-from tvl_cli.io.log_sessions import RepeatedSession, common_robot, distinct_sessions
+from tvl_cli.io.log_sessions import (
+    RepeatedSession,
+    common_robot,
+    distinct_sessions,
+    session_to_train,
+    training_method,
+)
 from tvl_cli.io.logreader import read_log, refuse_repeated
 
 
@@ -26,6 +34,8 @@ class DesignSummary:
     seed: int
     design: Design
     output: Path
+    made_by: Method  # the method whose labels and memory the inputs were chosen by
+    mixed: list[str]  # the method's fields in which the logs' learning sessions differ
     repeated_sessions: list[RepeatedSession]  # used once
     wall_s: float
 
@@ -37,6 +47,7 @@ class DesignSummary:
             "logs": [input_file(log) for log in self.logs],
             "budget_rules": self.budget_rules,
             "seed": self.seed,
+            "method": method_record(self.made_by, mixed=self.mixed),
         }
         return document(
             "design",
@@ -78,20 +89,30 @@ def design_from_logs(
     budget_rules: int = DEFAULT_BUDGET_RULES,
     seed: int = 1,
     overwrite: bool = False,
+    method: MethodChoice = NOT_GIVEN,
 ) -> DesignSummary:
-    """Choose the inputs from every episode of the logs, labelled as `tvl train` labels them
-    by default, and write the configuration as JSON that `--config` reads, named after it."""
+    """Choose the inputs from every episode of the logs, read and labelled as `tvl train`
+    with the same method reads and labels them (through the method's memory, by its labels'
+    rule), and write the configuration as JSON that `--config` reads, named after it."""
     started = time.perf_counter()
     if not paths:
         raise BadInput("no learning log given: name at least one LOG")
     logs = [read_log(path) for path in paths]
     refuse_repeated([(log.path, log.sha256) for log in logs], "log")
     robot = common_robot(logs)
+    made_by, differing = training_method(logs, method)
+    params = train_params(made_by)
     sessions, repeats = distinct_sessions(logs)
     design = design_inputs(
-        [e for s in sessions for e in s.episodes()],
+        [
+            heard
+            for s in sessions
+            for heard in labelled_episodes(
+                perceived_session(session_to_train(s), made_by.memory, robot), robot, params
+            )
+        ],
         robot,
-        TrainParams(),
+        params,
         budget_rules,
         seed,
         output.stem,
@@ -103,5 +124,13 @@ def design_from_logs(
     with atomic_output(output, overwrite) as temporary:
         temporary.write_text(text, encoding="utf-8")
     return DesignSummary(
-        tuple(paths), budget_rules, seed, design, output, repeats, time.perf_counter() - started
+        tuple(paths),
+        budget_rules,
+        seed,
+        design,
+        output,
+        made_by,
+        differing,
+        repeats,
+        time.perf_counter() - started,
     )

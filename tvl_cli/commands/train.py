@@ -11,9 +11,8 @@ from typing import Any
 
 import numpy as np
 
-from tvl_cli.agent.perception import perceived_episodes
+from tvl_cli.agent.perception import perceived_session
 from tvl_cli.core.arcs import collision_clearance_m
-from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import DEFAULT_INIT_VELOCITY_MPS, FamConfig
@@ -42,11 +41,10 @@ from tvl_cli.io.log_sessions import (
     RepeatedSession,
     common_robot,
     distinct_sessions,
-    finished_episodes,
     provenance,
+    session_to_train,
     training_method,
 )
-from tvl_cli.io.loglayout import KIND_LEARNING
 from tvl_cli.io.logreader import Session, read_log, refuse_repeated
 from tvl_cli.sim.true_arcs import TrueArcs
 from tvl_cli.sim.worldmap import parse_world
@@ -118,15 +116,13 @@ def train_from_logs(
     sessions, repeats = distinct_sessions(logs)
     until_s = None if until_minute is None else until_minute * 60.0
     chosen = [
-        (perceived_episodes(finished_episodes(s, until_s), made_by.memory, robot), s)
+        (perceived_session(session_to_train(s, until_s), made_by.memory, robot), s)
         for s in sessions
     ]
     if true_labels:
         total = _train_true(fam, chosen, robot, params, on_progress)
     else:
-        total = train_sessions(
-            fam, [_to_train(episodes, s) for episodes, s in chosen], robot, params, on_progress
-        )
+        total = train_sessions(fam, [learnt for learnt, _ in chosen], robot, params, on_progress)
     return TrainSummary(
         fam=fam,
         robot=robot,
@@ -139,7 +135,7 @@ def train_from_logs(
             **({"labels_from": ORACLE_LABELS} if true_labels else {}),
         },
         exemplars=total,
-        episodes=sum(len(episodes) for episodes, _ in chosen),
+        episodes=sum(len(learnt.episodes) for learnt, _ in chosen),
         rules_touched=_rules_touched(fam),
         rules_total=config.rule_count,
         wall_s=time.perf_counter() - started,
@@ -157,33 +153,22 @@ def _rules_touched(fam: Fam) -> int:
     return sum(int(np.count_nonzero(fam.experience_table(t).sum(axis=1))) for t in tables)
 
 
-def _to_train(episodes: list[Episode], session: Session) -> SessionEpisodes:
-    """A session's episodes as its learner trained them: a session cut short (by
-    `until_minute`) had not ended, its last labels unheard; one of learning while behaving
-    labelled its driven trajectories alone."""
-    return SessionEpisodes(
-        episodes,
-        ended=len(episodes) == len(session.episode_table),
-        driven_only=session.kind != KIND_LEARNING,
-    )
-
-
 def _train_true(
     fam: Fam,
-    chosen: list[tuple[list[Episode], Session]],
+    chosen: list[tuple[SessionEpisodes, Session]],
     robot: RobotConfig,
     params: TrainParams,
     on_progress: Callable[[int, int], None],
 ) -> int:
     """Train on every trajectory of every point, labelled from its session's world and its
     true pose (the oracle labels); the exemplars read."""
-    total = sum(e.exemplar_count for episodes, _ in chosen for e in episodes)
+    total = sum(e.exemplar_count for learnt, _ in chosen for e in learnt.episodes)
     done = 0
-    for episodes, session in chosen:
+    for learnt, session in chosen:
         world = parse_world(session.world_text, session.world_name)
         arcs = TrueArcs(world, robot, collision_clearance_m(robot))
         reach = arcs.reach_m(params.decel_mps2, params.margin_m)
-        for episode in episodes:
+        for episode in learnt.episodes:
             heard = HeardEpisode(episode, arcs.distances_m(episode.pose, reach))
             train_heard(fam, heard, robot, params)
             done += episode.exemplar_count

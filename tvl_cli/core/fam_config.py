@@ -244,7 +244,8 @@ MULTI = _one_table_per_trajectory("multi", _T3L, _T2L, _T1L, _T0)
 
 # One FAM per trajectory, as `multi`, with the inputs `tvl design` chose from data instead of
 # by hand: from 15-minute logs of ten tuning worlds (rooms seeds 1 to 10, learning seed 1,
-# `tvl design --seed 1`), never the generalization test worlds.
+# `tvl design --seed 1 --labels bump --memory none`: the labels and ring of the day it was
+# chosen), never the generalization test worlds.
 # Held out, the data prefer few, coarse inputs: each arc starts from the nearest of S0-S2 and
 # takes S3, where a wall across its path is met near the normal (paper Fig. 12), and T0 keeps
 # near/medium/far of the sonars either side, which see a wall alongside that the front beams

@@ -18,7 +18,7 @@ from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import DEFAULT_INIT_VELOCITY_MPS
-from tvl_cli.core.heard import HeardEpisode, HeardLabeller
+from tvl_cli.core.heard import HeardEpisode, HeardLabeller, heard_episodes
 from tvl_cli.core.labels import (
     BUMP_LABELS,
     DEFAULT_DECEL_MPS2,
@@ -97,18 +97,26 @@ def train_episode(fam: Fam, episode: Episode, robot: RobotConfig, params: TrainP
     return fam.train(episode.fam_rings(), trajectories, labels, symmetric=params.symmetric)
 
 
+def heard_labels(heard: HeardEpisode, robot: RobotConfig, params: TrainParams) -> np.ndarray:
+    """(n, T) m/s: the label of every trajectory at each of an episode's points; NaN where
+    the point labels none."""
+    distances = heard.distances_m  # (n, T) metres; NaN: no label
+    labelled = ~np.isnan(distances)
+    labels = np.full(distances.shape, np.nan)
+    v_max = np.broadcast_to(np.array(robot.v_max_mps), distances.shape)  # (n, T) m/s
+    labels[labelled] = velocity_labels(
+        distances[labelled], v_max[labelled], params.decel_mps2, params.margin_m
+    )
+    return labels
+
+
 def train_heard(fam: Fam, heard: HeardEpisode, robot: RobotConfig, params: TrainParams) -> float:
     """Train on every trajectory each of an episode's points labels (core.heard), point by
     point in trajectory order; the summed absolute change, as train_episode."""
-    distances = heard.distances_m  # (n, T) metres; NaN: no label
-    v_max = np.array(robot.v_max_mps)  # (T,)
-    labelled = ~np.isnan(distances)
-    points, trajectories = np.nonzero(labelled)  # row-major: point by point
-    labels = velocity_labels(
-        distances[labelled], v_max[trajectories], params.decel_mps2, params.margin_m
-    )
+    labels = heard_labels(heard, robot, params)
+    points, trajectories = np.nonzero(~np.isnan(labels))  # row-major: point by point
     rings = heard.episode.fam_rings()[points]
-    return fam.train(rings, trajectories, labels, symmetric=params.symmetric)
+    return fam.train(rings, trajectories, labels[points, trajectories], symmetric=params.symmetric)
 
 
 Trained = tuple[Episode, float]  # an episode, and the change its training made
@@ -147,6 +155,24 @@ class SessionEpisodes:
     # Learning while behaving labels the trajectory each stretch drove, from that stretch's
     # own collision point (agent.online), whatever the method's labels.
     driven_only: bool = False
+
+
+def labelled_episodes(
+    session: SessionEpisodes, robot: RobotConfig, params: TrainParams
+) -> list[HeardEpisode]:
+    """The session's episodes that train_sessions trains on, each with the collision point
+    of every trajectory its points label: all of them by the heard rule (those whose labels
+    were heard), the driven one alone by the paper's rule and while behaving."""
+    if params.labels == HEARD_LABELS and not session.driven_only:
+        return heard_episodes(session.episodes, robot, session.ended)
+    return [driven_labels(episode, len(robot.trajectories)) for episode in session.episodes]
+
+
+def driven_labels(episode: Episode, trajectories: int) -> HeardEpisode:
+    """The episode's labels by the paper's rule: its driven trajectory's alone."""
+    distances = np.full((episode.exemplar_count, trajectories), np.nan)
+    distances[:, episode.trajectory] = episode.distances_m()
+    return HeardEpisode(episode, distances)
 
 
 def train_sessions(

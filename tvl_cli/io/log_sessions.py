@@ -15,7 +15,7 @@ from tvl_cli.core.fam_config import FamConfig
 from tvl_cli.core.memory import DEFAULT_MEMORY, NO_MEMORY, PATCHES, MemoryConfig
 from tvl_cli.core.method import DEFAULT, FIELDS, SESSIONS_DIFFER_IN, Method, MethodChoice
 from tvl_cli.core.robot_config import RobotConfig, sonar_model_name
-from tvl_cli.core.training import TrainParams
+from tvl_cli.core.training import SessionEpisodes, TrainParams
 from tvl_cli.io.loglayout import KIND_LEARNING
 from tvl_cli.io.logreader import LearningLog, Session
 
@@ -80,6 +80,18 @@ def finished_episodes(session: Session, until_s: float | None = None) -> list[Ep
     if until_s is None:
         return episodes
     return list(takewhile(lambda e: e.end_time_s <= until_s, episodes))
+
+
+def session_to_train(session: Session, until_s: float | None = None) -> SessionEpisodes:
+    """The session's episodes finished by `until_s` (all, given None) as its learner trained
+    them: a session cut short had not ended, its last labels unheard; one of learning while
+    behaving labelled its driven trajectories alone."""
+    episodes = finished_episodes(session, until_s)
+    return SessionEpisodes(
+        episodes,
+        ended=len(episodes) == len(session.episode_table),
+        driven_only=session.kind != KIND_LEARNING,
+    )
 
 
 def common_memory(logs: Sequence[LearningLog]) -> MemoryConfig:
