@@ -244,6 +244,7 @@ MEMORY_SETTING_FILES = {
     "window-60": ("window_s", 60.0),
     "range-2": ("range_m", 2.0),
     "range-3": ("range_m", 3.0),
+    "range-0.92": ("range_m", 0.92),
     "patch-0.15": ("patch_m", 0.15),
     "points": ("kind", "points"),
     "clearing-always": ("clearing", "always"),
