@@ -1,0 +1,82 @@
+"""DWA speed: simulated seconds per second of whole `tvl baseline dwa` processes, by the map
+and by the sonar ring, in a generated rooms world (the generalization benchmark's kind, where
+the ring DWA is its costliest reference row).
+
+Times `tvl baseline dwa WORLD --sensor S` of M simulated minutes R times and takes the
+medians. The real-time factor is simulated seconds per CPU second of the whole process
+(start-up included), the wall-clock one printed beside it. With --against DIR, that
+checkout's tvl runs the same commands in turn with this one and each figure gets the paired
+ratio of their CPU seconds.
+
+    python benchmarks/dwa_speed.py [--minutes 5] [--repeats 3] [--seed 1]
+                                   [--against DIR] [--json]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import tempfile
+from pathlib import Path
+
+from timing import (
+    TVL,
+    add_against_option,
+    figure_line,
+    paired,
+    realtime_against,
+    run_process,
+    tvl_in,
+)
+
+SENSORS = ("map", "ring")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--minutes", type=float, default=5.0, help="simulated minutes a run")
+    parser.add_argument("--repeats", type=int, default=3, help="timed runs; medians count")
+    parser.add_argument("--seed", type=int, default=1, help="the rooms world's seed")
+    add_against_option(parser)
+    parser.add_argument("--json", action="store_true", help="print the figures as JSON")
+    args = parser.parse_args()
+    theirs_tvl = tvl_in(args.against) if args.against else None
+    sim_s = args.minutes * 60.0
+    figures: dict[str, dict[str, float | None]] = {}
+    with tempfile.TemporaryDirectory() as name:
+        world = Path(name) / "rooms.txt"
+        run_process([TVL, "world", "new", "rooms", "--seed", args.seed, "-o", world])
+        for sensor in SENSORS:
+
+            def run(tvl: str, sensor: str = sensor) -> list[str | Path]:
+                return [tvl, "baseline", "dwa", world, "--sensor", sensor, "--minutes",
+                        args.minutes]  # fmt: skip
+
+            ours, theirs, ratio = paired(
+                lambda run=run: run_process(run(TVL)),
+                (lambda run=run: run_process(run(theirs_tvl))) if theirs_tvl else None,
+                args.repeats,
+            )
+            figures[sensor] = {
+                "realtime_cpu": sim_s / ours.cpu_s,
+                "realtime_wall": sim_s / ours.wall_s,
+                "against_realtime_cpu": sim_s / theirs.cpu_s if theirs else None,
+                "cpu_ratio_against": ratio,
+            }
+    if args.json:
+        print(json.dumps({"minutes": args.minutes, "seed": args.seed, **figures}))
+        return
+    print(
+        f"tvl baseline dwa in rooms world {args.seed}, {args.minutes:g} simulated minutes, "
+        f"whole process, median of {args.repeats} (real time: simulated s per CPU s)"
+    )
+    for sensor, f in figures.items():
+        realtime = f["realtime_cpu"]
+        assert realtime is not None
+        note = realtime_against(f["cpu_ratio_against"], args.against, f["against_realtime_cpu"])
+        label = f"--sensor {sensor} (wall {f['realtime_wall']:,.0f}x)"
+        print(figure_line(label, f"{realtime:,.0f}x real time", None, None, note))
+
+
+if __name__ == "__main__":
+    main()
