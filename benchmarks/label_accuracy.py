@@ -29,7 +29,7 @@ from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.heard import DEFAULT_WINDOW_S, heard_episodes
-from tvl_cli.core.labels import velocity_labels
+from tvl_cli.core.labels import label_reach_m, velocity_labels
 from tvl_cli.core.learn_params import LearnParams
 from tvl_cli.core.method import DEFAULT
 from tvl_cli.sim.true_arcs import TrueArcs
@@ -49,9 +49,10 @@ def world_labels(job: tuple[int, float, tuple[float, ...]]) -> dict[str, Any]:
     learner.run(episodes.append, lambda minute: None)
     v_max = np.array(robot.v_max_mps)
     decel, margin = method.decel_mps2, method.margin_m
+    reach = label_reach_m(max(v_max), decel, margin)  # both the truth's and the heard labels'
     poses = np.concatenate([e.pose for e in episodes])
     arcs = TrueArcs(world, robot, collision_clearance_m(robot))
-    truth = arcs.velocities_mps(arcs.distances_m(poses, arcs.reach_m(decel, margin)), decel, margin)
+    truth = arcs.velocities_mps(arcs.distances_m(poses, reach), decel, margin)
     driven = np.concatenate([np.full(e.exemplar_count, e.trajectory) for e in episodes])
     rows = np.arange(len(poses))
     bump = np.full(truth.shape, np.nan)
@@ -60,7 +61,7 @@ def world_labels(job: tuple[int, float, tuple[float, ...]]) -> dict[str, Any]:
     )
     found = {"exemplars": len(poses), "bump": bump}
     for window in windows:
-        heard = heard_episodes(episodes, robot, ended=True, window_s=window)
+        heard = heard_episodes(episodes, robot, ended=True, reach_m=reach, window_s=window)
         distances = np.concatenate([h.distances_m for h in heard])
         found[f"heard {window:g} s"] = velocity_labels(distances, v_max, decel, margin)
     return {"truth": truth, **found}

@@ -3,6 +3,8 @@ worlds' outlines and at random poses, each pose with its own window of points.""
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 from kernel_worlds import WORLDS as WORLD_FILES
@@ -33,7 +35,9 @@ def test_the_kernel_finds_each_poses_contacts_as_numpy_does_in_its_window(name: 
     first = rng.integers(0, len(points), len(poses))
     stop = np.minimum(first + rng.integers(0, 3000, len(poses)), len(points))
     found = np.empty((len(poses), len(CURVATURES)))
-    first_contacts_in_windows(poses, CURVATURES, points, first, stop, ROBOT.radius_m, found)
+    first_contacts_in_windows(
+        poses, CURVATURES, points, first, stop, ROBOT.radius_m, math.inf, found
+    )
     expected = np.array(
         [
             first_contacts_m(tuple(pose), CURVATURES, points[a:b], ROBOT.radius_m)
@@ -44,3 +48,28 @@ def test_the_kernel_finds_each_poses_contacts_as_numpy_does_in_its_window(name: 
     finite = np.isfinite(found)
     np.testing.assert_allclose(found[finite], expected[finite], rtol=0, atol=1e-9)
     assert 0.2 < finite.mean() < 1.0  # contacts and free arcs both
+
+
+def contacts_of_one_point(x_m: float, reach_m: float) -> np.ndarray:
+    """(T,) metres: first_contacts_in_windows from the origin facing +x, sought within
+    reach_m, with a single point x_m ahead."""
+    found = np.empty((1, len(CURVATURES)))
+    first_contacts_in_windows(
+        np.zeros((1, 3)), CURVATURES, np.array([[x_m, 0.0]]), np.zeros(1, np.int64),
+        np.ones(1, np.int64), ROBOT.radius_m, reach_m, found,
+    )  # fmt: skip
+    return found[0]
+
+
+def test_a_point_beyond_the_reach_is_left_out_and_one_within_it_kept() -> None:
+    reach_m = 1.0
+    straight = int(np.flatnonzero(CURVATURES == 0.0)[0])
+    # The body's edge meets a point x ahead once its centre has come x - radius straight on.
+    within = reach_m + ROBOT.radius_m - 0.01
+    np.testing.assert_array_equal(
+        contacts_of_one_point(within, reach_m), contacts_of_one_point(within, math.inf)
+    )
+    assert contacts_of_one_point(within, reach_m)[straight] == pytest.approx(reach_m - 0.01)
+    beyond = reach_m + ROBOT.radius_m + 0.01
+    assert contacts_of_one_point(beyond, math.inf)[straight] == pytest.approx(reach_m + 0.01)
+    assert np.isinf(contacts_of_one_point(beyond, reach_m)).all()

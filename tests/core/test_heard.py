@@ -20,6 +20,8 @@ CURVATURES = np.array([t.curvature_per_m for t in ROBOT.trajectories])
 T0 = 3
 WALL_X = 2.0  # a long wall across the way, x = 2 m
 STEP_S = ROBOT.control_period_s
+# Echoes sought however far along: every distance exact, as the geometry below gives it.
+NO_REACH = math.inf
 
 
 def axis_ring(pose: np.ndarray) -> np.ndarray:
@@ -77,7 +79,8 @@ def wall_distances(odometry: np.ndarray) -> np.ndarray:
 @pytest.mark.slow
 def test_the_heard_labels_of_all_seven_arcs_are_the_arc_clearance_to_a_known_wall() -> None:
     first, second = toward_and_away()
-    heard = heard_episodes([first, second], ROBOT, ended=True, window_s=10.0)[0].distances_m
+    labelled = heard_episodes([first, second], ROBOT, ended=True, reach_m=NO_REACH, window_s=10.0)
+    heard = labelled[0].distances_m
     truth = wall_distances(first.odometry)
     reaching = np.isfinite(truth)
     # An arc that never reaches the wall (T3 turns back within 1 m; T2 from the first poses)
@@ -98,19 +101,19 @@ def test_the_heard_labels_of_all_seven_arcs_are_the_arc_clearance_to_a_known_wal
 
 def test_the_labels_never_read_the_true_pose() -> None:
     first, second = toward_and_away()
-    with_nan = heard_episodes([first, second], ROBOT, ended=True)[0].distances_m
+    with_nan = heard_episodes([first, second], ROBOT, ended=True, reach_m=NO_REACH)[0].distances_m
     true_pose = np.array(first.odometry)  # what a true pose would hold here, given anew
     again = Episode(
         **{**{f: getattr(first, f) for f in first.__dataclass_fields__}, "pose": true_pose}
     )
-    given = heard_episodes([again, second], ROBOT, ended=True)[0].distances_m
+    given = heard_episodes([again, second], ROBOT, ended=True, reach_m=NO_REACH)[0].distances_m
     np.testing.assert_array_equal(with_nan, given)
     assert not np.isnan(with_nan[:, T0]).any()
 
 
 def test_an_episode_waits_until_its_window_after_is_heard() -> None:
     first, second = toward_and_away()
-    labeller = HeardLabeller(ROBOT, window_s=10.0)
+    labeller = HeardLabeller(ROBOT, NO_REACH, window_s=10.0)
     assert labeller.add(first) == []  # nothing heard after its last point yet
     (ready,) = labeller.add(second)  # 12 s after it: its window whole
     assert ready.episode is first and not np.isnan(ready.distances_m).any()
@@ -128,14 +131,17 @@ def test_an_episode_waits_until_its_window_after_is_heard() -> None:
 def test_a_snapshot_of_a_session_that_went_on_labels_only_what_was_heard() -> None:
     first, second = toward_and_away()
     # Cut short, the session had not ended: the second waits, unlabelled, as its learner's did.
-    assert [h.episode for h in heard_episodes([first, second], ROBOT, ended=False)] == [first]
+    labelled = heard_episodes([first, second], ROBOT, ended=False, reach_m=NO_REACH)
+    assert [h.episode for h in labelled] == [first]
 
 
 @pytest.mark.parametrize("window_s", [1.0, 5.0])
 def test_a_shorter_window_hears_less_of_the_wall(window_s: float) -> None:
     first, second = toward_and_away()
-    heard = heard_episodes([first, second], ROBOT, ended=True, window_s=window_s)[0]
-    long = heard_episodes([first, second], ROBOT, ended=True, window_s=10.0)[0]
+    heard, long = (
+        heard_episodes([first, second], ROBOT, ended=True, reach_m=NO_REACH, window_s=w)[0]
+        for w in (window_s, 10.0)
+    )
     # Fewer echoes: the body meets one no sooner.
     both = np.isfinite(heard.distances_m) & np.isfinite(long.distances_m)
     assert (heard.distances_m[both] >= long.distances_m[both] - 1e-12).all()

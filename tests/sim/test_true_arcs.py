@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from tvl_cli.core.labels import velocity_labels
+from tvl_cli.core.labels import label_reach_m, velocity_labels
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.true_arcs import TrueArcs, outline_points
 from tvl_cli.sim.worldmap import parse_world
@@ -59,7 +59,7 @@ def test_true_velocities_are_the_labels_of_the_true_collision_points() -> None:
     poses = np.array([[1.0, 1.0, 0.0], [5.2, 2.0, 0.0], [3.0, 2.0, math.pi / 2]])
     decel, margin = 0.1, 0.15
     v_max = np.array(ROBOT.v_max_mps)
-    found = arcs.distances_m(poses, arcs.reach_m(decel, margin))
+    found = arcs.distances_m(poses, label_reach_m(max(ROBOT.v_max_mps), decel, margin))
     expected = velocity_labels(found, v_max, decel, margin)
     np.testing.assert_allclose(arcs.velocities_mps(found, decel, margin), expected)
     assert expected[1, 3] < 0.2  # 0.35 m from the wall

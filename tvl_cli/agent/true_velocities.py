@@ -22,6 +22,7 @@ from tvl_cli.agent.engine import StepEngine
 from tvl_cli.agent.policy import Pose
 from tvl_cli.core.arcs import collision_clearance_m
 from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
+from tvl_cli.core.labels import label_reach_m
 from tvl_cli.core.method import Method
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.core.robot_config import RobotConfig
@@ -43,7 +44,7 @@ class TrueVelocities:
         poses (`in_view`) needs none."""
         self._arcs = TrueArcs(world, robot, collision_clearance_m(robot))
         self._labels = (method.decel_mps2, method.margin_m)
-        self._reach_m = self._arcs.reach_m(*self._labels)
+        self._reach_m = label_reach_m(max(robot.v_max_mps), *self._labels)
         self._true_pose = true_pose
         count = robot.sonar.count
         self._views = np.arange(count) * (2 * math.pi / count)  # (16,) rad from the heading

@@ -164,10 +164,10 @@ def _train_true(
     true pose (the oracle labels); the exemplars read."""
     total = sum(e.exemplar_count for learnt, _ in chosen for e in learnt.episodes)
     done = 0
+    reach = params.reach_m(robot)
     for learnt, session in chosen:
         world = parse_world(session.world_text, session.world_name)
         arcs = TrueArcs(world, robot, collision_clearance_m(robot))
-        reach = arcs.reach_m(params.decel_mps2, params.margin_m)
         for episode in learnt.episodes:
             heard = HeardEpisode(episode, arcs.distances_m(episode.pose, reach))
             train_heard(fam, heard, robot, params)

@@ -2,7 +2,7 @@
 each trajectory before it meets one of the echoes in the pose's own window of them.
 
 `first_contacts_in_windows` is compiled; core.arcs.first_contacts_m computes the same for
-one pose in numpy, which the tests hold it to.
+one pose in numpy, with no reach, which the tests hold it to.
 """
 
 from __future__ import annotations
@@ -19,25 +19,39 @@ _SLACK_IN = 1.0 - 1e-9
 
 @kernel
 def first_contacts_in_windows(
-    poses, curvatures, points, first, stop, body_radius_m, found
+    poses, curvatures, points, first, stop, body_radius_m, reach_m, found
 ):  # fmt: skip
     """Fill found (N, T) with the arc length (m) the body's centre can travel from each pose
     of poses (N, 3) x, y, theta along each trajectory of curvatures (T,) 1/m before the body
-    meets one of points[first[i]:stop[i]] (points (M, 2) metres); inf where it meets none.
-    Points the body overlaps already are left out."""
+    meets one of points[first[i]:stop[i]] (points (M, 2) metres); inf where it meets none
+    nearer than reach_m along it (reach_m inf: at any length). Points the body overlaps
+    already are left out.
+
+    No arc is shorter than its chord, so the body meets a point no sooner than the point's
+    distance from the pose less the body's radius: a point is tested against a trajectory
+    only while that is below the nearest contact found on it so far (reach_m at first), and
+    most of a window's points are passed over without the exact test."""
     r = body_radius_m
+    within_squared = (reach_m + r) * (reach_m + r)
     for i in range(poses.shape[0]):
         x, y, theta = poses[i, 0], poses[i, 1], poses[i, 2]
         c, s = math.cos(theta), math.sin(theta)
         for t in range(curvatures.shape[0]):
-            found[i, t] = math.inf
+            found[i, t] = reach_m
         for k in range(first[i], stop[i]):
             dx, dy = points[k, 0] - x, points[k, 1] - y
             ahead = dx * c + dy * s
             left = dy * c - dx * s
-            if ahead * ahead + left * left <= r * r:
+            distance_squared = ahead * ahead + left * left
+            if distance_squared <= r * r:
                 continue  # overlapped already: placed off its object
+            if distance_squared > within_squared:
+                continue  # beyond the reach along any trajectory
             for t in range(curvatures.shape[0]):
+                # Met no sooner than its distance less the body: it cannot better what is found.
+                bound = found[i, t] + r
+                if distance_squared > bound * bound * _SLACK_OUT:
+                    continue
                 k_t = curvatures[t]
                 if k_t == 0.0:
                     if abs(left) <= r and ahead > 0.0:
@@ -63,3 +77,6 @@ def first_contacts_in_windows(
                 turned = bearing - math.acos(cos_alpha)
                 if turned > 0.0 and radius * turned < found[i, t]:
                     found[i, t] = radius * turned
+        for t in range(curvatures.shape[0]):
+            if found[i, t] >= reach_m:
+                found[i, t] = math.inf

@@ -64,16 +64,24 @@ class HeardEpisode:
     episode: Episode
     # (n, trajectories) metres along each trajectory from each exemplar: inf where none is
     # heard, NaN where the evidence does not support a label (the driven one is never NaN).
+    # A heard one farther than the labeller's reach, where it changes no label, may be
+    # farther still or inf.
     distances_m: np.ndarray
 
 
 class HeardLabeller:
     """Labels one session's episodes, handed in the order they ended, each once the readings
     of its window are all in (`add`), the rest when the session ends (`finish`): a learner
-    and `tvl train` replaying its log hand the same episodes in and get the same labels."""
+    and `tvl train` replaying its log hand the same episodes in and get the same labels.
 
-    def __init__(self, robot: RobotConfig, window_s: float = DEFAULT_WINDOW_S) -> None:
+    Echoes are sought `reach_m` along each trajectory (core.labels.label_reach_m: nothing
+    farther changes a label), or all of them with math.inf."""
+
+    def __init__(
+        self, robot: RobotConfig, reach_m: float, window_s: float = DEFAULT_WINDOW_S
+    ) -> None:
         self._robot = robot
+        self._reach_m = reach_m
         self._curvatures = np.array([t.curvature_per_m for t in robot.trajectories])
         self._window = max(1, round(window_s / robot.control_period_s))  # steps
         self._held: deque[Episode] = deque()  # waiting for their window to be heard
@@ -153,6 +161,7 @@ class HeardLabeller:
                 first,
                 stop,
                 self._robot.radius_m + collision_clearance_m(self._robot),
+                self._reach_m,
                 found,
             )
             distances[heard] = found
@@ -161,11 +170,15 @@ class HeardLabeller:
 
 
 def heard_episodes(
-    episodes: Sequence[Episode], robot: RobotConfig, ended: bool, window_s: float = DEFAULT_WINDOW_S
+    episodes: Sequence[Episode],
+    robot: RobotConfig,
+    ended: bool,
+    reach_m: float,
+    window_s: float = DEFAULT_WINDOW_S,
 ) -> list[HeardEpisode]:
     """A session's episodes (in order, from its first) labelled as a learner labelled them:
     those whose window was heard whole, and with `ended` (the session's last episode among
-    them) the rest as its end labelled them."""
-    labeller = HeardLabeller(robot, window_s)
+    them) the rest as its end labelled them; echoes sought `reach_m` along (HeardLabeller)."""
+    labeller = HeardLabeller(robot, reach_m, window_s)
     labelled = [h for episode in episodes for h in labeller.add(episode)]
     return labelled + (labeller.finish() if ended else [])

@@ -33,6 +33,13 @@ DEFAULT_MARGIN_M = 0.15
 MAX_DECEL_MPS2 = 10.0
 MAX_MARGIN_M = SonarConfig().max_range_m
 
+# How much farther label_reach_m reaches than where the labels stop changing, relatively and
+# absolutely: at the reach sqrt(2 a (reach - margin)) then rounds to at least v_max, so that a
+# collision point left out beyond it gives the very label it would have given, bit for bit.
+# Far wider than the rounding, far narrower than any distance that matters.
+_REACH_SLACK = 1e-9
+_REACH_SLACK_M = 1e-9
+
 # What a recorded point labels (core.method.Method.labels): the trajectory it was driven
 # along, from where that met its collision point (a bump, a sonar's collision point, or
 # none after a full circle: the paper's, §4.1); or every trajectory, each from the echoes
@@ -58,6 +65,14 @@ def velocity_labels(
     return np.minimum(
         np.asarray(v_max_mps, dtype=np.float64), np.sqrt(2.0 * decel_mps2 * braking_m)
     )
+
+
+def label_reach_m(top_speed_mps: float, decel_mps2: float, margin_m: float) -> float:
+    """How far (m) along a trajectory no faster than `top_speed_mps` a collision point can
+    change its label: from margin + v_max^2 / (2 a) on every label is v_max (velocity_labels),
+    and the reach lies a hair beyond that."""
+    saturation_m = margin_m + top_speed_mps**2 / (2.0 * decel_mps2)
+    return saturation_m * (1.0 + _REACH_SLACK) + _REACH_SLACK_M
 
 
 def distances_to_collision(

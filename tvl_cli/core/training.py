@@ -24,6 +24,7 @@ from tvl_cli.core.labels import (
     DEFAULT_DECEL_MPS2,
     DEFAULT_MARGIN_M,
     HEARD_LABELS,
+    label_reach_m,
     velocity_labels,
 )
 from tvl_cli.core.method import Method
@@ -54,6 +55,11 @@ class TrainParams:
                 f"--init-velocity {self.init_velocity_mps:g} must be >= 0 m/s and below the "
                 f"slowest trajectory's maximum ({slowest:g} m/s)"
             )
+
+    def reach_m(self, robot: RobotConfig) -> float:
+        """How far (m) along any of the robot's trajectories a collision point can change one
+        of these labels (core.labels.label_reach_m)."""
+        return label_reach_m(max(robot.v_max_mps), self.decel_mps2, self.margin_m)
 
     def settings(self) -> dict[str, float | bool]:
         """What a FAM's provenance records of its training: the settings that are not the
@@ -130,7 +136,8 @@ class SessionTrainer:
         self._fam = fam
         self._robot = robot
         self._params = params
-        self._heard = HeardLabeller(robot) if params.labels == HEARD_LABELS else None
+        heard = params.labels == HEARD_LABELS
+        self._heard = HeardLabeller(robot, params.reach_m(robot)) if heard else None
 
     def add(self, episode: Episode) -> list[Trained]:
         """Take an episode; those trained now, with the change each made."""
@@ -164,7 +171,7 @@ def labelled_episodes(
     of every trajectory its points label: all of them by the heard rule (those whose labels
     were heard), the driven one alone by the paper's rule and while behaving."""
     if params.labels == HEARD_LABELS and not session.driven_only:
-        return heard_episodes(session.episodes, robot, session.ended)
+        return heard_episodes(session.episodes, robot, session.ended, params.reach_m(robot))
     return [driven_labels(episode, len(robot.trajectories)) for episode in session.episodes]
 
 

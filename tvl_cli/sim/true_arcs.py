@@ -41,14 +41,14 @@ class TrueArcs:
 
     def __init__(self, world: WorldMap, robot: RobotConfig, clearance_m: float = 0.0) -> None:
         self._robot = robot
-        self._reach_m = robot.radius_m + clearance_m  # from the body's centre
+        self._body_radius_m = robot.radius_m + clearance_m  # the body grown by the clearance
         self._points = np.ascontiguousarray(outline_points(world))
         self._curvatures = np.array([t.curvature_per_m for t in robot.trajectories])
 
     def distances_m(self, poses: np.ndarray, reach_m: float) -> np.ndarray:
         """(N, T) metres along each trajectory from each true pose (N, 3) to its collision
         point; inf where there is none within `reach_m` of the pose (set it where labels stop
-        changing: nothing farther changes one)."""
+        changing, core.labels.label_reach_m: nothing farther changes one)."""
         poses = np.asarray(poses, dtype=np.float64).reshape(-1, 3)
         found = np.empty((len(poses), len(self._curvatures)))  # (N, T) metres
         for i, pose in enumerate(poses):
@@ -63,7 +63,7 @@ class TrueArcs:
         from tvl_cli.core.contacts_kernel import first_contacts_in_windows  # compiled
 
         gap = self._points - (x, y)  # (K, 2) metres
-        within = reach_m + self._reach_m
+        within = reach_m + self._body_radius_m
         near = np.ascontiguousarray(self._points[np.einsum("ij,ij->i", gap, gap) <= within**2])
         poses = np.stack([np.full(len(headings), x), np.full(len(headings), y), headings], 1)
         found = np.empty((len(headings), len(self._curvatures)))
@@ -74,7 +74,8 @@ class TrueArcs:
             near,
             np.zeros(views, np.int64),
             np.full(views, len(near), np.int64),
-            self._reach_m,
+            self._body_radius_m,
+            reach_m,
             found,
         )
         found[found > reach_m] = math.inf
@@ -86,7 +87,3 @@ class TrueArcs:
         """(N, T) m/s: the labels of collision points (N, T) metres, as core.labels makes them."""
         v_max = np.array(self._robot.v_max_mps)
         return velocity_labels(distances_m, v_max, decel_mps2, margin_m)
-
-    def reach_m(self, decel_mps2: float, margin_m: float) -> float:
-        """How far along any trajectory a collision point changes a label."""
-        return margin_m + max(self._robot.v_max_mps) ** 2 / (2 * decel_mps2)
