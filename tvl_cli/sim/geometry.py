@@ -52,18 +52,31 @@ class StaticGeometry:
     seg_normal: np.ndarray  # (2, n) (dy, -dx): a row vector D @ seg_normal is cross(D, delta)
     seg_moment: np.ndarray  # (n,) cross(start, delta), square metres
     seg_ends: np.ndarray  # (n, 2, 2) [start, end] x, y metres: where corners can be
-    # (n, 2) for the wall meeting this segment at its [start, end]: the side of this segment's
-    # line it lies on, as the sign of cross(end - start, other wall's direction); 0 when no
-    # wall meets it there or the two are collinear. Seen from that side the corner is concave.
-    corner_sides: np.ndarray
     max_disc_radius_m: float  # 0 without discs
     roughness: float  # the world's, 0 to 1: how much sound its walls scatter diffusely
     seg_roughness: np.ndarray  # (n,) each wall's own (a `rough:` rectangle's, or the world's)
     grid: WallGrid  # the segments by cell, for the rays and points that ask only the near ones
     ring_roughness: np.ndarray = field(init=False)  # (k,) each ring wall's: the world's
+    _corners: np.ndarray | None = field(default=None, init=False, repr=False)  # corner_sides
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "ring_roughness", np.full(len(self.rings), self.roughness))
+
+    @property
+    def corner_sides(self) -> np.ndarray:
+        """(n, 2) for the wall meeting each segment at its [start, end]: the side of this
+        segment's line it lies on, as the sign of cross(end - start, other wall's direction);
+        0 when no wall meets it there or the two are collinear. Seen from that side the
+        corner is concave.
+
+        Found when first asked: the sonar's echo rules read it, the clearance queries never,
+        and a geometry made afresh every step of remembered patches (the ring DWA's) is
+        only asked for clearances."""
+        corners = self._corners
+        if corners is None:
+            corners = _corner_sides(self.segments)
+            object.__setattr__(self, "_corners", corners)
+        return corners
 
     def with_roughness(self, roughness: float) -> StaticGeometry:
         """The same obstacles with every wall, ring walls too, this rough."""
@@ -119,7 +132,6 @@ def geometry_of(
         seg_normal=normal,
         seg_moment=start[0] * delta[1] - start[1] * delta[0],
         seg_ends=segments.reshape(-1, 2, 2),
-        corner_sides=_corner_sides(segments),
         max_disc_radius_m=float(discs[:, 2].max(initial=0.0)),
         roughness=roughness,
         seg_roughness=own if len(own) else np.full(len(segments), roughness),
