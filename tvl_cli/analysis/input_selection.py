@@ -133,8 +133,8 @@ def design_inputs(
 ) -> Design:
     """Choose every table's inputs from the episodes, each with the collision points its
     points label (core.training.labelled_episodes: every trajectory by the heard rule, the
-    driven one by the paper's); BadInput if the budget cannot give each table one input or a
-    table's trajectories were driven in too few episodes to hold one out."""
+    driven one by the paper's); BadInput if the budget cannot give each table one input, or
+    if too few episodes label a table's trajectories to train on one and hold one out."""
     names = [t.name for t in robot.trajectories]
     count = len(names)
     designed = _designed(count)
