@@ -23,8 +23,9 @@ from timing import (
     TVL,
     add_against_option,
     figure_line,
-    paired,
+    paired_commands,
     realtime_against,
+    realtime_figures,
     run_process,
     tvl_in,
 )
@@ -52,17 +53,8 @@ def main() -> None:
                 return [tvl, "baseline", "dwa", world, "--sensor", sensor, "--minutes",
                         args.minutes]  # fmt: skip
 
-            ours, theirs, ratio = paired(
-                lambda run=run: run_process(run(TVL)),
-                (lambda run=run: run_process(run(theirs_tvl))) if theirs_tvl else None,
-                args.repeats,
-            )
-            figures[sensor] = {
-                "realtime_cpu": sim_s / ours.cpu_s,
-                "realtime_wall": sim_s / ours.wall_s,
-                "against_realtime_cpu": sim_s / theirs.cpu_s if theirs else None,
-                "cpu_ratio_against": ratio,
-            }
+            ours, theirs, ratio = paired_commands(run, theirs_tvl, args.repeats)
+            figures[sensor] = realtime_figures(sim_s, ours, theirs, ratio)
     if args.json:
         print(json.dumps({"minutes": args.minutes, "seed": args.seed, **figures}))
         return

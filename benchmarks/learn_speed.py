@@ -26,6 +26,7 @@ from timing import (
     figure_line,
     paired,
     realtime_against,
+    realtime_figures,
     run_process,
     tvl_in,
 )
@@ -63,12 +64,7 @@ def main() -> None:
             else None,
             args.repeats,
         )
-        figures[config] = {
-            "realtime_cpu": sim_s / ours.cpu_s,
-            "realtime_wall": sim_s / ours.wall_s,
-            "against_realtime_cpu": sim_s / theirs.cpu_s if theirs else None,
-            "cpu_ratio_against": ratio,
-        }
+        figures[config] = realtime_figures(sim_s, ours, theirs, ratio)
     if args.json:
         print(json.dumps({"minutes": args.minutes, "memory": args.memory, **figures}))
         return

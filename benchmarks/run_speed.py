@@ -25,8 +25,9 @@ from timing import (
     TVL,
     add_against_option,
     figure_line,
-    paired,
+    paired_commands,
     realtime_against,
+    realtime_figures,
     run_process,
     tvl_in,
 )
@@ -60,17 +61,10 @@ def main() -> None:
             def run(tvl: str, fam: Path = fam) -> list[str | Path]:
                 return [tvl, "run", fam, LAB, "--behaviour", "avoid", "--minutes", args.minutes]
 
-            ours, theirs, ratio = paired(
-                lambda run=run: run_process(run(TVL)),
-                (lambda run=run: run_process(run(theirs_tvl))) if theirs_tvl else None,
-                args.repeats,
-            )
+            ours, theirs, ratio = paired_commands(run, theirs_tvl, args.repeats)
             figures[config] = {
-                "realtime_cpu": sim_s / ours.cpu_s,
-                "realtime_wall": sim_s / ours.wall_s,
+                **realtime_figures(sim_s, ours, theirs, ratio),
                 "us_per_step_cpu": ours.cpu_s / steps * 1e6,
-                "against_realtime_cpu": sim_s / theirs.cpu_s if theirs else None,
-                "cpu_ratio_against": ratio,
             }
     if args.json:
         print(json.dumps({"minutes": args.minutes, "memory": args.memory, **figures}))

@@ -72,6 +72,31 @@ def paired(
     return median_seconds(mine), median_seconds(other), ratio
 
 
+def paired_commands(
+    argv_of: Callable[[str], Sequence[str | Path]], theirs_tvl: str | None, repeats: int
+) -> tuple[Seconds, Seconds | None, float | None]:
+    """`paired` for one command line, `argv_of(tvl)`, run by this checkout's tvl and, given
+    one, another's."""
+    return paired(
+        lambda: run_process(argv_of(TVL)),
+        (lambda: run_process(argv_of(theirs_tvl))) if theirs_tvl else None,
+        repeats,
+    )
+
+
+def realtime_figures(
+    sim_s: float, ours: Seconds, theirs: Seconds | None, ratio: float | None
+) -> dict[str, float | None]:
+    """Simulated seconds per CPU and per wall second of ours, and of theirs with the paired
+    CPU ratio ours / theirs where there is a baseline: each benchmark's JSON figures."""
+    return {
+        "realtime_cpu": sim_s / ours.cpu_s,
+        "realtime_wall": sim_s / ours.wall_s,
+        "against_realtime_cpu": sim_s / theirs.cpu_s if theirs else None,
+        "cpu_ratio_against": ratio,
+    }
+
+
 def cpu_seconds(run: Callable[[], object], repeats: int) -> float:
     """Median CPU seconds of `run`, in this process."""
     times = []

@@ -15,12 +15,13 @@ from tvl_cli.analysis.input_selection import (
     MAX_TRAIN_EXEMPLARS,
     MIN_GAIN_MPS,
     SET_COUNTS,
+    Design,
     design_inputs,
     least_budget_rules,
 )
 from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
-from tvl_cli.core.fam_config import MULTI
+from tvl_cli.core.fam_config import MULTI, InputChoice
 from tvl_cli.core.heard import HeardEpisode
 from tvl_cli.core.ring import mm_to_ring, ring_to_mm
 from tvl_cli.core.robot_config import RobotConfig, mirror_sonar, mirror_trajectory
@@ -92,16 +93,21 @@ def designed():
     return design_inputs(synthetic(), ROBOT, TrainParams(), seed=1)
 
 
-def test_the_sonar_the_labels_depend_on_is_chosen_first_for_every_table(designed) -> None:
-    first = {}
-    for choice in designed.config.design.choices:
+# The informative sonar of each chosen table: S3 left of ahead for the left ones, S0 for T0.
+INFORMATIVE_FIRST = {"T3L": ("S3",), "T2L": ("S3",), "T1L": ("S3",), "T0": ("S0",)}
+
+
+def first_choices(design: Design) -> dict[str, InputChoice]:
+    """Each table's first choice, by table name."""
+    first: dict[str, InputChoice] = {}
+    for choice in design.config.design.choices:
         first.setdefault(choice.table, choice)
-    assert {t: c.inputs for t, c in first.items()} == {
-        "T3L": ("S3",),
-        "T2L": ("S3",),
-        "T1L": ("S3",),
-        "T0": ("S0",),
-    }
+    return first
+
+
+def test_the_sonar_the_labels_depend_on_is_chosen_first_for_every_table(designed) -> None:
+    first = first_choices(designed)
+    assert {t: c.inputs for t, c in first.items()} == INFORMATIVE_FIRST
     for choice in first.values():
         # Knowing the distance, a table perceives the label closely; without, far off.
         assert choice.heldout_error_after_mps < 0.03 < 0.05 < choice.heldout_error_before_mps
@@ -110,16 +116,8 @@ def test_the_sonar_the_labels_depend_on_is_chosen_first_for_every_table(designed
 def test_heard_labels_feed_every_table_from_episodes_that_drove_another() -> None:
     """Every episode drove straight ahead, yet each table finds the sonar its own labels
     depend on: a point labels every trajectory, and each table learns from all of them."""
-    design = design_inputs(heard_straight(), ROBOT, TrainParams(), seed=1)
-    first = {}
-    for choice in design.config.design.choices:
-        first.setdefault(choice.table, choice)
-    assert {t: c.inputs for t, c in first.items()} == {
-        "T3L": ("S3",),
-        "T2L": ("S3",),
-        "T1L": ("S3",),
-        "T0": ("S0",),
-    }
+    first = first_choices(design_inputs(heard_straight(), ROBOT, TrainParams(), seed=1))
+    assert {t: c.inputs for t, c in first.items()} == INFORMATIVE_FIRST
     for choice in first.values():
         assert choice.heldout_error_after_mps < 0.2 * choice.heldout_error_before_mps
 
