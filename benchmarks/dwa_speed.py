@@ -1,9 +1,10 @@
-"""DWA speed: simulated seconds per second of whole `tvl baseline dwa` processes, by the map
-and by the sonar ring, in a generated rooms world (the generalization benchmark's kind, where
-the ring DWA is its costliest reference row).
+"""DWA speed: simulated seconds per second of whole `tvl baseline dwa` processes, by the map,
+by the sonar ring's last reading and by the ring through our echo memory, in a generated
+rooms world (the generalization benchmark's kind, where the ring DWA through the memory is
+its costliest reference row).
 
-Times `tvl baseline dwa WORLD --sensor S` of M simulated minutes R times and takes the
-medians. The real-time factor is simulated seconds per CPU second of the whole process
+Times `tvl baseline dwa WORLD --sensor S [--memory patches]` of M simulated minutes R times
+and takes the medians. The real-time factor is simulated seconds per CPU second of the whole process
 (start-up included), the wall-clock one printed beside it. With --against DIR, that
 checkout's tvl runs the same commands in turn with this one and each figure gets the paired
 ratio of their CPU seconds.
@@ -30,7 +31,12 @@ from timing import (
     tvl_in,
 )
 
-SENSORS = ("map", "ring")
+# Each way of knowing the obstacles, by the options that choose it.
+SENSINGS = {
+    "--sensor map": ["--sensor", "map"],
+    "--sensor ring": ["--sensor", "ring"],
+    "--sensor ring --memory patches": ["--sensor", "ring", "--memory", "patches"],
+}
 
 
 def main() -> None:
@@ -47,14 +53,13 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as name:
         world = Path(name) / "rooms.txt"
         run_process([TVL, "world", "new", "rooms", "--seed", args.seed, "-o", world])
-        for sensor in SENSORS:
+        for sensing, options in SENSINGS.items():
 
-            def run(tvl: str, sensor: str = sensor) -> list[str | Path]:
-                return [tvl, "baseline", "dwa", world, "--sensor", sensor, "--minutes",
-                        args.minutes]  # fmt: skip
+            def run(tvl: str, options: list[str] = options) -> list[str | Path]:
+                return [tvl, "baseline", "dwa", world, *options, "--minutes", args.minutes]
 
             ours, theirs, ratio = paired_commands(run, theirs_tvl, args.repeats)
-            figures[sensor] = realtime_figures(sim_s, ours, theirs, ratio)
+            figures[sensing] = realtime_figures(sim_s, ours, theirs, ratio)
     if args.json:
         print(json.dumps({"minutes": args.minutes, "seed": args.seed, **figures}))
         return
@@ -62,11 +67,11 @@ def main() -> None:
         f"tvl baseline dwa in rooms world {args.seed}, {args.minutes:g} simulated minutes, "
         f"whole process, median of {args.repeats} (real time: simulated s per CPU s)"
     )
-    for sensor, f in figures.items():
+    for sensing, f in figures.items():
         realtime = f["realtime_cpu"]
         assert realtime is not None
         note = realtime_against(f["cpu_ratio_against"], args.against, f["against_realtime_cpu"])
-        label = f"--sensor {sensor} (wall {f['realtime_wall']:,.0f}x)"
+        label = f"{sensing} (wall {f['realtime_wall']:,.0f}x)"
         print(figure_line(label, f"{realtime:,.0f}x real time", None, None, note))
 
 

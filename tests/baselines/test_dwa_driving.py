@@ -2,14 +2,17 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 from tvl_cli.agent.policy import LazyRing, Observation
+from tvl_cli.baselines import dwa
 from tvl_cli.baselines.dwa import RING, DwaPolicy, MapSensing, run_dwa
 from tvl_cli.core.drive_command import Command
+from tvl_cli.core.memory import PATCHES, MemoryConfig
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.robot import Simulator
 from tvl_cli.sim.worldmap import load_world
@@ -18,6 +21,7 @@ WORLDS = Path(__file__).resolve().parents[2] / "worlds"
 SQUARE = load_world(WORLDS / "square.txt")  # walls' inner faces at x, y = 0.25 and 3.75
 ROBOT = RobotConfig()
 CRUISING = Command(0.6, 0.0)
+PATCHES_MEMORY = MemoryConfig(PATCHES)
 
 
 def observe(sim: Simulator) -> Observation:
@@ -73,3 +77,27 @@ def test_driven_by_the_ring_it_meets_a_wall_it_cannot_hear_that_the_map_sees() -
     by_ring = run_dwa(lab, ROBOT, 2.0, seed=1, sensor=RING)
     assert by_map.collisions == 0
     assert by_ring.collisions > 0
+
+
+@pytest.mark.slow  # over a second
+def test_searching_obstacles_only_as_far_as_read_changes_no_run_through_the_memory(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # The ring DWA through the echo memory, among the lab's crowded patches: the run with the
+    # nearest search stopped at what free distances read is the run with it unbounded.
+    lab = load_world(WORLDS / "lab.txt")
+
+    def run() -> tuple[float, int, int, float]:
+        metrics = run_dwa(lab, ROBOT, 0.5, seed=2, sensor=RING, memory=PATCHES_MEMORY)
+        return (
+            metrics.distance_m,
+            metrics.collisions,
+            metrics.near_misses,
+            metrics.mean_clearance_m,
+        )
+
+    bounded = run()
+    monkeypatch.setattr(dwa, "clearance_read_m", lambda s_m, p: math.inf)
+    unbounded = run()
+    assert bounded == unbounded
+    assert bounded[0] > 1.0  # it drove

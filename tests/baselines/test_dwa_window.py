@@ -14,6 +14,7 @@ from tvl_cli.baselines.dwa_window import (
     arc_lengths,
     arc_points,
     best_candidate,
+    clearance_read_m,
     dynamic_window,
     free_distances,
     heading_scores,
@@ -77,6 +78,27 @@ def test_free_distance_inside_the_margin_allows_moving_away_but_not_closer() -> 
     away, closer = free_distances(np.array([[0.03, 0.04, 0.2], [0.01, 0.0, 0.0]]), 0.02, s, P)
     assert away == pytest.approx(0.3)
     assert closer == pytest.approx(0.0)
+
+
+@pytest.mark.parametrize("start_m", [0.01, 0.03, 0.05, 0.3])
+def test_clearances_beyond_what_is_read_give_the_same_free_distances(start_m: float) -> None:
+    # Clearances spread about the bound, many within a step of it either side: the nearest
+    # search may stop there (inf beyond) without changing any free distance.
+    s = arc_lengths(P)
+    read = clearance_read_m(s, P)
+    rng = np.random.default_rng(5)
+    clearance = rng.uniform(0.0, 3.0 * read, size=(400, len(s)))
+    clearance[::3] = np.sort(clearance[::3], axis=1)[:, ::-1]  # arcs closing in on something
+    clipped = np.where(clearance > read, np.inf, clearance)
+    assert np.isinf(clipped).any() and (clipped > 0.0).any()
+    exact = free_distances(clearance, start_m, s, P)
+    np.testing.assert_array_equal(free_distances(clipped, start_m, s, P), exact)
+    assert len(np.unique(exact)) > 10  # the rows do differ
+
+
+def test_what_is_read_is_the_margin_and_the_longest_step_along_an_arc() -> None:
+    s = np.array([0.1, 0.15, 0.3, 0.35])
+    assert clearance_read_m(s, P) == pytest.approx(P.margin_m + 0.15)
 
 
 def test_admissible_speeds_can_stop_within_the_free_distance() -> None:

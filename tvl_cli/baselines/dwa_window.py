@@ -134,6 +134,15 @@ def free_distances(
     return np.minimum(reach, bound)
 
 
+def clearance_read_m(s_m: np.ndarray, p: DwaParams) -> float:
+    """Metres of body-edge clearance beyond which free_distances reads no difference: there a
+    point's spare clearance exceeds the longest step to the next point (or from the start to
+    the first), so the point after it bounds the free distance, and a clearance given as inf
+    gives the same free distances bit for bit. Callers ask for no farther obstacle than this."""
+    longest_step_m = float(np.max(np.diff(s_m, prepend=0.0)))
+    return p.margin_m + longest_step_m
+
+
 def admissible(v_mps: np.ndarray, free_m: np.ndarray, p: DwaParams) -> np.ndarray:
     """(N,) bool: braking at accel_mps2 stops the body within the free distance."""
     return v_mps <= np.sqrt(2.0 * p.accel_mps2 * free_m)
