@@ -80,11 +80,12 @@ def test_driven_by_the_ring_it_meets_a_wall_it_cannot_hear_that_the_map_sees() -
 
 
 @pytest.mark.slow  # over a second
-def test_searching_obstacles_only_as_far_as_read_changes_no_run_through_the_memory(
+def test_how_far_the_walk_along_the_arcs_looks_changes_no_run_through_the_memory(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
-    # The ring DWA through the echo memory, among the lab's crowded patches: the run with the
-    # nearest search stopped at what free distances read is the run with it unbounded.
+    # The ring DWA through the echo memory, among the lab's crowded patches: the run with
+    # obstacles sought only as near as the free distances read, and the walk along each arc
+    # vouching for 0.15 m at most, is the run with both looking a metre or more.
     lab = load_world(WORLDS / "lab.txt")
 
     def run() -> tuple[float, int, int, float]:
@@ -98,6 +99,7 @@ def test_searching_obstacles_only_as_far_as_read_changes_no_run_through_the_memo
 
     bounded = run()
     monkeypatch.setattr(dwa, "clearance_read_m", lambda s_m, p: math.inf)
+    monkeypatch.setattr(dwa, "WALK_M", 1.0)
     unbounded = run()
     assert bounded == unbounded
     assert bounded[0] > 1.0  # it drove

@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 import pytest
+from kernel_references.dwa_reference import free_distances_reference
 
 from tvl_cli.baselines.dwa_window import (
     Candidates,
@@ -16,7 +17,6 @@ from tvl_cli.baselines.dwa_window import (
     best_candidate,
     clearance_read_m,
     dynamic_window,
-    free_distances,
     heading_scores,
     lookahead_m,
     predicted_poses,
@@ -67,7 +67,7 @@ def test_straight_arcs_follow_the_heading_and_a_spin_stays_put() -> None:
 def test_free_distance_stops_at_the_last_point_outside_the_margin() -> None:
     s = np.array([0.1, 0.2, 0.3, 0.4])
     clearance = np.array([[0.3, 0.2, 0.1, 0.0], [0.4, 0.5, 0.6, 0.7]])
-    free = free_distances(clearance, 0.4, s, P)
+    free = free_distances_reference(clearance, 0.4, s, P.margin_m)
     # Row 0: first point within the 0.05 m margin is the 4th; before it 0.05 m spare at 0.3 m.
     assert free[0] == pytest.approx(0.35)
     assert free[1] == pytest.approx(0.4)  # never near: free to the end
@@ -75,7 +75,9 @@ def test_free_distance_stops_at_the_last_point_outside_the_margin() -> None:
 
 def test_free_distance_inside_the_margin_allows_moving_away_but_not_closer() -> None:
     s = np.array([0.1, 0.2, 0.3])
-    away, closer = free_distances(np.array([[0.03, 0.04, 0.2], [0.01, 0.0, 0.0]]), 0.02, s, P)
+    away, closer = free_distances_reference(
+        np.array([[0.03, 0.04, 0.2], [0.01, 0.0, 0.0]]), 0.02, s, P.margin_m
+    )
     assert away == pytest.approx(0.3)
     assert closer == pytest.approx(0.0)
 
@@ -91,8 +93,8 @@ def test_clearances_beyond_what_is_read_give_the_same_free_distances(start_m: fl
     clearance[::3] = np.sort(clearance[::3], axis=1)[:, ::-1]  # arcs closing in on something
     clipped = np.where(clearance > read, np.inf, clearance)
     assert np.isinf(clipped).any() and (clipped > 0.0).any()
-    exact = free_distances(clearance, start_m, s, P)
-    np.testing.assert_array_equal(free_distances(clipped, start_m, s, P), exact)
+    exact = free_distances_reference(clearance, start_m, s, P.margin_m)
+    np.testing.assert_array_equal(free_distances_reference(clipped, start_m, s, P.margin_m), exact)
     assert len(np.unique(exact)) > 10  # the rows do differ
 
 

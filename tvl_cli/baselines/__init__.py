@@ -4,4 +4,4 @@ Both run on the same worlds, robot, sonar ring and seeds as TVL: the DWA knows t
 geometry, and the Q-learning learns over the single FAM's rules.
 """
 
-__all__ = ["dwa", "dwa_window", "qlearning", "qtable"]
+__all__ = ["dwa", "dwa_kernel", "dwa_window", "qlearning", "qtable"]

@@ -26,7 +26,6 @@ from tvl_cli.baselines.dwa_window import (
     best_candidate,
     clearance_read_m,
     dynamic_window,
-    free_distances,
     goal_headings,
     heading_scores,
     lookahead_m,
@@ -39,7 +38,7 @@ from tvl_cli.core.drive_command import Command
 from tvl_cli.core.memory import NO_MEMORY, PATCHES, MemoryConfig
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.core.robot_config import RobotConfig
-from tvl_cli.sim.geometry import StaticGeometry, clearance_m, clearances_m, geometry_of
+from tvl_cli.sim.geometry import StaticGeometry, clearance_m, geometry_of
 from tvl_cli.sim.robot import Simulator
 from tvl_cli.sim.worldmap import WorldMap
 
@@ -49,6 +48,10 @@ SENSORS = (MAP, RING)
 DEFAULT_DWA = DwaParams()
 # Far above the rounding of a clearance, far below any distance the window tells apart.
 _ROUNDING_M = 1e-6
+# How far from the body's edge a point on an arc is asked for obstacles while walking the
+# arc (baselines.dwa_kernel): a point this clear vouches for the next 0.15 m of its arc, a
+# fifth of the queries of asking every point, each still among few of the grid's cells.
+WALK_M = 0.15
 
 
 class Sensing(Protocol):
@@ -105,10 +108,11 @@ class DwaPolicy:
         self.params = params
         self.goal_xy = goal_xy
         self._s_m = arc_lengths(params)  # (K,) metres
-        # Arc points are asked for obstacles only as near as free_distances can tell apart:
-        # the search for the nearest stops there, a third of a run's time in a rooms world
-        # through the echo memory's crowded patches (benchmarks/dwa_speed.py).
-        self._asked_m = clearance_read_m(self._s_m, params) + _ROUNDING_M
+        # Arc points are asked for obstacles only as near as the free distances can tell
+        # apart, and only the points the walk along each arc cannot vouch for
+        # (baselines.dwa_kernel): most of a run's time in a rooms world through the echo
+        # memory's crowded patches went on asking them all (benchmarks/dwa_speed.py).
+        self._read_m = clearance_read_m(self._s_m, params) + _ROUNDING_M
         rays = params.wander_rays
         # (D,) radians, 0 (straight on) included, every direction around the robot
         self._ray_offsets = (np.arange(rays) - rays // 2) * (2 * np.pi / rays)
@@ -118,12 +122,23 @@ class DwaPolicy:
         self._turn_side = 1  # keeps turning the way it last turned when it must spin free
 
     def _free(self, geometry: StaticGeometry, pose: Pose, points: np.ndarray) -> np.ndarray:
-        """(N,) free distances along paths sampled at (N, K, 2) points every arc step."""
+        """(N,) free distances along paths sampled at (N, K, 2) points every arc step
+        (baselines.dwa_kernel)."""
+        from tvl_cli.baselines.dwa_kernel import walked_free_distances  # compiled
+
         radius = self.robot.radius_m
-        limit_m = radius + self._asked_m
-        clearance = clearances_m(geometry, points.reshape(-1, 2), radius, limit_m)
         here = clearance_m(geometry, pose[0], pose[1], radius)
-        return free_distances(clearance.reshape(points.shape[:2]), here, self._s_m, self.params)
+        # Too near is within the margin or, for a robot already that near, nearer than now.
+        allowed = min(self.params.margin_m, here)
+        free = np.empty(len(points))  # (N,) metres
+        g = geometry
+        walked_free_distances(
+            np.ascontiguousarray(points, dtype=np.float64), self._s_m, allowed, here - allowed,
+            g.seg_start, g.seg_delta, g.seg_len, g.grid.kernel_input, g.discs, g.rings, radius,
+            self._read_m, WALK_M,
+            free,
+        )  # fmt: skip
+        return free
 
     def _wander(self, geometry: StaticGeometry, pose: Pose) -> float:
         free = self._free(geometry, pose, ray_points(pose, self._ray_offsets, self._s_m))

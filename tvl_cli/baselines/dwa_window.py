@@ -109,36 +109,12 @@ def arc_points(
     return np.stack([x + forward * cos - left * sin, y + forward * sin + left * cos], axis=-1)
 
 
-def free_distances(
-    clearance_m: np.ndarray, start_clearance_m: float, s_m: np.ndarray, p: DwaParams
-) -> np.ndarray:
-    """(N,) metres each arc can be followed before the body comes too near an obstacle.
-
-    clearance_m (N, K) is the body-edge clearance at each arc point s_m (K,). Too near is within
-    margin_m or, for a robot already that near, nearer than it is now (so it may still drive
-    away or along the obstacle, never closer). Clearance changes by at most the
-    distance moved, so from a point with spare clearance c at s the body is free until at
-    least s + c: the first point found too near bounds the distance from above, the point
-    before it from below, and the lower bound is kept. Arcs free to the end give s_m[-1].
-    """
-    allowed = min(p.margin_m, start_clearance_m)
-    spare = clearance_m - allowed  # (N, K) metres
-    count, samples = spare.shape
-    near = spare < 0.0  # (N, K)
-    first = np.where(near.any(axis=1), near.argmax(axis=1), samples)  # (N,)
-    # Arc length and spare clearance of the last free point, the start standing in as point -1.
-    s_before = np.concatenate([[0.0], s_m])  # (K + 1,)
-    c_before = np.concatenate([np.full((count, 1), start_clearance_m - allowed), spare], axis=1)
-    reach = s_before[first] + c_before[np.arange(count), first]
-    bound = np.concatenate([s_m, [s_m[-1]]])[first]  # (N,) first point too near, or the end
-    return np.minimum(reach, bound)
-
-
 def clearance_read_m(s_m: np.ndarray, p: DwaParams) -> float:
-    """Metres of body-edge clearance beyond which free_distances reads no difference: there a
-    point's spare clearance exceeds the longest step to the next point (or from the start to
-    the first), so the point after it bounds the free distance, and a clearance given as inf
-    gives the same free distances bit for bit. Callers ask for no farther obstacle than this."""
+    """Metres of body-edge clearance beyond which a free distance (baselines.dwa_kernel) reads
+    no difference: there a point's spare clearance exceeds the longest step to the next point
+    (or from the start to the first), so the point after it bounds the free distance, and a
+    clearance given as inf gives the same free distances bit for bit. Callers ask for no
+    farther obstacle than this."""
     longest_step_m = float(np.max(np.diff(s_m, prepend=0.0)))
     return p.margin_m + longest_step_m
 

@@ -27,22 +27,31 @@ def clearances(
     within limit_m of the centre; and which (p,) with that obstacle, numbered segments first,
     then discs, then rings (-1: none). Segments as sim.geometry.StaticGeometry keeps them; discs
     (m, 3) and rings (k, 3) x, y, r metres."""
-    n, m = seg_len.shape[0], discs.shape[0]
     for i in range(points.shape[0]):
-        x, y = points[i, 0], points[i, 1]
-        nearest, obstacle = _nearest_segment(x, y, seg_start, seg_delta, seg_len, grid, limit_m)
-        for j in range(discs.shape[0]):
-            gap = math.hypot(x - discs[j, 0], y - discs[j, 1]) - discs[j, 2]
-            if gap < nearest:
-                nearest, obstacle = gap, n + j
-        for j in range(rings.shape[0]):
-            gap = rings[j, 2] - math.hypot(x - rings[j, 0], y - rings[j, 1])
-            if gap < nearest:
-                nearest, obstacle = gap, n + m + j
-        if nearest > limit_m:
-            nearest, obstacle = math.inf, -1
-        found[i] = nearest - body_radius_m if nearest > body_radius_m else 0.0
-        which[i] = obstacle
+        found[i], which[i] = clearance_at(
+            points[i, 0], points[i, 1], seg_start, seg_delta, seg_len, grid, discs, rings,
+            body_radius_m, limit_m,
+        )  # fmt: skip
+
+
+@inlined
+def clearance_at(
+    x, y, seg_start, seg_delta, seg_len, grid, discs, rings, body_radius_m, limit_m
+):  # fmt: skip
+    """(metres, obstacle): `clearances` at one point (x, y)."""
+    n, m = seg_len.shape[0], discs.shape[0]
+    nearest, obstacle = _nearest_segment(x, y, seg_start, seg_delta, seg_len, grid, limit_m)
+    for j in range(discs.shape[0]):
+        gap = math.hypot(x - discs[j, 0], y - discs[j, 1]) - discs[j, 2]
+        if gap < nearest:
+            nearest, obstacle = gap, n + j
+    for j in range(rings.shape[0]):
+        gap = rings[j, 2] - math.hypot(x - rings[j, 0], y - rings[j, 1])
+        if gap < nearest:
+            nearest, obstacle = gap, n + m + j
+    if nearest > limit_m:
+        nearest, obstacle = math.inf, -1
+    return (nearest - body_radius_m if nearest > body_radius_m else 0.0), obstacle
 
 
 @inlined
