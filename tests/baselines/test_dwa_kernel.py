@@ -26,7 +26,7 @@ from tvl_cli.sim.geometry import StaticGeometry, clearance_m, clearances_m, geom
 P = DwaParams()
 RADIUS_M = RobotConfig().radius_m
 S_M = arc_lengths(P)
-READ_M = clearance_read_m(S_M, P) + 1e-6
+READ_M = clearance_read_m(S_M, P)
 WORLDS = every_world()
 
 

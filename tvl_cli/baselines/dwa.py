@@ -46,8 +46,6 @@ BEHAVIOURS = ("avoid", "goal")
 MAP, RING = "map", "ring"
 SENSORS = (MAP, RING)
 DEFAULT_DWA = DwaParams()
-# Far above the rounding of a clearance, far below any distance the window tells apart.
-_ROUNDING_M = 1e-6
 # How far from the body's edge a point on an arc is asked for obstacles while walking the
 # arc (baselines.dwa_kernel): a point this clear vouches for the next 0.15 m of its arc, a
 # fifth of the queries of asking every point, each still among few of the grid's cells.
@@ -112,7 +110,7 @@ class DwaPolicy:
         # apart, and only the points the walk along each arc cannot vouch for
         # (baselines.dwa_kernel): most of a run's time in a rooms world through the echo
         # memory's crowded patches went on asking them all (benchmarks/dwa_speed.py).
-        self._read_m = clearance_read_m(self._s_m, params) + _ROUNDING_M
+        self._read_m = clearance_read_m(self._s_m, params)
         rays = params.wander_rays
         # (D,) radians, 0 (straight on) included, every direction around the robot
         self._ray_offsets = (np.arange(rays) - rays // 2) * (2 * np.pi / rays)

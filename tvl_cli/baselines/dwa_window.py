@@ -22,6 +22,9 @@ import numpy as np
 
 from tvl_cli.core.angles import wrap_rad
 
+# Far above the rounding of a clearance, far below any distance the window tells apart.
+_CLEARANCE_ROUNDING_M = 1e-6
+
 
 @dataclass(frozen=True, slots=True)
 class DwaParams:
@@ -114,9 +117,9 @@ def clearance_read_m(s_m: np.ndarray, p: DwaParams) -> float:
     no difference: there a point's spare clearance exceeds the longest step to the next point
     (or from the start to the first), so the point after it bounds the free distance, and a
     clearance given as inf gives the same free distances bit for bit. Callers ask for no
-    farther obstacle than this."""
+    farther obstacle than this (a hair beyond, for the rounding of a clearance)."""
     longest_step_m = float(np.max(np.diff(s_m, prepend=0.0)))
-    return p.margin_m + longest_step_m
+    return p.margin_m + longest_step_m + _CLEARANCE_ROUNDING_M
 
 
 def admissible(v_mps: np.ndarray, free_m: np.ndarray, p: DwaParams) -> np.ndarray:
