@@ -10,9 +10,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from tvl_cli.commands.train import ORACLE_LABELS, train_from_logs
+from tvl_cli.commands.train import ORACLE_LABELS, train_each_from_logs, train_from_logs
 from tvl_cli.core.fam import Fam
-from tvl_cli.core.fam_config import MULTI, SINGLE, FamConfig
+from tvl_cli.core.fam_config import DESIGNED, MULTI, SINGLE, FamConfig
 from tvl_cli.core.labels import HEARD_LABELS
 from tvl_cli.core.method import PAPER
 
@@ -65,3 +65,19 @@ def test_the_oracle_labels_label_every_trajectory_of_every_point_from_the_map() 
     assert total == pytest.approx(7 * driven.fam.experience_table(0).sum(), rel=1e-9)
     assert oracle.provenance["labels_from"] == ORACLE_LABELS
     assert "labels_from" not in driven.provenance
+
+
+@pytest.mark.slow  # over a second
+@pytest.mark.parametrize("true_labels", [False, True], ids=["heard", "oracle"])
+def test_configurations_trained_together_are_each_as_trained_alone(true_labels: bool) -> None:
+    # One reading, perceiving and labelling of the log for all three: each FAM is bit for bit
+    # the one `tvl train` makes alone, with its own provenance.
+    square = ROOT / "logs" / "square-s1.h5"
+    configs = [SINGLE, MULTI, DESIGNED]
+    together = train_each_from_logs([square], configs, true_labels=true_labels)
+    for config, summary in zip(configs, together, strict=True):
+        alone = train_from_logs([square], config, true_labels=true_labels)
+        assert digest(summary.fam, config) == digest(alone.fam, config)
+        assert summary.provenance == alone.provenance
+        assert summary.exemplars == alone.exemplars > 0
+    assert len({digest(s.fam, c) for s, c in zip(together, configs, strict=True)}) == 3

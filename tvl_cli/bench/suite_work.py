@@ -36,7 +36,7 @@ from tvl_cli.commands.baseline import dwa_session, qlearn_session
 from tvl_cli.commands.contact_autopsy import run_autopsy
 from tvl_cli.commands.learn import LearnRequest
 from tvl_cli.commands.run import run_method, run_record, run_robot
-from tvl_cli.commands.train import train_from_logs, write_trained
+from tvl_cli.commands.train import train_each_from_logs, write_trained
 from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
 from tvl_cli.core.competence import is_competent_run
 from tvl_cli.core.errors import BadInput
@@ -47,8 +47,8 @@ from tvl_cli.core.robot_profiles import DEFAULT_ROBOT
 from tvl_cli.io.famfile import FamFile, read_fam
 from tvl_cli.io.logreader import file_sha256
 from tvl_cli.sim.worldmap import WorldMap, load_world
-from tvl_cli.sweep.layout import LogRequest, TrainRequest, learning_tag
-from tvl_cli.sweep.work import learn_log, train_fam
+from tvl_cli.sweep.layout import LogRequest, learning_tag
+from tvl_cli.sweep.work import learn_log
 
 Row = dict[str, Any]
 LOGS, FAMS, WORLDS = "logs", "fams", "worlds"
@@ -137,24 +137,41 @@ def _learnt(cell: LearntCell, root: Path, world: WorldMap) -> list[Row]:
             cell.method,
         )
         learn_log(LogRequest(learning, "--size"))
-    fams: dict[FamPlan, tuple[Path, FamFile]] = {}
+    paths: dict[FamPlan, Path] = {}
     for plan in dict.fromkeys(run.fam for run in cell.runs if run.fam is not None):
         snapshot = "" if plan.until_minute is None else f"-at{plan.until_minute!r}"
         oracle = "-oracle-labels" if plan.true_labels else ""
-        path = root / FAMS / f"{log.stem}-{plan.config.name}{snapshot}{oracle}{_pooled(plan)}.h5"
-        if not path.exists() and plan.true_labels:
-            trained = train_from_logs([log], plan.config, cell.method, true_labels=True)
-            write_trained(path, trained)
-        elif not path.exists() and plan.pooled:
-            logs = [log, *(_unchanged(pooled, digest) for pooled, digest in plan.pooled)]
-            write_trained(path, train_from_logs(logs, plan.config, cell.method))
-        elif not path.exists():
-            train_fam(TrainRequest(path, log, plan.config, cell.method, plan.until_minute))
-        fams[plan] = (path, read_fam(path))
+        paths[plan] = (
+            root / FAMS / f"{log.stem}-{plan.config.name}{snapshot}{oracle}{_pooled(plan)}.h5"
+        )
+    _train_missing(log, [plan for plan, path in paths.items() if not path.exists()], paths, cell)
+    fams = {plan: (path, read_fam(path)) for plan, path in paths.items()}
     choice = MethodChoice(cell.method, cell.method_name)
     driven = [(run, *fams[run.fam]) for run in cell.runs if run.fam is not None]
     rows = _drive_fams(world, cell.seed, cell.run_minutes, driven, choice)
     return [{**row, "method": cell.method_name} for row in rows]
+
+
+def _train_missing(
+    log: Path, missing: list[FamPlan], paths: dict[FamPlan, Path], cell: LearntCell
+) -> None:
+    """Train and write the FAMs not yet written, as `tvl train` would each, those from the
+    same logs and labels together: the log is read, perceived and labelled once for them
+    all (commands.train.train_each_from_logs)."""
+    together: dict[tuple[bool, tuple[tuple[str, str], ...], float | None], list[FamPlan]] = {}
+    for plan in missing:
+        together.setdefault((plan.true_labels, plan.pooled, plan.until_minute), []).append(plan)
+    for (true_labels, pooled, until_minute), plans in together.items():
+        logs = [log, *(_unchanged(other, digest) for other, digest in pooled)]
+        trained = train_each_from_logs(
+            logs,
+            [plan.config for plan in plans],
+            cell.method,
+            until_minute=until_minute,
+            true_labels=true_labels,
+        )
+        for plan, summary in zip(plans, trained, strict=True):
+            write_trained(paths[plan], summary)
 
 
 def _pooled(plan: FamPlan) -> str:

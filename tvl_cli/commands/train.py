@@ -32,7 +32,7 @@ from tvl_cli.core.training import (
     check_init_velocity,
     train_heard,
     train_params,
-    train_sessions,
+    train_sessions_each,
 )
 from tvl_cli.io.fam_config_file import resolve_fam_config
 from tvl_cli.io.famfile import write_fam
@@ -103,6 +103,26 @@ def train_from_logs(
     `true_labels` labels every point's seven trajectories from its session's world and the
     true pose instead (sim.true_arcs): the oracle labels of the generalization benchmark, a
     reference that reads the map, never a method; its provenance says so."""
+    (summary,) = train_each_from_logs(
+        paths, [config], method, on_progress, until_minute, symmetric, init_velocity_mps,
+        true_labels,
+    )  # fmt: skip
+    return summary
+
+
+def train_each_from_logs(
+    paths: Sequence[Path],
+    configs: Sequence[FamConfig],
+    method: Method | MethodChoice = NOT_GIVEN,
+    on_progress: Callable[[int, int], None] = lambda done, total: None,
+    until_minute: float | None = None,
+    symmetric: bool = True,
+    init_velocity_mps: float = DEFAULT_INIT_VELOCITY_MPS,
+    true_labels: bool = False,
+) -> list[TrainSummary]:
+    """train_from_logs for each of several configurations, bit for bit, with the logs read,
+    their rings perceived and their points labelled once for them all; each summary's wall
+    time is that of training them together."""
     started = time.perf_counter()
     if until_minute is not None and not (math.isfinite(until_minute) and until_minute >= 0):
         raise BadInput(f"--until-minute {until_minute:g} must be a number of minutes >= 0")
@@ -112,7 +132,7 @@ def train_from_logs(
     made_by, differing = training_method(logs, as_choice(method))
     params = train_params(made_by, symmetric, init_velocity_mps)
     check_init_velocity(params, robot)
-    fam = Fam(config, [t.name for t in robot.trajectories], params.init_velocity_mps)
+    fams = [Fam(c, [t.name for t in robot.trajectories], params.init_velocity_mps) for c in configs]
     sessions, repeats = distinct_sessions(logs)
     until_s = None if until_minute is None else until_minute * 60.0
     chosen = [
@@ -120,27 +140,32 @@ def train_from_logs(
         for s in sessions
     ]
     if true_labels:
-        total = _train_true(fam, chosen, robot, params, on_progress)
+        total = _train_true(fams, chosen, robot, params, on_progress)
     else:
-        total = train_sessions(fam, [learnt for learnt, _ in chosen], robot, params, on_progress)
-    return TrainSummary(
-        fam=fam,
-        robot=robot,
-        made_by=made_by,
-        training=params,
-        provenance={
-            **provenance(logs, params, config, differing),
-            "until_minute": until_minute,
-            "repeated_sessions": [r.text() for r in repeats],
-            **({"labels_from": ORACLE_LABELS} if true_labels else {}),
-        },
-        exemplars=total,
-        episodes=sum(len(learnt.episodes) for learnt, _ in chosen),
-        rules_touched=_rules_touched(fam),
-        rules_total=config.rule_count,
-        wall_s=time.perf_counter() - started,
-        repeated_sessions=repeats,
-    )
+        learnt = [learnt for learnt, _ in chosen]
+        total = train_sessions_each(fams, learnt, robot, params, on_progress)
+    wall_s = time.perf_counter() - started
+    return [
+        TrainSummary(
+            fam=fam,
+            robot=robot,
+            made_by=made_by,
+            training=params,
+            provenance={
+                **provenance(logs, params, fam.config, differing),
+                "until_minute": until_minute,
+                "repeated_sessions": [r.text() for r in repeats],
+                **({"labels_from": ORACLE_LABELS} if true_labels else {}),
+            },
+            exemplars=total,
+            episodes=sum(len(learnt.episodes) for learnt, _ in chosen),
+            rules_touched=_rules_touched(fam),
+            rules_total=fam.config.rule_count,
+            wall_s=wall_s,
+            repeated_sessions=repeats,
+        )
+        for fam in fams
+    ]
 
 
 # What a FAM trained on the oracle labels records of them in its provenance.
@@ -154,14 +179,14 @@ def _rules_touched(fam: Fam) -> int:
 
 
 def _train_true(
-    fam: Fam,
+    fams: Sequence[Fam],
     chosen: list[tuple[SessionEpisodes, Session]],
     robot: RobotConfig,
     params: TrainParams,
     on_progress: Callable[[int, int], None],
 ) -> int:
-    """Train on every trajectory of every point, labelled from its session's world and its
-    true pose (the oracle labels); the exemplars read."""
+    """Train each FAM on every trajectory of every point, labelled (once for them all) from
+    its session's world and its true pose (the oracle labels); the exemplars read."""
     total = sum(e.exemplar_count for learnt, _ in chosen for e in learnt.episodes)
     done = 0
     reach = params.reach_m(robot)
@@ -170,7 +195,8 @@ def _train_true(
         arcs = TrueArcs(world, robot, collision_clearance_m(robot))
         for episode in learnt.episodes:
             heard = HeardEpisode(episode, arcs.distances_m(episode.pose, reach))
-            train_heard(fam, heard, robot, params)
+            for fam in fams:
+                train_heard(fam, heard, robot, params)
             done += episode.exemplar_count
             on_progress(done, total)
     return total

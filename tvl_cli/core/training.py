@@ -190,15 +190,30 @@ def train_sessions(
     on_progress: Callable[[int, int], None] = lambda done, total: None,
 ) -> int:
     """Train the FAM on the sessions in order, each as its learner did; the exemplars read."""
+    return train_sessions_each([fam], sessions, robot, params, on_progress)
+
+
+def train_sessions_each(
+    fams: Sequence[Fam],
+    sessions: Sequence[SessionEpisodes],
+    robot: RobotConfig,
+    params: TrainParams,
+    on_progress: Callable[[int, int], None] = lambda done, total: None,
+) -> int:
+    """train_sessions for each of several FAMs, every session labelled once for them all
+    (labelled_episodes: the episodes in the order a SessionTrainer trains them); the
+    exemplars read."""
     total = sum(e.exemplar_count for s in sessions for e in s.episodes)
     done = 0
     driven = replace(params, labels=BUMP_LABELS)
     for session in sessions:
-        trainer = SessionTrainer(fam, robot, driven if session.driven_only else params)
-        for episode in session.episodes:
-            trainer.add(episode)
-            done += episode.exemplar_count
+        rule = driven if session.driven_only else params
+        for labelled in labelled_episodes(session, robot, rule):
+            for fam in fams:
+                if rule.labels == HEARD_LABELS:
+                    train_heard(fam, labelled, robot, rule)
+                else:
+                    train_episode(fam, labelled.episode, robot, rule)
+            done += labelled.episode.exemplar_count
             on_progress(done, total)
-        if session.ended:
-            trainer.finish()
     return total
