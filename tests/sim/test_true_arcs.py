@@ -70,3 +70,24 @@ def test_a_clearance_moves_every_collision_point_nearer() -> None:
     touching = TrueArcs(BOX, ROBOT).distances_m(pose, 10.0)[0, 3]
     clear = TrueArcs(BOX, ROBOT, clearance_m=0.15).distances_m(pose, 10.0)[0, 3]
     assert clear == pytest.approx(touching - 0.15, abs=1e-4)
+
+
+@pytest.mark.parametrize("seed", [2, 9])
+def test_gathering_the_outline_by_cells_finds_what_every_point_would(seed: int) -> None:
+    # A furnished rooms world, from anywhere in it: the points of the cells round a place
+    # give the very distances that seeking among the whole outline gives.
+    from tvl_cli.sim.worldgen import generate_world
+
+    world = parse_world(generate_world("rooms", None, None, seed), "rooms")
+    arcs = TrueArcs(world, ROBOT, clearance_m=0.15)
+    everything = TrueArcs(world, ROBOT, clearance_m=0.15)
+    everything._near = lambda x, y, within_m: everything._points  # type: ignore[method-assign]
+    outline = outline_points(world)
+    rng = np.random.default_rng(seed)
+    low, high = outline.min(axis=0), outline.max(axis=0)
+    poses = rng.uniform((*(low - 1.0), -math.pi), (*(high + 1.0), math.pi), (300, 3))
+    reach = label_reach_m(max(ROBOT.v_max_mps), 0.1, 0.15)
+    gathered, sought = arcs.distances_m(poses, reach), everything.distances_m(poses, reach)
+    assert gathered.tobytes() == sought.tobytes()
+    assert np.isfinite(gathered).any() and np.isinf(gathered).any()
+    assert len(arcs._near(*poses[0, :2], reach)) < len(outline)  # fewer points asked

@@ -19,6 +19,9 @@ from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.worldmap import WorldMap
 
 OUTLINE_SPACING_M = 0.01
+# The outline's points are kept by the square cells of a grid this wide, so that the points
+# near a place are gathered from the cells round it rather than sought among them all.
+OUTLINE_CELL_M = 0.5
 
 
 def outline_points(world: WorldMap) -> np.ndarray:
@@ -42,8 +45,36 @@ class TrueArcs:
     def __init__(self, world: WorldMap, robot: RobotConfig, clearance_m: float = 0.0) -> None:
         self._robot = robot
         self._body_radius_m = robot.radius_m + clearance_m  # the body grown by the clearance
-        self._points = np.ascontiguousarray(outline_points(world))
+        points = outline_points(world)  # (K, 2) metres
         self._curvatures = np.array([t.curvature_per_m for t in robot.trajectories])
+        self._low = points.min(axis=0) if len(points) else np.zeros(2)  # the grid's corner
+        columns, rows = np.floor((points.max(axis=0, initial=0.0) - self._low) / OUTLINE_CELL_M)
+        self._columns, self._rows = int(columns) + 1, int(rows) + 1
+        cell = self._cells_of(points)  # (K,)
+        order = np.argsort(cell, kind="stable")
+        self._points = np.ascontiguousarray(points[order])  # cell by cell
+        # Cell c's points are self._points[self._first[c]:self._first[c + 1]].
+        self._first = np.searchsorted(cell[order], np.arange(self._columns * self._rows + 1))
+
+    def _cells_of(self, points: np.ndarray) -> np.ndarray:
+        """(K,) the grid cell of each of points (K, 2), row by row."""
+        column, row = np.floor((points - self._low) / OUTLINE_CELL_M).astype(np.int64).T
+        return row * self._columns + column
+
+    def _near(self, x: float, y: float, within_m: float) -> np.ndarray:
+        """(k, 2) the outline's points of the cells that hold every point within within_m of
+        (x, y): what a trajectory from there can meet."""
+        if not math.isfinite(within_m):
+            return self._points
+        low = np.floor((np.array([x, y]) - within_m - self._low) / OUTLINE_CELL_M)
+        high = np.floor((np.array([x, y]) + within_m - self._low) / OUTLINE_CELL_M)
+        c0, r0 = (max(0, int(v)) for v in low)
+        c1, r1 = min(self._columns - 1, int(high[0])), min(self._rows - 1, int(high[1]))
+        if c0 > c1 or r0 > r1:
+            return np.empty((0, 2))
+        rows = range(r0 * self._columns, r1 * self._columns + 1, self._columns)
+        runs = [self._points[self._first[r + c0] : self._first[r + c1 + 1]] for r in rows]
+        return np.ascontiguousarray(np.concatenate(runs))
 
     def distances_m(self, poses: np.ndarray, reach_m: float) -> np.ndarray:
         """(N, T) metres along each trajectory from each true pose (N, 3) to its collision
@@ -59,12 +90,11 @@ class TrueArcs:
         self, x: float, y: float, headings: np.ndarray, reach_m: float
     ) -> np.ndarray:
         """(V, T) metres: distances_m from (x, y) facing each of `headings` (V,) rad, with the
-        outline near the place sought once for them all."""
+        outline near the place gathered once for them all."""
         from tvl_cli.core.contacts_kernel import first_contacts_in_windows  # compiled
 
-        gap = self._points - (x, y)  # (K, 2) metres
-        within = reach_m + self._body_radius_m
-        near = np.ascontiguousarray(self._points[np.einsum("ij,ij->i", gap, gap) <= within**2])
+        # The points farther than the reach and the body are passed over by the kernel.
+        near = self._near(x, y, reach_m + self._body_radius_m)
         poses = np.stack([np.full(len(headings), x), np.full(len(headings), y), headings], 1)
         found = np.empty((len(headings), len(self._curvatures)))
         views = len(headings)
