@@ -23,10 +23,9 @@ from pathlib import Path
 from timing import (
     TVL,
     add_against_option,
-    figure_line,
     paired_commands,
-    realtime_against,
     realtime_figures,
+    realtime_line,
     run_process,
     tvl_in,
 )
@@ -68,11 +67,7 @@ def main() -> None:
         f"whole process, median of {args.repeats} (real time: simulated s per CPU s)"
     )
     for sensing, f in figures.items():
-        realtime = f["realtime_cpu"]
-        assert realtime is not None
-        note = realtime_against(f["cpu_ratio_against"], args.against, f["against_realtime_cpu"])
-        label = f"{sensing} (wall {f['realtime_wall']:,.0f}x)"
-        print(figure_line(label, f"{realtime:,.0f}x real time", None, None, note))
+        print(realtime_line(sensing, f, args.against))
 
 
 if __name__ == "__main__":

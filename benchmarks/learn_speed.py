@@ -23,10 +23,9 @@ from timing import (
     TVL,
     Seconds,
     add_against_option,
-    figure_line,
     paired,
-    realtime_against,
     realtime_figures,
+    realtime_line,
     run_process,
     tvl_in,
 )
@@ -74,19 +73,7 @@ def main() -> None:
         f"whole process, median of {args.repeats} (real time: simulated s per CPU s)"
     )
     for config, f in figures.items():
-        realtime = f["realtime_cpu"]
-        assert realtime is not None
-        target = TARGET_REALTIME.get(config)
-        note = realtime_against(f["cpu_ratio_against"], args.against, f["against_realtime_cpu"])
-        print(
-            figure_line(
-                f"{config} (wall {f['realtime_wall']:,.0f}x)",
-                f"{realtime:,.0f}x real time",
-                None if target is None else f">= {target:,.0f}x",
-                None if target is None else realtime >= target,
-                note,
-            )
-        )
+        print(realtime_line(config, f, args.against, TARGET_REALTIME.get(config)))
 
 
 if __name__ == "__main__":

@@ -24,10 +24,9 @@ from pathlib import Path
 from timing import (
     TVL,
     add_against_option,
-    figure_line,
     paired_commands,
-    realtime_against,
     realtime_figures,
+    realtime_line,
     run_process,
     tvl_in,
 )
@@ -75,18 +74,8 @@ def main() -> None:
         f"median of {args.repeats} (real time: simulated s per CPU s)"
     )
     for config, f in figures.items():
-        realtime, target = f["realtime_cpu"], TARGET_REALTIME[config]
-        assert realtime is not None
-        note = realtime_against(f["cpu_ratio_against"], args.against, f["against_realtime_cpu"])
-        print(
-            figure_line(
-                f"{config} (wall {f['realtime_wall']:,.0f}x, {f['us_per_step_cpu']:.0f} µs a step)",
-                f"{realtime:,.0f}x real time",
-                f">= {target:,.0f}x",
-                realtime >= target,
-                note,
-            )
-        )
+        step = f", {f['us_per_step_cpu']:.0f} µs a step"
+        print(realtime_line(config, f, args.against, TARGET_REALTIME[config], step))
 
 
 if __name__ == "__main__":

@@ -117,6 +117,30 @@ def realtime_against(
     return f"{1.0 / ratio:.2f}x the speed of {against} ({their_realtime:,.0f}x), paired"
 
 
+def realtime_line(
+    label: str,
+    figures: dict[str, float | None],
+    against: Path | None,
+    target_x: float | None = None,
+    detail: str = "",
+) -> str:
+    """The printed line of one command's realtime_figures: its real-time factor by CPU, the
+    wall-clock one (and any `detail`) beside its label, its target if it has one, and the
+    paired note against the baseline."""
+    realtime = figures["realtime_cpu"]
+    assert realtime is not None
+    note = realtime_against(figures["cpu_ratio_against"], against, figures["against_realtime_cpu"])
+    wall = figures["realtime_wall"]
+    assert wall is not None
+    return figure_line(
+        f"{label} (wall {wall:,.0f}x{detail})",
+        f"{realtime:,.0f}x real time",
+        None if target_x is None else f">= {target_x:,.0f}x",
+        None if target_x is None else realtime >= target_x,
+        note,
+    )
+
+
 def tvl_in(directory: Path) -> str:
     """The `tvl` of another checkout (its .venv) or of a virtual environment."""
     for candidate in (directory / ".venv" / "bin" / "tvl", directory / "bin" / "tvl"):
