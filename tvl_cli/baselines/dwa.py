@@ -119,13 +119,12 @@ class DwaPolicy:
         self.last = Command(0.0, 0.0)
         self._turn_side = 1  # keeps turning the way it last turned when it must spin free
 
-    def _free(self, geometry: StaticGeometry, pose: Pose, points: np.ndarray) -> np.ndarray:
-        """(N,) free distances along paths sampled at (N, K, 2) points every arc step
-        (baselines.dwa_kernel)."""
+    def _free(self, geometry: StaticGeometry, here: float, points: np.ndarray) -> np.ndarray:
+        """(N,) free distances along paths sampled at (N, K, 2) points every arc step, from a
+        pose `here` metres clear of the obstacles (baselines.dwa_kernel)."""
         from tvl_cli.baselines.dwa_kernel import walked_free_distances  # compiled
 
         radius = self.robot.radius_m
-        here = clearance_m(geometry, pose[0], pose[1], radius)
         # Too near is within the margin or, for a robot already that near, nearer than now.
         allowed = min(self.params.margin_m, here)
         free = np.empty(len(points))  # (N,) metres
@@ -138,8 +137,8 @@ class DwaPolicy:
         )  # fmt: skip
         return free
 
-    def _wander(self, geometry: StaticGeometry, pose: Pose) -> float:
-        free = self._free(geometry, pose, ray_points(pose, self._ray_offsets, self._s_m))
+    def _wander(self, geometry: StaticGeometry, pose: Pose, here: float) -> float:
+        free = self._free(geometry, here, ray_points(pose, self._ray_offsets, self._s_m))
         return wander_heading(pose[2], self._ray_offsets, free, self.params, self._turn_side)
 
     def interrupt(self) -> None:
@@ -154,10 +153,12 @@ class DwaPolicy:
         candidates = dynamic_window(
             self.last.linear_mps, self.last.angular_radps, period, self.params
         )
-        free = self._free(geometry, pose, arc_points(pose, candidates, self._s_m))  # (N,) m
+        # The body's clearance where it stands, which every path's free distance starts from.
+        here = clearance_m(geometry, pose[0], pose[1], self.robot.radius_m)
+        free = self._free(geometry, here, arc_points(pose, candidates, self._s_m))  # (N,) m
         predicted = predicted_poses(pose, candidates, period, self.params)  # (N, 3)
         if self.goal_xy is None:
-            wanted: np.ndarray | float = self._wander(geometry, pose)
+            wanted: np.ndarray | float = self._wander(geometry, pose, here)
         else:
             wanted = goal_headings(predicted, self.goal_xy)
         heading = heading_scores(predicted, wanted)
