@@ -92,10 +92,11 @@ def test_a_log_killed_in_its_first_session_through_a_memory_appends_and_trains(
     # What is kept of the killed session is read as it was learnt, through its memory: the
     # same learner appends to it, and the log trains, with no option but the memory's.
     memory = ("--memory", "points", "--memory-window", "60")
+    # Ten simulated hours: far more than learning gets through before the kill, however fast.
     for attempt, delay in enumerate((1.5, 3.0)):
         log, fam = tmp_path / f"log{attempt}.h5", tmp_path / f"fam{attempt}.h5"
         process = subprocess.Popen(
-            [TVL, "learn", str(SQUARE), "--log", str(log), "--minutes", "15", *memory],
+            [TVL, "learn", str(SQUARE), "--log", str(log), "--minutes", "600", *memory],
             stdout=subprocess.DEVNULL,
             stderr=subprocess.DEVNULL,
         )
