@@ -19,7 +19,7 @@ _SLACK_IN = 1.0 - 1e-9
 
 @kernel
 def first_contacts_in_windows(
-    poses, curvatures, points, first, stop, body_radius_m, reach_m, found
+    poses, curvatures, points, first, stop, body_radius_m, reach_m, nearest_first, found
 ):  # fmt: skip
     """Fill found (N, T) with the arc length (m) the body's centre can travel from each pose
     of poses (N, 3) x, y, theta along each trajectory of curvatures (T,) 1/m before the body
@@ -30,7 +30,9 @@ def first_contacts_in_windows(
     No arc is shorter than its chord, so the body meets a point no sooner than the point's
     distance from the pose less the body's radius: a point is tested against a trajectory
     only while that is below the nearest contact found on it so far (reach_m at first), and
-    most of a window's points are passed over without the exact test."""
+    most of a window's points are passed over without the exact test. With nearest_first,
+    each window's points lie in order of distance from its pose, so the first that none of
+    the trajectories can meet sooner than found ends the window: the rest lie farther."""
     r = body_radius_m
     within_squared = (reach_m + r) * (reach_m + r)
     for i in range(poses.shape[0]):
@@ -38,6 +40,7 @@ def first_contacts_in_windows(
         c, s = math.cos(theta), math.sin(theta)
         for t in range(curvatures.shape[0]):
             found[i, t] = reach_m
+        farthest = reach_m  # the farthest contact found on any trajectory, or the reach
         for k in range(first[i], stop[i]):
             dx, dy = points[k, 0] - x, points[k, 1] - y
             ahead = dx * c + dy * s
@@ -46,7 +49,12 @@ def first_contacts_in_windows(
             if distance_squared <= r * r:
                 continue  # overlapped already: placed off its object
             if distance_squared > within_squared:
+                if nearest_first:
+                    break
                 continue  # beyond the reach along any trajectory
+            if nearest_first and distance_squared > (farthest + r) * (farthest + r) * _SLACK_OUT:
+                break  # met on no trajectory sooner than what is found on it, nor are the rest
+            improved = False
             for t in range(curvatures.shape[0]):
                 # Met no sooner than its distance less the body: it cannot better what is found.
                 bound = found[i, t] + r
@@ -58,6 +66,7 @@ def first_contacts_in_windows(
                         along = ahead - math.sqrt(max(r * r - left * left, 0.0))
                         if along < found[i, t]:
                             found[i, t] = along
+                            improved = True
                     continue
                 radius = 1.0 / abs(k_t)
                 across = (1.0 if k_t > 0.0 else -1.0) * left - radius
@@ -77,6 +86,11 @@ def first_contacts_in_windows(
                 turned = bearing - math.acos(cos_alpha)
                 if turned > 0.0 and radius * turned < found[i, t]:
                     found[i, t] = radius * turned
+                    improved = True
+            if improved:
+                farthest = found[i, 0]
+                for t in range(1, curvatures.shape[0]):
+                    farthest = found[i, t] if found[i, t] > farthest else farthest
         for t in range(curvatures.shape[0]):
             if found[i, t] >= reach_m:
                 found[i, t] = math.inf

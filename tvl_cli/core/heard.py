@@ -162,6 +162,7 @@ class HeardLabeller:
                 stop,
                 self._robot.radius_m + collision_clearance_m(self._robot),
                 self._reach_m,
+                False,  # a window's echoes lie in the order they were read
                 found,
             )
             distances[heard] = found

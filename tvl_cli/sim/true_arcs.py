@@ -4,8 +4,8 @@ generalization benchmark), never any method.
 
 A trajectory's true collision point from a pose is where the body, driven along it, first
 touches a wall, pillar or ring wall: the same contact core.heard finds against echoes, found
-against the world's outlines as points a centimetre apart (the body's edge then passes
-within a hundredth of a millimetre of the outline between two of them).
+against the world's outlines as points just so far apart that the body's edge passes within
+half a millimetre of the outline between two of them, under the sonar's millimetre.
 """
 
 from __future__ import annotations
@@ -18,21 +18,38 @@ from tvl_cli.core.labels import velocity_labels
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.sim.worldmap import WorldMap
 
-OUTLINE_SPACING_M = 0.01
+# How far the body's edge may pass inside the outline between two of its points: the points
+# lie as far apart as that allows (outline_spacing_m), the fewer for a contact search to ask.
+OUTLINE_TOLERANCE_M = 0.0005
 # The outline's points are kept by the square cells of a grid this wide, so that the points
 # near a place are gathered from the cells round it rather than sought among them all.
 OUTLINE_CELL_M = 0.5
 
 
-def outline_points(world: WorldMap) -> np.ndarray:
-    """(K, 2) metres: the world's walls, pillars and ring walls as points a centimetre apart."""
+def outline_spacing_m(radius_m: float) -> float:
+    """The most two points of an outline may lie apart for a circle of radius_m, touching
+    both, to reach no more than OUTLINE_TOLERANCE_M past the straight line between them:
+    twice the half-chord of the circle that deep."""
+    depth = min(OUTLINE_TOLERANCE_M, radius_m)
+    return 2.0 * math.sqrt(depth * (2.0 * radius_m - depth))
+
+
+def outline_points(world: WorldMap, body_radius_m: float) -> np.ndarray:
+    """(K, 2) metres: the world's walls, pillars and ring walls as points close enough that a
+    body of body_radius_m passes no more than OUTLINE_TOLERANCE_M inside an outline between
+    two of them. A wall is its own chord. Round a pillar the body's curve and the pillar's
+    add up, as one circle of radius r R / (r + R) would; a ring wall curves away from the
+    body inside it, whose chords are met first."""
     parts = [np.zeros((0, 2))]
+    body_spacing_m = outline_spacing_m(body_radius_m)
     for x1, y1, x2, y2 in world.segments:
-        n = max(2, math.ceil(math.hypot(x2 - x1, y2 - y1) / OUTLINE_SPACING_M) + 1)
+        n = max(2, math.ceil(math.hypot(x2 - x1, y2 - y1) / body_spacing_m) + 1)
         t = np.linspace(0.0, 1.0, n)[:, None]
         parts.append(np.array([x1, y1]) * (1 - t) + np.array([x2, y2]) * t)
-    for x, y, r in (*world.discs, *world.rings):
-        count = max(8, math.ceil(2 * math.pi * r / OUTLINE_SPACING_M))
+    circles = [(disc, body_radius_m * disc[2] / (body_radius_m + disc[2])) for disc in world.discs]
+    circles += [(ring, body_radius_m) for ring in world.rings]
+    for (x, y, r), curve_m in circles:
+        count = max(8, math.ceil(2 * math.pi * r / outline_spacing_m(curve_m)))
         angle = np.linspace(0.0, 2 * math.pi, count, endpoint=False)
         parts.append(np.stack([x + r * np.cos(angle), y + r * np.sin(angle)], axis=1))
     return np.concatenate(parts)
@@ -45,7 +62,7 @@ class TrueArcs:
     def __init__(self, world: WorldMap, robot: RobotConfig, clearance_m: float = 0.0) -> None:
         self._robot = robot
         self._body_radius_m = robot.radius_m + clearance_m  # the body grown by the clearance
-        points = outline_points(world)  # (K, 2) metres
+        points = outline_points(world, self._body_radius_m)  # (K, 2) metres
         self._curvatures = np.array([t.curvature_per_m for t in robot.trajectories])
         self._low = points.min(axis=0) if len(points) else np.zeros(2)  # the grid's corner
         columns, rows = np.floor((points.max(axis=0, initial=0.0) - self._low) / OUTLINE_CELL_M)
@@ -93,8 +110,11 @@ class TrueArcs:
         outline near the place gathered once for them all."""
         from tvl_cli.core.contacts_kernel import first_contacts_in_windows  # compiled
 
-        # The points farther than the reach and the body are passed over by the kernel.
         near = self._near(x, y, reach_m + self._body_radius_m)
+        # Nearest first, so that each view stops at the first point too far to be met sooner
+        # than what it found: one ordering serves every view, all from the same place.
+        offset = near - np.array([x, y])
+        near = np.ascontiguousarray(near[np.argsort(np.einsum("ij,ij->i", offset, offset))])
         poses = np.stack([np.full(len(headings), x), np.full(len(headings), y), headings], 1)
         found = np.empty((len(headings), len(self._curvatures)))
         views = len(headings)
@@ -106,6 +126,7 @@ class TrueArcs:
             np.full(views, len(near), np.int64),
             self._body_radius_m,
             reach_m,
+            True,
             found,
         )
         found[found > reach_m] = math.inf
