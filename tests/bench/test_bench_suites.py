@@ -123,6 +123,37 @@ def test_the_terminal_table_names_each_row_and_what_it_reads(
     assert any(line.startswith("square · single (controller)") for line in lines)
 
 
+def test_the_world_table_gives_each_rows_competent_runs_and_speed_world_by_world(
+    benched: tuple[Path, dict], controllers: tuple[Path, Path]
+) -> None:
+    out, document = benched
+    policy, fam = controllers
+    again = [*TINY, "--controller", f"turn-left={policy}:act", "--controller", f"square={fam}"]
+    done = subprocess.run(
+        [TVL, "bench", "generalization", *again, "--out", out, "--by-world", "--markdown"],
+        capture_output=True, text=True, timeout=120,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    lines = done.stdout.splitlines()
+    start = next(i for i, line in enumerate(lines) if line.startswith("| world |"))
+    header = [cell.strip() for cell in lines[start].strip("|").split("|")]
+    assert header[1:] == ["default · single", "dwa-map", "turn-left", "square · single"]
+    table = {}
+    for line in lines[start + 2 : start + 4]:
+        world, *cells = (cell.strip() for cell in line.strip("|").split("|"))
+        table[world] = dict(zip(header[1:], cells, strict=True))
+    assert set(table) == {"rooms-s1001", "rooms-s1002"}
+    # Each cell, from the journal's rows counted here.
+    for world, cells in table.items():
+        for column, cell in cells.items():
+            entry, _, config = column.partition(" · ")
+            key = (world, entry, config or None)
+            runs = [r for r in document["rows"] if (r["world"], r["entry"], r.get("config")) == key]
+            competent = sum(r["competent"] for r in runs)
+            speed = sum(r["mean_speed_mps"] for r in runs) / len(runs)
+            assert cell == f"{competent}/{len(runs)}, {speed:.2f} m/s", (world, column)
+
+
 def test_a_row_is_what_tvl_run_gives_its_fam(benched: tuple[Path, dict], tmp_path: Path) -> None:
     out, document = benched
     row = next(

@@ -1,7 +1,8 @@
 """The generalization benchmark's figures from its rows (`tvl bench generalization`): for each
 entry (ours, a reference, a controller) and configuration, the runs competent, goals
 reached, contacts a minute and avoid speed, each share and mean with its 95 % interval over
-the trials, beside the targets; and the contact autopsy of the FAM-driven runs.
+the trials, beside the targets; the contact autopsy of the FAM-driven runs; and, world by
+world, the runs competent and their mean speed (`--by-world`): where the runs fail.
 
 A trial's figure is over every run of that trial (every world and behaviour); the interval
 is Student's t over the trials' figures, as a sweep's intervals are over its seeds.
@@ -100,6 +101,35 @@ def summarise(rows: Sequence[Row], behaviours: Sequence[str]) -> list[Figures]:
     return [
         replace(f, below_ceiling=top - f.competent / f.runs if f.runs else None) for f in figures
     ]
+
+
+@dataclass(frozen=True, slots=True)
+class WorldFigures:
+    """One entry's runs with one configuration in one world, every behaviour and trial."""
+
+    competent: int
+    runs: int
+    mean_speed_mps: float  # over the runs, each run's mean speed
+
+
+def by_world(rows: Sequence[Row]) -> dict[tuple[str, str | None], dict[str, WorldFigures]]:
+    """(entry, configuration) -> world -> its figures there, in the order the rows first
+    give each."""
+    groups: dict[tuple[str, str | None], dict[str, list[Row]]] = {}
+    for row in rows:
+        key = (row["entry"], row.get("config"))
+        groups.setdefault(key, {}).setdefault(row["world"], []).append(row)
+    return {
+        key: {
+            world: WorldFigures(
+                competent=sum(bool(r["competent"]) for r in runs),
+                runs=len(runs),
+                mean_speed_mps=statistics.fmean(r["mean_speed_mps"] for r in runs),
+            )
+            for world, runs in worlds.items()
+        }
+        for key, worlds in groups.items()
+    }
 
 
 def _figures(runs: list[Row], behaviours: Sequence[str], reference: dict[str, float]) -> Figures:

@@ -166,6 +166,12 @@ def _running(as_json: bool, run: Callable[..., Any]) -> Any:
     help="Also train ours' FAMs from each world's log pooled with this log learnt elsewhere, "
     "as the rows `pooled` (repeatable; e.g. fams/general-log.h5).",
 )
+@click.option(
+    "--by-world",
+    "each_world",
+    is_flag=True,
+    help="Also print, world by world, each row's competent runs and mean speed there.",
+)
 @where_options("generalization")
 def generalization(**options: Any) -> None:
     """Learn, train and run in generated rooms worlds nobody tuned on, beside references and
@@ -174,6 +180,7 @@ def generalization(**options: Any) -> None:
     from tvl_cli.bench.suite_options import generalization_request
 
     as_json, markdown = options.pop("as_json"), options.pop("markdown")
+    each_world = options.pop("each_world")
     where = _where(
         options.pop("out"),
         options.pop("workers"),
@@ -185,7 +192,7 @@ def generalization(**options: Any) -> None:
     if as_json:
         print_json(result.document())
     else:
-        bench_view.show_generalization(result, where, markdown)
+        bench_view.show_generalization(result, where, markdown, each_world)
 
 
 @bench.command("claims", epilog=examples("bench claims"))

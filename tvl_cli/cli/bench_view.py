@@ -15,15 +15,19 @@ from tvl_cli.analysis.generalization import (
     MIN_GOAL_SHARE,
     MIN_SPEED_OF_DWA,
     Figures,
+    by_world,
 )
 from tvl_cli.analysis.intervals import Interval
 
 Table = tuple[tuple[str, ...], list[tuple[str, ...]]]  # a header and its rows
 
 
-def show_generalization(result: Any, where: Any, markdown: bool) -> None:
+def show_generalization(result: Any, where: Any, markdown: bool, each_world: bool) -> None:
     click.echo(generalization_header(result, where))
-    for table in (figures_table(result.figures), autopsy_table(result.figures)):
+    tables = [figures_table(result.figures), autopsy_table(result.figures)]
+    if each_world:
+        tables.append(world_table(result.figures, list(result.plan.worlds), result.run.rows))
+    for table in tables:
         if table[1]:
             click.echo()
             click.echo(render(table, markdown))
@@ -113,8 +117,32 @@ def autopsy_table(all_figures: Sequence[Figures]) -> Table:
                 ),
             )
         )
-    header = ("autopsy", *(f"{f.entry} · {f.config}" for f in shown))
+    header = ("autopsy", *(_column_name(f) for f in shown))
     return header, rows
+
+
+def world_table(all_figures: Sequence[Figures], worlds: Sequence[str], rows: Any) -> Table:
+    """World by world, each row's competent runs and their mean speed there (every behaviour
+    and trial): the worlds where the runs fail, and how fast each row drove in them."""
+    found = by_world(rows)
+    keys = [(f.entry, f.config) for f in all_figures]
+    header = ("world", *(_column_name(f) for f in all_figures))
+    lines = []
+    for world in worlds:
+        cells = []
+        for key in keys:
+            there = found.get(key, {}).get(world)
+            cells.append(
+                "–"
+                if there is None
+                else f"{there.competent}/{there.runs}, {there.mean_speed_mps:.2f} m/s"
+            )
+        lines.append((world, *cells))
+    return header, lines
+
+
+def _column_name(figures: Figures) -> str:
+    return f"{figures.entry} · {figures.config}" if figures.config else figures.entry
 
 
 def _mps(value: float | None) -> str:

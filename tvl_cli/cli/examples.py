@@ -70,6 +70,7 @@ EXAMPLES: dict[str, tuple[str, ...]] = {
         "tvl bench generalization --set tuning --worlds 1-10 --method paper --trials 1",
         "tvl bench generalization --size tiny --controller mine=single.h5 --references dwa-map",
         "tvl bench generalization --set tuning --trials 1 --pool fams/general-log.h5",
+        "tvl bench generalization --set tuning --trials 1 --by-world --markdown",
     ),
     "bench claims": (
         "tvl bench claims --size quick",
