@@ -1,0 +1,116 @@
+"""Which trajectories ours drives, against the decision rule fed the true velocities: for each
+world of a `tvl bench generalization` directory, ours' FAMs (fams/rooms-sN-s1-m15.0-single-
+CONFIG.h5, trained by its ours rows) and the oracle velocities each avoid for 5 simulated
+minutes with seed 1, as the benchmark's first trial does, and every step is counted by what
+the robot did: turned on the spot, or drove which of the seven trajectories.
+
+Where ours is slow, is it turning, or driving tight arcs where the truth would let it drive
+straight? The shares are of every step of every world's run; the mean speed is over them.
+
+    python benchmarks/arc_choices.py DIR [--worlds 1-20] [--json]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+import numpy as np
+
+from tvl_cli.agent.drive_tvl import behave
+from tvl_cli.agent.trace import Columns, TraceRecorder
+from tvl_cli.agent.true_velocities import behave_with_true_velocities
+from tvl_cli.commands.run import run_robot
+from tvl_cli.core.method import DEFAULT
+from tvl_cli.core.robot_profiles import DEFAULT_ROBOT
+from tvl_cli.io.famfile import read_fam
+from tvl_cli.sim.worldmap import load_world
+
+CONFIGS = ("single", "multi", "designed")
+ORACLE = "oracle-velocities"
+SEED = 1  # the benchmark's first trial
+MINUTES = 5.0
+TURNING = "turning"  # a step on which no trajectory was driven: turning to face a view
+
+
+def recorder(found: list[Columns]) -> TraceRecorder:
+    return TraceRecorder(DEFAULT.reflexes, DEFAULT_ROBOT.sonar.count, [found.append])
+
+
+def steps_of(found: list[Columns]) -> tuple[np.ndarray, np.ndarray]:
+    """(trajectory driven, -1 while turning; speed m/s) of every step of a run's trace."""
+    return (
+        np.concatenate([c["trajectory"] for c in found]),
+        np.concatenate([c["speed_mps"] for c in found]),
+    )
+
+
+def world_steps(bench: Path, seed: int) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """Each row's steps in the world of rooms seed `seed`: ours' configurations, the oracle."""
+    world = load_world(bench / "worlds" / f"rooms-s{seed}.txt")
+    found: dict[str, tuple[np.ndarray, np.ndarray]] = {}
+    for config in CONFIGS:
+        path = bench / "fams" / f"rooms-s{seed}-s1-m15.0-single-{config}.h5"
+        fam_file = read_fam(path)
+        robot = run_robot(fam_file.robot_config, None, path, DEFAULT_ROBOT)
+        chunks: list[Columns] = []
+        trace = recorder(chunks)
+        behave(
+            world, robot, fam_file.fam, "avoid", minutes=MINUTES, seed=SEED, method=DEFAULT,
+            on_step=trace,
+        )  # fmt: skip
+        trace.close()
+        found[config] = steps_of(chunks)
+    chunks = []
+    trace = recorder(chunks)
+    behave_with_true_velocities(
+        world, DEFAULT.robot(), "avoid", minutes=MINUTES, seed=SEED, method=DEFAULT,
+        on_step=trace,
+    )  # fmt: skip
+    trace.close()
+    found[ORACLE] = steps_of(chunks)
+    return found
+
+
+def shares(trajectories: np.ndarray, speeds: np.ndarray, names: list[str]) -> dict[str, float]:
+    """The share of steps turning and on each trajectory, and the mean speed."""
+    found = {TURNING: float(np.mean(trajectories < 0))}
+    found.update({name: float(np.mean(trajectories == t)) for t, name in enumerate(names)})
+    found["mean_speed_mps"] = float(np.mean(speeds))
+    return found
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("bench", type=Path, help="a tvl bench generalization --out directory")
+    parser.add_argument("--worlds", default="1-20", help="rooms seeds A-B of its worlds")
+    parser.add_argument("--json", action="store_true", help="print the figures as JSON")
+    args = parser.parse_args()
+    first, last = (int(n) for n in args.worlds.split("-"))
+    names = [t.name for t in DEFAULT_ROBOT.trajectories]
+    rows = (*CONFIGS, ORACLE)
+    collected: dict[str, list[tuple[np.ndarray, np.ndarray]]] = {row: [] for row in rows}
+    for seed in range(first, last + 1):
+        for row, steps in world_steps(args.bench, seed).items():
+            collected[row].append(steps)
+    figures = {
+        row: shares(
+            np.concatenate([t for t, _ in found]), np.concatenate([s for _, s in found]), names
+        )
+        for row, found in collected.items()
+    }
+    if args.json:
+        print(json.dumps(figures, indent=1))
+        return
+    print(f"avoid, worlds {args.worlds}, seed {SEED}, {MINUTES:g} minutes each; shares of steps")
+    columns = [TURNING, *names]
+    print("| row | " + " | ".join(columns) + " | mean m/s |")
+    print("| --- |" + " --- |" * (len(columns) + 1))
+    for row, found in figures.items():
+        cells = " | ".join(f"{found[c]:.0%}" for c in columns)
+        print(f"| {row} | {cells} | {found['mean_speed_mps']:.2f} |")
+
+
+if __name__ == "__main__":
+    main()
