@@ -97,7 +97,8 @@ def test_an_additions_flag_turns_it_on_on_a_command_that_takes_a_method(
 
 
 def _typed(addition: Addition, value: object) -> object:
-    return float(value) if addition.field in ("decel_mps2", "margin_m", "near_m") else value
+    numbers = ("decel_mps2", "margin_m", "near_m", "label_ceiling")
+    return float(value) if addition.field in numbers else value
 
 
 def test_every_difference_from_the_papers_method_is_an_addition() -> None:

@@ -22,7 +22,7 @@ from tvl_cli.cli.params import (
 )
 from tvl_cli.core.errors import MAX_SEED, BadInput
 from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS, DEFAULT_INIT_VELOCITY_MPS
-from tvl_cli.core.labels import LABEL_RULES
+from tvl_cli.core.labels import LABEL_RULES, MAX_LABEL_CEILING
 from tvl_cli.core.memory import (
     NOT_CHOSEN,
     MemoryChoice,
@@ -179,8 +179,8 @@ def refuse_outputs(
 
 
 def label_options(command: Callable[..., None]) -> Callable[..., None]:
-    """--decel, --margin and --labels: how a recorded point becomes labels, settings of the
-    method (method_options)."""
+    """--decel, --margin, --labels and --label-ceiling: how a recorded point becomes labels,
+    settings of the method (method_options)."""
     options = (
         click.option(
             "--decel",
@@ -203,6 +203,15 @@ def label_options(command: Callable[..., None]) -> Callable[..., None]:
             help="What each recorded point labels: the trajectory driven, from where it "
             "bumped (bump, the paper's), or every trajectory, each from the echoes heard "
             f"around the point (heard) (default: the method's; ours {DEFAULT.labels}).",
+        ),
+        click.option(
+            "--label-ceiling",
+            type=float,
+            default=None,
+            help="Labels no faster than this many times the trajectory's top speed, 1 to "
+            f"{MAX_LABEL_CEILING:g}: above 1 a label still tells how much farther a way is "
+            "clear (the robot never drives faster than the top) (default: the method's; ours "
+            f"{DEFAULT.label_ceiling:g}, the paper's).",
         ),
     )
     for option in reversed(options):
@@ -256,6 +265,7 @@ _SETTINGS: dict[str, tuple[str, Callable[[Any], Any]]] = {
     "decel": ("decel_mps2", float),
     "margin": ("margin_m", float),
     "labels": ("labels", str),
+    "label_ceiling": ("label_ceiling", float),
     "near": ("near_m", float),
     "explore": ("exploration", str),
     "sonar": ("sonar", str),

@@ -81,6 +81,19 @@ ADDITIONS: tuple[Addition, ...] = (
         BUMP_LABELS,
     ),
     Addition(
+        "label headroom",
+        "label_ceiling",
+        "--label-ceiling",
+        "1.5",
+        "Labels run past the trajectory's top speed, up to 1.5 times it, where a way is clear "
+        "far beyond its stopping distance: the average a FAM rule learns of a cluttered place, "
+        "some ways clear far and some blocked, can then reach the fast threshold, where capped "
+        "labels rate the long ways slow. The robot still drives no faster than the top speed.",
+        1.0,
+        not_default="it lifts competence on the tuning worlds but meets things more often; "
+        "not yet reported on the test worlds",
+    ),
+    Addition(
         "sonar collision points",
         "near_m",
         "--near",

@@ -27,6 +27,14 @@ DEFAULT_DECEL_MPS2 = 0.1
 # Stop this far short of the collision point, the sonar's minimum range: no speed is learnt
 # for the last stretch that the ring cannot tell from touching.
 DEFAULT_MARGIN_M = 0.15
+# Labels run no faster than this many times the trajectory's top speed. The paper's stop at
+# the top speed (1): a way clear far beyond its stopping distance is labelled as one just
+# clear. Above 1, a label keeps saying how much farther the way is clear, up to where the
+# braking speed is this multiple of the top, so that the average a FAM rule learns of a
+# mixed place (some ways clear far, some blocked) can still reach the fast threshold; the
+# robot never drives faster than the top speed (core.trajectory_choice).
+DEFAULT_LABEL_CEILING = 1.0
+MAX_LABEL_CEILING = 3.0
 # What labels can be given: a deceleration of at most about 1 g, as hard as tyres grip (and
 # beyond it every label past the margin is the trajectory's top speed); a margin of at most
 # the ring's reach, beyond which every label of an episode that bumped is 0.
@@ -54,24 +62,31 @@ def velocity_labels(
     v_max_mps: np.ndarray | float,
     decel_mps2: float = DEFAULT_DECEL_MPS2,
     margin_m: float = DEFAULT_MARGIN_M,
+    ceiling: float = DEFAULT_LABEL_CEILING,
 ) -> np.ndarray:
-    """Labels (N,) m/s for distances (N,) metres along the arc (inf: no collision ahead)."""
+    """Labels (N,) m/s for distances (N,) metres along the arc (inf: no collision ahead), no
+    faster than `ceiling` times the top speed."""
     import numpy as np  # when labels are made, not when the constants are read
 
     check_in_range(decel_mps2, "deceleration", 0.0, MAX_DECEL_MPS2, "m/s²", low_allowed=False)
     check_in_range(margin_m, "margin", 0.0, MAX_MARGIN_M, "m")
+    check_in_range(ceiling, "label ceiling", 1.0, MAX_LABEL_CEILING, "times the top speed")
     distance = np.asarray(distance_to_collision_m, dtype=np.float64)
     braking_m = np.maximum(distance - margin_m, 0.0)
-    return np.minimum(
-        np.asarray(v_max_mps, dtype=np.float64), np.sqrt(2.0 * decel_mps2 * braking_m)
-    )
+    top = np.asarray(v_max_mps, dtype=np.float64)
+    return np.minimum(ceiling * top, np.sqrt(2.0 * decel_mps2 * braking_m))
 
 
-def label_reach_m(top_speed_mps: float, decel_mps2: float, margin_m: float) -> float:
+def label_reach_m(
+    top_speed_mps: float,
+    decel_mps2: float,
+    margin_m: float,
+    ceiling: float = DEFAULT_LABEL_CEILING,
+) -> float:
     """How far (m) along a trajectory no faster than `top_speed_mps` a collision point can
-    change its label: from margin + v_max^2 / (2 a) on every label is v_max (velocity_labels),
-    and the reach lies a hair beyond that."""
-    saturation_m = margin_m + top_speed_mps**2 / (2.0 * decel_mps2)
+    change its label: from margin + (c v_max)^2 / (2 a) on every label is c v_max
+    (velocity_labels, c the ceiling), and the reach lies a hair beyond that."""
+    saturation_m = margin_m + (ceiling * top_speed_mps) ** 2 / (2.0 * decel_mps2)
     return saturation_m * (1.0 + _REACH_SLACK) + _REACH_SLACK_M
 
 

@@ -22,10 +22,12 @@ from tvl_cli.core.errors import BadInput, check_in_range, did_you_mean
 from tvl_cli.core.labels import (
     BUMP_LABELS,
     DEFAULT_DECEL_MPS2,
+    DEFAULT_LABEL_CEILING,
     DEFAULT_MARGIN_M,
     HEARD_LABELS,
     LABEL_RULES,
     MAX_DECEL_MPS2,
+    MAX_LABEL_CEILING,
     MAX_MARGIN_M,
 )
 from tvl_cli.core.memory import (
@@ -110,6 +112,8 @@ class Method:
     decel_mps2: float = DEFAULT_DECEL_MPS2  # the labels brake at this rate
     margin_m: float = DEFAULT_MARGIN_M  # and stop this far short of the collision point
     labels: str = HEARD_LABELS  # which trajectories a point labels: one of LABEL_RULES
+    # and no faster than this many times the trajectory's top speed (core.labels)
+    label_ceiling: float = DEFAULT_LABEL_CEILING
     near_m: float = DEFAULT_NEAR_M  # collision points: a sonar ahead this near; 0: bumps only
     exploration: str = LEAST_EXPERIENCE  # one of EXPLORATION_RULES
     reflexes: tuple[str, ...] = DEFAULT_REFLEXES  # in stacking order
@@ -148,6 +152,7 @@ FLAGS = {
     "decel_mps2": "--decel",
     "margin_m": "--margin",
     "labels": "--labels",
+    "label_ceiling": "--label-ceiling",
     "near_m": "--near",
     "exploration": "--explore",
     "reflexes": "--reflex",
@@ -159,6 +164,7 @@ LEARNING_FIELDS = (
     "decel_mps2",
     "margin_m",
     "labels",
+    "label_ceiling",
     "near_m",
     "exploration",
     "sonar",
@@ -171,6 +177,9 @@ def _check(name: str, value: Any, label: str) -> None:
     """BadInput, naming the value by `label` (a flag or a file's key), if it cannot be."""
     if name == "decel_mps2":
         check_in_range(value, label, 0.0, MAX_DECEL_MPS2, "m/s²", low_allowed=False)
+        return
+    if name == "label_ceiling":
+        check_in_range(value, label, 1.0, MAX_LABEL_CEILING, "times the top speed")
         return
     if name in ("margin_m", "near_m"):
         check_in_range(value, label, 0.0, MAX_MARGIN_M if name == "margin_m" else MAX_NEAR_M, "m")
@@ -294,7 +303,7 @@ def method_from_dict(
 
 def _value(key: str, value: Any, where: str, memory_omitted: MemoryConfig | None) -> Any:
     """A field's value as Method holds it, from TOML or JSON."""
-    if key in ("decel_mps2", "margin_m", "near_m"):
+    if key in ("decel_mps2", "margin_m", "near_m", "label_ceiling"):
         return float(value) if isinstance(value, int) and not isinstance(value, bool) else value
     if key == "reflexes":
         if isinstance(value, str):

@@ -22,6 +22,7 @@ from tvl_cli.core.heard import HeardEpisode, HeardLabeller, heard_episodes
 from tvl_cli.core.labels import (
     BUMP_LABELS,
     DEFAULT_DECEL_MPS2,
+    DEFAULT_LABEL_CEILING,
     DEFAULT_MARGIN_M,
     HEARD_LABELS,
     label_reach_m,
@@ -41,6 +42,7 @@ class TrainParams:
     symmetric: bool = True
     init_velocity_mps: float = DEFAULT_INIT_VELOCITY_MPS
     labels: str = HEARD_LABELS  # which trajectories a recorded point labels (LABEL_RULES)
+    label_ceiling: float = DEFAULT_LABEL_CEILING  # labels no faster than this x the top speed
 
     def __post_init__(self) -> None:
         # Checked here, before any file is touched, rather than at the first label.
@@ -59,7 +61,9 @@ class TrainParams:
     def reach_m(self, robot: RobotConfig) -> float:
         """How far (m) along any of the robot's trajectories a collision point can change one
         of these labels (core.labels.label_reach_m)."""
-        return label_reach_m(max(robot.v_max_mps), self.decel_mps2, self.margin_m)
+        return label_reach_m(
+            max(robot.v_max_mps), self.decel_mps2, self.margin_m, self.label_ceiling
+        )
 
     def settings(self) -> dict[str, float | bool]:
         """What a FAM's provenance records of its training: the settings that are not the
@@ -83,7 +87,12 @@ def train_params(
 ) -> TrainParams:
     """How a FAM is trained by `method`'s labels, with the settings beyond the method."""
     return TrainParams(
-        method.decel_mps2, method.margin_m, symmetric, init_velocity_mps, method.labels
+        method.decel_mps2,
+        method.margin_m,
+        symmetric,
+        init_velocity_mps,
+        method.labels,
+        method.label_ceiling,
     )
 
 
@@ -91,7 +100,9 @@ def episode_labels(episode: Episode, robot: RobotConfig, params: TrainParams) ->
     """(n,) m/s: at each point, the speed on the driven trajectory that stops just short of
     its collision point."""
     v_max = robot.trajectories[episode.trajectory].v_max_mps
-    return velocity_labels(episode.distances_m(), v_max, params.decel_mps2, params.margin_m)
+    return velocity_labels(
+        episode.distances_m(), v_max, params.decel_mps2, params.margin_m, params.label_ceiling
+    )
 
 
 def train_episode(fam: Fam, episode: Episode, robot: RobotConfig, params: TrainParams) -> float:
@@ -111,7 +122,11 @@ def heard_labels(heard: HeardEpisode, robot: RobotConfig, params: TrainParams) -
     labels = np.full(distances.shape, np.nan)
     v_max = np.broadcast_to(np.array(robot.v_max_mps), distances.shape)  # (n, T) m/s
     labels[labelled] = velocity_labels(
-        distances[labelled], v_max[labelled], params.decel_mps2, params.margin_m
+        distances[labelled],
+        v_max[labelled],
+        params.decel_mps2,
+        params.margin_m,
+        params.label_ceiling,
     )
     return labels
 

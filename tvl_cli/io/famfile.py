@@ -181,6 +181,9 @@ _ROUNDING_MPS = 1e-9  # an average of labels at a maximum may round a few ulps a
 def _read(f: h5py.File, path: Path) -> FamFile:
     config = FamConfig.from_dict(read_json_attr(f, "config", path))
     robot = RobotConfig.from_dict(read_json_attr(f, "robot_config", path))
+    provenance = read_json_attr(f, "provenance", path)
+    made_by = _method(f, path, provenance, robot)
+    ceiling = made_by.method.label_ceiling
     velocities: list[np.ndarray] = []  # per table (rules, trajectories) m/s
     experience: list[np.ndarray] = []
     for table in config.tables:
@@ -198,13 +201,15 @@ def _read(f: h5py.File, path: Path) -> FamFile:
                 raise FormatError(f"{path}: {group.name}/{name} holds {values.dtype}, not floats")
             arrays.append(values.reshape(rows))
         # A learnt velocity is an average of labels, each between 0 and the trajectory's
-        # maximum (give or take the rounding of the average): anything else was not learnt.
-        top = np.array(
+        # maximum times the labels' ceiling (give or take the rounding of the average):
+        # anything else was not learnt.
+        top = ceiling * np.array(
             [robot.trajectories[robot.trajectory_index(n)].v_max_mps for n in table.trajectories]
         )
         if not ((velocities[-1] >= 0) & (velocities[-1] <= top + _ROUNDING_MPS)).all():
             raise FormatError(
-                f"{path}: {group.name}/velocity holds speeds outside 0 to each trajectory's maximum"
+                f"{path}: {group.name}/velocity holds speeds outside 0 to each trajectory's "
+                "maximum (times the labels' ceiling)"
             )
     fam = Fam.from_tables(
         config,
@@ -213,14 +218,13 @@ def _read(f: h5py.File, path: Path) -> FamFile:
         experience,
         float(f.attrs["init_velocity_mps"]),
     )
-    provenance = read_json_attr(f, "provenance", path)
     return FamFile(
         fam=fam,
         robot_config=robot,
         provenance=provenance,
         tvl_version=read_str_attr(f, "tvl_version", path),
         created=read_str_attr(f, "created", path),
-        made_by=_method(f, path, provenance, robot),
+        made_by=made_by,
     )
 
 

@@ -18,7 +18,7 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 from tvl_cli.core.errors import BadInput
-from tvl_cli.core.labels import BUMP_LABELS
+from tvl_cli.core.labels import BUMP_LABELS, DEFAULT_LABEL_CEILING
 from tvl_cli.core.memory import NO_MEMORY, MemoryConfig
 from tvl_cli.core.method import (
     FIELDS,
@@ -66,7 +66,7 @@ def current(record: Any, where: str, mixed: Any = ()) -> ReadMethod:
     fields its sources differ in (a FAM's provenance names them)."""
     if not isinstance(record, dict):
         raise BadInput(f"{where} method: not recorded")
-    return replace(_from_record(record, {}, where), mixed=_fields(mixed, where))
+    return replace(_from_record(record, _UNCEILED, where), mixed=_fields(mixed, where))
 
 
 def _fields(names: Any, where: str) -> tuple[str, ...]:
@@ -75,9 +75,12 @@ def _fields(names: Any, where: str) -> tuple[str, ...]:
     return tuple(names)
 
 
+# What every file that does not record its labels' ceiling was made by: labels no faster than
+# the top speed, the only ones there were.
+_UNCEILED = {"label_ceiling": DEFAULT_LABEL_CEILING}
 # What every file older than its method's record was made by, recorded or not: labels of the
-# driven trajectory alone (the heard labels came with the record).
-_OLDER = {"labels": BUMP_LABELS}
+# driven trajectory alone (the heard labels came with the record), capped at the top speed.
+_OLDER = {"labels": BUMP_LABELS, **_UNCEILED}
 
 
 def _memory(value: Any, where: str) -> dict[str, Any]:
