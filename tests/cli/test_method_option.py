@@ -9,6 +9,7 @@ import shutil
 from pathlib import Path
 
 import h5py
+import numpy as np
 import pytest
 from click.testing import CliRunner
 
@@ -190,6 +191,8 @@ def test_files_from_before_methods_were_recorded_say_so(
         (("--method", "paper", "--near", "0.2"),
          "--near cannot be given with --method paper, which fixes it"),
         (("--paper", "--explore", "novelty"), "--explore cannot be given with --paper"),
+        (("--paper", "--label-ceiling", "1.5"), "--label-ceiling cannot be given with --paper"),
+        (("--label-ceiling", "0.5"), "--label-ceiling 0.5 must be 1 or more and at most 3"),
         (("--paper", "--memory-window", "5"), "--memory-window cannot be given with --paper"),
         (("--paper", "--method", "paper"), "give --method or --paper, not both"),
         (("--method", "nowhere.toml"), "--method nowhere.toml: neither a preset (paper, default)"),
@@ -261,3 +264,32 @@ def test_each_memory_settings_file_changes_ours_in_the_setting_it_is_named_for()
         memory = method.memory.to_dict()
         assert {k for k in memory if memory[k] != ours[k]} == {key}, stem
         assert memory[key] == value, stem
+
+
+def test_labels_past_the_top_speed_train_a_fam_that_says_so_and_drives_no_faster(
+    tmp_path: Path,
+) -> None:
+    fam_path = tmp_path / "lifted.h5"
+    trained = printed("train", ROOT / "logs" / "square-s1.h5", "-o", fam_path,
+                      "--label-ceiling", "1.5")  # fmt: skip
+    made_by = trained["inputs"]["method"]
+    assert made_by["label_ceiling"] == 1.5 and made_by["preset"] is None
+    fam_file = read_fam(fam_path)
+    assert fam_file.method.label_ceiling == 1.5
+    # Somewhere the way was clear far enough for a rule to learn more than the top speed: the
+    # single table holds every trajectory, each column against its own top.
+    tops = np.array([t.v_max_mps for t in fam_file.robot_config.trajectories])
+    assert (fam_file.fam.velocity_table(0) > tops).any()
+    assert (fam_file.fam.velocity_table(0) <= 1.5 * tops + 1e-9).all()
+    top = tops.max()
+    ran = printed("run", fam_path, SQUARE, *RUN)
+    assert 0.0 < ran["mean_drive_speed_mps"] <= top
+
+
+def test_each_labels_file_changes_ours_in_the_setting_it_is_named_for() -> None:
+    folder = ROOT / "experiments" / "methods" / "labels"
+    for path in sorted(folder.glob("*.toml")):
+        method = read_method(path)
+        field = {"decel": "decel_mps2", "ceiling": "label_ceiling"}[path.stem.split("-")[0]]
+        assert method.differs(DEFAULT) == [field], path.stem
+        assert getattr(method, field) == float(path.stem.split("-")[1]), path.stem

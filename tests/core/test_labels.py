@@ -12,6 +12,7 @@ from tvl_cli.core.labels import (
     DEFAULT_DECEL_MPS2,
     DEFAULT_MARGIN_M,
     distances_to_collision,
+    label_reach_m,
     velocity_labels,
 )
 
@@ -75,3 +76,39 @@ def test_a_deceleration_that_is_not_positive_is_refused(decel: float) -> None:
 def test_a_negative_margin_is_refused() -> None:
     with pytest.raises(BadInput, match="margin"):
         velocity_labels(np.array([1.0]), 0.5, margin_m=-0.01)
+
+
+def test_a_ceiling_lets_a_label_tell_how_far_past_its_stopping_distance_a_way_is_clear() -> None:
+    # T0's 0.6 m/s: at 0.1 m/s² with a 0.15 m margin the label reaches it 1.95 m out; with a
+    # ceiling of 1.5 it goes on rising to 0.9 m/s, 4.2 m out, and stays there.
+    distances = np.array([1.0, 1.95, 3.0, 4.2, 10.0, np.inf])
+    capped = velocity_labels(distances, 0.6, 0.1, 0.15)
+    lifted = velocity_labels(distances, 0.6, 0.1, 0.15, ceiling=1.5)
+    assert capped[1:].tolist() == [0.6] * 5
+    np.testing.assert_allclose(lifted[:4], np.sqrt(2 * 0.1 * (distances[:4] - 0.15)))
+    assert lifted[4:].tolist() == [1.5 * 0.6] * 2
+    assert lifted[0] == capped[0]  # below the top speed the ceiling changes nothing
+
+
+def test_a_ceiling_of_one_labels_bit_for_bit_as_the_cap_at_the_top_speed() -> None:
+    distances = np.random.default_rng(3).uniform(0.0, 5.0, 1000)
+    top = np.random.default_rng(4).choice([0.35, 0.45, 0.55, 0.6], 1000)
+    assert (
+        velocity_labels(distances, top, ceiling=1.0).tobytes()
+        == np.minimum(
+            top, np.sqrt(2 * DEFAULT_DECEL_MPS2 * np.maximum(distances - DEFAULT_MARGIN_M, 0.0))
+        ).tobytes()
+    )
+
+
+def test_the_reach_runs_to_where_the_lifted_label_stops_changing() -> None:
+    reach = label_reach_m(0.6, 0.1, 0.15, ceiling=1.5)
+    assert reach == pytest.approx(0.15 + 0.9**2 / 0.2)
+    assert velocity_labels(np.array([reach]), 0.6, 0.1, 0.15, ceiling=1.5)[0] == 1.5 * 0.6
+    assert label_reach_m(0.6, 0.1, 0.15) == pytest.approx(1.95)
+
+
+@pytest.mark.parametrize("ceiling", [0.99, 3.01, math.nan])
+def test_a_ceiling_below_the_top_speed_or_beyond_the_limit_is_refused(ceiling: float) -> None:
+    with pytest.raises(BadInput, match="label ceiling"):
+        velocity_labels(np.array([1.0]), 0.5, ceiling=ceiling)
