@@ -1,0 +1,97 @@
+"""How often ours' FAMs call a trajectory fast or slow wrongly, trajectory by trajectory: at
+every choice of an avoid run, the fast set the choice read (of the view it chose) against the
+truth there (the oracle velocities, from the map and the true pose the ring was read at).
+
+For each world of a `tvl bench generalization` directory (its worlds/ and the fams/ its ours
+rows trained, fams/rooms-sN-s1-m15.0-single-CONFIG.h5), each configuration avoids for 5
+simulated minutes with seed 1, as the benchmark's first trial does. *Timid*: of the choices
+where a trajectory was truly fast, the share it was rated slow; *dangerous*: of those where
+it was truly slow, the share it was rated fast.
+
+    python benchmarks/fast_calls.py DIR [--worlds 1-20] [--configs single,multi,designed]
+                                    [--json]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+import numpy as np
+
+from tvl_cli.agent.drive_tvl import behave
+from tvl_cli.agent.trace import Columns, TraceRecorder
+from tvl_cli.agent.true_velocities import TrueVelocities
+from tvl_cli.commands.run import run_robot
+from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
+from tvl_cli.core.method import DEFAULT
+from tvl_cli.core.robot_profiles import DEFAULT_ROBOT
+from tvl_cli.io.famfile import read_fam
+from tvl_cli.sim.worldmap import load_world
+
+SEED = 1  # the benchmark's first trial
+MINUTES = 5.0
+
+
+def world_calls(bench: Path, seed: int, config: str) -> tuple[np.ndarray, np.ndarray]:
+    """(truly fast, rated fast), each (choices, T) bool, at every choice of the avoid run."""
+    world = load_world(bench / "worlds" / f"rooms-s{seed}.txt")
+    path = bench / "fams" / f"rooms-s{seed}-s1-m15.0-single-{config}.h5"
+    fam_file = read_fam(path)
+    robot = run_robot(fam_file.robot_config, None, path, DEFAULT_ROBOT)
+    chunks: list[Columns] = []
+    trace = TraceRecorder(DEFAULT.reflexes, robot.sonar.count, [chunks.append])
+    behave(world, robot, fam_file.fam, "avoid", minutes=MINUTES, seed=SEED, method=DEFAULT,
+           on_step=trace)  # fmt: skip
+    trace.close()
+    columns = {name: np.concatenate([c[name] for c in chunks]) for name in chunks[0]}
+    # The ring a choice read was read where the step before it left the robot.
+    poses = columns["pose"]
+    read_at = np.vstack([np.array([world.start[:3]]), poses[:-1]])
+    truth = TrueVelocities(world, robot, DEFAULT)
+    fast_from = DEFAULT_THRESHOLD * np.array(robot.v_max_mps)
+    choices = np.flatnonzero(~np.isnan(columns["velocities"][:, 0]))
+    truly = np.array(
+        [
+            truth.in_view(tuple(read_at[i]), int(columns["rotation"][i]) % robot.sonar.count)
+            >= fast_from
+            for i in choices
+        ]
+    ).reshape(-1, len(fast_from))
+    return truly, columns["fast"][choices]
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("bench", type=Path, help="a tvl bench generalization --out directory")
+    parser.add_argument("--worlds", default="1-20", help="rooms seeds A-B of its worlds")
+    parser.add_argument("--configs", default="single,multi,designed")
+    parser.add_argument("--json", action="store_true", help="print the figures as JSON")
+    args = parser.parse_args()
+    first, last = (int(n) for n in args.worlds.split("-"))
+    names = [t.name for t in DEFAULT_ROBOT.trajectories]
+    figures = {}
+    for config in args.configs.split(","):
+        found = [world_calls(args.bench, seed, config) for seed in range(first, last + 1)]
+        truly = np.concatenate([t for t, _ in found])
+        rated = np.concatenate([r for _, r in found])
+        figures[config] = {
+            "choices": len(truly),
+            "timid": dict(zip(names, (truly & ~rated).sum(0) / truly.sum(0), strict=True)),
+            "dangerous": dict(zip(names, (~truly & rated).sum(0) / (~truly).sum(0), strict=True)),
+        }
+    if args.json:
+        print(json.dumps(figures, indent=1, default=float))
+        return
+    print(f"avoid, worlds {args.worlds}, seed {SEED}, {MINUTES:g} minutes each")
+    print("| FAM | call | " + " | ".join(names) + " |")
+    print("| --- | --- |" + " --- |" * len(names))
+    for config, found in figures.items():
+        for call in ("timid", "dangerous"):
+            cells = " | ".join(f"{found[call][n]:.0%}" for n in names)
+            print(f"| {config} | {call} | {cells} |")
+
+
+if __name__ == "__main__":
+    main()
