@@ -14,63 +14,38 @@ from __future__ import annotations
 
 import argparse
 import json
+from functools import partial
 from pathlib import Path
 
 import numpy as np
+from bench_dir import CONFIGS, MINUTES, SEED, ours_avoid, ours_fam, seeds, traced, world_path
 
-from tvl_cli.agent.drive_tvl import behave
-from tvl_cli.agent.trace import Columns, TraceRecorder
 from tvl_cli.agent.true_velocities import behave_with_true_velocities
-from tvl_cli.commands.run import run_robot
 from tvl_cli.core.method import DEFAULT
 from tvl_cli.core.robot_profiles import DEFAULT_ROBOT
-from tvl_cli.io.famfile import read_fam
 from tvl_cli.sim.worldmap import load_world
 
-CONFIGS = ("single", "multi", "designed")
 ORACLE = "oracle-velocities"
-SEED = 1  # the benchmark's first trial
-MINUTES = 5.0
 TURNING = "turning"  # a step on which no trajectory was driven: turning to face a view
 
 
-def recorder(found: list[Columns]) -> TraceRecorder:
-    return TraceRecorder(DEFAULT.reflexes, DEFAULT_ROBOT.sonar.count, [found.append])
-
-
-def steps_of(found: list[Columns]) -> tuple[np.ndarray, np.ndarray]:
-    """(trajectory driven, -1 while turning; speed m/s) of every step of a run's trace."""
-    return (
-        np.concatenate([c["trajectory"] for c in found]),
-        np.concatenate([c["speed_mps"] for c in found]),
-    )
-
-
 def world_steps(bench: Path, seed: int) -> dict[str, tuple[np.ndarray, np.ndarray]]:
-    """Each row's steps in the world of rooms seed `seed`: ours' configurations, the oracle."""
-    world = load_world(bench / "worlds" / f"rooms-s{seed}.txt")
-    found: dict[str, tuple[np.ndarray, np.ndarray]] = {}
-    for config in CONFIGS:
-        path = bench / "fams" / f"rooms-s{seed}-s1-m15.0-single-{config}.h5"
-        fam_file = read_fam(path)
-        robot = run_robot(fam_file.robot_config, None, path, DEFAULT_ROBOT)
-        chunks: list[Columns] = []
-        trace = recorder(chunks)
-        behave(
-            world, robot, fam_file.fam, "avoid", minutes=MINUTES, seed=SEED, method=DEFAULT,
-            on_step=trace,
-        )  # fmt: skip
-        trace.close()
-        found[config] = steps_of(chunks)
-    chunks = []
-    trace = recorder(chunks)
-    behave_with_true_velocities(
-        world, DEFAULT.robot(), "avoid", minutes=MINUTES, seed=SEED, method=DEFAULT,
-        on_step=trace,
-    )  # fmt: skip
-    trace.close()
-    found[ORACLE] = steps_of(chunks)
-    return found
+    """Each row's steps in the world of rooms seed `seed`, ours' configurations' and the
+    oracle's: (trajectory driven, -1 while turning; speed m/s) of every step."""
+    world = load_world(world_path(bench, seed))
+    runs = {c: ours_avoid(world, *ours_fam(bench, seed, c)) for c in CONFIGS}
+    runs[ORACLE] = traced(
+        partial(
+            behave_with_true_velocities,
+            world,
+            DEFAULT.robot(),
+            "avoid",
+            minutes=MINUTES,
+            seed=SEED,
+            method=DEFAULT,
+        )
+    )
+    return {row: (columns["trajectory"], columns["speed_mps"]) for row, columns in runs.items()}
 
 
 def shares(trajectories: np.ndarray, speeds: np.ndarray, names: list[str]) -> dict[str, float]:
@@ -87,11 +62,10 @@ def main() -> None:
     parser.add_argument("--worlds", default="1-20", help="rooms seeds A-B of its worlds")
     parser.add_argument("--json", action="store_true", help="print the figures as JSON")
     args = parser.parse_args()
-    first, last = (int(n) for n in args.worlds.split("-"))
     names = [t.name for t in DEFAULT_ROBOT.trajectories]
     rows = (*CONFIGS, ORACLE)
     collected: dict[str, list[tuple[np.ndarray, np.ndarray]]] = {row: [] for row in rows}
-    for seed in range(first, last + 1):
+    for seed in seeds(args.worlds):
         for row, steps in world_steps(args.bench, seed).items():
             collected[row].append(steps)
     figures = {

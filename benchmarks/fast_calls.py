@@ -17,35 +17,23 @@ from __future__ import annotations
 import argparse
 import json
 from pathlib import Path
+from typing import Any
 
 import numpy as np
+from bench_dir import MINUTES, SEED, ours_avoid, ours_fam, seeds, world_path
 
-from tvl_cli.agent.drive_tvl import behave
-from tvl_cli.agent.trace import Columns, TraceRecorder
 from tvl_cli.agent.true_velocities import TrueVelocities
-from tvl_cli.commands.run import run_robot
 from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
 from tvl_cli.core.method import DEFAULT
 from tvl_cli.core.robot_profiles import DEFAULT_ROBOT
-from tvl_cli.io.famfile import read_fam
 from tvl_cli.sim.worldmap import load_world
-
-SEED = 1  # the benchmark's first trial
-MINUTES = 5.0
 
 
 def world_calls(bench: Path, seed: int, config: str) -> tuple[np.ndarray, np.ndarray]:
     """(truly fast, rated fast), each (choices, T) bool, at every choice of the avoid run."""
-    world = load_world(bench / "worlds" / f"rooms-s{seed}.txt")
-    path = bench / "fams" / f"rooms-s{seed}-s1-m15.0-single-{config}.h5"
-    fam_file = read_fam(path)
-    robot = run_robot(fam_file.robot_config, None, path, DEFAULT_ROBOT)
-    chunks: list[Columns] = []
-    trace = TraceRecorder(DEFAULT.reflexes, robot.sonar.count, [chunks.append])
-    behave(world, robot, fam_file.fam, "avoid", minutes=MINUTES, seed=SEED, method=DEFAULT,
-           on_step=trace)  # fmt: skip
-    trace.close()
-    columns = {name: np.concatenate([c[name] for c in chunks]) for name in chunks[0]}
+    world = load_world(world_path(bench, seed))
+    fam_file, robot = ours_fam(bench, seed, config)
+    columns = ours_avoid(world, fam_file, robot)
     # The ring a choice read was read where the step before it left the robot.
     poses = columns["pose"]
     read_at = np.vstack([np.array([world.start[:3]]), poses[:-1]])
@@ -69,11 +57,10 @@ def main() -> None:
     parser.add_argument("--configs", default="single,multi,designed")
     parser.add_argument("--json", action="store_true", help="print the figures as JSON")
     args = parser.parse_args()
-    first, last = (int(n) for n in args.worlds.split("-"))
     names = [t.name for t in DEFAULT_ROBOT.trajectories]
-    figures = {}
+    figures: dict[str, dict[str, Any]] = {}
     for config in args.configs.split(","):
-        found = [world_calls(args.bench, seed, config) for seed in range(first, last + 1)]
+        found = [world_calls(args.bench, seed, config) for seed in seeds(args.worlds)]
         truly = np.concatenate([t for t, _ in found])
         rated = np.concatenate([r for _, r in found])
         figures[config] = {
@@ -87,9 +74,9 @@ def main() -> None:
     print(f"avoid, worlds {args.worlds}, seed {SEED}, {MINUTES:g} minutes each")
     print("| FAM | call | " + " | ".join(names) + " |")
     print("| --- | --- |" + " --- |" * len(names))
-    for config, found in figures.items():
+    for config, calls in figures.items():
         for call in ("timid", "dangerous"):
-            cells = " | ".join(f"{found[call][n]:.0%}" for n in names)
+            cells = " | ".join(f"{calls[call][n]:.0%}" for n in names)
             print(f"| {config} | {call} | {cells} |")
 
 

@@ -28,19 +28,15 @@ from itertools import repeat
 from pathlib import Path
 from typing import Any
 
+from bench_dir import CONFIGS, MINUTES, SEED, ours_fam, seeds, world_path
+
 from tvl_cli.agent.drive_tvl import BehaviourRun, behave_together
 from tvl_cli.bench.generalization_suite import BEHAVIOURS
-from tvl_cli.commands.run import run_robot
 from tvl_cli.core.competence import is_competent_run
 from tvl_cli.core.memory import MemoryConfig
 from tvl_cli.core.method import DEFAULT
-from tvl_cli.core.robot_profiles import DEFAULT_ROBOT
-from tvl_cli.io.famfile import read_fam
 from tvl_cli.sim.worldmap import load_world
 
-CONFIGS = ("single", "multi", "designed")
-SEED = 1  # the benchmark's first trial
-MINUTES = 5.0
 MEMORIES: dict[str, MemoryConfig] = {
     "default": DEFAULT.memory,
     "clearing-always": replace(DEFAULT.memory, clearing="always"),
@@ -52,14 +48,12 @@ MEMORIES: dict[str, MemoryConfig] = {
 
 def world_runs(bench: Path, seed: int, memory: str) -> list[dict[str, Any]]:
     """Every run of the world of rooms seed `seed` with the run-time memory `memory`."""
-    world = load_world(bench / "worlds" / f"rooms-s{seed}.txt")
+    world = load_world(world_path(bench, seed))
     goal = world.goals[0] if world.goals else None
     method = replace(DEFAULT, memory=MEMORIES[memory])
     rows = []
     for config in CONFIGS:
-        path = bench / "fams" / f"rooms-s{seed}-s1-m15.0-single-{config}.h5"
-        fam_file = read_fam(path)
-        robot = run_robot(fam_file.robot_config, None, path, DEFAULT_ROBOT)
+        fam_file, robot = ours_fam(bench, seed, config)
         runs = [
             BehaviourRun(fam_file.fam, b, SEED, goal if b == "goal" else None) for b in BEHAVIOURS
         ]
@@ -101,9 +95,7 @@ def main() -> None:
     parser.add_argument("--workers", type=int, default=2, help="local processes")
     parser.add_argument("--json", action="store_true", help="print the figures as JSON")
     args = parser.parse_args()
-    first, last = (int(n) for n in args.worlds.split("-"))
-    seeds = range(first, last + 1)
-    jobs = [(seed, memory) for memory in MEMORIES for seed in seeds]
+    jobs = [(seed, memory) for memory in MEMORIES for seed in seeds(args.worlds)]
     rows: dict[str, list[dict[str, Any]]] = {memory: [] for memory in MEMORIES}
     with ProcessPoolExecutor(args.workers) as pool:
         seeds_asked, memories_asked = [s for s, _ in jobs], [m for _, m in jobs]

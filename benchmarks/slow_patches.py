@@ -27,6 +27,7 @@ from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
+from bench_dir import ours_fam_path, seeds, world_path
 from timing import TVL, run_process
 
 from tvl_cli.agent.perception import EchoMemory
@@ -49,14 +50,13 @@ def main() -> None:
     parser.add_argument("--minutes", type=float, default=5.0, help="simulated minutes a run")
     parser.add_argument("--json", action="store_true", help="print the figures as JSON")
     args = parser.parse_args()
-    first, last = (int(n) for n in args.worlds.split("-"))
     figures = {}
     with tempfile.TemporaryDirectory() as name:
         for config in args.configs.split(","):
             totals = {"slow_s": 0.0, "memory_s": 0.0, "wide_s": 0.0}
-            for seed in range(first, last + 1):
-                fam = args.bench / "fams" / f"rooms-s{seed}-s1-m15.0-single-{config}.h5"
-                world = args.bench / "worlds" / f"rooms-s{seed}.txt"
+            for seed in seeds(args.worlds):
+                fam = ours_fam_path(args.bench, seed, config)
+                world = world_path(args.bench, seed)
                 trace = Path(name) / f"{config}-{seed}.h5"
                 run_process([TVL, "run", fam, world, "--behaviour", "avoid", "--minutes",
                              args.minutes, "--log", trace])  # fmt: skip

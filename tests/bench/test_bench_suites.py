@@ -55,17 +55,32 @@ def controllers(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]:
     return policy, fam
 
 
+def suite(controllers: tuple[Path, Path]) -> list[object]:
+    """The tiny suite's arguments, with both controllers."""
+    policy, fam = controllers
+    return [*TINY, "--controller", f"turn-left={policy}:act", "--controller", f"square={fam}"]
+
+
+def again(benched: tuple[Path, dict], controllers: tuple[Path, Path], *extra: str) -> str:
+    """What `tvl bench generalization` prints, run again on the benched suite's directory."""
+    done = subprocess.run(
+        [TVL, "bench", "generalization", *suite(controllers), "--out", benched[0], *extra],
+        capture_output=True, text=True, timeout=120,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    return done.stdout
+
+
 @pytest.fixture(scope="module")
 def benched(
     controllers: tuple[Path, Path], tmp_path_factory: pytest.TempPathFactory
 ) -> tuple[Path, dict]:
     """The tiny suite with both controllers, on two local processes: its directory and its
     JSON document."""
-    policy, fam = controllers
     out = tmp_path_factory.mktemp("bench") / "out"
-    args = [*TINY, "--controller", f"turn-left={policy}:act", "--controller", f"square={fam}"]
+    where = ["--out", out, "--workers", "2", "--json"]
     done = subprocess.run(
-        [TVL, "bench", "generalization", *args, "--out", out, "--workers", "2", "--json"],
+        [TVL, "bench", "generalization", *suite(controllers), *where],
         capture_output=True,
         text=True,
         timeout=600,
@@ -107,15 +122,7 @@ def test_a_python_policy_and_a_fam_are_scored_beside_ours_in_one_table(
 def test_the_terminal_table_names_each_row_and_what_it_reads(
     benched: tuple[Path, dict], controllers: tuple[Path, Path]
 ) -> None:
-    out, _ = benched
-    policy, fam = controllers
-    again = [*TINY, "--controller", f"turn-left={policy}:act", "--controller", f"square={fam}"]
-    done = subprocess.run(
-        [TVL, "bench", "generalization", *again, "--out", out],
-        capture_output=True, text=True, timeout=120,
-    )  # fmt: skip
-    assert done.returncode == 0, done.stderr
-    lines = done.stdout.splitlines()
+    lines = again(benched, controllers).splitlines()
     assert "8 cells (0 run now, 8 before)" in lines[0]
     assert any(line.startswith("default · single (ours)") for line in lines)
     assert any(line.startswith("dwa-map (reference, reads the map)") for line in lines)
@@ -126,15 +133,8 @@ def test_the_terminal_table_names_each_row_and_what_it_reads(
 def test_the_world_table_gives_each_rows_competent_runs_and_speed_world_by_world(
     benched: tuple[Path, dict], controllers: tuple[Path, Path]
 ) -> None:
-    out, document = benched
-    policy, fam = controllers
-    again = [*TINY, "--controller", f"turn-left={policy}:act", "--controller", f"square={fam}"]
-    done = subprocess.run(
-        [TVL, "bench", "generalization", *again, "--out", out, "--by-world", "--markdown"],
-        capture_output=True, text=True, timeout=120,
-    )  # fmt: skip
-    assert done.returncode == 0, done.stderr
-    lines = done.stdout.splitlines()
+    _, document = benched
+    lines = again(benched, controllers, "--by-world", "--markdown").splitlines()
     start = next(i for i, line in enumerate(lines) if line.startswith("| world |"))
     header = [cell.strip() for cell in lines[start].strip("|").split("|")]
     assert header[1:] == ["default · single", "dwa-map", "turn-left", "square · single"]

@@ -87,7 +87,7 @@ def first_contacts_in_windows(
                 if turned > 0.0 and radius * turned < found[i, t]:
                     found[i, t] = radius * turned
                     improved = True
-            if improved:
+            if nearest_first and improved:  # only the nearest-first stop reads it
                 farthest = found[i, 0]
                 for t in range(1, curvatures.shape[0]):
                     farthest = found[i, t] if found[i, t] > farthest else farthest
