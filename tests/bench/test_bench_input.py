@@ -4,6 +4,7 @@ cell for each world, trial and entry)."""
 
 from __future__ import annotations
 
+import shutil
 import subprocess
 from collections.abc import Callable
 from pathlib import Path
@@ -14,8 +15,9 @@ from tvl_cli.bench.claims_suite import ClaimsRequest
 from tvl_cli.bench.claims_suite import plan as claims_plan
 from tvl_cli.bench.controllers import METHOD, POLICY, parse_controller
 from tvl_cli.bench.generalization_suite import GeneralizationRequest, plan
-from tvl_cli.bench.suite_cells import DwaCell, LearntCell, PolicyCell
+from tvl_cli.bench.suite_cells import DwaCell, FamFileCell, LearntCell, PolicyCell, cell_id
 from tvl_cli.bench.suite_options import parse_span
+from tvl_cli.bench.suite_work import do_cell, world_path
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.method import DEFAULT, PAPER
 
@@ -136,6 +138,48 @@ def test_a_fam_file_of_another_kind_is_refused(tmp_path: Path) -> None:
         parse_controller(str(ROOT / "logs" / "square-s1.h5").replace("square-s1", "log"))
     with pytest.raises(BadInput, match="tvl-fam"):
         parse_controller(str(ROOT / "logs" / "square-s1.h5"))
+
+
+def _file_cells(spec: str, root: Path) -> list[FamFileCell | PolicyCell]:
+    """The cells that score the controller `spec` at the tiny size, their worlds written
+    under `root`."""
+    request = GeneralizationRequest(
+        DEFAULT, size="tiny", references=(), configs=(), controllers=(parse_controller(spec),)
+    )
+    planned = plan(request)
+    for name, text in planned.worlds.items():
+        world_path(root, name).parent.mkdir(parents=True, exist_ok=True)
+        world_path(root, name).write_text(text)
+    return [cell for cell in planned.cells if isinstance(cell, FamFileCell | PolicyCell)]
+
+
+def test_a_fam_trained_again_at_its_path_is_run_again_and_refused_while_running(
+    tmp_path: Path,
+) -> None:
+    fam = tmp_path / "mine.h5"
+    shutil.copy(ROOT / "fams" / "general-single.h5", fam)
+    before = _file_cells(f"mine={fam}", tmp_path)
+    shutil.copy(ROOT / "fams" / "general-designed.h5", fam)  # another FAM, the same path
+    after = _file_cells(f"mine={fam}", tmp_path)
+    assert before and len(after) == len(before)
+    # Known by the file's contents, not its path: none of the old cells' rows are read back.
+    assert not {cell_id(cell) for cell in before} & {cell_id(cell) for cell in after}
+    with pytest.raises(BadInput, match=r"--controller .*mine\.h5: the file changed since"):
+        do_cell(before[0], tmp_path)
+
+
+def test_a_policy_file_written_again_is_run_again_and_refused_while_running(
+    tmp_path: Path,
+) -> None:
+    policy = tmp_path / "mine.py"
+    policy.write_text("def act(observation):\n    return 3\n")
+    before = _file_cells(f"{policy}:act", tmp_path)
+    policy.write_text("def act(observation):\n    return 2\n")
+    after = _file_cells(f"{policy}:act", tmp_path)
+    assert before and len(after) == len(before)
+    assert not {cell_id(cell) for cell in before} & {cell_id(cell) for cell in after}
+    with pytest.raises(BadInput, match=r"--controller .*mine\.py: the file changed since"):
+        do_cell(before[0], tmp_path)
 
 
 def test_policies_observe_through_ours_unless_told() -> None:

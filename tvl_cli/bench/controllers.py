@@ -20,6 +20,7 @@ from tvl_cli.core.errors import BadInput
 from tvl_cli.core.method import PRESETS, Method
 from tvl_cli.core.robot_profiles import DEFAULT_ROBOT
 from tvl_cli.io.famfile import read_fam
+from tvl_cli.io.logreader import file_sha256
 from tvl_cli.io.methodfile import resolve_method
 
 METHOD, FAM, POLICY, MODEL = "method", "fam", "policy", "model"
@@ -36,6 +37,10 @@ class Controller:
     kind: str  # METHOD, FAM, POLICY or MODEL
     spec: str  # as the cells take it: files made absolute
     method: Method | None = None  # a method's
+    # The file it is read from (a FAM, a model, a policy's FILE.py), as (absolute path,
+    # SHA-256) when the bench found it: its cells are known by the digest, so that a file
+    # made again at the same path runs again rather than reading back the old one's rows.
+    source: tuple[str, str] | None = None
 
     @property
     def label(self) -> str:
@@ -58,7 +63,7 @@ def parse_controller(text: str) -> Controller:
         path = Path(spec).absolute()
         fam_file = read_fam(path)  # FormatError naming the file
         run_robot(fam_file.robot_config, None, path, DEFAULT_ROBOT)  # the benchmark robot only
-        return Controller(name or path.stem, FAM, str(path))
+        return Controller(name or path.stem, FAM, str(path), source=_source(path))
     if ":" in spec:
         return _gym(name, spec)
     raise BadInput(f"--controller {text!r}: not {FORMS}")
@@ -67,10 +72,13 @@ def parse_controller(text: str) -> Controller:
 def _gym(name: str, spec: str) -> Controller:
     """A policy or a model, loaded once here to be refused before anything runs."""
     prefix, _, rest = spec.partition(":")
+    read_from = None  # a module's policy: installed, no file of its own to know it by
     if rest.endswith(".zip"):
-        spec = f"{prefix}:{Path(rest).absolute()}"
+        read_from = Path(rest).absolute()
+        spec = f"{prefix}:{read_from}"
     elif prefix.endswith(".py"):
-        spec = f"{Path(prefix).absolute()}:{rest}"
+        read_from = Path(prefix).absolute()
+        spec = f"{read_from}:{rest}"
     try:
         from tvl_cli.gym.scoring import is_model_spec, load_controller
     except ImportError:
@@ -78,4 +86,9 @@ def _gym(name: str, spec: str) -> Controller:
     load_controller(spec)
     kind = MODEL if is_model_spec(spec) else POLICY
     fallback = Path(rest).stem if kind == MODEL else rest.rsplit(".", 1)[-1]
-    return Controller(name or fallback, kind, spec)
+    source = _source(read_from) if read_from is not None else None
+    return Controller(name or fallback, kind, spec, source=source)
+
+
+def _source(path: Path) -> tuple[str, str]:
+    return (str(path), file_sha256(path))

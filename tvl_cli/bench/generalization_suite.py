@@ -191,12 +191,16 @@ def _controller_cell(
         runs = tuple(
             replace(plan, threshold=request.threshold) for plan in setting.plans(BEHAVIOURS, tags)
         )
-        return FamFileCell(setting.world, setting.seed, controller.spec, setting.run_minutes, runs)
+        assert controller.source is not None
+        _, digest = controller.source
+        world, seed, minutes = setting.world, setting.seed, setting.run_minutes
+        return FamFileCell(world, seed, controller.spec, digest, minutes, runs)
     observe = request.observe or request.method
     plans = setting.plans(CONTROLLER_BEHAVIOURS, tags)
     return PolicyCell(
-        setting.world, setting.seed, controller.spec, observe, setting.run_minutes, plans
-    )
+        setting.world, setting.seed, controller.spec, controller.source, observe,
+        setting.run_minutes, plans,
+    )  # fmt: skip
 
 
 @dataclass(frozen=True, slots=True)

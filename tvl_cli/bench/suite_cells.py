@@ -71,6 +71,7 @@ class FamFileCell:
     world: str
     seed: int
     fam: str  # the file's absolute path
+    fam_sha256: str  # its contents' digest when the bench was planned
     run_minutes: float
     runs: tuple[RunPlan, ...]
 
@@ -83,6 +84,9 @@ class PolicyCell:
     world: str
     seed: int
     spec: str  # as given: MODULE:CALLABLE, or ALGORITHM:FILE.zip with the file absolute
+    # The model's or policy's file, (absolute path, SHA-256) when the bench was planned; None:
+    # a module's policy.
+    source: tuple[str, str] | None
     observe: Method  # what the environment observes through (its `method` argument)
     run_minutes: float
     runs: tuple[RunPlan, ...]

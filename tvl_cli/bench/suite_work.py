@@ -162,7 +162,7 @@ def _train_missing(
     for plan in missing:
         together.setdefault((plan.true_labels, plan.pooled, plan.until_minute), []).append(plan)
     for (true_labels, pooled, until_minute), plans in together.items():
-        logs = [log, *(_unchanged(other, digest) for other, digest in pooled)]
+        logs = [log, *(_unchanged(other, digest, "--pool") for other, digest in pooled)]
         trained = train_each_from_logs(
             logs,
             [plan.config for plan in plans],
@@ -183,15 +183,16 @@ def _pooled(plan: FamPlan) -> str:
     return "-pooled-" + hashlib.sha256(digests.encode()).hexdigest()[:12]
 
 
-def _unchanged(path: str, digest: str) -> Path:
-    """A pooled log, refused if it is no longer the file the bench was planned with."""
+def _unchanged(path: str, digest: str, option: str) -> Path:
+    """A file given by `option` (a pooled log, a FAM scored), refused if it is no longer the
+    file the bench was planned with."""
     if file_sha256(path) != digest:
-        raise BadInput(f"--pool {path}: the log changed since the bench began; start a new --out")
+        raise BadInput(f"{option} {path}: the file changed since the bench began; run it again")
     return Path(path)
 
 
 def _fam_file(cell: FamFileCell, world: WorldMap) -> list[Row]:
-    path = Path(cell.fam)
+    path = _unchanged(cell.fam, cell.fam_sha256, "--controller")
     driven = [(run, path, read_fam(path)) for run in cell.runs]
     return _drive_fams(world, cell.seed, cell.run_minutes, driven, NOT_GIVEN)
 
@@ -272,6 +273,8 @@ def _autopsy(
 def _policy(cell: PolicyCell, world: WorldMap) -> list[Row]:
     from tvl_cli.gym.scoring import load_controller, score_controller  # the gym extra's
 
+    if cell.source is not None:
+        _unchanged(*cell.source, "--controller")
     controller = load_controller(cell.spec)
     rows = []
     for plan in cell.runs:
