@@ -90,8 +90,10 @@ ADDITIONS: tuple[Addition, ...] = (
         "some ways clear far and some blocked, can then reach the fast threshold, where capped "
         "labels rate the long ways slow. The robot still drives no faster than the top speed.",
         1.0,
-        not_default="it lifts competence on the tuning and the test worlds, but the FAMs "
-        "meet things more often (the multi FAM 0.41 times a minute on the test worlds)",
+        not_default="it lifts competence on the tuning and the test worlds, but FAMs learnt "
+        "in one world meet things more often (the multi FAM 0.41 times a minute on the test "
+        "worlds); pooled over ten worlds it costs the single FAM few contacts, and the "
+        "general single FAM is trained with it (fams/make_general.sh)",
     ),
     Addition(
         "sonar collision points",
