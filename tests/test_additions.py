@@ -97,7 +97,7 @@ def test_an_additions_flag_turns_it_on_on_a_command_that_takes_a_method(
 
 
 def _typed(addition: Addition, value: object) -> object:
-    numbers = ("decel_mps2", "margin_m", "near_m", "label_ceiling")
+    numbers = ("decel_mps2", "margin_m", "near_m", "label_ceiling", "label_ceiling_radius_m")
     return float(value) if addition.field in numbers else value
 
 

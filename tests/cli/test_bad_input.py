@@ -258,6 +258,7 @@ def test_a_second_learner_on_a_locked_log_is_refused(invoke_tvl, tmp_path):
     [
         ("--decel", "0", "--decel 0 must be more than 0"),
         ("--margin", "-0.1", "--margin -0.1 must be"),
+        ("--label-ceiling-radius", "-1", "--label-ceiling-radius -1 must be more than 0"),
     ],
 )
 def test_learn_refuses_bad_labels_before_touching_the_log(

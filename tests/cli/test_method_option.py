@@ -286,10 +286,32 @@ def test_labels_past_the_top_speed_train_a_fam_that_says_so_and_drives_no_faster
     assert 0.0 < ran["mean_drive_speed_mps"] <= top
 
 
-def test_each_labels_file_changes_ours_in_the_setting_it_is_named_for() -> None:
+def test_labels_past_the_top_speed_on_the_tight_arcs_leave_the_long_ways_capped(
+    tmp_path: Path,
+) -> None:
+    fam_path = tmp_path / "tight.h5"
+    trained = printed("train", ROOT / "logs" / "square-s1.h5", "-o", fam_path,
+                      "--label-ceiling", "1.5", "--label-ceiling-radius", "1")  # fmt: skip
+    assert trained["inputs"]["method"]["label_ceiling_radius_m"] == 1.0
+    fam_file = read_fam(fam_path)
+    assert fam_file.method.label_ceiling_radius_m == 1.0
+    trajectories = fam_file.robot_config.trajectories
+    tops = np.array([t.v_max_mps for t in trajectories])
+    tight = np.array([t.radius_m <= 1.0 for t in trajectories])  # T3 and T2 each way
+    velocities = fam_file.fam.velocity_table(0)  # (rules, trajectories) m/s
+    assert (velocities[:, ~tight] <= tops[~tight] + 1e-9).all()
+    assert (velocities[:, tight] > tops[tight]).any()
+
+
+def test_each_labels_file_changes_ours_in_the_settings_it_is_named_for() -> None:
     folder = ROOT / "experiments" / "methods" / "labels"
+    named = {
+        "decel": ("decel_mps2",),
+        "ceiling": ("label_ceiling",),
+        "tight": ("label_ceiling", "label_ceiling_radius_m"),
+    }
     for path in sorted(folder.glob("*.toml")):
         method = read_method(path)
-        field = {"decel": "decel_mps2", "ceiling": "label_ceiling"}[path.stem.split("-")[0]]
-        assert method.differs(DEFAULT) == [field], path.stem
-        assert getattr(method, field) == float(path.stem.split("-")[1]), path.stem
+        fields = named[path.stem.split("-")[0]]
+        assert method.differs(DEFAULT) == list(fields), path.stem
+        assert getattr(method, fields[0]) == float(path.stem.split("-")[1]), path.stem

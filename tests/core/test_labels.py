@@ -13,8 +13,10 @@ from tvl_cli.core.labels import (
     DEFAULT_MARGIN_M,
     distances_to_collision,
     label_reach_m,
+    trajectory_ceilings,
     velocity_labels,
 )
+from tvl_cli.core.robot_config import DEFAULT_TRAJECTORIES
 
 
 def test_labels_follow_the_braking_speed_before_the_collision() -> None:
@@ -112,3 +114,19 @@ def test_the_reach_runs_to_where_the_lifted_label_stops_changing() -> None:
 def test_a_ceiling_below_the_top_speed_or_beyond_the_limit_is_refused(ceiling: float) -> None:
     with pytest.raises(BadInput, match="label ceiling"):
         velocity_labels(np.array([1.0]), 0.5, ceiling=ceiling)
+
+
+def test_a_ceiling_radius_lifts_the_arcs_turning_no_wider_than_it_alone() -> None:
+    radii = [t.radius_m for t in DEFAULT_TRAJECTORIES]  # T3L to T3R: 0.5, 1, 2, inf, 2, 1, 0.5
+    assert trajectory_ceilings(radii, 1.5, 1.0).tolist() == [1.5, 1.5, 1, 1, 1, 1.5, 1.5]
+    assert trajectory_ceilings(radii, 1.5, 0.5).tolist() == [1.5, 1, 1, 1, 1, 1, 1.5]
+    assert trajectory_ceilings(radii, 1.5, None).tolist() == [1.5] * 7  # every trajectory
+
+
+def test_each_label_may_have_its_own_ceiling() -> None:
+    tops = np.array([t.v_max_mps for t in DEFAULT_TRAJECTORIES])
+    ceilings = trajectory_ceilings([t.radius_m for t in DEFAULT_TRAJECTORIES], 1.5, 1.0)
+    clear = velocity_labels(np.full(7, np.inf), tops, ceiling=ceilings)
+    np.testing.assert_allclose(clear, tops * ceilings)
+    with pytest.raises(BadInput, match="label ceiling"):
+        velocity_labels(np.full(2, np.inf), 0.5, ceiling=np.array([1.0, 3.5]))

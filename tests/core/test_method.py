@@ -43,6 +43,8 @@ def test_reflexes_are_kept_in_stacking_order_whatever_order_they_are_given_in() 
         ("margin_m", -0.1, "--margin -0.1 must be 0 or more and at most 4 m"),
         ("margin_m", 4.5, "--margin 4.5 must be 0 or more and at most 4 m"),
         ("near_m", float("nan"), "--near nan must be 0 or more and at most 4 m"),
+        ("label_ceiling_radius_m", 0.0, "--label-ceiling-radius 0 must be more than 0"),
+        ("label_ceiling_radius_m", "wide", "--label-ceiling-radius 'wide' must be a number"),
         ("exploration", "greedy", "--explore 'greedy': choose least-experience"),
         ("reflexes", ("bumpy",), "--reflex ('bumpy',): names from blocked-ways"),
         ("wall_rule", "hug", "wall_rule 'hug': choose first-seen"),

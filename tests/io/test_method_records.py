@@ -90,10 +90,11 @@ def test_an_old_trace_reads_its_reflexes_and_memory_from_its_parameters() -> Non
     read = trace_method(None, parameters, ROBOT, "trace")
     assert read.method.reflexes == ("bump",)
     assert read.method.memory.kind == "patches"
-    known = {"reflexes", "memory", "sonar", "labels", "label_ceiling"}
+    known = {"reflexes", "memory", "sonar", "labels", "label_ceiling", "label_ceiling_radius_m"}
     assert set(read.unrecorded) == set(FIELDS) - known
     assert read.method.labels == "bump"  # every file before the heard labels
     assert read.method.label_ceiling == 1.0  # and before labels ran past the top speed
+    assert read.method.label_ceiling_radius_m is None
 
 
 def test_a_malformed_old_memory_names_the_file() -> None:

@@ -179,8 +179,8 @@ def refuse_outputs(
 
 
 def label_options(command: Callable[..., None]) -> Callable[..., None]:
-    """--decel, --margin, --labels and --label-ceiling: how a recorded point becomes labels,
-    settings of the method (method_options)."""
+    """--decel, --margin, --labels, --label-ceiling and --label-ceiling-radius: how a recorded
+    point becomes labels, settings of the method (method_options)."""
     options = (
         click.option(
             "--decel",
@@ -212,6 +212,14 @@ def label_options(command: Callable[..., None]) -> Callable[..., None]:
             f"{MAX_LABEL_CEILING:g}: above 1 a label still tells how much farther a way is "
             "clear (the robot never drives faster than the top) (default: the method's; ours "
             f"{DEFAULT.label_ceiling:g}, the paper's).",
+        ),
+        click.option(
+            "--label-ceiling-radius",
+            type=float,
+            default=None,
+            help="Lift only the labels of the arcs turning no wider than this radius, m, to the "
+            "ceiling; the wider arcs and the straight way stay at their top speed (default: the "
+            "method's; ours lifts every trajectory's).",
         ),
     )
     for option in reversed(options):
@@ -266,6 +274,7 @@ _SETTINGS: dict[str, tuple[str, Callable[[Any], Any]]] = {
     "margin": ("margin_m", float),
     "labels": ("labels", str),
     "label_ceiling": ("label_ceiling", float),
+    "label_ceiling_radius": ("label_ceiling_radius_m", float),
     "near": ("near_m", float),
     "explore": ("exploration", str),
     "sonar": ("sonar", str),

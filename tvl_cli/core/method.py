@@ -26,6 +26,7 @@ from tvl_cli.core.labels import (
     DEFAULT_MARGIN_M,
     HEARD_LABELS,
     LABEL_RULES,
+    MAX_CEILING_RADIUS_M,
     MAX_DECEL_MPS2,
     MAX_LABEL_CEILING,
     MAX_MARGIN_M,
@@ -114,6 +115,8 @@ class Method:
     labels: str = HEARD_LABELS  # which trajectories a point labels: one of LABEL_RULES
     # and no faster than this many times the trajectory's top speed (core.labels)
     label_ceiling: float = DEFAULT_LABEL_CEILING
+    # that ceiling on the arcs turning no wider than this, m; None: on every trajectory
+    label_ceiling_radius_m: float | None = None
     near_m: float = DEFAULT_NEAR_M  # collision points: a sonar ahead this near; 0: bumps only
     exploration: str = LEAST_EXPERIENCE  # one of EXPLORATION_RULES
     reflexes: tuple[str, ...] = DEFAULT_REFLEXES  # in stacking order
@@ -153,6 +156,7 @@ FLAGS = {
     "margin_m": "--margin",
     "labels": "--labels",
     "label_ceiling": "--label-ceiling",
+    "label_ceiling_radius_m": "--label-ceiling-radius",
     "near_m": "--near",
     "exploration": "--explore",
     "reflexes": "--reflex",
@@ -165,6 +169,7 @@ LEARNING_FIELDS = (
     "margin_m",
     "labels",
     "label_ceiling",
+    "label_ceiling_radius_m",
     "near_m",
     "exploration",
     "sonar",
@@ -180,6 +185,10 @@ def _check(name: str, value: Any, label: str) -> None:
         return
     if name == "label_ceiling":
         check_in_range(value, label, 1.0, MAX_LABEL_CEILING, "times the top speed")
+        return
+    if name == "label_ceiling_radius_m":
+        if value is not None:  # None: every trajectory
+            check_in_range(value, label, 0.0, MAX_CEILING_RADIUS_M, "m", low_allowed=False)
         return
     if name in ("margin_m", "near_m"):
         check_in_range(value, label, 0.0, MAX_MARGIN_M if name == "margin_m" else MAX_NEAR_M, "m")
@@ -303,7 +312,7 @@ def method_from_dict(
 
 def _value(key: str, value: Any, where: str, memory_omitted: MemoryConfig | None) -> Any:
     """A field's value as Method holds it, from TOML or JSON."""
-    if key in ("decel_mps2", "margin_m", "near_m", "label_ceiling"):
+    if key in ("decel_mps2", "margin_m", "near_m", "label_ceiling", "label_ceiling_radius_m"):
         return float(value) if isinstance(value, int) and not isinstance(value, bool) else value
     if key == "reflexes":
         if isinstance(value, str):

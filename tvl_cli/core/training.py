@@ -26,6 +26,7 @@ from tvl_cli.core.labels import (
     DEFAULT_MARGIN_M,
     HEARD_LABELS,
     label_reach_m,
+    trajectory_ceilings,
     velocity_labels,
 )
 from tvl_cli.core.method import Method
@@ -43,6 +44,8 @@ class TrainParams:
     init_velocity_mps: float = DEFAULT_INIT_VELOCITY_MPS
     labels: str = HEARD_LABELS  # which trajectories a recorded point labels (LABEL_RULES)
     label_ceiling: float = DEFAULT_LABEL_CEILING  # labels no faster than this x the top speed
+    # on the arcs turning no wider than this (m); None: on every trajectory
+    label_ceiling_radius_m: float | None = None
 
     def __post_init__(self) -> None:
         # Checked here, before any file is touched, rather than at the first label.
@@ -64,6 +67,11 @@ class TrainParams:
         return label_reach_m(
             max(robot.v_max_mps), self.decel_mps2, self.margin_m, self.label_ceiling
         )
+
+    def ceilings(self, robot: RobotConfig) -> np.ndarray:
+        """(T,) each of the robot's trajectories' labels' ceiling (core.labels)."""
+        radii = [t.radius_m for t in robot.trajectories]
+        return trajectory_ceilings(radii, self.label_ceiling, self.label_ceiling_radius_m)
 
     def settings(self) -> dict[str, float | bool]:
         """What a FAM's provenance records of its training: the settings that are not the
@@ -93,6 +101,7 @@ def train_params(
         init_velocity_mps,
         method.labels,
         method.label_ceiling,
+        method.label_ceiling_radius_m,
     )
 
 
@@ -100,8 +109,9 @@ def episode_labels(episode: Episode, robot: RobotConfig, params: TrainParams) ->
     """(n,) m/s: at each point, the speed on the driven trajectory that stops just short of
     its collision point."""
     v_max = robot.trajectories[episode.trajectory].v_max_mps
+    ceiling = params.ceilings(robot)[episode.trajectory]
     return velocity_labels(
-        episode.distances_m(), v_max, params.decel_mps2, params.margin_m, params.label_ceiling
+        episode.distances_m(), v_max, params.decel_mps2, params.margin_m, ceiling
     )
 
 
@@ -121,12 +131,13 @@ def heard_labels(heard: HeardEpisode, robot: RobotConfig, params: TrainParams) -
     labelled = ~np.isnan(distances)
     labels = np.full(distances.shape, np.nan)
     v_max = np.broadcast_to(np.array(robot.v_max_mps), distances.shape)  # (n, T) m/s
+    ceilings = np.broadcast_to(params.ceilings(robot), distances.shape)
     labels[labelled] = velocity_labels(
         distances[labelled],
         v_max[labelled],
         params.decel_mps2,
         params.margin_m,
-        params.label_ceiling,
+        ceilings[labelled],
     )
     return labels
 

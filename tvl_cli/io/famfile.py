@@ -35,6 +35,7 @@ import numpy as np
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import FamConfig, FamTable
+from tvl_cli.core.labels import trajectory_ceilings
 from tvl_cli.core.method import SESSIONS_DIFFER_IN, Method, method_record
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.io.hdf5_header import (
@@ -183,7 +184,7 @@ def _read(f: h5py.File, path: Path) -> FamFile:
     robot = RobotConfig.from_dict(read_json_attr(f, "robot_config", path))
     provenance = read_json_attr(f, "provenance", path)
     made_by = _method(f, path, provenance, robot)
-    ceiling = made_by.method.label_ceiling
+    method = made_by.method
     velocities: list[np.ndarray] = []  # per table (rules, trajectories) m/s
     experience: list[np.ndarray] = []
     for table in config.tables:
@@ -201,11 +202,13 @@ def _read(f: h5py.File, path: Path) -> FamFile:
                 raise FormatError(f"{path}: {group.name}/{name} holds {values.dtype}, not floats")
             arrays.append(values.reshape(rows))
         # A learnt velocity is an average of labels, each between 0 and the trajectory's
-        # maximum times the labels' ceiling (give or take the rounding of the average):
+        # maximum times its labels' ceiling (give or take the rounding of the average):
         # anything else was not learnt.
-        top = ceiling * np.array(
-            [robot.trajectories[robot.trajectory_index(n)].v_max_mps for n in table.trajectories]
+        trajectories = [robot.trajectories[robot.trajectory_index(n)] for n in table.trajectories]
+        ceilings = trajectory_ceilings(
+            [t.radius_m for t in trajectories], method.label_ceiling, method.label_ceiling_radius_m
         )
+        top = ceilings * np.array([t.v_max_mps for t in trajectories])
         if not ((velocities[-1] >= 0) & (velocities[-1] <= top + _ROUNDING_MPS)).all():
             raise FormatError(
                 f"{path}: {group.name}/velocity holds speeds outside 0 to each trajectory's "
