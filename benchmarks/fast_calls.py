@@ -3,13 +3,14 @@ every choice of an avoid run, the fast set the choice read (of the view it chose
 truth there (the oracle velocities, from the map and the true pose the ring was read at).
 
 For each world of a `tvl bench generalization` directory (its worlds/ and the fams/ its ours
-rows trained, fams/rooms-sN-s1-m15.0-single-CONFIG.h5), each configuration avoids for 5
-simulated minutes with seed 1, as the benchmark's first trial does. *Timid*: of the choices
+rows trained, fams/rooms-sN-s1-m15.0-single-CONFIG.h5, or with `--method FILE` those of the
+controller of that method file), each configuration avoids for 5 simulated minutes with
+seed 1, as the benchmark's first trial does. *Timid*: of the choices
 where a trajectory was truly fast, the share it was rated slow; *dangerous*: of those where
 it was truly slow, the share it was rated fast.
 
     python benchmarks/fast_calls.py DIR [--worlds 1-20] [--configs single,multi,designed]
-                                    [--json]
+                                    [--method FILE.toml] [--json]
 """
 
 from __future__ import annotations
@@ -24,16 +25,19 @@ from bench_dir import MINUTES, SEED, ours_avoid, ours_fam, seeds, world_path
 
 from tvl_cli.agent.true_velocities import TrueVelocities
 from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
-from tvl_cli.core.method import DEFAULT
+from tvl_cli.core.method import DEFAULT, Method
 from tvl_cli.core.robot_profiles import DEFAULT_ROBOT
+from tvl_cli.io.methodfile import resolve_method
 from tvl_cli.sim.worldmap import load_world
 
 
-def world_calls(bench: Path, seed: int, config: str) -> tuple[np.ndarray, np.ndarray]:
+def world_calls(
+    bench: Path, seed: int, config: str, method: Method
+) -> tuple[np.ndarray, np.ndarray]:
     """(truly fast, rated fast), each (choices, T) bool, at every choice of the avoid run."""
     world = load_world(world_path(bench, seed))
-    fam_file, robot = ours_fam(bench, seed, config)
-    columns = ours_avoid(world, fam_file, robot)
+    fam_file, robot = ours_fam(bench, seed, config, method)
+    columns = ours_avoid(world, fam_file, robot, method)
     # The ring a choice read was read where the step before it left the robot.
     poses = columns["pose"]
     read_at = np.vstack([np.array([world.start[:3]]), poses[:-1]])
@@ -55,12 +59,14 @@ def main() -> None:
     parser.add_argument("bench", type=Path, help="a tvl bench generalization --out directory")
     parser.add_argument("--worlds", default="1-20", help="rooms seeds A-B of its worlds")
     parser.add_argument("--configs", default="single,multi,designed")
+    parser.add_argument("--method", default="default", help="whose FAMs: a preset or method file")
     parser.add_argument("--json", action="store_true", help="print the figures as JSON")
     args = parser.parse_args()
+    method = resolve_method(args.method)
     names = [t.name for t in DEFAULT_ROBOT.trajectories]
     figures: dict[str, dict[str, Any]] = {}
     for config in args.configs.split(","):
-        found = [world_calls(args.bench, seed, config) for seed in seeds(args.worlds)]
+        found = [world_calls(args.bench, seed, config, method) for seed in seeds(args.worlds)]
         truly = np.concatenate([t for t, _ in found])
         rated = np.concatenate([r for _, r in found])
         figures[config] = {
@@ -71,7 +77,7 @@ def main() -> None:
     if args.json:
         print(json.dumps(figures, indent=1, default=float))
         return
-    print(f"avoid, worlds {args.worlds}, seed {SEED}, {MINUTES:g} minutes each")
+    print(f"{args.method}'s FAMs avoid: worlds {args.worlds}, seed {SEED}, {MINUTES:g} minutes")
     print("| FAM | call | " + " | ".join(names) + " |")
     print("| --- | --- |" + " --- |" * len(names))
     for config, calls in figures.items():
