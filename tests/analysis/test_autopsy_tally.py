@@ -56,4 +56,22 @@ def test_tally_sums_contacts_time_slow_time_and_goal_failures_over_the_runs_reco
         "median_true_mps": 0.1,
         "median_rated_mps": 0.5,
         "untrained_share": 0.5,
+        "by_trajectory": [{"trajectory": "T0", "contacts": 2}],
     }
+
+
+def test_tally_counts_the_rated_fast_contacts_by_trajectory_most_first() -> None:
+    def met_on(*trajectories: str | None) -> dict:
+        contacts = [{"cause": RATED_FAST, "trajectory": t} for t in trajectories]
+        return {**Autopsy((), dict.fromkeys(TIME_CLASSES, 0.0)).to_dict(), "contacts": contacts}
+
+    # A row made before the trajectory was kept counts toward the contacts, not the table.
+    older = {"cause": RATED_FAST, "rated_mps": 0.5, "true_mps": 0.0, "experience": 2.0}
+    summed = tally([met_on("T3L", "T1R", None), met_on("T3L", "T2R", "T1R", "T3L"),
+                    {**met_on(), "contacts": [older]}])  # fmt: skip
+    assert summed["rated_fast"]["contacts"] == 8
+    assert summed["rated_fast"]["by_trajectory"] == [
+        {"trajectory": "T3L", "contacts": 3},
+        {"trajectory": "T1R", "contacts": 2},
+        {"trajectory": "T2R", "contacts": 1},
+    ]

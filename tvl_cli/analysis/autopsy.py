@@ -233,8 +233,9 @@ def tally(autopsies: Iterable[dict[str, Any]]) -> dict[str, Any]:
     """Autopsies (as `Autopsy.to_dict` gives them) summed: contacts by cause, seconds by
     time class and slow seconds by cause (none in rows made before it was told), goal
     failures by reason, and of the rated-fast contacts what the FAM had
-    learnt there: the median true velocity of the way it rated fast, and the share it had
-    under one exemplar's experience of."""
+    learnt there: the median true velocity of the way it rated fast, the share it had
+    under one exemplar's experience of, and how many were met on each trajectory (most first;
+    rows made before they kept it say none)."""
     causes: Counter[str] = Counter()
     time_s: Counter[str] = Counter()
     slow_s: Counter[str] = Counter()
@@ -250,6 +251,7 @@ def tally(autopsies: Iterable[dict[str, Any]]) -> dict[str, Any]:
     true = [c["true_mps"] for c in rated_fast if c.get("true_mps") is not None]
     rated = [c["rated_mps"] for c in rated_fast if c.get("rated_mps") is not None]
     known = [c["experience"] for c in rated_fast if c.get("experience") is not None]
+    driven = Counter(c["trajectory"] for c in rated_fast if c.get("trajectory") is not None)
     return {
         "causes": {cause: causes[cause] for cause in CAUSES},
         "time_s": {name: time_s[name] for name in TIME_CLASSES},
@@ -262,5 +264,10 @@ def tally(autopsies: Iterable[dict[str, Any]]) -> dict[str, Any]:
             "untrained_share": (
                 sum(e < LITTLE_EXPERIENCE for e in known) / len(known) if known else None
             ),
+            # A list of records: a trajectory is a name, not a JSON key.
+            "by_trajectory": [
+                {"trajectory": name, "contacts": n}
+                for name, n in sorted(driven.items(), key=lambda item: (-item[1], item[0]))
+            ],
         },
     }

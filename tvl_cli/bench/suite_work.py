@@ -263,9 +263,9 @@ def _autopsy(
         fam=fam_file.fam,
         threshold=plan.threshold or DEFAULT_THRESHOLD,
     ).to_dict()
-    # Of the contacts, what the tally reads: each one's cause, and of the last choice before
-    # it the rating, the truth and the experience behind it.
-    kept = ("cause", "rated_mps", "true_mps", "experience")
+    # Of the contacts, what the tally reads: each one's cause, the trajectory being driven,
+    # and of the last choice before it the rating, the truth and the experience behind it.
+    kept = ("cause", "trajectory", "rated_mps", "true_mps", "experience")
     autopsy["contacts"] = [{k: c[k] for k in kept} for c in autopsy["contacts"]]
     return autopsy
 

@@ -117,6 +117,7 @@ def autopsy_table(all_figures: Sequence[Figures]) -> Table:
                 ),
             )
         )
+        rows.append(("rated-fast: most often on", *(_most_driven(r) for r in rated)))
     header = ("autopsy", *(_column_name(f) for f in shown))
     return header, rows
 
@@ -147,6 +148,16 @@ def _column_name(figures: Figures) -> str:
 
 def _mps(value: float | None) -> str:
     return "–" if value is None else f"{value:.2f}"
+
+
+def _most_driven(rated_fast: dict[str, Any]) -> str:
+    """The trajectory most rated-fast contacts were met on, with its share of those whose
+    trajectory the rows kept."""
+    driven = rated_fast.get("by_trajectory") or []  # rows made before they kept it: none
+    if not driven:
+        return "–"
+    kept = sum(d["contacts"] for d in driven)
+    return f"{driven[0]['trajectory']} ({driven[0]['contacts'] / kept:.0%})"
 
 
 def _share(part: int, whole: int, over_trials: Interval | None) -> str:
