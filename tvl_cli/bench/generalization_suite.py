@@ -192,9 +192,9 @@ def _controller_cell(
             replace(plan, threshold=request.threshold) for plan in setting.plans(BEHAVIOURS, tags)
         )
         assert controller.source is not None
-        _, digest = controller.source
-        world, seed, minutes = setting.world, setting.seed, setting.run_minutes
-        return FamFileCell(world, seed, controller.spec, digest, minutes, runs)
+        return FamFileCell(
+            setting.world, setting.seed, controller.source, setting.run_minutes, runs
+        )
     observe = request.observe or request.method
     plans = setting.plans(CONTROLLER_BEHAVIOURS, tags)
     return PolicyCell(

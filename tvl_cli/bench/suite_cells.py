@@ -70,8 +70,8 @@ class FamFileCell:
 
     world: str
     seed: int
-    fam: str  # the file's absolute path
-    fam_sha256: str  # its contents' digest when the bench was planned
+    # The file, (absolute path, SHA-256) when the bench was planned, as a PolicyCell's.
+    source: tuple[str, str]
     run_minutes: float
     runs: tuple[RunPlan, ...]
 

@@ -192,7 +192,7 @@ def _unchanged(path: str, digest: str, option: str) -> Path:
 
 
 def _fam_file(cell: FamFileCell, world: WorldMap) -> list[Row]:
-    path = _unchanged(cell.fam, cell.fam_sha256, "--controller")
+    path = _unchanged(*cell.source, "--controller")
     driven = [(run, path, read_fam(path)) for run in cell.runs]
     return _drive_fams(world, cell.seed, cell.run_minutes, driven, NOT_GIVEN)
 
