@@ -132,8 +132,10 @@ def test_an_engine_not_reset_refuses_to_step() -> None:
 @pytest.fixture(scope="module")
 def square_fam() -> Fam:
     """The single FAM trained from the example log of learning in the square, labelling the
-    driven trajectories alone, as it was when the digests were recorded."""
-    live_ring = MethodChoice(memory=MemoryChoice(NONE), settings=(("labels", BUMP_LABELS),))
+    driven trajectories alone, braking at 0.1 m/s² and capped at the top speed, as it was
+    when the digests were recorded."""
+    labels = (("labels", BUMP_LABELS), ("decel_mps2", 0.1), ("label_ceiling", 1.0))
+    live_ring = MethodChoice(memory=MemoryChoice(NONE), settings=labels)
     return train_from_logs([ROOT / "logs" / "square-s1.h5"], SINGLE, live_ring).fam
 
 

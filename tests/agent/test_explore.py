@@ -71,10 +71,12 @@ def test_labels_along_a_collision_episode_brake_to_the_collision_point() -> None
     learner = _learner(SQUARE, minutes=3)
     episode = next(e for e in _episodes(learner) if e.collided and e.exemplar_count > 10)
     params = learner.train_params
-    v_max = ROBOT.trajectories[episode.trajectory].v_max_mps
+    # no faster than the trajectory's ceiling, its top speed or above it (core.labels)
+    trajectory = episode.trajectory
+    top = params.ceilings(ROBOT)[trajectory] * ROBOT.trajectories[trajectory].v_max_mps
     distance = episode.end_arc_m - episode.arc_m
     expected = np.minimum(
-        v_max, np.sqrt(2 * params.decel_mps2 * np.maximum(distance - params.margin_m, 0.0))
+        top, np.sqrt(2 * params.decel_mps2 * np.maximum(distance - params.margin_m, 0.0))
     )
     labels = episode_labels(episode, ROBOT, params)
     np.testing.assert_allclose(labels, expected, rtol=1e-12)
@@ -82,13 +84,14 @@ def test_labels_along_a_collision_episode_brake_to_the_collision_point() -> None
     assert labels[-1] == 0.0  # the last point lies within the margin
 
 
-def test_a_full_circle_labels_every_point_v_max() -> None:
+def test_a_full_circle_labels_every_point_its_trajectorys_ceiling() -> None:
     learner = _learner(HALL, minutes=3)
     circles = [e for e in _episodes(learner) if not e.collided]
     assert circles, "in an empty hall some arcs close their circle"
+    ceilings = learner.train_params.ceilings(ROBOT)  # the tight arcs' above the top speed
     for episode in circles:
-        v_max = ROBOT.trajectories[episode.trajectory].v_max_mps
-        assert (episode_labels(episode, ROBOT, learner.train_params) == v_max).all()
+        top = ceilings[episode.trajectory] * ROBOT.trajectories[episode.trajectory].v_max_mps
+        assert (episode_labels(episode, ROBOT, learner.train_params) == top).all()
         radius = ROBOT.trajectories[episode.trajectory].radius_m
         if math.isfinite(radius):
             assert episode.end_arc_m >= 2 * math.pi * radius - 1e-9

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 import shutil
+from dataclasses import replace
 from pathlib import Path
 
 import h5py
@@ -35,6 +36,8 @@ PAPER_TOML = """
 decel_mps2 = 0.2
 margin_m = 0.05
 labels = "bump"
+label_ceiling = 1.0
+label_ceiling_radius_m = inf
 near_m = 0.0
 exploration = "least-experience"
 reflexes = []
@@ -164,8 +167,11 @@ def test_files_from_before_methods_were_recorded_say_so(
     # choice: each is named unrecorded; it reads through its memory.
     code, out, _ = tvl("inspect", GOLDEN_FAM, "--top", "1")
     unknown = "decel_mps2, margin_m, near_m, exploration unrecorded"
+    capped = "label_ceiling 1, label_ceiling_radius_m inf"  # no file before then lifted labels
     assert code == 0
-    assert out.splitlines()[0] == f"method: default, except labels bump, memory patches ({unknown})"
+    assert out.splitlines()[0] == (
+        f"method: default, except labels bump, {capped}, memory patches ({unknown})"
+    )
     assert read_log(GOLDEN_LOG).sessions[0].made_by.unrecorded
     # A version 1 session without the record read its method from its parameters.
     old = tmp_path / "old.h5"
@@ -271,11 +277,12 @@ def test_labels_past_the_top_speed_train_a_fam_that_says_so_and_drives_no_faster
 ) -> None:
     fam_path = tmp_path / "lifted.h5"
     trained = printed("train", ROOT / "logs" / "square-s1.h5", "-o", fam_path,
-                      "--label-ceiling", "1.5")  # fmt: skip
+                      "--label-ceiling", "1.5", "--label-ceiling-radius", "inf")  # fmt: skip
     made_by = trained["inputs"]["method"]
     assert made_by["label_ceiling"] == 1.5 and made_by["preset"] is None
+    assert made_by["label_ceiling_radius_m"] is None  # every trajectory
     fam_file = read_fam(fam_path)
-    assert fam_file.method.label_ceiling == 1.5
+    assert (fam_file.method.label_ceiling, fam_file.method.label_ceiling_radius_m) == (1.5, None)
     # Somewhere the way was clear far enough for a rule to learn more than the top speed: the
     # single table holds every trajectory, each column against its own top.
     tops = np.array([t.v_max_mps for t in fam_file.robot_config.trajectories])
@@ -303,15 +310,25 @@ def test_labels_past_the_top_speed_on_the_tight_arcs_leave_the_long_ways_capped(
     assert (velocities[:, tight] > tops[tight]).any()
 
 
-def test_each_labels_file_changes_ours_in_the_settings_it_is_named_for() -> None:
+# Each labels file (experiments/methods/labels/) and the labels it stands for: ours before
+# the tight arcs were lifted (braking at 0.1 m/s², capped), changed as its name says; or
+# ours, with one of its label settings as before.
+BEFORE = replace(DEFAULT, decel_mps2=0.1, label_ceiling=1.0)
+LIFTS = (1.25, 1.5)
+LABELS_FILES = {
+    **{f"decel-{d:g}": replace(BEFORE, decel_mps2=d) for d in (0.09, 0.1, 0.13, 0.16, 0.2)},
+    **{
+        f"ceiling-{c:g}": replace(BEFORE, label_ceiling=c, label_ceiling_radius_m=None)
+        for c in LIFTS
+    },
+    **{f"tight-{c:g}": replace(BEFORE, label_ceiling=c, label_ceiling_radius_m=1.0) for c in LIFTS},
+    "ours-every-way": replace(DEFAULT, label_ceiling_radius_m=None),
+    "ours-decel-0.1": replace(DEFAULT, decel_mps2=0.1),
+}
+
+
+def test_each_labels_file_is_the_labels_it_is_named_for() -> None:
     folder = ROOT / "experiments" / "methods" / "labels"
-    named = {
-        "decel": ("decel_mps2",),
-        "ceiling": ("label_ceiling",),
-        "tight": ("label_ceiling", "label_ceiling_radius_m"),
-    }
-    for path in sorted(folder.glob("*.toml")):
-        method = read_method(path)
-        fields = named[path.stem.split("-")[0]]
-        assert method.differs(DEFAULT) == list(fields), path.stem
-        assert getattr(method, fields[0]) == float(path.stem.split("-")[1]), path.stem
+    assert sorted(path.stem for path in folder.glob("*.toml")) == sorted(LABELS_FILES)
+    for stem, method in LABELS_FILES.items():
+        assert read_method(folder / f"{stem}.toml") == method, stem

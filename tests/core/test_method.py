@@ -99,7 +99,10 @@ def test_a_record_names_the_preset_it_equals_on_the_fields_it_keeps() -> None:
     # The paper's learning, behaving with our reflexes: the paper's on learning alone.
     mixed = replace(PAPER, reflexes=DEFAULT_REFLEXES)
     assert preset_name(mixed) is None and preset_name(mixed, LEARNING_FIELDS) == "paper"
-    labels = f"decel_mps2 {PAPER.decel_mps2:g}, margin_m {PAPER.margin_m:g}, labels bump"
+    labels = (
+        f"decel_mps2 {PAPER.decel_mps2:g}, margin_m {PAPER.margin_m:g}, labels bump, "
+        "label_ceiling 1, label_ceiling_radius_m inf"
+    )
     assert (
         describe_record(method_record(mixed)) == f"default, except {labels}, near_m 0, memory none"
     )

@@ -22,7 +22,7 @@ from tvl_cli.cli.params import (
 )
 from tvl_cli.core.errors import MAX_SEED, BadInput
 from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS, DEFAULT_INIT_VELOCITY_MPS
-from tvl_cli.core.labels import LABEL_RULES, MAX_LABEL_CEILING
+from tvl_cli.core.labels import EVERY_TRAJECTORY, LABEL_RULES, MAX_LABEL_CEILING, ceiling_radius
 from tvl_cli.core.memory import (
     NOT_CHOSEN,
     MemoryChoice,
@@ -211,15 +211,16 @@ def label_options(command: Callable[..., None]) -> Callable[..., None]:
             help="Labels no faster than this many times the trajectory's top speed, 1 to "
             f"{MAX_LABEL_CEILING:g}: above 1 a label still tells how much farther a way is "
             "clear (the robot never drives faster than the top) (default: the method's; ours "
-            f"{DEFAULT.label_ceiling:g}, the paper's).",
+            f"{DEFAULT.label_ceiling:g}; the paper's {PAPER.label_ceiling:g}).",
         ),
         click.option(
             "--label-ceiling-radius",
             type=float,
             default=None,
             help="Lift only the labels of the arcs turning no wider than this radius, m, to the "
-            "ceiling; the wider arcs and the straight way stay at their top speed (default: the "
-            "method's; ours lifts every trajectory's).",
+            f"ceiling; the wider arcs and the straight way stay at their top speed; "
+            f"{EVERY_TRAJECTORY}: every trajectory's (default: the method's; ours "
+            f"{DEFAULT.label_ceiling_radius_m:g}).",
         ),
     )
     for option in reversed(options):
@@ -274,7 +275,7 @@ _SETTINGS: dict[str, tuple[str, Callable[[Any], Any]]] = {
     "margin": ("margin_m", float),
     "labels": ("labels", str),
     "label_ceiling": ("label_ceiling", float),
-    "label_ceiling_radius": ("label_ceiling_radius_m", float),
+    "label_ceiling_radius": ("label_ceiling_radius_m", lambda value: ceiling_radius(float(value))),
     "near": ("near_m", float),
     "explore": ("exploration", str),
     "sonar": ("sonar", str),

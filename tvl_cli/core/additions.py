@@ -55,7 +55,7 @@ ADDITIONS: tuple[Addition, ...] = (
         f"{DEFAULT_DECEL_MPS2:g}",
         f"Labels brake at {DEFAULT_DECEL_MPS2:g} m/s², more gently than the rate read off "
         "the paper's Figure 21: a horizon long enough to turn away within (T0 stays fast "
-        "until 1.45 m from a wall at threshold 0.85) for a robot that also remembers echoes "
+        "until 1.6 m from a wall at threshold 0.85) for a robot that also remembers echoes "
         "and backs off.",
         PAPER.decel_mps2,
     ),
@@ -84,32 +84,26 @@ ADDITIONS: tuple[Addition, ...] = (
         "label headroom",
         "label_ceiling",
         "--label-ceiling",
-        "1.5",
-        "Labels run past the trajectory's top speed, up to 1.5 times it, where a way is clear "
-        "far beyond its stopping distance: the average a FAM rule learns of a cluttered place, "
-        "some ways clear far and some blocked, can then reach the fast threshold, where capped "
-        "labels rate the long ways slow. The robot still drives no faster than the top speed.",
-        1.0,
-        not_default="it lifts competence on the tuning and the test worlds, but FAMs learnt "
-        "in one world meet things more often (the multi FAM 0.41 times a minute on the test "
-        "worlds); pooled over ten worlds it costs the single FAM few contacts, and the "
-        "general single FAM is trained with it (fams/make_general.sh)",
+        f"{DEFAULT.label_ceiling:g}",
+        f"Labels run past the trajectory's top speed, up to {DEFAULT.label_ceiling:g} times "
+        "it, where a way is clear far beyond its stopping distance: the average a FAM rule "
+        "learns of a cluttered place, some ways clear far and some blocked, can then reach "
+        "the fast threshold, where capped labels rate the long ways slow. The robot still "
+        "drives no faster than the top speed.",
+        PAPER.label_ceiling,
     ),
     Addition(
         "headroom on the tight arcs",
         "label_ceiling_radius_m",
         "--label-ceiling-radius",
-        "1",
-        "With label headroom, only the arcs turning no wider than 1 m (T2 and T3 each way) are "
-        "labelled past their top speed; the wider arcs and the straight way stay capped. The "
-        "tight arcs' labels stop changing nearest (0.76 m along T3 at its top speed, 1.95 m "
-        "along T0), so theirs are the rules the cap holds under the threshold most; lifting "
-        "the long ways too made the robot meet things more without making it more competent.",
-        None,
-        not_default="it keeps the ceiling's competence at fewer contacts than lifting every "
-        "trajectory (the test worlds at 1.25: 74, 84 and 85 % competent against ours' 58, 75 "
-        "and 75 %), but the single and multi FAMs still meet things more often than ours "
-        "(0.10 and 0.22 times a minute against 0.04 and 0.13)",
+        f"{DEFAULT.label_ceiling_radius_m:g}",
+        f"Only the arcs turning no wider than {DEFAULT.label_ceiling_radius_m:g} m (T2 and T3 "
+        "each way) are labelled past their top speed; the wider arcs and the straight way "
+        "stay capped. The tight arcs' labels stop changing nearest (0.83 m along T3 at its top "
+        "speed, 2.15 m along T0), so theirs are the rules the cap holds under the threshold "
+        "most; lifting the long ways too made the robot meet things more without making it "
+        "more competent.",
+        PAPER.label_ceiling_radius_m,
     ),
     Addition(
         "sonar collision points",

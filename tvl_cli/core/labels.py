@@ -8,6 +8,7 @@ never more than the trajectory's maximum; after a full circle every point gets v
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
@@ -21,27 +22,39 @@ if TYPE_CHECKING:
 
 # A trajectory is "fast" at threshold t while the collision point is at least
 # margin + (t * v_max)^2 / (2 a) away along it. A gentle deceleration makes that horizon long
-# enough to turn away within it (at 0.85: 1.45 m for T0, 0.59 m for T3, whose sharpest turn
+# enough to turn away within it (at 0.85: 1.6 m for T0, 0.64 m for T3, whose sharpest turn
 # needs about 0.8 m of arc to come parallel to a wall met head on); with 0.5 m/s² T3 stayed
 # fast until 0.14 m from a wall, inside what the ring can resolve, and the robot grazed walls.
-DEFAULT_DECEL_MPS2 = 0.1
+# 0.09 rather than 0.1: read at the paper's threshold of 0.85, these labels rate a way as
+# those braking at 0.1 read at 0.9 would (the factor (0.85 / 0.9)^2), a little farther out,
+# which, with the tight arcs' headroom below, kept the robot competent in more of the tuning
+# worlds at as few contacts (docs/method.md, *Labels past the top speed*).
+DEFAULT_DECEL_MPS2 = 0.09
 # Stop this far short of the collision point, the sonar's minimum range: no speed is learnt
 # for the last stretch that the ring cannot tell from touching.
 DEFAULT_MARGIN_M = 0.15
-# Labels run no faster than this many times the trajectory's top speed. The paper's stop at
-# the top speed (1): a way clear far beyond its stopping distance is labelled as one just
-# clear. Above 1, a label keeps saying how much farther the way is clear, up to where the
-# braking speed is this multiple of the top, so that the average a FAM rule learns of a
-# mixed place (some ways clear far, some blocked) can still reach the fast threshold; the
-# robot never drives faster than the top speed (core.trajectory_choice).
-DEFAULT_LABEL_CEILING = 1.0
+# Labels run no faster than this many times the trajectory's top speed: the paper's stop at
+# the top speed, and so do ours on the arcs left unlifted (below).
+TOP_SPEED_CEILING = 1.0
+# Ours run past it, up to this multiple, where a way is clear far beyond its stopping
+# distance: a way clear far beyond it is otherwise labelled as one just clear. Above 1, a
+# label keeps saying how much farther the way is clear, up to where the braking speed is this
+# multiple of the top, so that the average a FAM rule learns of a mixed place (some ways clear
+# far, some blocked) can still reach the fast threshold; the robot never drives faster than
+# the top speed (core.trajectory_choice). 1.2 is 1.25 scaled with the deceleration above
+# (by 0.85 / 0.9), the ceiling measured best at 0.9.
+DEFAULT_LABEL_CEILING = 1.2
 MAX_LABEL_CEILING = 3.0
-# The ceiling may lift the arcs alone that turn no wider than a radius (None: every
-# trajectory). The tight arcs' labels stop changing nearest (0.76 m along T3 at its top
-# speed, 1.95 m along T0), so those are the rules whose averages the cap holds under the
-# threshold; lifting the long ways too makes the robot meet things more, not more competent
-# (docs/method.md). Any radius up to this: a wider arc is straight to the ring.
+# The ceiling lifts the arcs alone that turn no wider than a radius (None: every trajectory).
+# The tight arcs' labels stop changing nearest (0.83 m along T3 at its top speed, 2.15 m
+# along T0), so those are the rules whose averages the cap holds under the threshold;
+# lifting the long ways too makes the robot meet things more, not more competent
+# (docs/method.md). Ours: 1 m, T2 and T3 each way. Any radius up to the largest: a wider arc
+# is straight to the ring.
+DEFAULT_CEILING_RADIUS_M = 1.0
 MAX_CEILING_RADIUS_M = 100.0
+# How a file or a flag names no radius, every trajectory lifted: a radius without bound.
+EVERY_TRAJECTORY = "inf"
 # What labels can be given: a deceleration of at most about 1 g, as hard as tyres grip (and
 # beyond it every label past the margin is the trajectory's top speed); a margin of at most
 # the ring's reach, beyond which every label of an episode that bumped is 0.
@@ -69,7 +82,7 @@ def velocity_labels(
     v_max_mps: np.ndarray | float,
     decel_mps2: float = DEFAULT_DECEL_MPS2,
     margin_m: float = DEFAULT_MARGIN_M,
-    ceiling: np.ndarray | float = DEFAULT_LABEL_CEILING,
+    ceiling: np.ndarray | float = TOP_SPEED_CEILING,
 ) -> np.ndarray:
     """Labels (N,) m/s for distances (N,) metres along the arc (inf: no collision ahead), no
     faster than `ceiling` (one, or one a label) times the top speed."""
@@ -86,6 +99,11 @@ def velocity_labels(
     return np.minimum(ceilings * top, np.sqrt(2.0 * decel_mps2 * braking_m))
 
 
+def ceiling_radius(value: float) -> float | None:
+    """The radius a method holds for one given: None (every trajectory) for an infinite one."""
+    return None if value == math.inf else value
+
+
 def trajectory_ceilings(
     radii_m: Sequence[float], ceiling: float, radius_m: float | None
 ) -> np.ndarray:
@@ -96,14 +114,14 @@ def trajectory_ceilings(
 
     radii = np.asarray(radii_m, dtype=np.float64)
     lifted = np.ones(radii.shape, dtype=bool) if radius_m is None else radii <= radius_m
-    return np.where(lifted, ceiling, DEFAULT_LABEL_CEILING)
+    return np.where(lifted, ceiling, TOP_SPEED_CEILING)
 
 
 def label_reach_m(
     top_speed_mps: float,
     decel_mps2: float,
     margin_m: float,
-    ceiling: float = DEFAULT_LABEL_CEILING,
+    ceiling: float = TOP_SPEED_CEILING,
 ) -> float:
     """How far (m) along a trajectory no faster than `top_speed_mps` a collision point can
     change its label: from margin + (c v_max)^2 / (2 a) on every label is c v_max

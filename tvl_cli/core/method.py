@@ -21,15 +21,19 @@ from typing import Any
 from tvl_cli.core.errors import BadInput, check_in_range, did_you_mean
 from tvl_cli.core.labels import (
     BUMP_LABELS,
+    DEFAULT_CEILING_RADIUS_M,
     DEFAULT_DECEL_MPS2,
     DEFAULT_LABEL_CEILING,
     DEFAULT_MARGIN_M,
+    EVERY_TRAJECTORY,
     HEARD_LABELS,
     LABEL_RULES,
     MAX_CEILING_RADIUS_M,
     MAX_DECEL_MPS2,
     MAX_LABEL_CEILING,
     MAX_MARGIN_M,
+    TOP_SPEED_CEILING,
+    ceiling_radius,
 )
 from tvl_cli.core.memory import (
     DEFAULT_MEMORY,
@@ -116,7 +120,7 @@ class Method:
     # and no faster than this many times the trajectory's top speed (core.labels)
     label_ceiling: float = DEFAULT_LABEL_CEILING
     # that ceiling on the arcs turning no wider than this, m; None: on every trajectory
-    label_ceiling_radius_m: float | None = None
+    label_ceiling_radius_m: float | None = DEFAULT_CEILING_RADIUS_M
     near_m: float = DEFAULT_NEAR_M  # collision points: a sonar ahead this near; 0: bumps only
     exploration: str = LEAST_EXPERIENCE  # one of EXPLORATION_RULES
     reflexes: tuple[str, ...] = DEFAULT_REFLEXES  # in stacking order
@@ -210,13 +214,15 @@ def _check(name: str, value: Any, label: str) -> None:
 
 
 DEFAULT = Method()
-# The paper's method: its labels (the driven trajectory's alone), collision points at bumps
-# alone, its exploration rule, no reflex, no memory (the live ring). Where it is silent (the
-# wall rule, the sonar), ours.
+# The paper's method: its labels (the driven trajectory's alone, no faster than its top
+# speed), collision points at bumps alone, its exploration rule, no reflex, no memory (the
+# live ring). Where it is silent (the wall rule, the sonar), ours.
 PAPER = Method(
     decel_mps2=PAPER_DECEL_MPS2,
     margin_m=PAPER_MARGIN_M,
     labels=BUMP_LABELS,
+    label_ceiling=TOP_SPEED_CEILING,
+    label_ceiling_radius_m=None,
     near_m=0.0,
     exploration=LEAST_EXPERIENCE,
     reflexes=(),
@@ -285,6 +291,8 @@ def shown_setting(value: Any) -> str:
         return reflexes_text(tuple(value))
     if isinstance(value, dict):
         return str(value.get("kind"))
+    if value is None:  # the one field that may be None: the label ceiling's radius
+        return EVERY_TRAJECTORY  # as its flag takes it
     return f"{value:g}" if isinstance(value, float) else str(value)
 
 
@@ -313,7 +321,10 @@ def method_from_dict(
 def _value(key: str, value: Any, where: str, memory_omitted: MemoryConfig | None) -> Any:
     """A field's value as Method holds it, from TOML or JSON."""
     if key in ("decel_mps2", "margin_m", "near_m", "label_ceiling", "label_ceiling_radius_m"):
-        return float(value) if isinstance(value, int) and not isinstance(value, bool) else value
+        if isinstance(value, int) and not isinstance(value, bool):
+            value = float(value)
+        # `inf` (TOML's) lifts every trajectory, as a record's null does
+        return ceiling_radius(value) if key == "label_ceiling_radius_m" else value
     if key == "reflexes":
         if isinstance(value, str):
             try:

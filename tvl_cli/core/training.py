@@ -21,6 +21,7 @@ from tvl_cli.core.fam_config import DEFAULT_INIT_VELOCITY_MPS
 from tvl_cli.core.heard import HeardEpisode, HeardLabeller, heard_episodes
 from tvl_cli.core.labels import (
     BUMP_LABELS,
+    DEFAULT_CEILING_RADIUS_M,
     DEFAULT_DECEL_MPS2,
     DEFAULT_LABEL_CEILING,
     DEFAULT_MARGIN_M,
@@ -45,7 +46,7 @@ class TrainParams:
     labels: str = HEARD_LABELS  # which trajectories a recorded point labels (LABEL_RULES)
     label_ceiling: float = DEFAULT_LABEL_CEILING  # labels no faster than this x the top speed
     # on the arcs turning no wider than this (m); None: on every trajectory
-    label_ceiling_radius_m: float | None = None
+    label_ceiling_radius_m: float | None = DEFAULT_CEILING_RADIUS_M
 
     def __post_init__(self) -> None:
         # Checked here, before any file is touched, rather than at the first label.

@@ -18,7 +18,7 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 from tvl_cli.core.errors import BadInput
-from tvl_cli.core.labels import BUMP_LABELS, DEFAULT_LABEL_CEILING
+from tvl_cli.core.labels import BUMP_LABELS, TOP_SPEED_CEILING
 from tvl_cli.core.memory import NO_MEMORY, MemoryConfig
 from tvl_cli.core.method import (
     FIELDS,
@@ -77,7 +77,7 @@ def _fields(names: Any, where: str) -> tuple[str, ...]:
 
 # What every file that does not record its labels' ceiling was made by: labels no faster than
 # the top speed, the only ones there were.
-_UNCEILED = {"label_ceiling": DEFAULT_LABEL_CEILING, "label_ceiling_radius_m": None}
+_UNCEILED = {"label_ceiling": TOP_SPEED_CEILING, "label_ceiling_radius_m": None}
 # What every file older than its method's record was made by, recorded or not: labels of the
 # driven trajectory alone (the heard labels came with the record), capped at the top speed.
 _OLDER = {"labels": BUMP_LABELS, **_UNCEILED}
