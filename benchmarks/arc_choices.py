@@ -1,8 +1,9 @@
 """Which trajectories ours drives, against the decision rule fed the true velocities: for each
-world of a `tvl bench generalization` directory, ours' FAMs (fams/rooms-sN-s1-m15.0-single-
-CONFIG.h5, trained by its ours rows) and the oracle velocities each avoid for 5 simulated
-minutes with seed 1, as the benchmark's first trial does, and every step is counted by what
-the robot did: turned on the spot, or drove which of the seven trajectories.
+world of a `tvl bench generalization` directory, ours' FAMs
+(fams/rooms-sN-s1-m15.0-single-default-DIGEST-CONFIG.h5, trained by its ours rows) and the
+oracle velocities each avoid for 5 simulated minutes with seed 1, as the benchmark's first
+trial does, and every step is counted by what the robot did: turned on the spot, or drove
+which of the seven trajectories.
 
 Where ours is slow, is it turning, or driving tight arcs where the truth would let it drive
 straight? The shares are of every step of every world's run; the mean speed is over them.

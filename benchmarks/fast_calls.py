@@ -3,8 +3,9 @@ every choice of an avoid run, the fast set the choice read (of the view it chose
 truth there (the oracle velocities, from the map and the true pose the ring was read at).
 
 For each world of a `tvl bench generalization` directory (its worlds/ and the fams/ its ours
-rows trained, fams/rooms-sN-s1-m15.0-single-CONFIG.h5, or with `--method FILE` those of the
-controller of that method file), each configuration avoids for 5 simulated minutes with
+rows trained, fams/rooms-sN-s1-m15.0-single-default-DIGEST-CONFIG.h5, DIGEST as
+sweep.layout.learning_tag names it, or with `--method FILE` those of the controller of that
+method file), each configuration avoids for 5 simulated minutes with
 seed 1, as the benchmark's first trial does. *Timid*: of the choices
 where a trajectory was truly fast, the share it was rated slow; *dangerous*: of those where
 it was truly slow, the share it was rated fast.

@@ -9,11 +9,11 @@ robot back, remembering less while driving would make it faster; this measures w
 does, and what it costs in contacts.
 
 For each world of a `tvl bench generalization` directory (its worlds/ and the fams/ its ours
-rows trained, fams/rooms-sN-s1-m15.0-single-CONFIG.h5), each configuration drives avoid,
-wall-left, wall-right and goal (the world's goal) for 5 simulated minutes with seed 1, as the
-benchmark's first trial does, once with each run-time memory; `default` is the memory the
-FAMs were trained through, whose runs are the benchmark's own. Runs are judged as the
-benchmark judges them (core.competence.is_competent_run).
+rows trained, fams/rooms-sN-s1-m15.0-single-default-DIGEST-CONFIG.h5), each configuration
+drives avoid, wall-left, wall-right and goal (the world's goal) for 5 simulated minutes
+with seed 1, as the benchmark's first trial does, once with each run-time memory; `default`
+is the memory the FAMs were trained through, whose runs are the benchmark's own. Runs are
+judged as the benchmark judges them (core.competence.is_competent_run).
 
     python benchmarks/runtime_memory.py DIR [--worlds 1-20] [--workers 2] [--json]
 """

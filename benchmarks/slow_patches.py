@@ -14,7 +14,8 @@ from the map and the true pose.
     python benchmarks/slow_patches.py DIR [--worlds 1-10] [--configs single,multi,designed]
                                       [--minutes 5] [--json]
 
-DIR's FAMs are those its ours rows trained: fams/rooms-sN-s1-m15.0-single-CONFIG.h5.
+DIR's FAMs are those its ours rows trained:
+fams/rooms-sN-s1-m15.0-single-default-DIGEST-CONFIG.h5 (DIGEST: sweep.layout.learning_tag).
 """
 
 from __future__ import annotations

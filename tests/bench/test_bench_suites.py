@@ -18,6 +18,9 @@ import pytest
 from conftest import TVL
 from json_schemas import valid
 
+from tvl_cli.core.method import DEFAULT
+from tvl_cli.sweep.layout import learning_tag
+
 pytestmark = pytest.mark.slow
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -159,7 +162,7 @@ def test_a_row_is_what_tvl_run_gives_its_fam(benched: tuple[Path, dict], tmp_pat
     row = next(
         r for r in document["rows"] if r["entry"] == "default" and r["behaviour"] == "wall-left"
     )
-    fam = out / "fams" / f"{row['world']}-s1-m1.0-single-single.h5"
+    fam = out / "fams" / f"{row['world']}-s1-m1.0-single{learning_tag(DEFAULT)}-single.h5"
     world = out / "worlds" / f"{row['world']}.txt"
     done = subprocess.run(
         [TVL, "run", fam, world, "--behaviour", "wall-left", "--minutes", "0.5", "--seed", "1",
@@ -286,5 +289,5 @@ def test_pooled_rows_train_each_worlds_log_with_the_pool(tmp_path: Path) -> None
     inspected = subprocess.run([TVL, "inspect", fam, "--json"], capture_output=True, text=True)
     logs = json.loads(inspected.stdout)["provenance"]["logs"]
     assert [log["path"] for log in logs] == [
-        str(out / "logs" / "rooms-s1001-s1-m1.0-single.h5"), str(pool)
+        str(out / "logs" / f"rooms-s1001-s1-m1.0-single{learning_tag(DEFAULT)}.h5"), str(pool)
     ]  # fmt: skip

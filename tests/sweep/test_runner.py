@@ -26,6 +26,7 @@ from tvl_cli.core.method import DEFAULT, reflexes_text
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.sweep.cell import COLUMNS
 from tvl_cli.sweep.executors import CLUSTER_EXTRA, dask_cluster
+from tvl_cli.sweep.layout import learning_tag
 
 SQUARE = Path(__file__).resolve().parents[2] / "worlds" / "square.txt"
 # What `tvl run --json` prints: the metrics, then the contacts of each simulated minute.
@@ -40,8 +41,10 @@ behaviour = "wall-left"
 threshold = [0.75, 0.9]
 run_minutes = 0.5
 """
-LOG = "logs/square-s2-m1.0.h5"
-FAMS = ["fams/square-s2-m1.0-single.h5", "fams/square-s2-m1.0-multi.h5"]
+# Named for the method they were learnt by (ours here), whatever the default is that day.
+OURS = learning_tag(DEFAULT)
+LOG = f"logs/square-s2-m1.0{OURS}.h5"
+FAMS = [f"fams/square-s2-m1.0{OURS}-single.h5", f"fams/square-s2-m1.0{OURS}-multi.h5"]
 
 
 def tvl(*args: str | Path) -> subprocess.CompletedProcess[str]:

@@ -12,7 +12,7 @@ from typing import Any
 from tvl_cli.commands.learn import LearnRequest
 from tvl_cli.commands.run import OnlineLearning, RunRequest
 from tvl_cli.core.fam_config import SINGLE, FamConfig
-from tvl_cli.core.method import DEFAULT, LEARNING_FIELDS, Method, MethodChoice, method_record
+from tvl_cli.core.method import LEARNING_FIELDS, Method, MethodChoice, method_record
 from tvl_cli.sweep.cell import LEARN, TVL, Cell
 from tvl_cli.sweep.grid import Grid
 
@@ -130,10 +130,10 @@ class CellWork:
 
 
 def learning_tag(method: Method) -> str:
-    """What a log's name adds for a method that learns otherwise than ours: its preset, or
-    "method", and a digest of its learning choices, so that no two methods share a log."""
-    if not method.differs(DEFAULT, LEARNING_FIELDS):
-        return ""
+    """What a log's name adds for the method it is learnt by: the preset it is (or "method"),
+    and a digest of its learning choices, so that no two methods share a log or a FAM. Ours
+    is named by its choices too, not as the default: a directory's log and FAMs learnt by
+    ours before ours changed are not taken for ours now."""
     record = method_record(method, LEARNING_FIELDS)
     digest = hashlib.sha256(json.dumps(record, sort_keys=True).encode()).hexdigest()[:8]
     return f"-{record['preset'] or 'method'}-{digest}"
