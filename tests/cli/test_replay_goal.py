@@ -45,11 +45,12 @@ def last_frame(fam: Path, folder: Path, *behaviour: str) -> np.ndarray:
 
 
 def pixels_like(frame: np.ndarray, colour: str) -> int:
-    """How many pixels are (about) `colour`, a matplotlib colour."""
+    """How many pixels are `colour`, a matplotlib colour, to within the GIF palette's rounding:
+    no nearer, since the sonar rays' red lies 45 from the crimson of the sought goal."""
     from matplotlib.colors import to_rgb
 
     rgb = np.array(to_rgb(colour)) * 255
-    return int((np.abs(frame - rgb).sum(axis=2) < 60).sum())
+    return int((np.abs(frame - rgb).sum(axis=2) < 20).sum())
 
 
 def test_a_goal_run_rings_its_goal_and_hollows_the_others(fam: Path, tmp_path: Path) -> None:
@@ -59,7 +60,7 @@ def test_a_goal_run_rings_its_goal_and_hollows_the_others(fam: Path, tmp_path: P
     seeking = last_frame(fam, tmp_path / "goal", "--behaviour", "goal", "--goal", SOUGHT)
     # No goal sought, no ring; the one sought, ringed.
     assert pixels_like(avoiding, TARGET_COLOUR) == 0
-    assert pixels_like(seeking, TARGET_COLOUR) > 100
+    assert pixels_like(seeking, TARGET_COLOUR) > 50  # the ring round it: about 100 pixels
     # Four gold stars where none is sought; one where one is, the others hollow.
     gold_avoiding, gold_seeking = (
         pixels_like(avoiding, GOAL_COLOUR),
