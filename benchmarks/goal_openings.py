@@ -67,7 +67,10 @@ def learn_and_train(job: tuple[Path, str, int, str]) -> None:
     tvl("learn", work / f"{world}.txt", "--method", method, "--minutes", LEARN_MINUTES,
         "--seed", seed, "--log", log)  # fmt: skip
     for config in CONFIGS:
-        tvl("train", log, "--config", config, "-o", work / f"{log.stem}-{config}.h5")
+        # The method named again: a command's own choices (train's labels, run's reflexes)
+        # are ours unless given, whatever its input was learnt by.
+        tvl("train", log, "--config", config, "--method", method,
+            "-o", work / f"{log.stem}-{config}.h5")  # fmt: skip
 
 
 def run(job: tuple[Path, str, int, str, tuple[float, float], str, str]) -> dict:
@@ -76,7 +79,7 @@ def run(job: tuple[Path, str, int, str, tuple[float, float], str, str]) -> dict:
     extra = next(flags for row, _, flags in ROWS if row == name)
     out = tvl("run", fam, work / f"{world}.txt", "--behaviour", "goal", "--goal",
               f"{goal[0]:g},{goal[1]:g}", "--minutes", RUN_MINUTES, "--seed", seed, "--csv",
-              *extra)  # fmt: skip
+              "--method", method, *extra)  # fmt: skip
     row = list(csv.DictReader(io.StringIO(out)))[-1]
     return {
         "world": world,

@@ -51,9 +51,10 @@ CLEARINGS = (NEVER, WHILE_SEEKING_GOAL, TOWARD_GOAL, ALWAYS)
 # (benchmarks/goal_openings.py measures goals and contacts with and without clearing).
 CLEARED_ABOVE_M = 0.2
 # `toward-goal` clears the beam nearest the goal's bearing and this many either side. On the
-# goal tuning worlds (docs/results.md, *Openings through the memory*) the goal's beam alone
-# reached 39 goals of 84 at 0.06 contacts a minute; one either side as well, 50 at 0.47,
-# nearly all of them among the most closely set pillars.
+# goal tuning worlds (docs/results.md, *Openings through the memory*), with the labels then
+# capped at the top speed, the goal's beam alone reached 39 goals of 84 at 0.06 contacts a
+# minute; one either side as well, 50 at 0.47, nearly all of them among the most closely set
+# pillars. With the tight arcs lifted the goal's beam alone reaches 44 at 0.36.
 GOAL_BEAMS_EITHER_SIDE = 0
 # Chosen on the tuning worlds (docs/results.md, *The echo memory*): 20 s kept the most
 # competent runs.
