@@ -272,13 +272,20 @@ def test_each_memory_settings_file_changes_ours_in_the_setting_it_is_named_for()
         assert memory[key] == value, stem
 
 
+def lifted(fam_path: Path, radius: str) -> dict:
+    """The method `tvl train` records of the example square log's FAM, written to `fam_path`,
+    its labels lifted to 1.5 times the top speed on the arcs no wider than `radius`."""
+    trained = printed("train", ROOT / "logs" / "square-s1.h5", "-o", fam_path,
+                      "--label-ceiling", "1.5", "--label-ceiling-radius", radius)  # fmt: skip
+    made_by: dict = trained["inputs"]["method"]
+    return made_by
+
+
 def test_labels_past_the_top_speed_train_a_fam_that_says_so_and_drives_no_faster(
     tmp_path: Path,
 ) -> None:
     fam_path = tmp_path / "lifted.h5"
-    trained = printed("train", ROOT / "logs" / "square-s1.h5", "-o", fam_path,
-                      "--label-ceiling", "1.5", "--label-ceiling-radius", "inf")  # fmt: skip
-    made_by = trained["inputs"]["method"]
+    made_by = lifted(fam_path, "inf")
     assert made_by["label_ceiling"] == 1.5 and made_by["preset"] is None
     assert made_by["label_ceiling_radius_m"] is None  # every trajectory
     fam_file = read_fam(fam_path)
@@ -297,14 +304,11 @@ def test_labels_past_the_top_speed_on_the_tight_arcs_leave_the_long_ways_capped(
     tmp_path: Path,
 ) -> None:
     fam_path = tmp_path / "tight.h5"
-    trained = printed("train", ROOT / "logs" / "square-s1.h5", "-o", fam_path,
-                      "--label-ceiling", "1.5", "--label-ceiling-radius", "1")  # fmt: skip
-    assert trained["inputs"]["method"]["label_ceiling_radius_m"] == 1.0
+    assert lifted(fam_path, "1")["label_ceiling_radius_m"] == 1.0
     fam_file = read_fam(fam_path)
     assert fam_file.method.label_ceiling_radius_m == 1.0
-    trajectories = fam_file.robot_config.trajectories
-    tops = np.array([t.v_max_mps for t in trajectories])
-    tight = np.array([t.radius_m <= 1.0 for t in trajectories])  # T3 and T2 each way
+    tops = np.array(fam_file.robot_config.v_max_mps)
+    tight = np.array(fam_file.robot_config.radii_m) <= 1.0  # T3 and T2 each way
     velocities = fam_file.fam.velocity_table(0)  # (rules, trajectories) m/s
     assert (velocities[:, ~tight] <= tops[~tight] + 1e-9).all()
     assert (velocities[:, tight] > tops[tight]).any()

@@ -275,7 +275,7 @@ _SETTINGS: dict[str, tuple[str, Callable[[Any], Any]]] = {
     "margin": ("margin_m", float),
     "labels": ("labels", str),
     "label_ceiling": ("label_ceiling", float),
-    "label_ceiling_radius": ("label_ceiling_radius_m", lambda value: ceiling_radius(float(value))),
+    "label_ceiling_radius": ("label_ceiling_radius_m", ceiling_radius),  # inf: every trajectory
     "near": ("near_m", float),
     "explore": ("exploration", str),
     "sonar": ("sonar", str),

@@ -28,7 +28,7 @@ if TYPE_CHECKING:
 # 0.09 rather than 0.1: read at the paper's threshold of 0.85, these labels rate a way as
 # those braking at 0.1 read at 0.9 would (the factor (0.85 / 0.9)^2), a little farther out,
 # which, with the tight arcs' headroom below, kept the robot competent in more of the tuning
-# worlds at as few contacts (docs/method.md, *Labels past the top speed*).
+# worlds at as few contacts (docs/method.md, *Ours: the tight arcs lifted*).
 DEFAULT_DECEL_MPS2 = 0.09
 # Stop this far short of the collision point, the sonar's minimum range: no speed is learnt
 # for the last stretch that the ring cannot tell from touching.

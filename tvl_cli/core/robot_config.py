@@ -126,6 +126,11 @@ class RobotConfig:
     def v_max_mps(self) -> tuple[float, ...]:
         return tuple(t.v_max_mps for t in self.trajectories)
 
+    @property
+    def radii_m(self) -> tuple[float, ...]:
+        """Each trajectory's turning radius (inf: straight)."""
+        return tuple(t.radius_m for t in self.trajectories)
+
     def heard_by(self, model: str) -> RobotConfig:
         """This robot, its ring heard by the named sonar model (SONAR_MODEL_NAMES)."""
         return replace(self, sonar=sonar_model(self.sonar, model))

@@ -71,8 +71,7 @@ class TrainParams:
 
     def ceilings(self, robot: RobotConfig) -> np.ndarray:
         """(T,) each of the robot's trajectories' labels' ceiling (core.labels)."""
-        radii = [t.radius_m for t in robot.trajectories]
-        return trajectory_ceilings(radii, self.label_ceiling, self.label_ceiling_radius_m)
+        return trajectory_ceilings(robot.radii_m, self.label_ceiling, self.label_ceiling_radius_m)
 
     def settings(self) -> dict[str, float | bool]:
         """What a FAM's provenance records of its training: the settings that are not the

@@ -185,6 +185,12 @@ def _read(f: h5py.File, path: Path) -> FamFile:
     provenance = read_json_attr(f, "provenance", path)
     made_by = _method(f, path, provenance, robot)
     method = made_by.method
+    # A learnt velocity is an average of labels, each between 0 and the trajectory's maximum
+    # times its labels' ceiling (give or take the rounding of the average): anything else
+    # was not learnt.
+    top_labels = np.array(robot.v_max_mps) * trajectory_ceilings(
+        robot.radii_m, method.label_ceiling, method.label_ceiling_radius_m
+    )
     velocities: list[np.ndarray] = []  # per table (rules, trajectories) m/s
     experience: list[np.ndarray] = []
     for table in config.tables:
@@ -201,14 +207,7 @@ def _read(f: h5py.File, path: Path) -> FamFile:
             if values.dtype.kind != "f":
                 raise FormatError(f"{path}: {group.name}/{name} holds {values.dtype}, not floats")
             arrays.append(values.reshape(rows))
-        # A learnt velocity is an average of labels, each between 0 and the trajectory's
-        # maximum times its labels' ceiling (give or take the rounding of the average):
-        # anything else was not learnt.
-        trajectories = [robot.trajectories[robot.trajectory_index(n)] for n in table.trajectories]
-        ceilings = trajectory_ceilings(
-            [t.radius_m for t in trajectories], method.label_ceiling, method.label_ceiling_radius_m
-        )
-        top = ceilings * np.array([t.v_max_mps for t in trajectories])
+        top = top_labels[[robot.trajectory_index(n) for n in table.trajectories]]
         if not ((velocities[-1] >= 0) & (velocities[-1] <= top + _ROUNDING_MPS)).all():
             raise FormatError(
                 f"{path}: {group.name}/velocity holds speeds outside 0 to each trajectory's "
