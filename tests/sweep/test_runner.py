@@ -27,6 +27,7 @@ from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.sweep.cell import COLUMNS
 from tvl_cli.sweep.executors import CLUSTER_EXTRA, dask_cluster
 from tvl_cli.sweep.layout import learning_tag
+from tvl_cli.sweep.runner import WORK_DIGEST
 
 SQUARE = Path(__file__).resolve().parents[2] / "worlds" / "square.txt"
 # What `tvl run --json` prints: the metrics, then the contacts of each simulated minute.
@@ -82,9 +83,9 @@ def swept(tmp_path_factory: pytest.TempPathFactory) -> Path:
 def test_every_cell_is_a_row_of_its_grid_values_and_its_run_metrics(swept: Path) -> None:
     with open(swept / "results.csv", newline="") as table:
         rows = list(csv.DictReader(table))
-    # The CSV's columns: the grid's values and the run metrics; each run's per-minute records,
-    # a table of their own, are in results.jsonl.
-    assert list(rows[0]) == [*COLUMNS, *PRINTED[:-1]]
+    # The CSV's columns: the grid's values, what ran them, and the run metrics; each run's
+    # per-minute records, a table of their own, are in results.jsonl.
+    assert list(rows[0]) == [*COLUMNS, WORK_DIGEST, *PRINTED[:-1]]
     assert [(r["config"], r["threshold"]) for r in rows] == [
         ("single", "0.75"), ("single", "0.9"), ("multi", "0.75"), ("multi", "0.9")
     ]  # fmt: skip
@@ -99,7 +100,8 @@ def test_every_cell_is_a_row_of_its_grid_values_and_its_run_metrics(swept: Path)
     recorded = journal(swept)
     assert len(recorded) == 4
     assert all([m["sim_s"] for m in row["minutes"]] == [30.0] for row in recorded)
-    assert all(list(row) == [*COLUMNS, *PRINTED] for row in recorded)
+    assert all(list(row) == [*COLUMNS, WORK_DIGEST, *PRINTED] for row in recorded)
+    assert len({row[WORK_DIGEST] for row in recorded}) == 2  # one method, two configurations
 
 
 @pytest.mark.slow
@@ -123,7 +125,8 @@ def test_a_row_holds_what_tvl_run_prints_for_its_cell(swept: Path, tmp_path: Pat
     row = next(r for r in journal(swept) if (r["config"], r["threshold"]) == ("multi", 0.9))
     # The row names the cell's method as the grid does; the run's inputs record it whole.
     assert printed["inputs"]["method"]["preset"] == row["method"] == "default"
-    assert row == {"kind": "tvl", **{column: row[column] for column in COLUMNS}, **found}
+    grid_values = {column: row[column] for column in (*COLUMNS, WORK_DIGEST)}
+    assert row == {"kind": "tvl", **grid_values, **found}
     assert printed["distance_m"] > 0
 
 
@@ -154,6 +157,25 @@ def test_a_stopped_sweep_runs_only_the_cells_it_lacks(swept: Path, tmp_path: Pat
     assert (summary["done"], summary["skipped"]) == (2, 2)
     assert sorted(summary["outputs"]["files"]) == [FAMS[1], "results.csv", "results.jsonl"]
     assert (out / "results.csv").read_text() == (swept / "results.csv").read_text()
+
+
+@pytest.mark.slow
+def test_a_sweep_runs_again_the_cells_whose_method_changed(tmp_path: Path) -> None:
+    # A grid's method file edited after a sweep: its cells run again by the method as it is
+    # now, not read back as they ran; a run-only change learns nothing again.
+    (tmp_path / "mine.toml").write_text('reflexes = ["bump"]\n')
+    grid = tmp_path / "grid.toml"
+    grid.write_text(GRID.replace('["single", "multi"]', '"single"') + 'method = "mine.toml"\n')
+    out = tmp_path / "out"
+    first = sweep(grid, "--out", out)
+    (tmp_path / "mine.toml").write_text('reflexes = ["bump", "tie"]\n')
+    again = sweep(grid, "--out", out)
+    assert (first["done"], again["done"], again["skipped"]) == (2, 2, 0)
+    assert not any(name.startswith(("logs/", "fams/")) for name in again["outputs"]["files"])
+    rows = journal(out)
+    assert len(rows) == 4 and len({row[WORK_DIGEST] for row in rows}) == 2
+    # The same method once more: nothing runs.
+    assert sweep(grid, "--out", out)["skipped"] == 2
 
 
 @pytest.mark.slow

@@ -51,6 +51,17 @@ class Layout:
         digest = hashlib.sha256(repr(cell.key()).encode()).hexdigest()[:12]
         return self.root / TRACES / f"{cell.world}-s{cell.seed}-{digest}.h5"
 
+    def work_digest(self, cell: Cell) -> str | None:
+        """A digest of what a learning cell's work is done by: every field of its method and
+        its FAM configuration's values (None for a baseline). Its row keeps it, so that a
+        sweep run again after ours changed, or a method or configuration file was edited,
+        runs those cells again rather than reading back rows of what they were."""
+        if cell.kind not in (LEARN, TVL):
+            return None
+        config = self.grid.configs[cell.config] if cell.config is not None else None
+        done_by = {"method": method_record(self.method(cell)), "config": repr(config)}
+        return hashlib.sha256(json.dumps(done_by, sort_keys=True).encode()).hexdigest()[:16]
+
     def learn_request(self, cell: Cell) -> LogRequest:
         assert cell.learn_config is not None  # every cell that learns has one
         learn = LearnRequest(

@@ -19,14 +19,12 @@ from typing import Any
 
 from tvl_cli.analysis.result_rows import read_results
 from tvl_cli.core.errors import BadInput
-from tvl_cli.core.fam_config import SINGLE
-from tvl_cli.core.method import DEFAULT_NAME, PAPER_NAME
 from tvl_cli.io.atomic import atomic_output, check_writable
 from tvl_cli.io.json_documents import document, input_file, output_path
 from tvl_cli.io.lock import WriterLock
 from tvl_cli.io.made import Made
 from tvl_cli.io.table import Row, append_row, write_csv, write_parquet
-from tvl_cli.sweep.cell import COLUMNS, TVL, Cell
+from tvl_cli.sweep.cell import COLUMNS, Cell
 from tvl_cli.sweep.executors import (
     DEFAULT_SCHEDULER_TIMEOUT_S,
     OnDashboard,
@@ -44,6 +42,9 @@ from tvl_cli.sweep.summary import PlotAxes, SweepSummary, default_plot_path, plo
 RESULTS = "results.jsonl"  # every row the directory has, in the order the runs ended
 TABLE_CSV = "results.csv"  # the grid's rows in the grid's order, as the tables below
 TABLE_PARQUET = "results.parquet"
+# A row's column after the grid values: the digest of the method and FAM configuration its
+# cell's work was done by (sweep.layout.Layout.work_digest), null for a baseline.
+WORK_DIGEST = "work_digest"
 # Cells a grid may have unless the user confirms more. The paper's figures take tens to
 # hundreds of cells; beyond ten thousand a grid is more likely a list written too long than a
 # study. More than memory holds are refused even then (sweep.grid.CELL_BYTES).
@@ -155,7 +156,9 @@ def _sweep(
     written = _prepare(layout, made)
     journal = layout.root / RESULTS
     recorded = _recorded(journal)
-    rows = {cell: recorded[cell.key()] for cell in grid.cells if cell.key() in recorded}
+    digests = {cell: layout.work_digest(cell) for cell in grid.cells}
+    keys = {cell: (*cell.key(), digests[cell]) for cell in grid.cells}
+    rows = {cell: recorded[keys[cell]] for cell in grid.cells if keys[cell] in recorded}
     todo = [cell for cell in grid.cells if cell not in rows]
     skipped = len(rows)
     on_progress(0, len(todo))
@@ -163,7 +166,8 @@ def _sweep(
     def record(cell: Cell, found: Row) -> None:
         # The cell's grid values, then what its work found, as the verb's --json prints it
         # (the method as the grid names it: its record is in the sweep's logs and FAMs).
-        rows[cell] = {**asdict(cell), **{k: v for k, v in found.items() if k not in COLUMNS}}
+        measured = {k: v for k, v in found.items() if k not in COLUMNS}
+        rows[cell] = {**asdict(cell), WORK_DIGEST: digests[cell], **measured}
         append_row(journal, rows[cell])
         on_progress(len(rows) - skipped, len(todo))
 
@@ -222,39 +226,16 @@ def put_worlds(folder: Path, worlds: dict[str, str], made: Made | None = None) -
 
 
 def _recorded(journal: Path) -> dict[tuple[object, ...], Row]:
-    """The journal's rows of sweeps by their grid values, as Cell.key() gives them; rows of
-    anything else (merged in by hand, say) are kept in it but match no cell."""
+    """The journal's rows of sweeps by their grid values and the digest of what did their
+    work; rows of anything else (merged in by hand, say) are kept in it but
+    match no cell. Rows written before rows kept the digest match no learning cell: what
+    they were learnt and run by is not known, so those cells run again."""
     found = read_results(journal).values() if journal.exists() else []
     return {
-        tuple(row[column] for column in COLUMNS): row
-        for row in map(_with_new_columns, found)
+        (*(row[column] for column in COLUMNS), row.get(WORK_DIGEST)): row
+        for row in found
         if all(column in row for column in COLUMNS)
     }
-
-
-# The columns sweeps' rows gained as grids learnt to write the experiments, with the values
-# a TVL run of an older sweep had.
-_OLDER_RUNS = {
-    "learn_config": SINGLE.name,
-    "exploration": None,
-    "near_m": None,
-    "memory": None,
-    "minute": None,
-    "online": False,
-    "competence_every": None,
-    "trace": False,
-}
-
-
-def _with_new_columns(row: Row) -> Row:
-    """Rows of older sweeps as a grid makes them now: of TVL runs, learnt with the single FAM
-    by ours unless they ran the paper's (`reflexes = "paper"`), which then kept our echo
-    memory: those match no cell now."""
-    if row["kind"] != TVL or row.get("reflexes") == PAPER_NAME:
-        return row
-    filled = {"method": DEFAULT_NAME, **_OLDER_RUNS, **row}
-    # In the columns' order, as the grid's own rows are.
-    return {key: filled[key] for key in (*COLUMNS, *row) if key in filled}
 
 
 def _executor(request: SweepRequest, on_dashboard: OnDashboard) -> AbstractContextManager[Executor]:
