@@ -3,6 +3,7 @@ default method, and trained from the log beside them by its labels."""
 
 from __future__ import annotations
 
+import json
 import subprocess
 from pathlib import Path
 
@@ -60,3 +61,22 @@ def test_a_general_fam_drives_in_a_world_it_never_saw(run_tvl) -> None:
     )  # fmt: skip
     assert done.returncode == 0, done.stderr
     assert '"distance_m"' in done.stdout
+
+
+@pytest.mark.slow
+def test_among_pillars_goal_ward_reaches_a_goal_the_papers_goal_rule_wanders_from(run_tvl) -> None:
+    # The general single FAM in Figure 22's pillars, sent to the far goal for 3 minutes: by
+    # ours it turns off along fast arcs that lead away and never arrives; with goal-ward it
+    # turns to face the gap and arrives, touching nothing.
+    ours = "blocked-ways,near-miss,bump,tie,wall-start"
+    reached = {}
+    for reflexes in (ours, f"{ours},goal-ward"):
+        done = run_tvl(
+            "run", FAMS / "general-single.h5", ROOT / "worlds" / "obstacles.txt",
+            "--behaviour", "goal", "--goal", "5.875,3.875", "--minutes", "3",
+            "--reflex", reflexes, "--json",
+        )  # fmt: skip
+        assert done.returncode == 0, done.stderr
+        printed = json.loads(done.stdout)
+        reached[reflexes] = (printed["goal_reached"], printed["contacts"])
+    assert reached == {ours: (False, 0), f"{ours},goal-ward": (True, 0)}

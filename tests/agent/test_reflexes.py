@@ -10,7 +10,7 @@ import pytest
 
 from tvl_cli.agent.drive import Step
 from tvl_cli.agent.drive_tvl import behave
-from tvl_cli.agent.policy import Decision, Observation
+from tvl_cli.agent.policy import Decision, LazyRing, Observation
 from tvl_cli.agent.reflexes import (
     BLOCKED_S,
     FIRST_ESCAPE_S,
@@ -19,11 +19,13 @@ from tvl_cli.agent.reflexes import (
     STACK_ORDER,
     STALLED_S,
     BlockedWays,
+    GoalWard,
     TieToLastTurn,
     WallEscape,
     WallStart,
     wrap,
 )
+from tvl_cli.agent.tvl import TvlPolicy
 from tvl_cli.core.drive_command import Command
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam import Fam
@@ -158,10 +160,12 @@ class Recording:
         self.decisions = decisions
         self.tie_sides: list[int] = []
         self.behaviours: list[str] = []
+        self.preferences: list[object] = []
 
     def decide(self, obs: Observation) -> Decision:
         self.tie_sides.append(obs.tie_side)
         self.behaviours.append(obs.behaviour)
+        self.preferences.append(obs.prefer)
         return self.decisions.pop(0) if self.decisions else Decision(Command(0.3, 0.0))
 
     def interrupt(self) -> None:
@@ -173,8 +177,6 @@ def _obs(
     x_m: float = 0.0,
     goal_xy: tuple[float, float] | None = None,
 ) -> Observation:
-    from tvl_cli.agent.policy import LazyRing
-
     ring = LazyRing(lambda: np.full(16, 4.0))
     return Observation(time_s, ring, (x_m, 0.0, 0.0), False, goal_xy=goal_xy)
 
@@ -227,6 +229,63 @@ def test_the_escape_leaves_other_behaviours_and_goalless_runs_alone(behaviour: s
     for t in range(60):
         reflex.decide(_obs(float(t), 0.0, goal))
     assert set(inner.behaviours) == {""}
+
+
+class Perceiving:
+    """Perceives the same velocities (16, 7) m/s whatever the ring reads."""
+
+    def __init__(self, velocities: np.ndarray) -> None:
+        self.velocities = velocities
+
+    def perceive(self, ring_m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        return self.velocities, np.ones_like(self.velocities)
+
+
+# Facing along x with the goal 45 degrees to the left: ahead only T3R is fast, which half a
+# metre along heads 102 degrees off the goal; two sonars to the left, T0 heads straight at it.
+T3R, T0, LEFT_TWO = 6, 3, 2
+GOAL_LEFT = (1.0, 1.0)
+
+
+def _one_choice(reflexes: tuple[str, ...], behaviour: str = "goal") -> Decision:
+    velocities = np.zeros((16, len(ROBOT.trajectories)))
+    velocities[0, T3R] = ROBOT.v_max_mps[T3R]
+    velocities[LEFT_TWO, T0] = ROBOT.v_max_mps[T0]
+    policy = TvlPolicy(Perceiving(velocities), ROBOT, behaviour, 0.85)
+    goal = GOAL_LEFT if behaviour == "goal" else None
+    return wrap(policy, reflexes, ROBOT, behaviour).decide(_obs(goal_xy=goal))
+
+
+def test_the_papers_goal_rule_takes_the_fast_way_ahead_that_leads_off() -> None:
+    decision = _one_choice(())
+    assert (decision.rotation, decision.choice) == (0, T3R)
+
+
+def test_goal_ward_turns_to_face_a_fast_way_toward_the_goal_instead() -> None:
+    decision = _one_choice(("goal-ward",))
+    assert (decision.rotation, decision.choice) == (LEFT_TWO, T0)
+    assert decision.trajectory == -1  # it spins to face that view first
+
+
+@pytest.mark.parametrize("behaviour", ["avoid", "wall-left"])
+def test_goal_ward_leaves_other_behaviours_to_the_rule(behaviour: str) -> None:
+    with_it, without = _one_choice(("goal-ward",), behaviour), _one_choice((), behaviour)
+    assert (with_it.rotation, with_it.choice) == (without.rotation, without.choice)
+
+
+def test_goal_ward_prefers_the_ways_heading_within_90_degrees_of_the_goal() -> None:
+    inner = Recording([])
+    GoalWard(inner, ROBOT, "goal").decide(_obs(goal_xy=GOAL_LEFT))
+    (prefer,) = inner.preferences
+    degrees = np.radians([[45.0, 135.0, 134.0, -44.0, -46.0, 180.0]])
+    assert prefer(degrees).tolist() == [[True, True, True, True, False, False]]
+
+
+def test_goal_ward_leaves_the_escape_s_wall_following_alone() -> None:
+    inner = Recording([])
+    escaping = replace(_obs(goal_xy=GOAL_LEFT), behaviour="wall-left")
+    GoalWard(inner, ROBOT, "goal").decide(escaping)
+    assert inner.preferences == [None]
 
 
 def test_tie_passes_the_side_of_the_last_turn() -> None:

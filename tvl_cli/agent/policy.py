@@ -55,6 +55,9 @@ class Observation:
     goal_xy: tuple[float, float] | None = None
     # Advice from reflexes; a policy that cannot use it ignores it.
     keep_out: KeepOut | None = None  # which ways to leave out of the choice
+    # which ways to choose among whenever one of them is fast (the mask as keep_out's, of
+    # where the ways head, not where they set off); the others only when none is
+    prefer: KeepOut | None = None
     tie_side: int = 0  # +1 left, -1 right: where a tie goes; 0 the policy's own order
     behaviour: str = ""  # a behaviour to perform instead of the policy's own; "" its own
 

@@ -17,7 +17,7 @@ import numpy as np
 
 from tvl_cli.agent.motions import backoff_commands
 from tvl_cli.agent.policy import Decision, KeepOut, Observation, Policy
-from tvl_cli.core.angles import wrap_rad
+from tvl_cli.core.angles import goal_bearing, wrap_rad
 from tvl_cli.core.contacts import blind_ahead, drives_forward, near_miss_sonars
 from tvl_cli.core.drive_command import Command
 from tvl_cli.core.learn_params import BACKOFF_M
@@ -25,6 +25,7 @@ from tvl_cli.core.method import (
     BLOCKED_WAYS,
     BUMP,
     ESCAPE,
+    GOAL_WARD,
     NEAR_MISS,
     REFLEX_NAMES,
     TIE,
@@ -242,6 +243,39 @@ class WallEscape(Reflex):
         return self.inner.decide(obs)
 
 
+# A way heads toward the goal when, half a metre along it (the choice rule's look-ahead), it
+# points within this angle of the goal's bearing: it does not turn the robot's back on it.
+GOAL_WARD_HALF_WIDTH_RAD = math.radians(90.0)
+
+
+class GoalWard(Reflex):
+    """While seeking a goal, the choice is among the fast ways heading toward the goal
+    whenever any view has one: where the fast way ahead that best fits the goal would turn
+    the robot's back on it, the robot turns to face the nearest view that has a fast way
+    toward the goal instead.
+
+    The paper rotates its perception only when nothing is fast ahead (§4.5). Where the way
+    toward the goal through a gap reads just under the threshold ahead, it takes a fast way
+    that leads off to one side, then keeps taking what is fast in the view it turned to: the
+    goal ends up behind it and it wanders back into the open (the single FAM among Figure
+    22's pillars). Turned to face the gap, the ring reads it anew.
+    """
+
+    name = GOAL_WARD
+
+    def decide(self, obs: Observation) -> Decision:
+        # Inside the escape: while it follows walls, the observation's behaviour says so.
+        behaviour = obs.behaviour or self.behaviour
+        if behaviour != "goal" or obs.goal_xy is None:
+            return self.inner.decide(obs)
+        bearing = goal_bearing(obs.odometry, obs.goal_xy)
+
+        def toward_goal(headings: np.ndarray) -> np.ndarray:
+            return np.abs(wrap_rad(headings - bearing)) <= GOAL_WARD_HALF_WIDTH_RAD
+
+        return self.inner.decide(replace(obs, prefer=toward_goal))
+
+
 class TieToLastTurn(Reflex):
     """Ties go to the side the robot last turned to, spin and arc together.
 
@@ -290,11 +324,20 @@ class WallStart(Reflex):
         return decision
 
 
-# Outermost first: blocked ways see every command, back-offs included; the escape, ties and
-# the wall start advise the policy directly.
+# Outermost first: blocked ways see every command, back-offs included; the escape, the goal-
+# ward choice (inside the escape, so that it leaves the escape's wall following alone), ties
+# and the wall start advise the policy directly.
 REFLEXES: dict[str, type[Reflex]] = {
     r.name: r
-    for r in (BlockedWays, NearMissBackOff, BumpBackOff, WallEscape, TieToLastTurn, WallStart)
+    for r in (
+        BlockedWays,
+        NearMissBackOff,
+        BumpBackOff,
+        WallEscape,
+        GoalWard,
+        TieToLastTurn,
+        WallStart,
+    )
 }
 STACK_ORDER = REFLEX_NAMES
 

@@ -90,9 +90,14 @@ class TvlPolicy:
         fast = fast_set(velocities, self._v_max, self.threshold)
         if obs.keep_out is not None:
             fast &= ~obs.keep_out(self._set_off)
+        candidates = fast
+        if obs.prefer is not None:
+            preferred = fast & obs.prefer(self._headings)
+            if preferred.any():
+                candidates = preferred
         bearing = 0.0 if obs.goal_xy is None else goal_bearing(obs.odometry, obs.goal_xy)
         ctx = Context(ring_m, obs.tie_side, bearing, self._wall_side)
-        choice = choose(velocities, fast, self._v_max, self._headings, behaviour, ctx)
+        choice = choose(velocities, candidates, self._v_max, self._headings, behaviour, ctx)
         following = self._wall_side != 0
         if choice is None:
             became_trapped = not self._trapped

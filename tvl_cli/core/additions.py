@@ -16,6 +16,7 @@ from tvl_cli.core.method import (
     DEFAULT,
     DEFAULT_NEAR_M,
     ESCAPE,
+    GOAL_WARD,
     LEAST_EXPERIENCE,
     NEAR_MISS,
     NOVELTY,
@@ -163,6 +164,20 @@ ADDITIONS: tuple[Addition, ...] = (
         "the goal than ever: the paper's way out of a crevice (§2.1), which it did not build.",
         (),
         not_default="measured, not yet chosen",
+    ),
+    Addition(
+        "goal-ward choice",
+        "reflexes",
+        "--reflex",
+        GOAL_WARD,
+        "Seeking a goal, where the fast way ahead that best fits the goal would turn the "
+        "robot's back on it (heading more than 90° off it half a metre along), the robot turns "
+        "to the nearest view with a fast way toward the goal instead: the paper turns only "
+        "when nothing is fast ahead, and wanders off where the way through a gap reads just "
+        "under the threshold.",
+        (),
+        not_default="it reaches more goals, and sooner, but turns on the spot more, so "
+        "fewer goal runs keep half the top speed, and it meets more door edges",
     ),
     Addition(
         "ties to the last turn",

@@ -59,10 +59,12 @@ BLOCKED_WAYS = "blocked-ways"
 NEAR_MISS = "near-miss"
 BUMP = "bump"
 ESCAPE = "escape"
+GOAL_WARD = "goal-ward"
 TIE = "tie"
 WALL_START = "wall-start"
-REFLEX_NAMES = (BLOCKED_WAYS, NEAR_MISS, BUMP, ESCAPE, TIE, WALL_START)
-# Ours: every reflex but the escape from local minima, offered as a choice (core.additions).
+REFLEX_NAMES = (BLOCKED_WAYS, NEAR_MISS, BUMP, ESCAPE, GOAL_WARD, TIE, WALL_START)
+# Ours: every reflex but the escape from local minima and the goal-ward choice, offered as
+# choices (core.additions).
 DEFAULT_REFLEXES = (BLOCKED_WAYS, NEAR_MISS, BUMP, TIE, WALL_START)
 ALL = "all"
 NONE = "none"
