@@ -1,6 +1,6 @@
 """Goals through the echo memory among pillars and narrow passages: does clearing wide
-patches while seeking a goal open the way, does escaping by following walls, and at what
-cost in contacts?
+patches while seeking a goal open the way, does escaping by following walls, does turning to
+face a fast way toward the goal, and at what cost in contacts?
 
     python benchmarks/goal_openings.py [--seeds 1-2] [--workers 2] [--json]
 
@@ -12,8 +12,9 @@ For each world and seed, through the real `tvl` process: `tvl learn` 15 simulate
 by our method and by the paper's; `tvl train` the single, multi and designed FAMs from each
 log; then `tvl run --behaviour goal` for 5 minutes to each of the world's goals with each
 FAM. Our FAMs run as learnt (clearing toward the goal), with `--memory-clearing never`,
-with `--memory-clearing goal`, and with every reflex (`--reflex all`: the escape by
-following walls besides ours); the paper's method keeps no memory and has no reflex. It
+with `--memory-clearing goal`, with the escape by following walls besides our reflexes,
+and with the goal-ward choice besides them; the paper's method keeps no memory and has no
+reflex. It
 prints goals reached and contacts a minute (over the runs' simulated time) by row and
 configuration.
 """
@@ -33,6 +34,7 @@ from pathlib import Path
 
 from competence import seed_list
 
+from tvl_cli.core.method import DEFAULT, ESCAPE, GOAL_WARD, reflexes_text
 from tvl_cli.sim.worldmap import load_world
 
 WORLDS = {  # name: (kind, width m, height m)
@@ -45,12 +47,14 @@ WORLDS = {  # name: (kind, width m, height m)
 CONFIGS = ("single", "multi", "designed")
 LEARN_MINUTES = "15"
 RUN_MINUTES = "5"
+OURS = reflexes_text(DEFAULT.reflexes)
 # (row, method preset the FAMs are learnt by, what `tvl run` is given beyond the FAM's method)
 ROWS = (
     ("ours, clearing never", "default", ("--memory-clearing", "never")),
     ("ours, clearing goal", "default", ("--memory-clearing", "goal")),
     ("ours, clearing toward the goal (default)", "default", ()),
-    ("ours, escape by following walls", "default", ("--reflex", "all")),
+    ("ours, escape by following walls", "default", ("--reflex", f"{OURS},{ESCAPE}")),
+    ("ours, goal-ward choice", "default", ("--reflex", f"{OURS},{GOAL_WARD}")),
     ("paper's method", "paper", ()),
 )
 TVL = str(Path(sys.executable).with_name("tvl"))
