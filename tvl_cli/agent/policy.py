@@ -19,9 +19,9 @@ from tvl_cli.core.drive_command import Command
 Pose = tuple[float, float, float]  # x, y metres; heading radians, CCW from +x
 
 
-# Headings where trajectories set off (radians, relative to the heading now, any shape) ->
-# a bool mask of those to leave out of the choice.
-KeepOut = Callable[[np.ndarray], np.ndarray]
+# Headings of trajectories (radians, relative to the heading now, any shape) -> a bool mask
+# of those the advice names: ways to leave out of the choice, or ways to prefer in it.
+WayMask = Callable[[np.ndarray], np.ndarray]
 
 
 class LazyRing:
@@ -54,10 +54,11 @@ class Observation:
     bumped: bool  # the bump sensor after the last step
     goal_xy: tuple[float, float] | None = None
     # Advice from reflexes; a policy that cannot use it ignores it.
-    keep_out: KeepOut | None = None  # which ways to leave out of the choice
-    # which ways to choose among whenever one of them is fast (the mask as keep_out's, of
-    # where the ways head, not where they set off); the others only when none is
-    prefer: KeepOut | None = None
+    # which ways to leave out of the choice, by where they set off
+    keep_out: WayMask | None = None
+    # which ways to choose among whenever one of them is fast, by where they head (the
+    # choice rule's look-ahead); the others only when none is
+    prefer: WayMask | None = None
     tie_side: int = 0  # +1 left, -1 right: where a tie goes; 0 the policy's own order
     behaviour: str = ""  # a behaviour to perform instead of the policy's own; "" its own
 

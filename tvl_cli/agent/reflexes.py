@@ -16,7 +16,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from tvl_cli.agent.motions import backoff_commands
-from tvl_cli.agent.policy import Decision, KeepOut, Observation, Policy
+from tvl_cli.agent.policy import Decision, Observation, Policy, WayMask
 from tvl_cli.core.angles import goal_bearing, wrap_rad
 from tvl_cli.core.contacts import blind_ahead, drives_forward, near_miss_sonars
 from tvl_cli.core.drive_command import Command
@@ -128,7 +128,7 @@ class BlockedWay:
     until_s: float
 
 
-def keep_out_ways(bearings_rad: list[float]) -> KeepOut:
+def keep_out_ways(bearings_rad: list[float]) -> WayMask:
     """Advice leaving out every trajectory that sets off within BLOCKED_HALF_WIDTH_RAD of
     one of the bearings (radians, relative to the heading)."""
     bearings = np.array(bearings_rad)

@@ -90,6 +90,8 @@ class TvlPolicy:
         fast = fast_set(velocities, self._v_max, self.threshold)
         if obs.keep_out is not None:
             fast &= ~obs.keep_out(self._set_off)
+        # A reflex's preferred ways, by where they head as the behaviours judge them; the
+        # record keeps the whole fast set.
         candidates = fast
         if obs.prefer is not None:
             preferred = fast & obs.prefer(self._headings)
