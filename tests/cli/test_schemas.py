@@ -117,7 +117,7 @@ RELEASED = {
     "demo": (2, "e70a1078cb6cfd9b"),
     "baseline dwa": (7, "55fe8ce7c9cf082f"),
     "baseline qlearn": (7, "33d00873fa6fbf5e"),
-    "sweep": (2, "b7fbe07376b9b2bb"),
+    "sweep": (3, "f25eea67f6259167"),
     "bench generalization": (6, "7e5001b3512041fc"),
     "bench claims": (1, "c574aae6e568d1f9"),
     "export": (1, "4a3407f1771e4ec1"),

@@ -161,19 +161,23 @@ def test_a_stopped_sweep_runs_only_the_cells_it_lacks(swept: Path, tmp_path: Pat
 
 @pytest.mark.slow
 def test_a_sweep_runs_again_the_cells_whose_method_changed(tmp_path: Path) -> None:
-    # A grid's method file edited after a sweep: its cells run again by the method as it is
-    # now, not read back as they ran; a run-only change learns nothing again.
-    (tmp_path / "mine.toml").write_text('reflexes = ["bump"]\n')
+    # A grid's method file edited after a sweep, in a field no grid column holds: its cells
+    # run again by the method as it is now, learning and training anew, rather than read
+    # back as they ran (their grid values are the same).
+    (tmp_path / "mine.toml").write_text("margin_m = 0.1\n")
     grid = tmp_path / "grid.toml"
     grid.write_text(GRID.replace('["single", "multi"]', '"single"') + 'method = "mine.toml"\n')
     out = tmp_path / "out"
     first = sweep(grid, "--out", out)
-    (tmp_path / "mine.toml").write_text('reflexes = ["bump", "tie"]\n')
+    (tmp_path / "mine.toml").write_text("margin_m = 0.12\n")
     again = sweep(grid, "--out", out)
     assert (first["done"], again["done"], again["skipped"]) == (2, 2, 0)
-    assert not any(name.startswith(("logs/", "fams/")) for name in again["outputs"]["files"])
+    assert (first["redone"], again["redone"]) == (0, 2)
+    learnt = [name for name in again["outputs"]["files"] if name.startswith(("logs/", "fams/"))]
+    assert len(learnt) == 2  # a log and a FAM by the method as it is now
     rows = journal(out)
     assert len(rows) == 4 and len({row[WORK_DIGEST] for row in rows}) == 2
+    assert {row["threshold"] for row in rows} == {0.75, 0.9}  # the same grid values twice
     # The same method once more: nothing runs.
     assert sweep(grid, "--out", out)["skipped"] == 2
 

@@ -21,8 +21,13 @@ Column = tuple[str, list[str]]  # a header and its cells
 
 
 def show(result: SweepResult) -> None:
+    again = (
+        f" ({result.redone} of them again: their method or configuration changed)"
+        if result.redone
+        else ""
+    )
     out.print(
-        f"{result.cells} cells: {result.done} run now, {result.skipped} done before; "
+        f"{result.cells} cells: {result.done} run now{again}, {result.skipped} done before; "
         f"the table is {result.out / TABLE_CSV}"
     )
     shared = result.summary.fixed.items()

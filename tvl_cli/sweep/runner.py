@@ -79,6 +79,8 @@ class SweepResult:
     out: Path
     cells: int
     done: int  # run by this sweep
+    # of them, cells whose rows were there but made by another method or configuration
+    redone: int
     skipped: int  # in the results already
     rows: list[Row]  # the grid's, in the grid's order
     files: list[Path]  # written by this sweep, relative to `out`
@@ -100,7 +102,13 @@ class SweepResult:
         }
         outputs = {"files": [str(path) for path in self.files], "plot": output_path(self.plot)}
         return document(
-            "sweep", inputs, outputs=outputs, cells=self.cells, done=self.done, skipped=self.skipped
+            "sweep",
+            inputs,
+            outputs=outputs,
+            cells=self.cells,
+            done=self.done,
+            redone=self.redone,
+            skipped=self.skipped,
         )
 
 
@@ -160,6 +168,8 @@ def _sweep(
     keys = {cell: (*cell.key(), digests[cell]) for cell in grid.cells}
     rows = {cell: recorded[keys[cell]] for cell in grid.cells if keys[cell] in recorded}
     todo = [cell for cell in grid.cells if cell not in rows]
+    made_otherwise = {key[:-1] for key in recorded}  # grid values with a row of any work
+    redone = sum(cell.key() in made_otherwise for cell in todo)
     skipped = len(rows)
     on_progress(0, len(todo))
 
@@ -186,6 +196,7 @@ def _sweep(
         out=request.out,
         cells=len(grid.cells),
         done=len(todo),
+        redone=redone,
         skipped=skipped,
         rows=table,
         files=[path.relative_to(layout.root) for path in written],
