@@ -59,8 +59,7 @@ class Layout:
         if cell.kind not in (LEARN, TVL):
             return None
         config = self.grid.configs[cell.config] if cell.config is not None else None
-        done_by = {"method": method_record(self.method(cell)), "config": repr(config)}
-        return hashlib.sha256(json.dumps(done_by, sort_keys=True).encode()).hexdigest()[:16]
+        return _digest({"method": method_record(self.method(cell)), "config": repr(config)}, 16)
 
     def learn_request(self, cell: Cell) -> LogRequest:
         assert cell.learn_config is not None  # every cell that learns has one
@@ -146,5 +145,9 @@ def learning_tag(method: Method) -> str:
     is named by its choices too, not as the default: a directory's log and FAMs learnt by
     ours before ours changed are not taken for ours now."""
     record = method_record(method, LEARNING_FIELDS)
-    digest = hashlib.sha256(json.dumps(record, sort_keys=True).encode()).hexdigest()[:8]
-    return f"-{record['preset'] or 'method'}-{digest}"
+    return f"-{record['preset'] or 'method'}-{_digest(record, 8)}"
+
+
+def _digest(record: dict[str, Any], length: int) -> str:
+    """The first `length` hex digits of the SHA-256 of a JSON record, its keys in order."""
+    return hashlib.sha256(json.dumps(record, sort_keys=True).encode()).hexdigest()[:length]

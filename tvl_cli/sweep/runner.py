@@ -238,9 +238,9 @@ def put_worlds(folder: Path, worlds: dict[str, str], made: Made | None = None) -
 
 def _recorded(journal: Path) -> dict[tuple[object, ...], Row]:
     """The journal's rows of sweeps by their grid values and the digest of what did their
-    work; rows of anything else (merged in by hand, say) are kept in it but
-    match no cell. Rows written before rows kept the digest match no learning cell: what
-    they were learnt and run by is not known, so those cells run again."""
+    work; rows of anything else (merged in by hand, say) are kept in it but match no cell.
+    Rows written before rows kept the digest match no learning cell: what they were learnt
+    and run by is not known, so those cells run again."""
     found = read_results(journal).values() if journal.exists() else []
     return {
         (*(row[column] for column in COLUMNS), row.get(WORK_DIGEST)): row
