@@ -240,6 +240,9 @@ class Perceiving:
     def perceive(self, ring_m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         return self.velocities, np.ones_like(self.velocities)
 
+    def perceive_ahead(self, ring_m: np.ndarray) -> np.ndarray:
+        return self.velocities[0]
+
 
 # Facing along x with the goal 45 degrees to the left: ahead only T3R is fast, which half a
 # metre along heads 102 degrees off the goal; two sonars to the left, T0 heads straight at it.

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 
+import numpy as np
 import pytest
 
 from tvl_cli.agent.drive import Step
@@ -93,6 +94,47 @@ def test_another_seed_gives_another_run() -> None:
     _, first = run(HALL, fam, "avoid", 0.5, 5)
     _, second = run(HALL, fam, "avoid", 0.5, 6)
     assert [s.pose for s in first] != [s.pose for s in second]
+
+
+class EveryView:
+    """A FAM that perceives every view on every step, as the rule did before it perceived the
+    view ahead first: its view ahead alone reads nothing fast. Counts the steps it perceives
+    every view on."""
+
+    def __init__(self, fam: Fam, lazy: bool) -> None:
+        self.fam, self.lazy, self.every_view_steps = fam, lazy, 0
+
+    def perceive(self, ring_m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        self.every_view_steps += 1
+        return self.fam.perceive(ring_m)
+
+    def perceive_ahead(self, ring_m: np.ndarray) -> np.ndarray:
+        if self.lazy:
+            return self.fam.perceive_ahead(ring_m)
+        return np.zeros(len(ROBOT.trajectories))
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    ("behaviour", "reflexes"),
+    [("avoid", DEFAULT_REFLEXES), ("wall-left", ()), ("goal", (*DEFAULT_REFLEXES, "goal-ward"))],
+)
+def test_perceiving_the_view_ahead_first_chooses_as_perceiving_every_view(
+    behaviour: str, reflexes: tuple[str, ...]
+) -> None:
+    fam = learnt_fam(HALL)
+    goal = (6.0, 1.0) if behaviour == "goal" else None
+    runs = {}
+    for lazy in (True, False):
+        counting = EveryView(fam, lazy)
+        metrics, steps = run(HALL, counting, behaviour, 1.0, 5, goal_xy=goal, reflexes=reflexes)
+        runs[lazy] = (metrics, [(s.pose, s.decision.command) for s in steps], counting)
+    assert runs[True][:2] == runs[False][:2]
+    decisions = runs[False][2].every_view_steps
+    if behaviour == "goal":  # the goal-ward advice reads every view whenever it is given
+        assert runs[True][2].every_view_steps == decisions
+    else:
+        assert runs[True][2].every_view_steps < decisions / 2
 
 
 # Straight down the hall at T0's 0.6 m/s, the body's edge meets the east wall after 11.5 s.

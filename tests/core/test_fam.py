@@ -200,6 +200,15 @@ def test_rotation_by_k_equals_reading_the_ring_shifted_by_k(
     np.testing.assert_allclose(experience[k], fam.experience(shifted), rtol=1e-12)
 
 
+@given(ring_values, st.sampled_from(["single", "multi", "designed"]))
+@settings(max_examples=30, deadline=None)
+def test_the_view_ahead_alone_is_row_zero_of_every_view_bit_for_bit(
+    fams: dict[str, Fam], values: list[float], name: str
+) -> None:
+    fam, ring = fams[name], np.array(values)
+    np.testing.assert_array_equal(fam.perceive_ahead(ring), fam.perceive(ring)[0][0])
+
+
 def test_batch_inference_agrees_with_one_ring_at_a_time(multi: Fam) -> None:
     rings = random_rings(np.random.default_rng(6), 700)  # more than one inference chunk
     batch = multi.velocities(rings, rotation=3)

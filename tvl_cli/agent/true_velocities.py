@@ -55,6 +55,11 @@ class TrueVelocities:
         velocities = self._velocities(self._true_pose(), self._views)
         return velocities, np.ones_like(velocities)
 
+    def perceive_ahead(self, ring_m: np.ndarray) -> np.ndarray:
+        """(7,) m/s: the true velocities of the view ahead alone."""
+        assert self._true_pose is not None, "perceive needs the true pose"
+        return self.in_view(self._true_pose(), 0)
+
     def in_view(self, pose: Pose, view: int) -> np.ndarray:
         """(7,) m/s: the true velocities of one view's trajectories (facing sonar `view`),
         from a pose of the caller's."""

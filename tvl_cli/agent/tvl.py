@@ -42,6 +42,10 @@ class VelocityPerception(Protocol):
         experience."""
         ...
 
+    def perceive_ahead(self, ring_m: np.ndarray) -> np.ndarray:
+        """(7,) m/s: row 0 of `perceive`, the view the robot faces, alone."""
+        ...
+
 
 class TvlPolicy:
     """Drives one behaviour from a FAM's perception."""
@@ -86,10 +90,15 @@ class TvlPolicy:
             # A wall found for one behaviour is not the next one's: it finds its own.
             self._performing, self._wall_side = behaviour, 0
         self._wall_side = self._wall_rule(behaviour, ring_m, self._wall_side)
-        velocities, _ = self.fam.perceive(ring_m)  # (16, 7) m/s, row k facing sonar k
-        fast = fast_set(velocities, self._v_max, self.threshold)
-        if obs.keep_out is not None:
-            fast &= ~obs.keep_out(self._set_off)
+        # The rule looks round the ring only when no way ahead is fast (core.trajectory_choice),
+        # so the view ahead is perceived first, and the other fifteen only when the rule must
+        # look round or a reflex's preference must know every view: a step that drives on
+        # perceives one view of sixteen, and chooses as if it had perceived them all.
+        velocities = self.fam.perceive_ahead(ring_m)[None]  # (1, 7) m/s
+        fast = self._fast(velocities, obs)
+        if obs.prefer is not None or not fast[0].any():
+            velocities, _ = self.fam.perceive(ring_m)  # (16, 7) m/s, row k facing sonar k
+            fast = self._fast(velocities, obs)
         # A reflex's preferred ways, by where they head as the behaviours judge them; the
         # record keeps the whole fast set.
         candidates = fast
@@ -115,6 +124,13 @@ class TvlPolicy:
             )
         self._trapped = False
         return self._plan(choice, velocities, fast, following, perceived)
+
+    def _fast(self, velocities: np.ndarray, obs: Observation) -> np.ndarray:
+        """(V, 7) bool: the fast ways of the first V views, less those a reflex keeps out."""
+        fast = fast_set(velocities, self._v_max, self.threshold)
+        if obs.keep_out is not None:
+            fast &= ~obs.keep_out(self._set_off[: len(velocities)])
+        return fast
 
     def _plan(
         self,

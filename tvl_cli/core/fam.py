@@ -333,6 +333,14 @@ class Fam:
             raise ValueError(f"ring must be ({SONAR_COUNT},), got {ring.shape}")
         return self._infer(ring[None], self._one_ring, self._all_rotations)
 
+    def perceive_ahead(self, ring: np.ndarray) -> np.ndarray:
+        """Velocities (J,) m/s of one ring (16,) facing as it does: row 0 of `perceive`, bit for
+        bit, at a sixteenth of the work."""
+        ring = np.asarray(ring, dtype=np.float64)
+        if ring.shape != (SONAR_COUNT,):
+            raise ValueError(f"ring must be ({SONAR_COUNT},), got {ring.shape}")
+        return self._infer(ring[None], self._one_ring[:1], self._all_rotations[:1])[0][0]
+
     def explain(self, ring: np.ndarray) -> Explanation:
         """The memberships, fired rules and weighted averages behind velocities(ring)."""
         ring = np.asarray(ring, dtype=np.float64)

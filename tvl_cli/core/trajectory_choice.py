@@ -110,9 +110,11 @@ def choose(
 
     velocities: (16, 7) perceived m/s, row k as if facing sonar k; fast: (16, 7) bool, the
     candidates (fast_set, less any the caller leaves out); v_max: (7,); headings: (16, 7)
-    from trajectory_headings, how behaviours judge where a trajectory goes.
+    from trajectory_headings, how behaviours judge where a trajectory goes. The other views
+    are read only when the view ahead has no candidate, so a caller whose view ahead has one
+    may give that row alone, (1, 7).
     """
-    n_sonars = velocities.shape[0]
+    n_sonars = headings.shape[0]
     scorer = _wall_score(ctx.wall_side or 1) if behaviour == "wall" else BEHAVIOURS[behaviour]
     # (16,) whether each view has a fast trajectory, found at once rather than view by view
     has_fast: list[bool] = fast.any(axis=1).tolist()  # type: ignore[assignment]
