@@ -58,7 +58,7 @@ def clearance_at(
 def _nearest_segment(x, y, seg_start, seg_delta, seg_len, grid, limit_m):
     """(metres, segment) of the segment nearest (x, y), the first numbered of equally near
     ones; (inf, -1) if none is nearer than every cell left unasked within limit_m."""
-    x0, y0, cell_m, columns, rows, first, cell_walls, _, _ = grid
+    x0, y0, cell_m, columns, rows, first, cell_walls, _ = grid
     nearest = math.inf
     obstacle = -1
     column = math.floor((x - x0) / cell_m)

@@ -53,14 +53,12 @@ class WallGrid:
     # ray screens every wall of a cell by, read side by side.
     lines: np.ndarray
 
-    # The grid as the ring and clearance kernels take it (sim.ring_kernel documents it),
-    # with the most walls any cell lists.
+    # The grid as the ring and clearance kernels take it (sim.ring_kernel documents it).
     kernel_input: tuple[object, ...] = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
-        largest = int(np.diff(self.first).max(initial=0))
         inputs = (self.x0_m, self.y0_m, self.cell_m, self.columns, self.rows, self.first,
-                  self.walls, self.lines, largest)  # fmt: skip
+                  self.walls, self.lines)  # fmt: skip
         object.__setattr__(self, "kernel_input", inputs)
 
 
