@@ -31,6 +31,7 @@ ROOT = Path(__file__).resolve().parents[2]
         (["--worlds", "0-3"], "--worlds 0-3: give N or A-B, worlds counted from 1"),
         (["--worlds", "5-2"], "--worlds 5-2: give N or A-B"),
         (["--worlds", "19-21"], "--worlds 19-21: the test set's worlds are 1 to 20"),
+        (["--worlds", "1001"], "--worlds 1001: the test set's worlds are 1 to 20, counted from 1 "),
         (["--references", "dwa"], "--references dwa: no reference 'dwa' (did you mean"),
         (["--threshold", "1.5"], "--threshold 1.5 is outside (0, 1]"),
         (["--method", "mine.toml"], "--method mine.toml: neither a preset"),

@@ -102,8 +102,11 @@ def world_seeds(request: GeneralizationRequest) -> list[int]:
         return seeds[: SIZES[request.size].worlds]
     first, last = request.span
     if not 1 <= first <= last <= len(seeds):
+        # `--worlds 1001` counts worlds and does not name a seed: say which seeds they are.
+        shown = str(last) if first == 1 else f"{first}-{last}"
         raise BadInput(
-            f"--worlds {first}-{last}: the {request.world_set} set's worlds are 1 to {len(seeds)}"
+            f"--worlds {shown}: the {request.world_set} set's worlds are 1 to {len(seeds)}, "
+            f"counted from 1 (rooms seeds {seeds[0]} to {seeds[-1]})"
         )
     return seeds[first - 1 : last]
 
