@@ -51,14 +51,16 @@ class TrueVelocities:
 
     def perceive(self, ring_m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(16, 7) m/s, view k facing sonar k, and the experience (all ones: known)."""
-        assert self._true_pose is not None, "perceive needs the true pose"
-        velocities = self._velocities(self._true_pose(), self._views)
+        velocities = self._velocities(self._pose_now(), self._views)
         return velocities, np.ones_like(velocities)
 
     def perceive_ahead(self, ring_m: np.ndarray) -> np.ndarray:
         """(7,) m/s: the true velocities of the view ahead alone."""
-        assert self._true_pose is not None, "perceive needs the true pose"
-        return self.in_view(self._true_pose(), 0)
+        return self.in_view(self._pose_now(), 0)
+
+    def _pose_now(self) -> Pose:
+        assert self._true_pose is not None, "perceiving needs the true pose"
+        return self._true_pose()
 
     def in_view(self, pose: Pose, view: int) -> np.ndarray:
         """(7,) m/s: the true velocities of one view's trajectories (facing sonar `view`),

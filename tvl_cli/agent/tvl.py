@@ -90,15 +90,7 @@ class TvlPolicy:
             # A wall found for one behaviour is not the next one's: it finds its own.
             self._performing, self._wall_side = behaviour, 0
         self._wall_side = self._wall_rule(behaviour, ring_m, self._wall_side)
-        # The rule looks round the ring only when no way ahead is fast (core.trajectory_choice),
-        # so the view ahead is perceived first, and the other fifteen only when the rule must
-        # look round or a reflex's preference must know every view: a step that drives on
-        # perceives one view of sixteen, and chooses as if it had perceived them all.
-        velocities = self.fam.perceive_ahead(ring_m)[None]  # (1, 7) m/s
-        fast = self._fast(velocities, obs)
-        if obs.prefer is not None or not fast[0].any():
-            velocities, _ = self.fam.perceive(ring_m)  # (16, 7) m/s, row k facing sonar k
-            fast = self._fast(velocities, obs)
+        velocities, fast = self._perceived(ring_m, obs)
         # A reflex's preferred ways, by where they head as the behaviours judge them; the
         # record keeps the whole fast set.
         candidates = fast
@@ -124,6 +116,21 @@ class TvlPolicy:
             )
         self._trapped = False
         return self._plan(choice, velocities, fast, following, perceived)
+
+    def _perceived(self, ring_m: np.ndarray, obs: Observation) -> tuple[np.ndarray, np.ndarray]:
+        """(V, 7) m/s and their fast set: the view ahead alone (V = 1) where it has a fast way,
+        else all sixteen, row k facing sonar k.
+
+        The rule looks round the ring only when no way ahead is fast (core.trajectory_choice),
+        so a step that drives on perceives one view of sixteen and chooses as if it had
+        perceived them all; a reflex's preference must know every view from the start."""
+        if obs.prefer is None:
+            ahead = self.fam.perceive_ahead(ring_m)[None]  # (1, 7) m/s
+            fast = self._fast(ahead, obs)
+            if fast[0].any():
+                return ahead, fast
+        velocities, _ = self.fam.perceive(ring_m)  # (16, 7) m/s
+        return velocities, self._fast(velocities, obs)
 
     def _fast(self, velocities: np.ndarray, obs: Observation) -> np.ndarray:
         """(V, 7) bool: the fast ways of the first V views, less those a reflex keeps out."""

@@ -328,24 +328,18 @@ class Fam:
 
         Row k is rotation k (paper §4.5): 16 x 7 = 112 trajectories from one reading.
         """
-        ring = np.asarray(ring, dtype=np.float64)
-        if ring.shape != (SONAR_COUNT,):
-            raise ValueError(f"ring must be ({SONAR_COUNT},), got {ring.shape}")
+        ring = _one_ring(ring)
         return self._infer(ring[None], self._one_ring, self._all_rotations)
 
     def perceive_ahead(self, ring: np.ndarray) -> np.ndarray:
         """Velocities (J,) m/s of one ring (16,) facing as it does: row 0 of `perceive`, bit for
         bit, at a sixteenth of the work."""
-        ring = np.asarray(ring, dtype=np.float64)
-        if ring.shape != (SONAR_COUNT,):
-            raise ValueError(f"ring must be ({SONAR_COUNT},), got {ring.shape}")
+        ring = _one_ring(ring)
         return self._infer(ring[None], self._one_ring[:1], self._all_rotations[:1])[0][0]
 
     def explain(self, ring: np.ndarray) -> Explanation:
         """The memberships, fired rules and weighted averages behind velocities(ring)."""
-        ring = np.asarray(ring, dtype=np.float64)
-        if ring.shape != (SONAR_COUNT,):
-            raise ValueError(f"ring must be ({SONAR_COUNT},), got {ring.shape}")
+        ring = _one_ring(ring)
         x = self._inputs(ring[None], 0)  # (n, T, 1) metres
         base, strength = self._firing.fire(x)
         velocity, experience = self._batch(ring, 0)
@@ -385,3 +379,11 @@ class Fam:
             )
             for rule, sets, corner in zip(rules, rule_set_indices(table, rules), live, strict=True)
         ]
+
+
+def _one_ring(ring: np.ndarray) -> np.ndarray:
+    """One ring (16,) metres as float64, or ValueError saying what it is instead."""
+    ring = np.asarray(ring, dtype=np.float64)
+    if ring.shape != (SONAR_COUNT,):
+        raise ValueError(f"ring must be ({SONAR_COUNT},), got {ring.shape}")
+    return ring
