@@ -17,9 +17,10 @@ from tvl_cli.cli.main import COMMANDS, command_named
 FACES = sorted(PACKAGE.glob("*/**/__init__.py"))
 
 # The faces that import, and the modules they may import from: the console script's entry
-# point is the command line's `main`; importing the Gymnasium room registers its environment.
+# point is the command line's `main`, after os sets BLAS's threads before numpy can load;
+# importing the Gymnasium room registers its environment.
 IMPORTING = {
-    "cli": {"tvl_cli.cli.main"},
+    "cli": {"os", "tvl_cli.cli.main"},
     "gym": {"gymnasium", "tvl_cli.core.competence", "tvl_cli.gym.env"}
     | {"tvl_cli.gym.policies", "tvl_cli.gym.vector"},
 }
