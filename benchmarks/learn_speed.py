@@ -20,6 +20,8 @@ import tempfile
 from pathlib import Path
 
 from timing import (
+    TARGET_REALTIME,
+    TIMED_CONFIGS,
     TVL,
     Seconds,
     add_against_option,
@@ -31,8 +33,6 @@ from timing import (
 )
 
 LAB = Path(__file__).resolve().parent.parent / "worlds" / "lab.txt"
-CONFIGS = ("single", "multi")
-TARGET_REALTIME = 1000.0  # each configuration, whole process, CPU seconds
 
 
 def learn(tvl: str, config: str, minutes: float, memory: str | None) -> Seconds:
@@ -55,7 +55,7 @@ def main() -> None:
     theirs_tvl = tvl_in(args.against) if args.against else None
     sim_s = args.minutes * 60.0
     figures: dict[str, dict[str, float | None]] = {}
-    for config in CONFIGS:
+    for config in TIMED_CONFIGS:
         ours, theirs, ratio = paired(
             lambda config=config: learn(TVL, config, args.minutes, args.memory),
             (lambda config=config: learn(theirs_tvl, config, args.minutes, args.memory))

@@ -22,6 +22,8 @@ import tempfile
 from pathlib import Path
 
 from timing import (
+    TARGET_REALTIME,
+    TIMED_CONFIGS,
     TVL,
     add_against_option,
     paired_commands,
@@ -35,8 +37,6 @@ ROOT = Path(__file__).resolve().parent.parent
 LAB = ROOT / "worlds" / "lab.txt"
 EXAMPLE_LOG = ROOT / "logs" / "lab-s1.h5"
 CONTROL_PERIOD_S = 0.1
-CONFIGS = ("single", "multi")
-TARGET_REALTIME = 1000.0  # each configuration, whole process, CPU seconds
 
 
 def main() -> None:
@@ -53,7 +53,7 @@ def main() -> None:
     figures: dict[str, dict[str, float | None]] = {}
     with tempfile.TemporaryDirectory() as name:
         directory = Path(name)
-        for config in CONFIGS:
+        for config in TIMED_CONFIGS:
             fam = directory / f"{config}.h5"
             remembering = ["--memory", args.memory] if args.memory else []
             run_process([TVL, "train", EXAMPLE_LOG, "-o", fam, "--config", config, *remembering])

@@ -21,6 +21,11 @@ from pathlib import Path
 
 # The `tvl` installed beside the interpreter running the benchmark.
 TVL = str(Path(sys.executable).with_name("tvl"))
+# The default pipeline's speed target, for `tvl run` and `tvl learn` with the single and the
+# multi FAM alike: simulated seconds per CPU second of the whole process.
+TARGET_REALTIME = 1000.0
+# The FAM configurations the speed benchmarks time.
+TIMED_CONFIGS = ("single", "multi")
 
 
 @dataclass(frozen=True, slots=True)

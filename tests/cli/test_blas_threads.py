@@ -10,6 +10,10 @@ from pathlib import Path
 
 import pytest
 
+pytestmark = pytest.mark.skipif(
+    not Path("/proc/self/task").is_dir(), reason="threads are counted in /proc"
+)
+
 # What a new interpreter that loads the command line, then numpy and SciPy's linear algebra
 # (each with an OpenBLAS of its own), holds: the setting, and how many threads it runs.
 PROBE = (
@@ -30,13 +34,11 @@ def probe(env: dict[str, str]) -> list[str]:
     return result.stdout.split()
 
 
-@pytest.mark.skipif(not Path("/proc/self/task").is_dir(), reason="threads are counted in /proc")
 def test_the_command_line_starts_no_blas_threads() -> None:
     unset = {k: v for k, v in os.environ.items() if k != "OPENBLAS_NUM_THREADS"}
     assert probe(unset) == ["1", "1"]
 
 
-@pytest.mark.skipif(not Path("/proc/self/task").is_dir(), reason="threads are counted in /proc")
 def test_a_users_own_setting_stands() -> None:
     setting, _ = probe({**os.environ, "OPENBLAS_NUM_THREADS": "2"})
     assert setting == "2"
