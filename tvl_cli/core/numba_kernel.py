@@ -19,5 +19,8 @@ import numba
 # whose compiled versions would add to the first run's compilation.)
 kernel = numba.njit(cache=True, error_model="numpy")
 # The same for a small helper compiled into each kernel that calls it: its array arguments
-# are then not counted in and out of every call.
+# are then not counted in and out of every call. A helper of numbers alone is a `kernel`
+# instead: it compiles once, where an inlined one is copied into every place that calls it
+# and analysed again there (numba's inlining was a third of the ring kernel's first compile), and
+# the compiler still folds its calls in, with nothing to count.
 inlined = numba.njit(cache=True, error_model="numpy", inline="always")

@@ -105,7 +105,7 @@ def _nearest_segment(x, y, seg_start, seg_delta, seg_len, grid, limit_m):
     return nearest, obstacle
 
 
-@inlined
+@kernel
 def _box_gap(offset_m, index, cell_m):
     """Metres along one axis from a point this far from the grid's edge to cell `index`'s
     span on that axis (0 within it)."""

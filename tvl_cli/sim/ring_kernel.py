@@ -195,7 +195,7 @@ def _nearest_wall(ox, oy, dx, dy, across, normal, moment, grid, t_low, t_high):
             return hit, wall, hit_cross, hit_s
 
 
-@inlined
+@kernel
 def _span_in_box(ox, oy, dx, dy, t_low, t_high, x0, y0, width, height):
     """The part [t_in, t_out] of O + tD, t_low <= t <= t_high, inside the box from (x0, y0)
     of this width and height (t_in > t_out: none)."""
@@ -215,7 +215,7 @@ def _span_in_box(ox, oy, dx, dy, t_low, t_high, x0, y0, width, height):
     return t_low, t_high
 
 
-@inlined
+@kernel
 def _cell_of(offset_m, cell_m, cells):
     """The cell holding a point this far along an axis from the grid's edge, clamped to the
     grid (a point on its edge, or a hair past it by rounding)."""
@@ -225,7 +225,7 @@ def _cell_of(offset_m, cell_m, cells):
     return cells - 1 if index > cells - 1 else index
 
 
-@inlined
+@kernel
 def _t_to_edge(offset_m, d, index, cell_m):
     """Where the ray, leaving from this far along an axis from the grid's edge in direction
     d, reaches the far edge (along d) of cell `index` on that axis; inf if it runs along it."""
