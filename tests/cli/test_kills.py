@@ -4,6 +4,7 @@ what it leaves is no log or a readable one, and the next write clears any leftov
 from __future__ import annotations
 
 import random
+import shutil
 import signal
 import subprocess
 import time
@@ -23,10 +24,17 @@ from tvl_cli.io.logreader import read_log
 pytestmark = pytest.mark.slow
 
 
+# Up to this long after the log appears or changes: the few milliseconds in which a session is
+# being started in it (when sessions were started in the log itself, a kill then now and then
+# left a log HDF5 could not open).
+KILL_WITHIN_S = 0.004
+
+
 def test_a_kill_as_the_log_appears_leaves_a_log_the_next_learn_continues(
     run_tvl, tmp_path: Path
 ) -> None:
-    for attempt in range(5):
+    delays = random.Random(3)
+    for attempt in range(10):
         log = tmp_path / f"log{attempt}.h5"
         process = subprocess.Popen(
             [TVL, "learn", str(SQUARE), "--log", str(log), "--minutes", "5"],
@@ -35,7 +43,8 @@ def test_a_kill_as_the_log_appears_leaves_a_log_the_next_learn_continues(
         )
         deadline = time.monotonic() + 60
         while not log.exists() and process.poll() is None and time.monotonic() < deadline:
-            time.sleep(0.0005)
+            time.sleep(0.0002)
+        time.sleep(delays.uniform(0.0, KILL_WITHIN_S))
         process.send_signal(signal.SIGKILL)
         process.wait()
         assert log.exists()
@@ -43,6 +52,36 @@ def test_a_kill_as_the_log_appears_leaves_a_log_the_next_learn_continues(
             assert f.attrs["format"] == "tvl-log"
         again = run_tvl("learn", SQUARE, "--log", log, "--minutes", "0.5")
         assert again.returncode == 0, again.stderr
+
+
+def test_a_kill_as_a_session_starts_keeps_every_session_before_it(run_tvl, tmp_path: Path) -> None:
+    first = tmp_path / "first.h5"
+    assert run_tvl("learn", SQUARE, "--log", first, "--minutes", "0.5").returncode == 0
+    before = read_log(first).exemplar_count
+    delays = random.Random(5)
+    for attempt in range(6):
+        log = tmp_path / f"log{attempt}.h5"
+        shutil.copy(first, log)
+        unchanged = _identity(log)
+        process = subprocess.Popen(
+            [TVL, "learn", str(SQUARE), "--log", str(log), "--minutes", "5"],
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+        )
+        deadline = time.monotonic() + 60
+        while _identity(log) == unchanged and process.poll() is None:
+            assert time.monotonic() < deadline
+            time.sleep(0.0002)
+        time.sleep(delays.uniform(0.0, KILL_WITHIN_S))
+        process.send_signal(signal.SIGKILL)
+        process.wait()
+        assert read_log(log).exemplar_count >= before
+
+
+def _identity(path: Path) -> tuple[int, int, int]:
+    """What changes when a file is written or replaced: its inode, time and size."""
+    status = path.stat()
+    return status.st_ino, status.st_mtime_ns, status.st_size
 
 
 def test_kills_at_any_moment_leave_a_readable_log_and_no_leftovers_after_the_next_write(

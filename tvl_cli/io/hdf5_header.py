@@ -47,6 +47,8 @@ LIBVER = ("v108", "v108")
 # appender allocates starting on a page, a block smaller than a page (a dataset's header, a
 # group's attributes) is written whole or not at all, never torn.
 PAGE_BYTES = 4096
+# h5py.File's settings for a file appended to in place: each block allocated starts on a page.
+APPENDABLE = {"alignment_threshold": 1, "alignment_interval": PAGE_BYTES}
 
 
 class FormatError(BadInput):
@@ -146,9 +148,7 @@ def _open_hdf5(path: Path, mode: str, libver: tuple[str, str] | None) -> h5py.Fi
     try:
         if mode == "r":
             return h5py.File(path, mode, libver=libver)
-        return h5py.File(
-            path, mode, libver=libver, alignment_threshold=1, alignment_interval=PAGE_BYTES
-        )
+        return h5py.File(path, mode, libver=libver, **APPENDABLE)
     except OSError as error:
         raise _open_error(path, error) from None
 
@@ -222,14 +222,19 @@ def _is_integer(value: Any) -> bool:
 
 
 @contextmanager
-def hdf5_output(path: Path | str, overwrite: bool = True) -> Iterator[h5py.File]:
-    """An HDF5 file built in memory, then written to `path` whole through `atomic_output`.
+def hdf5_output(
+    path: Path | str, overwrite: bool = True, *, based_on: bytes = b"", appendable: bool = False
+) -> Iterator[h5py.File]:
+    """An HDF5 file built in memory, then written to `path` whole through `atomic_output`:
+    a new one, or a copy of `based_on` (a whole file's bytes) changed. `appendable`: made to
+    be appended to in place afterwards (open_for_appending), each block on a page.
 
     HDF5 cannot close a file it failed to write and crashes trying: a full disk must fail in
     a plain write instead, which raises OSError (ENOSPC) and leaves no temporary file.
     """
-    image = io.BytesIO()
-    with h5py.File(image, "w", libver=LIBVER) as f:
+    image = io.BytesIO(based_on)
+    settings = APPENDABLE if appendable else {}
+    with h5py.File(image, "r+" if based_on else "w", libver=LIBVER, **settings) as f:
         yield f
     with atomic_output(path, overwrite) as temporary:
         try:

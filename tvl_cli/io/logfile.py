@@ -24,18 +24,19 @@ points, exploration rule, memory), some with a `method` of the learning fields b
 io.method_records reads them. A version 1 log that a session is added to becomes version 2:
 its earlier sessions read as before.
 
-Surviving a killed learner: a session being written keeps its datasets chunked but
-uncompressed, so every chunk stays where it was first written and HDF5 never frees and
-reuses file space. (A gzip chunk moves whenever an episode makes it grow, and a kill between
-the reuse of its old place and the next flush leaves the last flushed metadata pointing at
-another chunk's bytes: a whole log lost.) Episodes are written a few at a time (those that
-ended within `write_every_s` simulated seconds of each other, and every one held when a
-minute's row is written or the session closes); after every write the file is flushed, and
-only then are the session's `episodes_written` and `minutes_written` attributes raised to
-count the new rows; a reader trusts those counts. A kill loses at most the episodes held
-since the last write. Closing the session rewrites the log with gzip
-and shuffle into a temporary file renamed into place, so a finished log is compressed, and
-a killed one is whole, and compressed when the next session on it closes.
+Surviving a killed learner: a session starts in a copy of the log put in its place whole, so
+a kill then leaves the log as it was or with the session, empty. A session being written
+keeps its datasets chunked but uncompressed, so every chunk stays where it was first written
+and HDF5 never frees and reuses file space. (A gzip chunk moves whenever an episode makes it
+grow, and a kill between the reuse of its old place and the next flush leaves the last
+flushed metadata pointing at another chunk's bytes: a whole log lost.) Episodes are written
+a few at a time (those that ended within `write_every_s` simulated seconds of each other,
+and every one held when a minute's row is written or the session closes); after every write
+the file is flushed, and only then are the session's `episodes_written` and
+`minutes_written` attributes raised to count the new rows; a reader trusts those counts. A
+kill loses at most the episodes held since the last write. Closing the session rewrites the
+log with gzip and shuffle into a temporary file renamed into place, so a finished log is
+compressed, and a killed one is whole, and compressed when the next session on it closes.
 
 The online FAM must train on mm_to_ring(ring_to_mm(ring)), the values kept here, so that
 `tvl train` rebuilds it exactly from the log.
@@ -57,12 +58,13 @@ from tvl_cli.core.episode import Episode
 from tvl_cli.core.errors import BadInput
 from tvl_cli.core.method import Method, method_record
 from tvl_cli.core.robot_config import RobotConfig
-from tvl_cli.io.atomic import atomic_output, refuse_missing_directory
+from tvl_cli.io.atomic import refuse_missing_directory
 from tvl_cli.io.hdf5_header import (
     FORMAT_VERSIONS,
-    LIBVER,
     LOG_FORMAT,
+    hdf5_output,
     open_for_appending,
+    open_for_reading,
     read_json_attr,
     to_json,
     utc_now,
@@ -130,28 +132,28 @@ class LogWriter:
         lock = WriterLock.acquire(path)
         created = not path.exists()
         f: h5py.File | None = None
+        attrs = {
+            "kind": kind,
+            "world_name": world_name,
+            "world_text": world_text,
+            "seed": np.int64(seed),
+            "method": to_json(method_record(method)),
+            "parameters": to_json(parameters),
+            "robot_config": to_json(robot_config),
+            "fam_config": to_json(fam_config),
+            "status": STATUS_RUNNING,
+            "started": utc_now(),
+            "tvl_version": __version__,
+            COMMITTED_EPISODES: np.int64(0),
+            COMMITTED_MINUTES: np.int64(0),
+        }
         try:
             if created:
-                _create_empty(path)
+                session = _create_with_session(path, robot_config, attrs)
+            else:
+                session = _add_session(path, robot_config, attrs)
             f = open_for_appending(path, LOG_FORMAT)
-            if not created:
-                _check_appendable(f, path, robot_config)
-            group = new_session(f, RobotConfig.from_dict(robot_config))
-            group.attrs.update(
-                kind=kind,
-                world_name=world_name,
-                world_text=world_text,
-                seed=np.int64(seed),
-                method=to_json(method_record(method)),
-                parameters=to_json(parameters),
-                robot_config=to_json(robot_config),
-                fam_config=to_json(fam_config),
-                status=STATUS_RUNNING,
-                started=utc_now(),
-                tvl_version=__version__,
-            )
-            group.attrs.update({COMMITTED_EPISODES: np.int64(0), COMMITTED_MINUTES: np.int64(0)})
-            f.flush()
+            group = f[SESSIONS][session]
         except BaseException:
             _abandon(path, created, lock, f)
             raise
@@ -286,23 +288,35 @@ def _check_episode(episode: Episode, expected_index: int) -> None:
             raise ValueError(f"episode {episode.index}: {name} has shape {shape}, not {expected}")
 
 
-def _create_empty(path: Path) -> None:
-    """An empty log at `path`, made whole beside it and linked into place: a kill at any moment
-    leaves no log or a readable empty one, never a stub every command refuses."""
-    with (
-        atomic_output(path, overwrite=False) as temporary,
-        h5py.File(temporary, "w", libver=LIBVER) as empty,
-    ):
-        write_header(empty, LOG_FORMAT)
+# A session is started in a copy of the log, made whole beside it and put in its place, never
+# in the log itself: HDF5 writes the blocks a new group changes in no set order, and a kill
+# between two of them leaves a file whose root it cannot open, with every session before lost.
+# A kill at any moment leaves the log as it was, or with the new session, empty.
 
 
-def _check_appendable(f: h5py.File, path: Path, robot_config: dict[str, Any]) -> None:
-    """Refuse a log a session of this robot cannot be added to; raise its format version."""
-    check_log_structure(f, path)
-    _refuse_other_robot(f, path, robot_config)
-    # Its new session keeps the method as this version does: a tvl that reads only version 1
-    # must refuse the log rather than misread that session.
-    f.attrs["format_version"] = FORMAT_VERSIONS[LOG_FORMAT]
+def _create_with_session(path: Path, robot_config: dict[str, Any], attrs: dict[str, Any]) -> str:
+    """A new log at `path` holding its first session, linked into place; the session's name."""
+    with hdf5_output(path, overwrite=False, appendable=True) as log:
+        write_header(log, LOG_FORMAT)
+        return _start_session(log, robot_config, attrs)
+
+
+def _add_session(path: Path, robot_config: dict[str, Any], attrs: dict[str, Any]) -> str:
+    """The log at `path` with a new session added, once it is known to take one; its name."""
+    with open_for_reading(path, LOG_FORMAT) as log:
+        check_log_structure(log, path)
+        _refuse_other_robot(log, path, robot_config)
+    with hdf5_output(path, based_on=path.read_bytes(), appendable=True) as log:
+        # Its new session keeps the method as this version does: a tvl that reads only
+        # version 1 must refuse the log rather than misread that session.
+        log.attrs["format_version"] = FORMAT_VERSIONS[LOG_FORMAT]
+        return _start_session(log, robot_config, attrs)
+
+
+def _start_session(log: h5py.File, robot_config: dict[str, Any], attrs: dict[str, Any]) -> str:
+    group = new_session(log, RobotConfig.from_dict(robot_config))
+    group.attrs.update(attrs)
+    return str(group.name).rsplit("/", 1)[-1]
 
 
 def _abandon(path: Path, created: bool, lock: WriterLock, f: h5py.File | None) -> None:
