@@ -104,3 +104,28 @@ def test_a_new_log_with_no_room_for_its_first_session_leaves_nothing(small_disk:
         f"tvl: error: {log}: No space left on device\n",
     )
     assert [p.name for p in small_disk.iterdir()] == ["filler"]  # no stub, no lock
+
+
+def test_a_session_with_no_room_to_start_leaves_the_log_as_it_was(small_disk: Path) -> None:
+    # A session starts in a copy of the log put in its place whole: with no room for the copy,
+    # the log keeps every byte it had.
+    log = small_disk / "lab.h5"
+    first = subprocess.run(
+        [TVL, "learn", str(LAB), "--log", str(log), "--minutes", "0.5"], capture_output=True
+    )
+    assert first.returncode == 0, first.stderr
+    before = log.read_bytes()
+    free = os.statvfs(small_disk).f_bavail * os.statvfs(small_disk).f_frsize
+    (small_disk / "filler").write_bytes(bytes(free - len(before) // 2))
+    result = subprocess.run(
+        [TVL, "learn", str(LAB), "--log", str(log), "--minutes", "1"],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert (result.returncode, result.stderr) == (
+        1,
+        f"tvl: error: {log}: No space left on device\n",
+    )
+    assert log.read_bytes() == before
+    assert sorted(p.name for p in small_disk.iterdir()) == ["filler", "lab.h5"]
