@@ -27,6 +27,7 @@ from tvl_cli.core.errors import BadInput
 from tvl_cli.core.fam_config import SINGLE
 from tvl_cli.core.ring import mm_to_ring, ring_to_mm
 from tvl_cli.core.robot_config import RobotConfig
+from tvl_cli.io import logfile
 from tvl_cli.io.famfile import write_fam
 from tvl_cli.io.hdf5_header import FormatError
 from tvl_cli.io.loglayout import MINUTE_COLUMNS
@@ -219,6 +220,23 @@ def test_appending_to_a_fam_file_is_refused_and_the_file_left_alone(tmp_path: Pa
     with pytest.raises(FormatError, match=r"f\.h5: is a tvl-fam file, expected a tvl-log"):
         open_sample_writer(path)
     assert path.read_bytes() == before
+
+
+def test_a_file_another_program_puts_at_a_new_logs_name_meanwhile_is_kept(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    path = tmp_path / "a.h5"
+    made_header = logfile.write_header
+
+    def another_program_writes_first(f: h5py.File, file_format: str) -> None:
+        path.write_bytes(b"theirs")  # while the new log is being made beside it
+        made_header(f, file_format)
+
+    monkeypatch.setattr(logfile, "write_header", another_program_writes_first)
+    with pytest.raises(BadInput, match=r"a\.h5: another process wrote it meanwhile"):
+        open_sample_writer(path)
+    assert path.read_bytes() == b"theirs"
+    assert [p.name for p in tmp_path.iterdir()] == ["a.h5"]  # no temporary file, no lock
 
 
 def test_new_log_in_a_missing_directory_is_refused(tmp_path: Path) -> None:

@@ -130,7 +130,7 @@ class LogWriter:
         path = Path(path)
         refuse_missing_directory(path)
         lock = WriterLock.acquire(path)
-        created = not path.exists()
+        made = False  # whether this opening put a new log at `path`
         f: h5py.File | None = None
         attrs = {
             "kind": kind,
@@ -148,14 +148,15 @@ class LogWriter:
             COMMITTED_MINUTES: np.int64(0),
         }
         try:
-            if created:
-                session = _create_with_session(path, robot_config, attrs)
-            else:
+            if path.exists():
                 session = _add_session(path, robot_config, attrs)
+            else:
+                session = _create_with_session(path, robot_config, attrs)
+                made = True
             f = open_for_appending(path, LOG_FORMAT)
             group = f[SESSIONS][session]
         except BaseException:
-            _abandon(path, created, lock, f)
+            _abandon(path, made, lock, f)
             raise
         return cls(path, lock, f, group, write_every_s)
 
@@ -319,12 +320,13 @@ def _start_session(log: h5py.File, robot_config: dict[str, Any], attrs: dict[str
     return str(group.name).rsplit("/", 1)[-1]
 
 
-def _abandon(path: Path, created: bool, lock: WriterLock, f: h5py.File | None) -> None:
-    """Undo a session's opening that failed: the log, if this opening made it, the lock, and
-    the file as far as HDF5 can close it."""
+def _abandon(path: Path, made: bool, lock: WriterLock, f: h5py.File | None) -> None:
+    """Undo a session's opening that failed: the log, if this opening put it in place (never
+    one another program put there meanwhile), the lock, and the file as far as HDF5 can
+    close it."""
     # Cleared first: HDF5 may fail again closing a file it could not write (a full disk), and
     # a log this opening made holds nothing yet.
-    if created:
+    if made:
         path.unlink(missing_ok=True)
     lock.release()
     if f is not None:
