@@ -72,18 +72,25 @@ def small_disk(tmp_path: Path):
     subprocess.run(["umount", str(mount)], check=True)
 
 
-def test_learning_onto_a_full_disk_keeps_the_committed_episodes(small_disk: Path) -> None:
-    log = small_disk / "lab.h5"
-    result = subprocess.run(
-        [TVL, "learn", str(LAB), "--log", str(log), "--minutes", "300", "--json"],
+def learn_in_lab(log: Path, minutes: str, *options: str) -> subprocess.CompletedProcess[str]:
+    """`tvl learn` in the lab into `log`, its output kept."""
+    return subprocess.run(
+        [TVL, "learn", str(LAB), "--log", str(log), "--minutes", minutes, *options],
         capture_output=True,
         text=True,
         timeout=600,
     )
-    assert (result.returncode, result.stderr) == (
-        1,
-        f"tvl: error: {log}: No space left on device\n",
-    )
+
+
+def no_space(log: Path) -> tuple[int, str]:
+    """What `tvl` exits with, and says, when the disk under `log` is full."""
+    return 1, f"tvl: error: {log}: No space left on device\n"
+
+
+def test_learning_onto_a_full_disk_keeps_the_committed_episodes(small_disk: Path) -> None:
+    log = small_disk / "lab.h5"
+    result = learn_in_lab(log, "300", "--json")
+    assert (result.returncode, result.stderr) == no_space(log)
     assert [p.name for p in small_disk.iterdir()] == ["lab.h5"]
     with h5py.File(log, "r") as f:
         assert f["sessions/0000"].attrs["episodes_written"] > 20
@@ -93,16 +100,8 @@ def test_a_new_log_with_no_room_for_its_first_session_leaves_nothing(small_disk:
     filler = small_disk / "filler"
     filler.write_bytes(bytes(1_000_000 - 20_000))  # leaves a few pages free
     log = small_disk / "lab.h5"
-    result = subprocess.run(
-        [TVL, "learn", str(LAB), "--log", str(log), "--minutes", "1"],
-        capture_output=True,
-        text=True,
-        timeout=300,
-    )
-    assert (result.returncode, result.stderr) == (
-        1,
-        f"tvl: error: {log}: No space left on device\n",
-    )
+    result = learn_in_lab(log, "1")
+    assert (result.returncode, result.stderr) == no_space(log)
     assert [p.name for p in small_disk.iterdir()] == ["filler"]  # no stub, no lock
 
 
@@ -110,22 +109,12 @@ def test_a_session_with_no_room_to_start_leaves_the_log_as_it_was(small_disk: Pa
     # A session starts in a copy of the log put in its place whole: with no room for the copy,
     # the log keeps every byte it had.
     log = small_disk / "lab.h5"
-    first = subprocess.run(
-        [TVL, "learn", str(LAB), "--log", str(log), "--minutes", "0.5"], capture_output=True
-    )
+    first = learn_in_lab(log, "0.5")
     assert first.returncode == 0, first.stderr
     before = log.read_bytes()
     free = os.statvfs(small_disk).f_bavail * os.statvfs(small_disk).f_frsize
     (small_disk / "filler").write_bytes(bytes(free - len(before) // 2))
-    result = subprocess.run(
-        [TVL, "learn", str(LAB), "--log", str(log), "--minutes", "1"],
-        capture_output=True,
-        text=True,
-        timeout=300,
-    )
-    assert (result.returncode, result.stderr) == (
-        1,
-        f"tvl: error: {log}: No space left on device\n",
-    )
+    result = learn_in_lab(log, "1")
+    assert (result.returncode, result.stderr) == no_space(log)
     assert log.read_bytes() == before
     assert sorted(p.name for p in small_disk.iterdir()) == ["filler", "lab.h5"]

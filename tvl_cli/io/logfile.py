@@ -289,10 +289,9 @@ def _check_episode(episode: Episode, expected_index: int) -> None:
             raise ValueError(f"episode {episode.index}: {name} has shape {shape}, not {expected}")
 
 
-# A session is started in a copy of the log, made whole beside it and put in its place, never
-# in the log itself: HDF5 writes the blocks a new group changes in no set order, and a kill
-# between two of them leaves a file whose root it cannot open, with every session before lost.
-# A kill at any moment leaves the log as it was, or with the new session, empty.
+# A session is started in a copy of the log, never in the log itself: HDF5 writes the blocks a
+# new group changes in no set order, and a kill between two of them leaves a file whose root
+# it cannot open, with every session before lost.
 
 
 def _create_with_session(path: Path, robot_config: dict[str, Any], attrs: dict[str, Any]) -> str:
