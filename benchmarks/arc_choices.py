@@ -11,9 +11,8 @@ straight? The shares are of every step of every world's run; the mean speed is o
 And why it drives them: at every step of ours' runs that read the ring, each trajectory of the
 view ahead is judged truly fast or not (the oracle velocities, from the map and the pose the
 ring was read at), and rated fast or not by the run's FAM, on what it read through the echo
-memory and on the live ring alone, at the default threshold. A way the FAM rates slow where
-it is truly fast on the live ring too was learnt slow there; one it rates fast only on the
-live ring is made slow by the memory.
+memory and on the live ring alone, at the default threshold: the live ring's ratings say what
+the same FAM makes of the ring without the remembered patches, which it was not trained on.
 
     python benchmarks/arc_choices.py DIR [--worlds 1-20] [--json]
 """
