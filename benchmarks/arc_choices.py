@@ -27,6 +27,7 @@ from pathlib import Path
 import numpy as np
 from bench_dir import CONFIGS, MINUTES, SEED, ours_avoid, ours_fam, seeds, traced, world_path
 
+from tvl_cli.agent.trace import before_each_step
 from tvl_cli.agent.true_velocities import TrueVelocities, behave_with_true_velocities
 from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
 from tvl_cli.core.fam import Fam
@@ -45,44 +46,33 @@ RATED_ON_LIVE_RING = "truly fast, rated fast on the live ring"
 TRULY_SLOW = "truly slow"
 SLOW_RATED_THROUGH_MEMORY = "truly slow, rated fast through the memory"
 SLOW_RATED_ON_LIVE_RING = "truly slow, rated fast on the live ring"
-COUNTS = (
-    TRULY_FAST,
-    RATED_THROUGH_MEMORY,
-    RATED_ON_LIVE_RING,
-    TRULY_SLOW,
-    SLOW_RATED_THROUGH_MEMORY,
-    SLOW_RATED_ON_LIVE_RING,
-)
 
 
 def ratings_against_truth(
     world: WorldMap, fam: Fam, robot: RobotConfig, columns: dict[str, np.ndarray]
-) -> np.ndarray:
-    """(len(COUNTS), T) steps of a traced run of `fam` driving `robot` that read the ring,
-    counted per trajectory of the view ahead by COUNTS."""
+) -> dict[str, np.ndarray]:
+    """The steps of a traced run of `fam` driving `robot` that read the ring: each count
+    above, (T,) per trajectory of the view ahead."""
     truth = TrueVelocities(world, robot, DEFAULT)
     fast_from = DEFAULT_THRESHOLD * np.array(robot.v_max_mps)  # (T,) m/s
     read = columns["ring_mm"].any(axis=1)
-    # The ring of a step is read where the step before left the robot.
-    poses = np.vstack([np.array(world.start)[None, :], columns["pose"][:-1]])[read]
+    poses = before_each_step(columns["pose"], world.start)[read]
     truly = np.array([truth.in_view(tuple(pose), 0) for pose in poses]) >= fast_from
     through_memory = fam.velocities(mm_to_ring(columns["perceived_mm"][read])) >= fast_from
     live = fam.velocities(mm_to_ring(columns["ring_mm"][read])) >= fast_from
-    return np.array(
-        [
-            truly.sum(axis=0),
-            (truly & through_memory).sum(axis=0),
-            (truly & live).sum(axis=0),
-            (~truly).sum(axis=0),
-            (~truly & through_memory).sum(axis=0),
-            (~truly & live).sum(axis=0),
-        ]
-    )
+    return {
+        TRULY_FAST: truly.sum(axis=0),
+        RATED_THROUGH_MEMORY: (truly & through_memory).sum(axis=0),
+        RATED_ON_LIVE_RING: (truly & live).sum(axis=0),
+        TRULY_SLOW: (~truly).sum(axis=0),
+        SLOW_RATED_THROUGH_MEMORY: (~truly & through_memory).sum(axis=0),
+        SLOW_RATED_ON_LIVE_RING: (~truly & live).sum(axis=0),
+    }
 
 
 def world_steps(
     bench: Path, seed: int
-) -> tuple[dict[str, tuple[np.ndarray, np.ndarray]], dict[str, np.ndarray]]:
+) -> tuple[dict[str, tuple[np.ndarray, np.ndarray]], dict[str, dict[str, np.ndarray]]]:
     """Each row's steps in the world of rooms seed `seed`, ours' configurations' and the
     oracle's: (trajectory driven, -1 while turning; speed m/s) of every step; and each of
     ours' configurations' ratings_against_truth."""
@@ -125,13 +115,14 @@ def main() -> None:
     names = [t.name for t in DEFAULT_ROBOT.trajectories]
     rows = (*CONFIGS, ORACLE)
     collected: dict[str, list[tuple[np.ndarray, np.ndarray]]] = {row: [] for row in rows}
-    counted = {config: np.zeros((len(COUNTS), len(names)), dtype=np.int64) for config in CONFIGS}
+    counted: dict[str, dict[str, np.ndarray]] = {config: {} for config in CONFIGS}
     for seed in seeds(args.worlds):
         world_runs, ratings = world_steps(args.bench, seed)
         for row, steps in world_runs.items():
             collected[row].append(steps)
         for config, counts in ratings.items():
-            counted[config] += counts
+            for name, count in counts.items():
+                counted[config][name] = counted[config].get(name, 0) + count
     figures = {
         row: shares(
             np.concatenate([t for t, _ in found]), np.concatenate([s for _, s in found]), names
@@ -160,10 +151,10 @@ def main() -> None:
             print(f"| {config} | {measure} | {cells} |")
 
 
-def rated_shares(counts: np.ndarray, names: list[str]) -> dict[str, dict[str, float | None]]:
-    """COUNTS (len(COUNTS), T) as shares: how often each way was truly fast, and how often
-    the FAM rated it fast when it was and when it was not (None: no such step)."""
-    by = dict(zip(COUNTS, counts, strict=True))
+def rated_shares(by: dict[str, np.ndarray], names: list[str]) -> dict[str, dict[str, float | None]]:
+    """Counts (ratings_against_truth's, summed) as shares: how often each way was truly fast,
+    and how often the FAM rated it fast when it was and when it was not (None: no such
+    step)."""
     steps = by[TRULY_FAST] + by[TRULY_SLOW]
     shares_of = {
         "truly fast, of the steps": (by[TRULY_FAST], steps),

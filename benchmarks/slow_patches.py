@@ -32,6 +32,7 @@ from bench_dir import ours_fam_path, seeds, world_path
 from timing import TVL, run_process
 
 from tvl_cli.agent.perception import EchoMemory
+from tvl_cli.agent.trace import before_each_step
 from tvl_cli.agent.true_velocities import TrueVelocities
 from tvl_cli.analysis.autopsy import FAST_DRIVE_MPS, MEMORY, slow_cause
 from tvl_cli.core.memory import CLEARED_ABOVE_M
@@ -98,8 +99,8 @@ def memory_time(fam_path: Path, trace_path: Path) -> dict[str, float]:
     fast_from = THRESHOLD * np.array(robot.v_max_mps)  # (T,) m/s
     live = mm_to_ring(a["ring_mm"])  # (N, 16) metres
     read = a["ring_mm"].any(axis=1)
-    odometry_before = np.vstack([np.array(world.start)[None, :], a["odometry"][:-1]])
-    pose_before = np.vstack([np.array(world.start)[None, :], a["pose"][:-1]])
+    odometry_before = before_each_step(a["odometry"], world.start)
+    pose_before = before_each_step(a["pose"], world.start)
     slow = (a["reflex"] < 0) & (a["speed_mps"] < FAST_DRIVE_MPS)
     dt = robot.control_period_s
     seconds = {"slow_s": 0.0, "memory_s": 0.0, "wide_s": 0.0}

@@ -27,6 +27,12 @@ Columns = dict[str, np.ndarray]
 ColumnSink = Callable[[Columns], None]
 
 
+def before_each_step(after_each_step: np.ndarray, start: Sequence[float]) -> np.ndarray:
+    """(N, 3) the pose (or odometry) each step began from, and so read its ring at, from the
+    (N, 3) `pose` (or `odometry`) column, the pose after each step, of a run from `start`."""
+    return np.vstack([np.asarray(start, dtype=np.float64)[None, :], after_each_step[:-1]])
+
+
 class TraceRecorder:
     """Collects steps (a drive loop's on_step) and hands them to `sinks` as columns, a chunk
     at a time; `close()` hands over the last, partial chunk (possibly empty)."""

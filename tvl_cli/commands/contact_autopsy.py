@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 
 from tvl_cli.agent.engine import GOAL_RADIUS_M
-from tvl_cli.agent.trace import Columns
+from tvl_cli.agent.trace import Columns, before_each_step
 from tvl_cli.agent.true_velocities import TrueVelocities
 from tvl_cli.analysis.autopsy import (
     AUDIBLE_S,
@@ -108,7 +108,7 @@ def run_autopsy(
     """
     dt = robot.control_period_s
     pose = columns["pose"]  # (N, 3) true pose after each step
-    poses_before = np.vstack([np.array(world.start)[None, :], pose[:-1]])  # (N, 3)
+    poses_before = before_each_step(pose, world.start)  # (N, 3)
     every = tuple(range(robot.sonar.count))
     sonars_of = {
         j: (table_sonars or {}).get(name, every) for j, name in enumerate(trajectory_names)
