@@ -105,6 +105,37 @@ def test_learn_appends_a_behaving_session_that_train_replays(
     )
 
 
+def test_a_behaving_session_trains_every_trajectory_by_heard_labels(
+    fam: Path, tmp_path: Path
+) -> None:
+    # What a behaviour hears labels the ways it did not drive as well (core.heard); the
+    # paper's rule labels the driven ones alone.
+    log = tmp_path / "behaving.h5"
+    done = subprocess.run(
+        [TVL, "run", fam, SQUARE, *AVOID, "--learn-log", log],
+        capture_output=True, text=True, timeout=60,
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr
+    (behaved,) = read_log(log).sessions
+    driven = {episode.trajectory for episode in behaved.episodes()}
+    heard, bumped = (
+        train_from_logs([log], SINGLE, replace(DEFAULT, labels=rule)).fam
+        for rule in ("heard", "bump")
+    )
+    names = RobotConfig().trajectories
+    # The single FAM's one table: (rules, trajectories) of experience.
+    experience = {
+        rule: trained.experience_table(0).sum(axis=0)
+        for rule, trained in (("heard", heard), ("bump", bumped))
+    }
+    # Symmetric training gives each driven way's mirror image its exemplars too.
+    mirrored = driven | {len(names) - 1 - t for t in driven}
+    never = [t for t in range(len(names)) if t not in mirrored]
+    assert experience["heard"].sum() > 3 * experience["bump"].sum()
+    assert all(experience["bump"][t] == 0 for t in never)
+    assert all(experience["heard"][t] > 0 for t in range(len(names)))
+
+
 def test_the_log_replays_into_the_fam_the_run_ended_with(learnt_live: Path, tmp_path: Path) -> None:
     # A FAM trained on a log goes on learning while behaving into that log: `tvl train` on the
     # log rebuilds the FAM the run ended with, bit for bit. The learner and the log's writer

@@ -128,6 +128,36 @@ def test_an_episode_waits_until_its_window_after_is_heard() -> None:
     assert np.isinf(last.distances_m[:, T0]).all()
 
 
+def test_a_stretch_driven_while_behaving_keeps_the_nearer_of_its_own_point_and_the_heard_one() -> (
+    None
+):
+    first, second = toward_and_away()
+    # The same drive toward the wall as a behaving stretch that ended by choice, its own
+    # collision point estimated far beyond the wall (10 m along) from a few seconds of echoes.
+    hopeful = Episode(
+        **{**{f: getattr(first, f) for f in first.__dataclass_fields__}, "end_arc_m": 10.0}
+    )
+    explored, behaved = (
+        heard_episodes([e, second], ROBOT, ended=True, reach_m=NO_REACH, behaving=b)[0]
+        for e, b in ((first, False), (hopeful, True))
+    )
+    heard_wall = wall_distances(first.odometry)[:, T0]
+    # Exploring, the driven trajectory keeps the point it met; behaving, the estimate gives
+    # way to the wall heard nearer, within the ring's resolution (as above).
+    np.testing.assert_allclose(explored.distances_m[:, T0], WALL_X - ROBOT.radius_m - first.arc_m)
+    np.testing.assert_allclose(behaved.distances_m[:, T0], heard_wall, atol=0.05)
+    assert (behaved.distances_m[:, T0] < 10.0 - first.arc_m).all()
+    # Every other trajectory is labelled alike either way: from the echoes alone.
+    others = [t for t in range(len(CURVATURES)) if t != T0]
+    np.testing.assert_array_equal(explored.distances_m[:, others], behaved.distances_m[:, others])
+    # An estimate nearer than anything heard stands.
+    wary = Episode(
+        **{**{f: getattr(first, f) for f in first.__dataclass_fields__}, "end_arc_m": 1.5}
+    )
+    (kept, _) = heard_episodes([wary, second], ROBOT, ended=True, reach_m=NO_REACH, behaving=True)
+    np.testing.assert_allclose(kept.distances_m[:, T0], 1.5 - first.arc_m)
+
+
 def test_a_snapshot_of_a_session_that_went_on_labels_only_what_was_heard() -> None:
     first, second = toward_and_away()
     # Cut short, the session had not ended: the second waits, unlabelled, as its learner's did.

@@ -21,7 +21,10 @@ it, paper §4.1). The stretch ends
   anywhere ahead, which the 4 m ring covers well past where labels stop changing) makes the
   stretch free, and every exemplar is labelled the trajectory's maximum.
 The stretch becomes an Episode, labelled and trained as exploration's are (core.training), in
-the order the stretches ended.
+the order the stretches ended: by the heard rule, every trajectory at each exemplar from the
+echoes heard 10 s either side of it, the driven one no farther than the stretch's own
+collision point, once those echoes are in; by the paper's rule, the driven trajectory alone,
+at once.
 """
 
 from __future__ import annotations
@@ -44,7 +47,7 @@ from tvl_cli.core.fam import Fam
 from tvl_cli.core.memory import NO_MEMORY, MemoryConfig
 from tvl_cli.core.ring import mm_to_ring, ring_to_mm
 from tvl_cli.core.robot_config import RobotConfig
-from tvl_cli.core.training import TrainParams, train_episode
+from tvl_cli.core.training import SessionTrainer, TrainParams
 
 # The sonar returns a stretch's collision point is estimated from: those read from a moment
 # before it ended to a while after (benchmarks/online_estimate.py measures the choice). The
@@ -143,6 +146,7 @@ class OnlineLearner:
         self._perception = Perception(memory, robot)
         self.robot = robot
         self.params = params
+        self._trainer = SessionTrainer(fam, robot, params, behaving=True)
         self._on_episode = on_episode
         # Read when the estimate is made, after_s after the stretch ended, the window reaches
         # back to before_s before it ended.
@@ -200,6 +204,7 @@ class OnlineLearner:
             self._end(time_s)
         while self._ended:
             self._learn(self._ended.popleft())
+        self._trainer.finish()
 
     def summary(self) -> OnlineSummary:
         return OnlineSummary(self._episodes, self._exemplars, dict(self._endings))
@@ -243,7 +248,7 @@ class OnlineLearner:
             end_arc_m=end_arc_m,
             end_time_s=stretch.end_time_s,
         )
-        train_episode(self.fam, episode, self.robot, self.params)
+        self._trainer.add(episode)  # trained now, or once its labels are heard
         self._on_episode(episode)
         self._episodes += 1
         self._exemplars += episode.exemplar_count

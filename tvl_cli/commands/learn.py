@@ -215,7 +215,7 @@ def _fam_to_learn_into(
             SessionEpisodes(
                 perceived_episodes(s.episodes(), request.method.memory, robot),
                 ended=True,
-                driven_only=s.kind != KIND_LEARNING,
+                behaving=s.kind != KIND_LEARNING,
             )
             for s in sessions
         ]

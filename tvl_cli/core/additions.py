@@ -78,7 +78,9 @@ ADDITIONS: tuple[Addition, ...] = (
         "come within 0.15 m of the echoes heard from 10 s before the point to 10 s after "
         "it, placed by "
         "odometry (the paper's §2 'accumulated sensor data and odometry'); the driven one "
-        "keeps the collision point it met.",
+        "keeps the collision point it met. Points recorded while behaving (`tvl run "
+        "--learn-log`) are labelled so too, the driven one no farther than its stretch's "
+        "own estimate.",
         BUMP_LABELS,
     ),
     Addition(

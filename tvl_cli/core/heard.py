@@ -11,7 +11,9 @@ of one of the echoes read from `window_s` before the point to `window_s` after i
 readings of every episode of the session in that time, the echoes of walls the ring heard
 square on only from elsewhere among them. The driven trajectory keeps the collision point
 its episode found (a bump, a sonar's collision point, or none after a full circle), which
-it met rather than heard.
+it met rather than heard. A stretch driven while behaving (agent.online) met its collision
+point only at a bump or a near point, and estimated it otherwise, from a few seconds of
+echoes: its driven trajectory takes the nearer of that point and the heard one.
 
 The evidence supports a label when the point's window was heard whole after it: the
 session went on for `window_s` after the point. A point nearer the session's end labels its
@@ -78,9 +80,16 @@ class HeardLabeller:
     farther changes a label), or all of them with math.inf."""
 
     def __init__(
-        self, robot: RobotConfig, reach_m: float, window_s: float = DEFAULT_WINDOW_S
+        self,
+        robot: RobotConfig,
+        reach_m: float,
+        window_s: float = DEFAULT_WINDOW_S,
+        behaving: bool = False,
     ) -> None:
         self._robot = robot
+        # The episodes are stretches driven while behaving, whose own collision points are
+        # mostly estimates (the module's docstring).
+        self._behaving = behaving
         self._reach_m = reach_m
         self._curvatures = np.array([t.curvature_per_m for t in robot.trajectories])
         self._window = max(1, round(window_s / robot.control_period_s))  # steps
@@ -166,7 +175,11 @@ class HeardLabeller:
                 found,
             )
             distances[heard] = found
-        distances[:, episode.trajectory] = episode.distances_m()
+        driven = episode.distances_m()  # (n,) metres
+        if self._behaving:
+            # NaN (unsupported) is no evidence: fmin keeps the stretch's own point there.
+            driven = np.fmin(driven, distances[:, episode.trajectory])
+        distances[:, episode.trajectory] = driven
         return HeardEpisode(episode, distances)
 
 
@@ -176,10 +189,12 @@ def heard_episodes(
     ended: bool,
     reach_m: float,
     window_s: float = DEFAULT_WINDOW_S,
+    behaving: bool = False,
 ) -> list[HeardEpisode]:
     """A session's episodes (in order, from its first) labelled as a learner labelled them:
     those whose window was heard whole, and with `ended` (the session's last episode among
-    them) the rest as its end labelled them; echoes sought `reach_m` along (HeardLabeller)."""
-    labeller = HeardLabeller(robot, reach_m, window_s)
+    them) the rest as its end labelled them; echoes sought `reach_m` along, the episodes
+    stretches driven while behaving if `behaving` (HeardLabeller)."""
+    labeller = HeardLabeller(robot, reach_m, window_s, behaving)
     labelled = [h for episode in episodes for h in labeller.add(episode)]
     return labelled + (labeller.finish() if ended else [])

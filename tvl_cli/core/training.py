@@ -4,13 +4,14 @@
 A session's episodes are trained in the order they ended, each once its labels are known:
 at once by the paper's rule (the driven trajectory, from its own collision point), or once
 the echoes around it have been heard by the heard rule (core.heard), the rest when the
-session ends."""
+session ends. Sessions learnt while behaving are labelled by the same rule as those learnt
+exploring."""
 
 from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -20,7 +21,6 @@ from tvl_cli.core.fam import Fam
 from tvl_cli.core.fam_config import DEFAULT_INIT_VELOCITY_MPS
 from tvl_cli.core.heard import HeardEpisode, HeardLabeller, heard_episodes
 from tvl_cli.core.labels import (
-    BUMP_LABELS,
     DEFAULT_CEILING_RADIUS_M,
     DEFAULT_DECEL_MPS2,
     DEFAULT_LABEL_CEILING,
@@ -158,12 +158,17 @@ class SessionTrainer:
     """Trains a FAM with one session's episodes, handed in the order they ended, by the
     labels' rule: each at once (the paper's), or once its labels are heard."""
 
-    def __init__(self, fam: Fam, robot: RobotConfig, params: TrainParams) -> None:
+    def __init__(
+        self, fam: Fam, robot: RobotConfig, params: TrainParams, behaving: bool = False
+    ) -> None:
+        """`behaving`: the episodes are stretches driven while behaving (agent.online)."""
         self._fam = fam
         self._robot = robot
         self._params = params
         heard = params.labels == HEARD_LABELS
-        self._heard = HeardLabeller(robot, params.reach_m(robot)) if heard else None
+        self._heard = (
+            HeardLabeller(robot, params.reach_m(robot), behaving=behaving) if heard else None
+        )
 
     def add(self, episode: Episode) -> list[Trained]:
         """Take an episode; those trained now, with the change each made."""
@@ -185,9 +190,8 @@ class SessionEpisodes:
 
     episodes: Sequence[Episode]
     ended: bool  # the session ended with them (else it went on, its last labels unheard)
-    # Learning while behaving labels the trajectory each stretch drove, from that stretch's
-    # own collision point (agent.online), whatever the method's labels.
-    driven_only: bool = False
+    # Learnt while behaving: the episodes are the stretches a behaviour drove (agent.online).
+    behaving: bool = False
 
 
 def labelled_episodes(
@@ -195,9 +199,12 @@ def labelled_episodes(
 ) -> list[HeardEpisode]:
     """The session's episodes that train_sessions trains on, each with the collision point
     of every trajectory its points label: all of them by the heard rule (those whose labels
-    were heard), the driven one alone by the paper's rule and while behaving."""
-    if params.labels == HEARD_LABELS and not session.driven_only:
-        return heard_episodes(session.episodes, robot, session.ended, params.reach_m(robot))
+    were heard), the driven one alone by the paper's rule."""
+    if params.labels == HEARD_LABELS:
+        reach_m = params.reach_m(robot)
+        return heard_episodes(
+            session.episodes, robot, session.ended, reach_m, behaving=session.behaving
+        )
     return [driven_labels(episode, len(robot.trajectories)) for episode in session.episodes]
 
 
@@ -231,15 +238,13 @@ def train_sessions_each(
     exemplars read."""
     total = sum(e.exemplar_count for s in sessions for e in s.episodes)
     done = 0
-    driven = replace(params, labels=BUMP_LABELS)
     for session in sessions:
-        rule = driven if session.driven_only else params
-        for labelled in labelled_episodes(session, robot, rule):
+        for labelled in labelled_episodes(session, robot, params):
             for fam in fams:
-                if rule.labels == HEARD_LABELS:
-                    train_heard(fam, labelled, robot, rule)
+                if params.labels == HEARD_LABELS:
+                    train_heard(fam, labelled, robot, params)
                 else:
-                    train_episode(fam, labelled.episode, robot, rule)
+                    train_episode(fam, labelled.episode, robot, params)
             done += labelled.episode.exemplar_count
             on_progress(done, total)
     return total

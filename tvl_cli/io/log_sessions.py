@@ -84,13 +84,13 @@ def finished_episodes(session: Session, until_s: float | None = None) -> list[Ep
 
 def session_to_train(session: Session, until_s: float | None = None) -> SessionEpisodes:
     """The session's episodes finished by `until_s` (all, given None) as its learner trained
-    them: a session cut short had not ended, its last labels unheard; one of learning while
-    behaving labelled its driven trajectories alone."""
+    them: a session cut short had not ended, its last labels unheard; one learnt while
+    behaving holds the stretches a behaviour drove."""
     episodes = finished_episodes(session, until_s)
     return SessionEpisodes(
         episodes,
         ended=len(episodes) == len(session.episode_table),
-        driven_only=session.kind != KIND_LEARNING,
+        behaving=session.kind != KIND_LEARNING,
     )
 
 
