@@ -30,13 +30,15 @@ import subprocess
 import sys
 from collections.abc import Sequence
 from concurrent.futures import ThreadPoolExecutor
+from dataclasses import fields
 from pathlib import Path
 from typing import Any
 
-from bench_dir import CONFIGS, seeds
+from bench_dir import CONFIGS, seeds, world_path
 
-from tvl_cli.core.competence import MAX_CONTACTS_PER_MIN, MIN_MEAN_SPEED_MPS
+from tvl_cli.core.competence import is_competent_run
 from tvl_cli.core.method import DEFAULT
+from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.sweep.layout import learning_tag
 
 BEHAVIOURS = ("avoid", "wall-left", "wall-right", "goal")
@@ -55,12 +57,9 @@ def tvl(*args: str | Path | float) -> str:
 
 
 def competent(row: dict[str, Any]) -> bool:
-    """As the bench counts a run (core.competence.is_competent_run)."""
-    return (
-        row["contacts_per_min"] <= MAX_CONTACTS_PER_MIN
-        and row["mean_speed_mps"] >= MIN_MEAN_SPEED_MPS
-        and (row["behaviour"] != "goal" or bool(row["goal_reached"]))
-    )
+    """As the bench counts a run: a row holds a run's metrics, as `tvl run --json` prints them."""
+    metrics = RunMetrics(**{f.name: row[f.name] for f in fields(RunMetrics)})
+    return is_competent_run(metrics, row["behaviour"])
 
 
 class Bench:
@@ -77,7 +76,7 @@ class Bench:
         self.goals = {r["world"]: r["goal"] for r in self.ours if r["behaviour"] == "goal"}
 
     def world(self, world: int) -> Path:
-        return self.directory / "worlds" / f"rooms-s{world}.txt"
+        return world_path(self.directory, world)
 
     def log(self, world: int, seed: int) -> Path:
         """The trial's learning log, by our method (every configuration's FAM trains on it)."""

@@ -145,7 +145,6 @@ class OnlineLearner:
         # that `tvl train` makes the same of the log's exemplars.
         self._perception = Perception(memory, robot)
         self.robot = robot
-        self.params = params
         self._trainer = SessionTrainer(fam, robot, params, behaving=True)
         self._on_episode = on_episode
         # Read when the estimate is made, after_s after the stretch ended, the window reaches
