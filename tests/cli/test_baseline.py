@@ -82,7 +82,7 @@ def test_bad_options_are_one_line_errors(invoke_tvl: Tvl) -> None:
         (("dwa", SQUARE, "--goal", "1,1"), "--goal is for --behaviour goal only"),
         (("qlearn", SQUARE, "--learn-minutes", "nan"), "--learn-minutes nan"),
         (("qlearn", SQUARE, "--competence-every", "0"), "--competence-every 0"),
-        (("dwa", WORLDS / "missing.txt"), "missing.txt: cannot read"),
+        (("dwa", WORLDS / "missing.txt"), "no such world file"),
     ):
         done = invoke_tvl("baseline", *args)
         assert done.returncode == 2, args

@@ -20,6 +20,7 @@ from tvl_cli.cli.options import (
     reflex_options,
     refuse_outputs,
     seed_option,
+    world_given,
 )
 from tvl_cli.commands.baseline import dwa_session, qlearn_session
 from tvl_cli.core.method import NONE, MethodChoice
@@ -31,7 +32,7 @@ def baseline() -> None:
 
 
 @baseline.command("dwa", epilog=examples("baseline dwa"))
-@click.argument("world_file", metavar="WORLD", type=click.Path(path_type=Path))
+@click.argument("world_entry", metavar="WORLD")
 @click.option("--behaviour", type=click.Choice(DWA_BEHAVIOURS), default="avoid", show_default=True)
 @GOAL
 @click.option("--minutes", type=float, default=5.0, show_default=True, help="Simulated minutes.")
@@ -51,7 +52,7 @@ def baseline() -> None:
 @click.option("--force", is_flag=True, help="Overwrite the --png file.")
 @click.option("--json", "as_json", is_flag=True, help="Print the metrics as JSON.")
 def baseline_dwa(
-    world_file: Path,
+    world_entry: str,
     behaviour: str,
     goal: tuple[float, float] | None,
     minutes: float,
@@ -63,9 +64,10 @@ def baseline_dwa(
     as_json: bool,
 ) -> None:
     """Drive WORLD with the Dynamic Window Approach, by the true map or by the sonar ring."""
-    refuse_outputs({"--png": png}, {"WORLD": world_file}, force)
+    world = world_given(world_entry)
+    refuse_outputs({"--png": png}, {"WORLD": world if isinstance(world, Path) else None}, force)
     report = dwa_session(
-        world_file,
+        world,
         behaviour,
         goal,
         minutes,
@@ -81,7 +83,7 @@ def baseline_dwa(
 
 
 @baseline.command("qlearn", epilog=examples("baseline qlearn"))
-@click.argument("world_file", metavar="WORLD", type=click.Path(path_type=Path))
+@click.argument("world_entry", metavar="WORLD")
 @click.option(
     "--learn-minutes", type=float, default=15.0, show_default=True, help="Simulated minutes."
 )
@@ -102,7 +104,7 @@ def baseline_dwa(
 @click.option("--force", is_flag=True, help="Overwrite the --png file.")
 @click.option("--json", "as_json", is_flag=True, help="Print the metrics as JSON.")
 def baseline_qlearn(
-    world_file: Path,
+    world_entry: str,
     learn_minutes: float,
     minutes: float,
     seed: int,
@@ -113,8 +115,9 @@ def baseline_qlearn(
     as_json: bool,
 ) -> None:
     """Learn a Q-table over the single FAM's rules in WORLD, then avoid greedily with it."""
-    refuse_outputs({"--png": png}, {"WORLD": world_file}, force)
-    report = qlearn_session(world_file, learn_minutes, minutes, seed, competence_every, png, method)
+    world = world_given(world_entry)
+    refuse_outputs({"--png": png}, {"WORLD": world if isinstance(world, Path) else None}, force)
+    report = qlearn_session(world, learn_minutes, minutes, seed, competence_every, png, method)
     if as_json:
         print_json(report.document())
     else:

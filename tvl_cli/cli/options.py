@@ -8,7 +8,7 @@ import math
 import os
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import click
 from click.core import ParameterSource
@@ -38,6 +38,9 @@ from tvl_cli.core.method import (
     parse_reflexes,
 )
 from tvl_cli.core.robot_config import SLOWEST_TOP_MPS
+
+if TYPE_CHECKING:
+    from tvl_cli.sim.worldmap import WorldMap
 from tvl_cli.core.robot_profiles import ROBOT_PROFILES
 from tvl_cli.io.atomic import refuse_missing_directory, refuse_non_file
 from tvl_cli.io.methodfile import resolve_method
@@ -140,6 +143,15 @@ GOAL = click.option(
     metavar="X,Y",
     help="Goal in metres (default: the world's).",
 )
+
+
+def world_given(entry: str) -> Path | WorldMap:
+    """The one world a command drives in, named as `tvl learn` names worlds (a file, a
+    generated world KIND:SEED, a bundled world's name): its file, or the world made here."""
+    from tvl_cli.sim.world_entries import named_world  # generating loads numpy: not for --help
+
+    named = named_world(entry)
+    return named.world if named.path is None else named.path
 
 
 def refuse_existing(path: Path, force: bool) -> None:

@@ -32,6 +32,7 @@ from tvl_cli.cli.options import (
     refuse_shared_paths,
     robot_option,
     seed_option,
+    world_given,
 )
 from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD
 from tvl_cli.core.errors import DEFAULT_RUN_MINUTES
@@ -41,6 +42,7 @@ from tvl_cli.core.robot_config import SONAR_MODEL_NAMES, RobotConfig
 if TYPE_CHECKING:
     from tvl_cli.agent.drive import StepSink
     from tvl_cli.commands.run import RunRequest, RunResult
+    from tvl_cli.sim.worldmap import WorldMap
 
 
 # Where `tvl run --view` shows the run as it goes.
@@ -50,7 +52,7 @@ VIEWS = (TERMINAL, WINDOW)
 
 @click.command(epilog=examples("run"))
 @click.argument("fam", type=click.Path(path_type=Path))
-@click.argument("world_file", metavar="WORLD", type=click.Path(path_type=Path))
+@click.argument("world_entry", metavar="WORLD")
 @click.option("--behaviour", type=click.Choice(BEHAVIOUR_NAMES), required=True)
 @click.option(
     "--threshold",
@@ -108,7 +110,7 @@ VIEWS = (TERMINAL, WINDOW)
 )
 def run(
     fam: Path,
-    world_file: Path,
+    world_entry: str,
     behaviour: str,
     threshold: float,
     goal: tuple[float, float] | None,
@@ -129,8 +131,10 @@ def run(
 ) -> None:
     """Perform a behaviour in WORLD with a learnt FAM.
 
-    Every rule beyond the paper's method is a reflex: --reflex none runs the paper's choice
-    rule alone, and --paper the paper's whole method (no reflex, no echo memory) on the FAM."""
+    WORLD is a world file, a generated world (KIND:SEED) or a bundled world's name, as for
+    `tvl learn`. Every rule beyond the paper's method is a reflex: --reflex none runs the
+    paper's choice rule alone, and --paper the paper's whole method (no reflex, no echo
+    memory) on the FAM."""
     from tvl_cli.commands.run import OnlineLearning, RunRequest, run_behaviour
     from tvl_cli.io.interrupts import STOPPED_EXIT, catching_signals
 
@@ -138,10 +142,11 @@ def run(
     if live and view is not None:
         raise click.UsageError("give --live or --view, not both")
     learning = OnlineLearning(learn_log) if learn or learn_log is not None else None
-    _check_outputs(fam, world_file, png, trace, learn_log, force)
+    world = world_given(world_entry)
+    _check_outputs(fam, world, world_entry, png, trace, learn_log, force)
     request = RunRequest(
         fam,
-        world_file,
+        world,
         behaviour,
         threshold,
         minutes,
@@ -166,7 +171,8 @@ def run(
 
 def _check_outputs(
     fam: Path,
-    world_file: Path,
+    world: Path | WorldMap,
+    given: str,
     png: Path | None,
     trace: Path | None,
     learn_log: Path | None,
@@ -176,13 +182,13 @@ def _check_outputs(
     without --force; warn of a learn log that holds other worlds."""
     refuse_shared_paths(
         {"--png": png, "--log": trace, "--learn-log": learn_log},
-        {"FAM": fam, "WORLD": world_file},
+        {"FAM": fam, "WORLD": world if isinstance(world, Path) else None},
     )
     for output in (png, trace):
         if output is not None:
             refuse_existing(output, force)
     if learn_log is not None:
-        views.warn_of_other_worlds(learn_log, world_file, str(world_file))
+        views.warn_of_other_worlds(learn_log, world, given)
 
 
 def _show_run(request: RunRequest, result: RunResult, form: str | None) -> None:
@@ -206,11 +212,11 @@ def _watching(request: RunRequest, view: str | None, pace: float | None) -> Iter
         return
     from tvl_cli.cli.live import LiveView, Sight, WindowView, live_view, window_view
     from tvl_cli.commands.run import request_robot
-    from tvl_cli.sim.worldmap import load_world, resolve_goal
+    from tvl_cli.sim.worldmap import resolve_goal, world_of, world_source
 
-    world = load_world(request.world)
+    world = world_of(request.world)
     robot = request_robot(request)
-    goal = resolve_goal(request.world, world, request.behaviour, request.goal)
+    goal = resolve_goal(world_source(request.world), world, request.behaviour, request.goal)
     sight = Sight(world, robot, request.threshold, goal, pace)
     if view == WINDOW:
         with window_view(WindowView(sight)) as shown:

@@ -228,13 +228,13 @@ def warn_of_other_worlds(log: Path, world: Path | WorldMap, given: str) -> None:
     by mistake."""
     from tvl_cli.core.errors import BadInput
     from tvl_cli.io.logreader import session_worlds
-    from tvl_cli.sim.worldmap import load_world
+    from tvl_cli.sim.worldmap import world_of
 
     if not log.exists():
         return
     try:
         earlier = session_worlds(log)
-        adding = load_world(world) if isinstance(world, Path) else world
+        adding = world_of(world)
     except BadInput:
         return  # the command refuses it in its own words, in one line
     others = sorted({name for text, name in earlier.items() if text != adding.text})

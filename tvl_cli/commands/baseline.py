@@ -24,8 +24,8 @@ from tvl_cli.core.method import (
 from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.core.words import counted
-from tvl_cli.io.json_documents import document, input_file, output_path
-from tvl_cli.sim.worldmap import WorldMap, load_world, resolve_goal
+from tvl_cli.io.json_documents import document, output_path, world_input
+from tvl_cli.sim.worldmap import WorldMap, resolve_goal, world_of, world_source
 
 # What a baseline takes of a method: the reflexes around it, and the DWA by the ring its echo
 # memory. Not given, a baseline runs alone on the live ring.
@@ -43,15 +43,15 @@ def _draw(
 
 
 def _goal(
-    world_path: Path, world: WorldMap, behaviour: str, goal: tuple[float, float] | None
+    given: Path | WorldMap, world: WorldMap, behaviour: str, goal: tuple[float, float] | None
 ) -> tuple[float, float] | None:
     if behaviour not in BEHAVIOURS:
         raise BadInput(f"unknown behaviour {behaviour!r} (choose from {', '.join(BEHAVIOURS)})")
-    return resolve_goal(world_path, world, behaviour, goal)
+    return resolve_goal(world_source(given), world, behaviour, goal)
 
 
 def dwa_session(
-    world_path: Path,
+    source: Path | WorldMap,
     behaviour: str,
     goal: tuple[float, float] | None,
     minutes: float,
@@ -60,8 +60,9 @@ def dwa_session(
     method: Method | MethodChoice = NOT_GIVEN,
     sensor: str = MAP,
 ) -> DwaReport:
-    """One DWA run in a world file inside the method's reflexes, knowing the obstacles by the
-    map or by the sonar ring (through the method's echo memory); the path drawn to `png`."""
+    """One DWA run in a world (a file, or one made here) inside the method's reflexes,
+    knowing the obstacles by the map or by the sonar ring (through the method's echo
+    memory); the path drawn to `png`."""
     check_run_minutes(minutes, RobotConfig().control_period_s)
     if sensor not in SENSORS:
         raise BadInput(f"--sensor {sensor}: choose {', '.join(SENSORS)}")
@@ -70,9 +71,9 @@ def dwa_session(
         raise BadInput("--memory is for --sensor ring: the map needs no memory")
     chosen = choice.over(ALONE, DWA_FIELDS)
     reflexes = chosen.reflexes
-    world = load_world(world_path)
+    world = world_of(source)
     asked_goal = list(goal) if goal else None
-    goal = _goal(world_path, world, behaviour, goal)
+    goal = _goal(source, world, behaviour, goal)
     robot = RobotConfig()
     path = PathRecorder()
     steps = TraceRecorder(reflexes, robot.sonar.count, [path])
@@ -93,7 +94,7 @@ def dwa_session(
         _draw(world, path, png, f"DWA by the {sensor}, {behaviour} in {world.name}", goal)
     fields = REFLEXES_ONLY if sensor == MAP else DWA_FIELDS
     options = {"behaviour": behaviour, "goal": asked_goal, "minutes": minutes, "sensor": sensor}
-    asked = BaselineAsked(world_path, seed, options, png)
+    asked = BaselineAsked(source, seed, options, png)
     return DwaReport(metrics, {**method_record(chosen, fields), "preset": None}, asked)
 
 
@@ -101,7 +102,7 @@ def dwa_session(
 class BaselineAsked:
     """What a baseline command was asked: its world, seed, options and picture."""
 
-    world: Path
+    world: Path | WorldMap  # a world file, or a world made here (`KIND:SEED`)
     seed: int
     options: dict[str, Any]
     png: Path | None
@@ -109,7 +110,7 @@ class BaselineAsked:
     def inputs(self, method: dict[str, Any]) -> dict[str, Any]:
         """What a baseline document echoes: these, and what it took of a method."""
         return {
-            "world": input_file(self.world),
+            "world": world_input(self.world),
             "seed": self.seed,
             "method": method,
             **self.options,
@@ -171,7 +172,7 @@ class QLearnReport:
 
 
 def qlearn_session(
-    world_path: Path,
+    source: Path | WorldMap,
     learn_minutes: float,
     minutes: float,
     seed: int,
@@ -179,8 +180,8 @@ def qlearn_session(
     png: Path | None = None,
     method: Method | MethodChoice = NOT_GIVEN,
 ) -> QLearnReport:
-    """Learn a Q-table in a world file, then run it greedily inside the method's reflexes;
-    its path drawn to `png`."""
+    """Learn a Q-table in a world (a file, or one made here), then run it greedily inside
+    the method's reflexes; its path drawn to `png`."""
     chosen = as_choice(method).over(ALONE, REFLEXES_ONLY)
     reflexes = chosen.reflexes
     check_run_minutes(minutes, RobotConfig().control_period_s)
@@ -189,7 +190,7 @@ def qlearn_session(
         math.isfinite(competence_every) and competence_every > 0
     ):
         raise BadInput(f"--competence-every {competence_every:g} must be a positive number")
-    world = load_world(world_path)
+    world = world_of(source)
     robot = RobotConfig()
     path = PathRecorder()
     steps = TraceRecorder(reflexes, robot.sonar.count, [path])
@@ -213,5 +214,5 @@ def qlearn_session(
         "minutes": minutes,
         "competence_every": competence_every,
     }
-    asked = BaselineAsked(world_path, seed, options, png)
+    asked = BaselineAsked(source, seed, options, png)
     return QLearnReport(result, competence_every is not None, recorded, asked)

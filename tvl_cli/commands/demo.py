@@ -8,7 +8,7 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
 
-from tvl_cli.commands.learn import LearnRequest, LearnResult, learn_to_log, world_input
+from tvl_cli.commands.learn import LearnRequest, LearnResult, learn_to_log
 from tvl_cli.commands.run import RunRequest, run_fam
 from tvl_cli.commands.train import train_from_logs, write_trained
 from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
@@ -17,7 +17,7 @@ from tvl_cli.core.fam_config import MULTI, SINGLE
 from tvl_cli.core.learn_params import LearnParams
 from tvl_cli.core.method import DEFAULT
 from tvl_cli.core.metrics import RunMetrics
-from tvl_cli.io.json_documents import document
+from tvl_cli.io.json_documents import document, world_input
 from tvl_cli.sim.worldgen import bundled_world_path
 
 DEMO_WORLD = "square"

@@ -3,7 +3,6 @@ surviving Ctrl-C and SIGTERM with every finished episode kept."""
 
 from __future__ import annotations
 
-import hashlib
 import time
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
@@ -37,15 +36,15 @@ from tvl_cli.io.interrupts import catching_signals
 from tvl_cli.io.json_documents import (
     config_input,
     document,
-    input_file,
     optional_file,
     output_path,
+    world_input,
 )
 from tvl_cli.io.log_sessions import distinct_sessions, provenance
 from tvl_cli.io.logfile import LogWriter
 from tvl_cli.io.loglayout import KIND_LEARNING, ended_status
 from tvl_cli.io.logreader import LearningLog, file_sha256, read_log
-from tvl_cli.sim.worldmap import WorldMap, load_world
+from tvl_cli.sim.worldmap import WorldMap, world_of
 
 # Learning writes its episodes to the log a few at a time, once those held span this many
 # simulated seconds (and at every minute's row, and when it stops): one write instead of
@@ -78,7 +77,7 @@ class LearnRequest:
         return train_params(self.method, self.symmetric, self.init_velocity_mps)
 
     def world_map(self) -> WorldMap:
-        return self.world if isinstance(self.world, WorldMap) else load_world(self.world)
+        return world_of(self.world)
 
     @property
     def world_name(self) -> str:
@@ -128,13 +127,6 @@ class LearnResult:
                 for m, c in zip(s.minutes, self.minute_coverage, strict=True)
             ],
         }
-
-
-def world_input(world: Path | WorldMap) -> dict[str, str]:
-    """A world file as read; a generated world by its name, and the digest of its text."""
-    if isinstance(world, Path):
-        return input_file(world)
-    return {"path": world.name, "sha256": hashlib.sha256(world.text.encode()).hexdigest()}
 
 
 def learn_to_log(

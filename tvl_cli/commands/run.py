@@ -31,12 +31,12 @@ from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.core.robot_profiles import body_of, profile_name, robot_name
 from tvl_cli.core.training import TrainParams, train_params
 from tvl_cli.io.famfile import FamFile, read_fam
-from tvl_cli.io.json_documents import document, input_file, output_path
+from tvl_cli.io.json_documents import document, input_file, output_path, world_input
 from tvl_cli.io.logfile import LogWriter
 from tvl_cli.io.loglayout import KIND_BEHAVING, ended_status
 from tvl_cli.io.logreader import file_sha256
 from tvl_cli.io.runfile import RunTraceWriter, path_beside, run_trace_output
-from tvl_cli.sim.worldmap import WorldMap, load_world, resolve_goal
+from tvl_cli.sim.worldmap import WorldMap, resolve_goal, world_of, world_source
 
 
 @dataclass(frozen=True, slots=True)
@@ -50,7 +50,7 @@ class OnlineLearning:
 @dataclass(frozen=True, slots=True)
 class RunRequest:
     fam: Path
-    world: Path
+    world: Path | WorldMap  # a world file, or a world made here (`KIND:SEED`)
     behaviour: str
     threshold: float
     minutes: float
@@ -94,7 +94,7 @@ class RunResult:
         request = self.request
         inputs = {
             "fam": input_file(request.fam),
-            "world": input_file(request.world),
+            "world": world_input(request.world),
             **self.options,
             "learn": request.learn is not None,
             "method": self.method,
@@ -184,11 +184,11 @@ def run_behaviour(
     ends at that step, and its trace and picture keep what it did."""
     _check_request(request)
     fam_file = read_fam(request.fam)
-    world = load_world(request.world)
+    world = world_of(request.world)
     method = run_method(fam_file, as_choice(request.method))
     recorded = run_record(method, fam_file)
     robot = request_robot(request, fam_file)
-    goal = resolve_goal(request.world, world, request.behaviour, request.goal)
+    goal = resolve_goal(world_source(request.world), world, request.behaviour, request.goal)
     path = PathRecorder()
     tally = MinuteTally(robot.control_period_s)
     with ExitStack() as outputs:

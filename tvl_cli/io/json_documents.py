@@ -7,11 +7,12 @@ schema file, so the version a document claims is always the one its schema descr
 
 from __future__ import annotations
 
+import hashlib
 import json
 from functools import cache
 from importlib.resources import files
 from pathlib import Path
-from typing import Any
+from typing import Any, Protocol
 
 from tvl_cli import __version__
 from tvl_cli.core.fam_config import BUILTIN_FAM_CONFIGS
@@ -117,6 +118,24 @@ def input_file(path: Path | str) -> dict[str, str]:
     from tvl_cli.io.logreader import file_sha256  # loads h5py, which `tvl schema` needs not
 
     return {"path": str(path), "sha256": file_sha256(path)}
+
+
+class MadeText(Protocol):
+    """An input made rather than read, such as a generated world: its name and its text."""
+
+    @property
+    def name(self) -> str: ...
+
+    @property
+    def text(self) -> str: ...
+
+
+def world_input(world: Path | MadeText) -> dict[str, str]:
+    """A world file as read; a world made here (generated) by its name, and the digest of
+    its text."""
+    if isinstance(world, Path):
+        return input_file(world)
+    return {"path": world.name, "sha256": hashlib.sha256(world.text.encode()).hexdigest()}
 
 
 def optional_file(path: Path | str | None) -> dict[str, str] | None:

@@ -35,9 +35,7 @@ def named_worlds(entry: str, folder: Path = Path(".")) -> list[NamedWorld]:
     kind, colon, seeds = entry.partition(":")
     if colon:
         return [
-            NamedWorld(
-                f"{kind}:{seed}", parse_world(generate_world(kind, None, None, seed), entry), None
-            )
+            NamedWorld(f"{kind}:{seed}", _generated(kind, seed), None)
             for seed in _seeds(entry, kind, seeds)
         ]
     try:
@@ -48,6 +46,15 @@ def named_worlds(entry: str, folder: Path = Path(".")) -> list[NamedWorld]:
             f"({', '.join(KINDS)})"
         ) from None
     return [NamedWorld(entry, load_world(bundled), bundled)]
+
+
+def named_world(entry: str, folder: Path = Path(".")) -> NamedWorld:
+    """The one world `entry` names, as `named_worlds` finds it; BadInput if it names a range
+    of several, where a command drives in one world."""
+    found = named_worlds(entry, folder)
+    if len(found) > 1:
+        raise BadInput(f"world {entry!r}: {len(found)} worlds; name one (KIND:SEED)")
+    return found[0]
 
 
 def _generated(kind: str, seed: int) -> WorldMap:

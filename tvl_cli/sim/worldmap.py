@@ -83,6 +83,16 @@ def load_world(path: str | Path) -> WorldMap:
     return parse_world(decoded(data, str(path), WorldMapError), str(path))
 
 
+def world_of(world: Path | WorldMap) -> WorldMap:
+    """A world as a command was given it: read from its file, or made here (generated)."""
+    return load_world(world) if isinstance(world, Path) else world
+
+
+def world_source(world: Path | WorldMap) -> str:
+    """How messages name a world: its file, or the name of one made here."""
+    return str(world) if isinstance(world, Path) else world.name
+
+
 def parse_world(text: str, source: str) -> WorldMap:
     """Parse the text of a world file (SPEC §3); `source` names the file in error messages."""
     grid, header = _split(text, source)
@@ -102,7 +112,7 @@ def check_goal(world: WorldMap, x: float, y: float, where: str) -> None:
 
 
 def resolve_goal(
-    world_path: Path, world: WorldMap, behaviour: str, goal: tuple[float, float] | None
+    source: Path | str, world: WorldMap, behaviour: str, goal: tuple[float, float] | None
 ) -> tuple[float, float] | None:
     """The goal a run seeks: --goal checked against the world, else the world's first goal;
     None for other behaviours, which take no goal."""
@@ -114,7 +124,7 @@ def resolve_goal(
         check_goal(world, *goal, where=f"--goal {goal[0]:g},{goal[1]:g}")
         return goal
     if not world.goals:
-        raise BadInput(f"{world_path}: world has no goal; give one with --goal X,Y")
+        raise BadInput(f"{source}: world has no goal; give one with --goal X,Y")
     return world.goals[0]
 
 
