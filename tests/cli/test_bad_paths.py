@@ -36,7 +36,7 @@ def test_an_output_named_like_an_input_or_another_output_is_refused(
         ([*avoid, "--log", fam, "--force"], "given as both --log and FAM"),
         ([*avoid, "--log", data, "--learn-log", data], "given as both --log and --learn-log"),
         (["replay", log, "--png", out, "--curves", out], "given as both --png and --curves"),
-        (["world", "render", world, "-o", world, "--force"], "given as both -o and FILE"),
+        (["world", "render", world, "-o", world, "--force"], "given as both -o and WORLD"),
     ):
         result = invoke_tvl(*args)
         assert_one_line_refusal(result, "", message)

@@ -1,6 +1,7 @@
-"""`tvl run` and the baselines take a world as `tvl learn` does: a file, a generated world
-(KIND:SEED) or a bundled world's name; the world made from a name drives exactly as the same
-world written to a file does, and the run's document records it by name and text digest."""
+"""`tvl run`, the baselines and `tvl world show|render|export` take a world as `tvl learn`
+does: a file, a generated world (KIND:SEED) or a bundled world's name. The world made from a
+name drives, shows and exports exactly as the same world written to a file does, and a
+document records it by its name and the digest of its text."""
 
 from __future__ import annotations
 
@@ -80,3 +81,20 @@ def test_a_world_named_wrongly_is_one_line_and_exit_2(
         assert done.returncode == 2, done.stdout
         assert done.stderr.startswith(f"tvl: error: {message}"), done.stderr
         assert done.stderr.count("\n") == 1
+
+
+def test_world_show_render_and_export_take_a_generated_world(
+    invoke_tvl: Tvl, written: Path, tmp_path: Path
+) -> None:
+    named = valid("world show", invoke_tvl("world", "show", f"rooms:{SEED}", "--json").stdout)
+    filed = valid("world show", invoke_tvl("world", "show", written, "--json").stdout)
+    assert named["world"] == filed["world"]
+    assert named["inputs"]["world"]["sha256"] == filed["inputs"]["world"]["sha256"]
+    drawn = invoke_tvl("world", "render", f"rooms:{SEED}", "-o", tmp_path / "rooms.png")
+    assert drawn.returncode == 0, drawn.stderr
+    assert (tmp_path / "rooms.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    for world, out in ((f"rooms:{SEED}", "named.yaml"), (written, "filed.yaml")):
+        done = invoke_tvl("world", "export", world, "-o", tmp_path / out)
+        assert done.returncode == 0, done.stderr
+    pgm = tmp_path / "named.pgm"
+    assert pgm.read_bytes() == (tmp_path / "filed.pgm").read_bytes() and pgm.stat().st_size

@@ -20,6 +20,7 @@ from tvl_cli.cli.options import (
     reflex_options,
     refuse_outputs,
     seed_option,
+    world_file,
     world_given,
 )
 from tvl_cli.commands.baseline import dwa_session, qlearn_session
@@ -65,7 +66,7 @@ def baseline_dwa(
 ) -> None:
     """Drive WORLD with the Dynamic Window Approach, by the true map or by the sonar ring."""
     world = world_given(world_entry)
-    refuse_outputs({"--png": png}, {"WORLD": world if isinstance(world, Path) else None}, force)
+    refuse_outputs({"--png": png}, {"WORLD": world_file(world)}, force)
     report = dwa_session(
         world,
         behaviour,
@@ -116,7 +117,7 @@ def baseline_qlearn(
 ) -> None:
     """Learn a Q-table over the single FAM's rules in WORLD, then avoid greedily with it."""
     world = world_given(world_entry)
-    refuse_outputs({"--png": png}, {"WORLD": world if isinstance(world, Path) else None}, force)
+    refuse_outputs({"--png": png}, {"WORLD": world_file(world)}, force)
     report = qlearn_session(world, learn_minutes, minutes, seed, competence_every, png, method)
     if as_json:
         print_json(report.document())

@@ -154,6 +154,11 @@ def world_given(entry: str) -> Path | WorldMap:
     return named.world if named.path is None else named.path
 
 
+def world_file(world: Path | WorldMap) -> Path | None:
+    """The file a world was read from, as an input no output may overwrite (None: made here)."""
+    return world if isinstance(world, Path) else None
+
+
 def refuse_existing(path: Path, force: bool) -> None:
     """Output files are never overwritten unless the user says --force, and a missing
     directory is found before any work is done, not after."""

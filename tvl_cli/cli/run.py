@@ -32,6 +32,7 @@ from tvl_cli.cli.options import (
     refuse_shared_paths,
     robot_option,
     seed_option,
+    world_file,
     world_given,
 )
 from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD
@@ -182,7 +183,7 @@ def _check_outputs(
     without --force; warn of a learn log that holds other worlds."""
     refuse_shared_paths(
         {"--png": png, "--log": trace, "--learn-log": learn_log},
-        {"FAM": fam, "WORLD": world if isinstance(world, Path) else None},
+        {"FAM": fam, "WORLD": world_file(world)},
     )
     for output in (png, trace):
         if output is not None:

@@ -17,6 +17,8 @@ from tvl_cli.cli.options import (
     refuse_existing,
     refuse_outputs,
     robot_option,
+    world_file,
+    world_given,
 )
 from tvl_cli.commands.world import (
     NewWorldRequest,
@@ -99,11 +101,12 @@ def world_new(
 
 
 @world.command("show", epilog=examples("world show"))
-@click.argument("file", type=click.Path(path_type=Path))
+@click.argument("world_entry", metavar="WORLD")
 @click.option("--json", "as_json", is_flag=True, help="Print the geometry as JSON.")
-def world_show(file: Path, as_json: bool) -> None:
-    """Print a summary of a world file (or its geometry as JSON)."""
-    loaded = show_world(file)
+def world_show(world_entry: str, as_json: bool) -> None:
+    """Print a summary of a world (or its geometry as JSON): a world file, a generated world
+    (KIND:SEED) or a bundled world's name, as for `tvl learn`."""
+    loaded = show_world(world_given(world_entry))
     if as_json:
         # On one line, for a reader with no JSON tool (a shell script may grep it).
         click.echo(json.dumps(loaded.document()))
@@ -124,18 +127,20 @@ def world_check(file: Path, as_json: bool) -> None:
 
 
 @world.command("render", epilog=examples("world render"))
-@click.argument("file", type=click.Path(path_type=Path))
+@click.argument("world_entry", metavar="WORLD")
 @click.option("-o", "--output", type=PICTURE, required=True, help=PICTURE_HELP)
 @click.option("--force", is_flag=True, help="Overwrite OUTPUT.")
 @click.option("--json", "as_json", is_flag=True, help="Print what was drawn as JSON.")
-def world_render(file: Path, output: Path, force: bool, as_json: bool) -> None:
-    """Draw a world file as a picture."""
-    refuse_outputs({"-o": output}, {"FILE": file}, force)
-    drawn = render_world(file, output)
+def world_render(world_entry: str, output: Path, force: bool, as_json: bool) -> None:
+    """Draw a world as a picture: a world file, a generated world (KIND:SEED) or a bundled
+    world's name."""
+    given = world_given(world_entry)
+    refuse_outputs({"-o": output}, {"WORLD": world_file(given)}, force)
+    drawn = render_world(given, output)
     if as_json:
         print_json(drawn.document())
     else:
-        click.echo(f"{output}: {file} drawn ({counts_text(drawn.counts)})")
+        click.echo(f"{output}: {world_entry} drawn ({counts_text(drawn.counts)})")
 
 
 def counts_text(counts: dict[str, int]) -> str:
@@ -248,22 +253,24 @@ def _import_summary(output: Path, imported: Imported) -> str:
 
 
 @world.command("export", epilog=examples("world export"))
-@click.argument("file", type=click.Path(path_type=Path))
+@click.argument("world_entry", metavar="WORLD")
 @click.option(
     "-o", "--output", type=click.Path(path_type=Path), required=True, help="MAP.yaml file."
 )
 @click.option("--force", is_flag=True, help="Overwrite OUTPUT and its PGM.")
 @click.option("--json", "as_json", is_flag=True, help="Print what was written as JSON.")
-def world_export(file: Path, output: Path, force: bool, as_json: bool) -> None:
-    """Write a world as a ROS map_server occupancy grid: MAP.yaml and MAP.pgm beside it.
+def world_export(world_entry: str, output: Path, force: bool, as_json: bool) -> None:
+    """Write a world (a file, KIND:SEED or a bundled name) as a ROS map_server occupancy
+    grid: MAP.yaml and MAP.pgm beside it.
 
     The world's walls, pillars, discs and rings are drawn at its cell size, as map_saver
     writes a map (254 free, 0 occupied, 205 outside the world), origin at the world's
     bottom-left corner.
     """
     image = image_beside(output)
-    refuse_outputs({"-o": output, "its PGM": image}, {"FILE": file}, force)
-    exported = export_map(file, output)
+    given = world_given(world_entry)
+    refuse_outputs({"-o": output, "its PGM": image}, {"WORLD": world_file(given)}, force)
+    exported = export_map(given, output)
     if as_json:
         print_json(exported.document())
     else:

@@ -11,9 +11,9 @@ from pathlib import Path
 from typing import Any
 
 from tvl_cli.io.atomic import atomic_output
-from tvl_cli.io.json_documents import document, input_file
+from tvl_cli.io.json_documents import document, input_file, world_input
 from tvl_cli.sim.worldgen import Materials, generate_world
-from tvl_cli.sim.worldmap import WorldMap, load_world, parse_world, world_to_dict
+from tvl_cli.sim.worldmap import WorldMap, load_world, parse_world, world_of, world_to_dict
 
 
 @dataclass(frozen=True, slots=True)
@@ -72,29 +72,29 @@ class CheckedWorld:
 
 @dataclass(frozen=True, slots=True)
 class ShownWorld:
-    """A world file, read and checked, for its summary or its geometry to be shown."""
+    """A world, read and checked (or made here), for its summary or its geometry to be shown."""
 
-    path: Path
+    given: Path | WorldMap  # a world file, or a world made here (`KIND:SEED`)
     world: WorldMap
 
     def document(self) -> dict[str, Any]:
         return document(
-            "world show", {"world": input_file(self.path)}, world=world_to_dict(self.world)
+            "world show", {"world": world_input(self.given)}, world=world_to_dict(self.world)
         )
 
 
 @dataclass(frozen=True, slots=True)
 class RenderedWorld:
-    """A world file drawn as a picture, and what it holds."""
+    """A world drawn as a picture, and what it holds."""
 
-    path: Path
+    given: Path | WorldMap  # a world file, or a world made here (`KIND:SEED`)
     output: Path
     counts: dict[str, int]
 
     def document(self) -> dict[str, Any]:
         return document(
             "world render",
-            {"world": input_file(self.path)},
+            {"world": world_input(self.given)},
             outputs={"picture": str(self.output)},
             counts=self.counts,
         )
@@ -115,14 +115,14 @@ def check_world(path: Path) -> CheckedWorld:
     return CheckedWorld(path, counts(load_world(path)))
 
 
-def show_world(path: Path) -> ShownWorld:
-    return ShownWorld(path, load_world(path))
+def show_world(given: Path | WorldMap) -> ShownWorld:
+    return ShownWorld(given, world_of(given))
 
 
-def render_world(path: Path, output: Path) -> RenderedWorld:
-    """Draw a world file as a picture at `output`."""
+def render_world(given: Path | WorldMap, output: Path) -> RenderedWorld:
+    """Draw a world as a picture at `output`."""
     from tvl_cli.render.plot import render_world as draw  # matplotlib only when drawing
 
-    world = load_world(path)
+    world = world_of(given)
     draw(world, output)
-    return RenderedWorld(path, output, counts(world))
+    return RenderedWorld(given, output, counts(world))

@@ -1,4 +1,4 @@
-"""`tvl world export`: a world file -> a ROS map_server occupancy grid (YAML and PGM)."""
+"""`tvl world export`: a world -> a ROS map_server occupancy grid (YAML and PGM)."""
 
 from __future__ import annotations
 
@@ -7,18 +7,18 @@ from pathlib import Path
 from typing import Any
 
 from tvl_cli.core.errors import BadInput
-from tvl_cli.io.json_documents import document, input_file
+from tvl_cli.io.json_documents import document, world_input
 from tvl_cli.io.occupancy_map import write_occupancy_map
 from tvl_cli.io.paths import refuse_output_among_inputs
 from tvl_cli.sim.maps.raster import rasterise
-from tvl_cli.sim.worldmap import load_world
+from tvl_cli.sim.worldmap import WorldMap, world_of
 
 YAML_SUFFIXES = (".yaml", ".yml")
 
 
 @dataclass(frozen=True, slots=True)
 class Exported:
-    world: Path
+    world: Path | WorldMap  # a world file, or a world made here (`KIND:SEED`)
     map_yaml: Path
     image: Path
     cell_m: float
@@ -40,7 +40,7 @@ class Exported:
     def document(self) -> dict[str, Any]:
         outputs = {"map_yaml": str(self.map_yaml), "image": str(self.image)}
         return document(
-            "world export", {"world": input_file(self.world)}, outputs=outputs, **self.to_dict()
+            "world export", {"world": world_input(self.world)}, outputs=outputs, **self.to_dict()
         )
 
 
@@ -51,19 +51,21 @@ def image_beside(map_yaml: Path) -> Path:
     return map_yaml.with_suffix(".pgm")
 
 
-def export_map(world_path: Path, map_yaml: Path) -> Exported:
-    """Rasterise a world at its cell size and write it as map_saver writes a map, its
-    origin the world's (so that importing it gives back the world's frame)."""
+def export_map(given: Path | WorldMap, map_yaml: Path) -> Exported:
+    """Rasterise a world (a file, or one made here) at its cell size and write it as
+    map_saver writes a map, its origin the world's (so that importing it gives back the
+    world's frame)."""
     image = image_beside(map_yaml)
-    refuse_output_among_inputs(map_yaml, {"the world": world_path})
-    refuse_output_among_inputs(image, {"the world": world_path})
-    world = load_world(world_path)
+    if isinstance(given, Path):
+        refuse_output_among_inputs(map_yaml, {"the world": given})
+        refuse_output_among_inputs(image, {"the world": given})
+    world = world_of(given)
     raster = rasterise(world)
     free = ~(raster.occupied | raster.outside)
     write_occupancy_map(map_yaml, image, free, raster.occupied, world.cell_m, world.origin_m)
     rows, columns = free.shape
     return Exported(
-        world_path,
+        given,
         map_yaml,
         image,
         world.cell_m,
