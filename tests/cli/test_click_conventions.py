@@ -134,6 +134,9 @@ def test_every_named_choice_completes() -> None:
     assert f"{first},{second}" in _completions(["baseline", "dwa", "w", "--reflex"], f"{first},")
     assert _completions(["learn", "square.txt", "--method"], "pa") == ["paper", "pa"]
     assert _completions(["train", "log.h5", "--method"], "") == [*PRESETS, ""]
+    # A world: a bundled one by name, a generated one begun as KIND:, else a file (the shell's).
+    for command in (["run", "fam.h5"], ["learn"], ["baseline", "dwa"], ["world", "render"]):
+        assert _completions(command, "ro") == ["rooms", "rooms:", "ro"], command
 
 
 def test_schema_completes_the_commands_a_word_at_a_time() -> None:

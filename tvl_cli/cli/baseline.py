@@ -23,6 +23,7 @@ from tvl_cli.cli.options import (
     world_file,
     world_given,
 )
+from tvl_cli.cli.params import complete_world
 from tvl_cli.commands.baseline import dwa_session, qlearn_session
 from tvl_cli.core.method import NONE, MethodChoice
 
@@ -33,7 +34,7 @@ def baseline() -> None:
 
 
 @baseline.command("dwa", epilog=examples("baseline dwa"))
-@click.argument("world_entry", metavar="WORLD")
+@click.argument("world_entry", metavar="WORLD", shell_complete=complete_world)
 @click.option("--behaviour", type=click.Choice(DWA_BEHAVIOURS), default="avoid", show_default=True)
 @GOAL
 @click.option("--minutes", type=float, default=5.0, show_default=True, help="Simulated minutes.")
@@ -84,7 +85,7 @@ def baseline_dwa(
 
 
 @baseline.command("qlearn", epilog=examples("baseline qlearn"))
-@click.argument("world_entry", metavar="WORLD")
+@click.argument("world_entry", metavar="WORLD", shell_complete=complete_world)
 @click.option(
     "--learn-minutes", type=float, default=15.0, show_default=True, help="Simulated minutes."
 )

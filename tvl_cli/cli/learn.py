@@ -21,6 +21,7 @@ from tvl_cli.cli.options import (
     seed_option,
     training_options,
 )
+from tvl_cli.cli.params import complete_world
 from tvl_cli.commands.learn import LearnRequest, LearnResult, learn_to_log
 from tvl_cli.core.behaviours import DEFAULT_THRESHOLD
 from tvl_cli.core.errors import BadInput
@@ -41,7 +42,9 @@ DEFAULT_LEARN = LearnParams()
 
 
 @click.command(epilog=examples("learn"))
-@click.argument("world_entries", metavar="WORLD...", nargs=-1, required=True)
+@click.argument(
+    "world_entries", metavar="WORLD...", nargs=-1, required=True, shell_complete=complete_world
+)
 @click.option(
     "--log",
     type=HDF5,

@@ -79,6 +79,15 @@ def complete_config(
     return _named_or_file(incomplete, list(BUILTIN_FAM_CONFIGS))
 
 
+def complete_world(
+    ctx: click.Context, param: click.Parameter, incomplete: str
+) -> list[CompletionItem]:
+    """WORLD: a bundled world by name, a generated one begun as KIND:, or a world file."""
+    from tvl_cli.sim.worldgen import KINDS  # the generators load numpy: a completion only
+
+    return _named_or_file(incomplete, [*KINDS, *(f"{kind}:" for kind in KINDS)])
+
+
 def complete_reflexes(
     ctx: click.Context, param: click.Parameter, incomplete: str
 ) -> list[CompletionItem]:

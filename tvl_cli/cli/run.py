@@ -35,6 +35,7 @@ from tvl_cli.cli.options import (
     world_file,
     world_given,
 )
+from tvl_cli.cli.params import complete_world
 from tvl_cli.core.behaviours import BEHAVIOUR_NAMES, DEFAULT_THRESHOLD
 from tvl_cli.core.errors import DEFAULT_RUN_MINUTES
 from tvl_cli.core.method import DEFAULT, REFLEX_NAMES, MethodChoice
@@ -53,7 +54,7 @@ VIEWS = (TERMINAL, WINDOW)
 
 @click.command(epilog=examples("run"))
 @click.argument("fam", type=click.Path(path_type=Path))
-@click.argument("world_entry", metavar="WORLD")
+@click.argument("world_entry", metavar="WORLD", shell_complete=complete_world)
 @click.option("--behaviour", type=click.Choice(BEHAVIOUR_NAMES), required=True)
 @click.option(
     "--threshold",

@@ -20,6 +20,7 @@ from tvl_cli.cli.options import (
     world_file,
     world_given,
 )
+from tvl_cli.cli.params import complete_world
 from tvl_cli.commands.world import (
     NewWorldRequest,
     check_world,
@@ -101,7 +102,7 @@ def world_new(
 
 
 @world.command("show", epilog=examples("world show"))
-@click.argument("world_entry", metavar="WORLD")
+@click.argument("world_entry", metavar="WORLD", shell_complete=complete_world)
 @click.option("--json", "as_json", is_flag=True, help="Print the geometry as JSON.")
 def world_show(world_entry: str, as_json: bool) -> None:
     """Print a summary of a world (or its geometry as JSON): a world file, a generated world
@@ -127,7 +128,7 @@ def world_check(file: Path, as_json: bool) -> None:
 
 
 @world.command("render", epilog=examples("world render"))
-@click.argument("world_entry", metavar="WORLD")
+@click.argument("world_entry", metavar="WORLD", shell_complete=complete_world)
 @click.option("-o", "--output", type=PICTURE, required=True, help=PICTURE_HELP)
 @click.option("--force", is_flag=True, help="Overwrite OUTPUT.")
 @click.option("--json", "as_json", is_flag=True, help="Print what was drawn as JSON.")
@@ -253,7 +254,7 @@ def _import_summary(output: Path, imported: Imported) -> str:
 
 
 @world.command("export", epilog=examples("world export"))
-@click.argument("world_entry", metavar="WORLD")
+@click.argument("world_entry", metavar="WORLD", shell_complete=complete_world)
 @click.option(
     "-o", "--output", type=click.Path(path_type=Path), required=True, help="MAP.yaml file."
 )
