@@ -38,15 +38,15 @@ from tvl_cli.core.method import (
     parse_reflexes,
 )
 from tvl_cli.core.robot_config import SLOWEST_TOP_MPS
-
-if TYPE_CHECKING:
-    from tvl_cli.sim.worldmap import WorldMap
 from tvl_cli.core.robot_profiles import ROBOT_PROFILES
 from tvl_cli.io.atomic import refuse_missing_directory, refuse_non_file
 from tvl_cli.io.methodfile import resolve_method
 from tvl_cli.io.robotfile import resolve_robot
 from tvl_cli.io.table import csv_text
 from tvl_cli.render.formats import picture_format, refuse_other_extension
+
+if TYPE_CHECKING:
+    from tvl_cli.sim.worldmap import WorldMap
 
 
 class Seed(click.ParamType):

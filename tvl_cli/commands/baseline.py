@@ -51,7 +51,7 @@ def _goal(
 
 
 def dwa_session(
-    source: Path | WorldMap,
+    given: Path | WorldMap,
     behaviour: str,
     goal: tuple[float, float] | None,
     minutes: float,
@@ -71,9 +71,9 @@ def dwa_session(
         raise BadInput("--memory is for --sensor ring: the map needs no memory")
     chosen = choice.over(ALONE, DWA_FIELDS)
     reflexes = chosen.reflexes
-    world = world_of(source)
+    world = world_of(given)
     asked_goal = list(goal) if goal else None
-    goal = _goal(source, world, behaviour, goal)
+    goal = _goal(given, world, behaviour, goal)
     robot = RobotConfig()
     path = PathRecorder()
     steps = TraceRecorder(reflexes, robot.sonar.count, [path])
@@ -94,7 +94,7 @@ def dwa_session(
         _draw(world, path, png, f"DWA by the {sensor}, {behaviour} in {world.name}", goal)
     fields = REFLEXES_ONLY if sensor == MAP else DWA_FIELDS
     options = {"behaviour": behaviour, "goal": asked_goal, "minutes": minutes, "sensor": sensor}
-    asked = BaselineAsked(source, seed, options, png)
+    asked = BaselineAsked(given, seed, options, png)
     return DwaReport(metrics, {**method_record(chosen, fields), "preset": None}, asked)
 
 
@@ -172,7 +172,7 @@ class QLearnReport:
 
 
 def qlearn_session(
-    source: Path | WorldMap,
+    given: Path | WorldMap,
     learn_minutes: float,
     minutes: float,
     seed: int,
@@ -190,7 +190,7 @@ def qlearn_session(
         math.isfinite(competence_every) and competence_every > 0
     ):
         raise BadInput(f"--competence-every {competence_every:g} must be a positive number")
-    world = world_of(source)
+    world = world_of(given)
     robot = RobotConfig()
     path = PathRecorder()
     steps = TraceRecorder(reflexes, robot.sonar.count, [path])
@@ -214,5 +214,5 @@ def qlearn_session(
         "minutes": minutes,
         "competence_every": competence_every,
     }
-    asked = BaselineAsked(source, seed, options, png)
+    asked = BaselineAsked(given, seed, options, png)
     return QLearnReport(result, competence_every is not None, recorded, asked)
