@@ -150,8 +150,7 @@ def world_given(entry: str) -> Path | WorldMap:
     generated world KIND:SEED, a bundled world's name): its file, or the world made here."""
     from tvl_cli.sim.world_entries import named_world  # generating loads numpy: not for --help
 
-    named = named_world(entry)
-    return named.world if named.path is None else named.path
+    return named_world(entry)
 
 
 def world_file(world: Path | WorldMap) -> Path | None:

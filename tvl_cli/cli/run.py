@@ -214,11 +214,11 @@ def _watching(request: RunRequest, view: str | None, pace: float | None) -> Iter
         return
     from tvl_cli.cli.live import LiveView, Sight, WindowView, live_view, window_view
     from tvl_cli.commands.run import request_robot
-    from tvl_cli.sim.worldmap import resolve_goal, world_of, world_source
+    from tvl_cli.sim.worldmap import resolve_goal, world_of
 
     world = world_of(request.world)
     robot = request_robot(request)
-    goal = resolve_goal(world_source(request.world), world, request.behaviour, request.goal)
+    goal = resolve_goal(request.world, world, request.behaviour, request.goal)
     sight = Sight(world, robot, request.threshold, goal, pace)
     if view == WINDOW:
         with window_view(WindowView(sight)) as shown:

@@ -25,7 +25,7 @@ from tvl_cli.core.metrics import RunMetrics
 from tvl_cli.core.robot_config import RobotConfig
 from tvl_cli.core.words import counted
 from tvl_cli.io.json_documents import document, output_path, world_input
-from tvl_cli.sim.worldmap import WorldMap, resolve_goal, world_of, world_source
+from tvl_cli.sim.worldmap import WorldMap, resolve_goal, world_of
 
 # What a baseline takes of a method: the reflexes around it, and the DWA by the ring its echo
 # memory. Not given, a baseline runs alone on the live ring.
@@ -47,7 +47,7 @@ def _goal(
 ) -> tuple[float, float] | None:
     if behaviour not in BEHAVIOURS:
         raise BadInput(f"unknown behaviour {behaviour!r} (choose from {', '.join(BEHAVIOURS)})")
-    return resolve_goal(world_source(given), world, behaviour, goal)
+    return resolve_goal(given, world, behaviour, goal)
 
 
 def dwa_session(

@@ -36,7 +36,7 @@ from tvl_cli.io.logfile import LogWriter
 from tvl_cli.io.loglayout import KIND_BEHAVING, ended_status
 from tvl_cli.io.logreader import file_sha256
 from tvl_cli.io.runfile import RunTraceWriter, path_beside, run_trace_output
-from tvl_cli.sim.worldmap import WorldMap, resolve_goal, world_of, world_source
+from tvl_cli.sim.worldmap import WorldMap, resolve_goal, world_of
 
 
 @dataclass(frozen=True, slots=True)
@@ -188,7 +188,7 @@ def run_behaviour(
     method = run_method(fam_file, as_choice(request.method))
     recorded = run_record(method, fam_file)
     robot = request_robot(request, fam_file)
-    goal = resolve_goal(world_source(request.world), world, request.behaviour, request.goal)
+    goal = resolve_goal(request.world, world, request.behaviour, request.goal)
     path = PathRecorder()
     tally = MinuteTally(robot.control_period_s)
     with ExitStack() as outputs:

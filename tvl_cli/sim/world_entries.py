@@ -48,13 +48,18 @@ def named_worlds(entry: str, folder: Path = Path(".")) -> list[NamedWorld]:
     return [NamedWorld(entry, load_world(bundled), bundled)]
 
 
-def named_world(entry: str, folder: Path = Path(".")) -> NamedWorld:
-    """The one world `entry` names, as `named_worlds` finds it; BadInput if it names a range
-    of several, where a command drives in one world."""
+def named_world(entry: str, folder: Path = Path(".")) -> Path | WorldMap:
+    """The one world `entry` names, as `named_worlds` finds it: its file, which the command
+    reads as it reads any world file (so it is not parsed here first), or the world made
+    here; BadInput if it names a range of several, where a command drives in one world."""
+    file = folder / entry
+    if file.is_file():
+        return file
     found = named_worlds(entry, folder)
     if len(found) > 1:
         raise BadInput(f"world {entry!r}: {len(found)} worlds; name one (KIND:SEED)")
-    return found[0]
+    named = found[0]
+    return named.world if named.path is None else named.path
 
 
 def _generated(kind: str, seed: int) -> WorldMap:

@@ -88,11 +88,6 @@ def world_of(world: Path | WorldMap) -> WorldMap:
     return load_world(world) if isinstance(world, Path) else world
 
 
-def world_source(world: Path | WorldMap) -> str:
-    """How messages name a world: its file, or the name of one made here."""
-    return str(world) if isinstance(world, Path) else world.name
-
-
 def parse_world(text: str, source: str) -> WorldMap:
     """Parse the text of a world file (SPEC §3); `source` names the file in error messages."""
     grid, header = _split(text, source)
@@ -112,10 +107,11 @@ def check_goal(world: WorldMap, x: float, y: float, where: str) -> None:
 
 
 def resolve_goal(
-    source: Path | str, world: WorldMap, behaviour: str, goal: tuple[float, float] | None
+    given: Path | WorldMap, world: WorldMap, behaviour: str, goal: tuple[float, float] | None
 ) -> tuple[float, float] | None:
-    """The goal a run seeks: --goal checked against the world, else the world's first goal;
-    None for other behaviours, which take no goal."""
+    """The goal a run seeks in `world` (as `given`: its file, or itself made here): --goal
+    checked against the world, else the world's first goal; None for other behaviours,
+    which take no goal."""
     if behaviour != "goal":
         if goal is not None:
             raise BadInput("--goal is for --behaviour goal only")
@@ -124,7 +120,8 @@ def resolve_goal(
         check_goal(world, *goal, where=f"--goal {goal[0]:g},{goal[1]:g}")
         return goal
     if not world.goals:
-        raise BadInput(f"{source}: world has no goal; give one with --goal X,Y")
+        where = given if isinstance(given, Path) else world.name
+        raise BadInput(f"{where}: world has no goal; give one with --goal X,Y")
     return world.goals[0]
 
 
