@@ -29,37 +29,49 @@ class NamedWorld:
 def named_worlds(entry: str, folder: Path = Path(".")) -> list[NamedWorld]:
     """The worlds `entry` names, a file found in `folder` first; BadInput (beginning
     `world 'ENTRY':`) if it names none."""
-    file = folder / entry
-    if file.is_file():
+    file = _named_file(entry, folder)
+    if file is not None:
         return [NamedWorld(entry, load_world(file), file)]
-    kind, colon, seeds = entry.partition(":")
-    if colon:
-        return [
-            NamedWorld(f"{kind}:{seed}", _generated(kind, seed), None)
-            for seed in _seeds(entry, kind, seeds)
-        ]
-    try:
-        bundled = bundled_world_path(entry)
-    except BadInput:
-        raise BadInput(
-            f"world {entry!r}: no such world file {file}, nor KIND:SEED, nor a bundled world "
-            f"({', '.join(KINDS)})"
-        ) from None
-    return [NamedWorld(entry, load_world(bundled), bundled)]
+    return [
+        NamedWorld(f"{kind}:{seed}", _generated(kind, seed), None)
+        for kind, seed in _kinds_and_seeds(entry)
+    ]
 
 
 def named_world(entry: str, folder: Path = Path(".")) -> Path | WorldMap:
     """The one world `entry` names, as `named_worlds` finds it: its file, which the command
     reads as it reads any world file (so it is not parsed here first), or the world made
     here; BadInput if it names a range of several, where a command drives in one world."""
+    file = _named_file(entry, folder)
+    if file is not None:
+        return file
+    made = _kinds_and_seeds(entry)
+    if len(made) > 1:
+        raise BadInput(f"world {entry!r}: {len(made)} worlds; name one (KIND:SEED)")
+    return _generated(*made[0])
+
+
+def _named_file(entry: str, folder: Path) -> Path | None:
+    """The world file `entry` names (in `folder`, else bundled with tvl); None for a
+    generated world (`KIND:...`); BadInput if it names none."""
     file = folder / entry
     if file.is_file():
         return file
-    found = named_worlds(entry, folder)
-    if len(found) > 1:
-        raise BadInput(f"world {entry!r}: {len(found)} worlds; name one (KIND:SEED)")
-    named = found[0]
-    return named.world if named.path is None else named.path
+    if ":" in entry:
+        return None
+    try:
+        return bundled_world_path(entry)
+    except BadInput:
+        raise BadInput(
+            f"world {entry!r}: no such world file {file}, nor KIND:SEED, nor a bundled world "
+            f"({', '.join(KINDS)})"
+        ) from None
+
+
+def _kinds_and_seeds(entry: str) -> list[tuple[str, int]]:
+    """The (kind, seed) of each generated world `KIND:SEED` or `KIND:FIRST-LAST` names."""
+    kind, _, seeds = entry.partition(":")
+    return [(kind, seed) for seed in _seeds(entry, kind, seeds)]
 
 
 def _generated(kind: str, seed: int) -> WorldMap:
